@@ -1,0 +1,131 @@
+"""Compiled DOP853 step, error estimate and dense output for the slip phase.
+
+The slip-phase state is ``y = (s, w)`` (spring force, block velocity), optionally
+followed by two quadratures ``(integral of s, integral of f(w) w)`` used for the
+energy balance. Error control acts on ``(s, w)`` only, so asking for the
+quadratures never changes the trajectory.
+
+The step-size controller, the error norm and the dense output follow
+E. Hairer, S. P. Nørsett and G. Wanner, *Solving Ordinary Differential
+Equations I*, Sec. II.10, as implemented in ``scipy.integrate.DOP853``.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from ._dop853_tableau import N_STAGES, N_STAGES_EXTENDED
+from .laws import friction
+
+__all__ = [
+    "N_STAGES",
+    "N_STAGES_EXTENDED",
+    "dense_eval",
+    "illinois",
+    "initial_step",
+    "rhs",
+]
+
+@njit(cache=True)
+def rhs(law, lp, nu, d, y, out):  # type: ignore[no-untyped-def]
+    """Evaluate the slip-phase vector field in direction ``d`` into ``out``."""
+    s = y[0]
+    w = y[1]
+    fr = friction(law, lp, d, w)
+    out[0] = nu - w
+    out[1] = s - fr
+    if y.shape[0] > 2:
+        out[2] = s
+        out[3] = fr * w
+
+
+@njit(cache=True, inline="always")
+def _rms2(a0, a1):  # type: ignore[no-untyped-def]
+    return math.sqrt(0.5 * (a0 * a0 + a1 * a1))
+
+
+@njit(cache=True)
+def initial_step(law, lp, nu, d, y, f0, rtol, atol, h_max, ytmp, ftmp):  # type: ignore[no-untyped-def]
+    """Choose a first step as in Hairer, Nørsett and Wanner, Sec. II.4."""
+    sc0 = atol + abs(y[0]) * rtol
+    sc1 = atol + abs(y[1]) * rtol
+    d0 = _rms2(y[0] / sc0, y[1] / sc1)
+    d1 = _rms2(f0[0] / sc0, f0[1] / sc1)
+    if d0 < 1e-5 or d1 < 1e-5:
+        h0 = 1e-6
+    else:
+        h0 = 0.01 * d0 / d1
+    h0 = min(h0, h_max)
+    for i in range(y.shape[0]):
+        ytmp[i] = y[i] + h0 * f0[i]
+    rhs(law, lp, nu, d, ytmp, ftmp)
+    d2 = _rms2((ftmp[0] - f0[0]) / sc0, (ftmp[1] - f0[1]) / sc1) / h0
+    if d1 <= 1e-15 and d2 <= 1e-15:
+        h1 = max(1e-6, h0 * 1e-3)
+    else:
+        h1 = (0.01 / max(d1, d2)) ** (1.0 / 8.0)
+    return min(100.0 * h0, h1, h_max)
+
+
+@njit(cache=True, inline="always")
+def dense_eval(F, y_old, x, i):  # type: ignore[no-untyped-def]
+    """Evaluate component ``i`` of the interpolant at ``x`` in [0, 1] of the step."""
+    x1 = 1.0 - x
+    acc = F[6, i] * x
+    acc = (acc + F[5, i]) * x1
+    acc = (acc + F[4, i]) * x
+    acc = (acc + F[3, i]) * x1
+    acc = (acc + F[2, i]) * x
+    acc = (acc + F[1, i]) * x1
+    acc = (acc + F[0, i]) * x
+    return y_old[i] + acc
+
+
+@njit(cache=True, inline="always")
+def dense_dw(law, lp, nu, d, F, y_old, x):  # type: ignore[no-untyped-def]
+    """Return ``dw/dtau = s - f(w)`` on the interpolant at ``x``."""
+    s = dense_eval(F, y_old, x, 0)
+    w = dense_eval(F, y_old, x, 1)
+    return s - friction(law, lp, d, w)
+
+
+@njit(cache=True)
+def illinois(law, lp, nu, d, F, y_old, what, level, xa, ga, xb, gb):  # type: ignore[no-untyped-def]
+    """Find a root in ``[xa, xb]`` of a function on the interpolant (Illinois method).
+
+    ``what = 1`` finds ``w(x) = level``; ``what = 2`` finds ``dw/dtau(x) = 0``.
+    ``ga`` and ``gb`` are the function values at the ends, of opposite sign.
+    """
+    if ga == 0.0:
+        return xa
+    if gb == 0.0:
+        return xb
+    side = 0
+    xc = xb
+    for _ in range(200):
+        xc = (xa * gb - xb * ga) / (gb - ga)
+        if not (xa < xc < xb):
+            xc = 0.5 * (xa + xb)
+        if what == 1:
+            gc = dense_eval(F, y_old, xc, 1) - level
+        else:
+            gc = dense_dw(law, lp, nu, d, F, y_old, xc)
+        if gc == 0.0:
+            return xc
+        if (gc > 0.0) == (gb > 0.0):
+            xb = xc
+            gb = gc
+            if side == -1:
+                ga *= 0.5
+            side = -1
+        else:
+            xa = xc
+            ga = gc
+            if side == 1:
+                gb *= 0.5
+            side = 1
+        if xb - xa <= 4e-16 * max(1.0, abs(xc)):
+            break
+    return xc

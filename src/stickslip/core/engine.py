@@ -1,0 +1,683 @@
+"""Event-driven integration of the one-block spring-slider (numbers only).
+
+Dimensionless model (PHYSICS.md §1-2): spring force ``s`` and block velocity
+``w`` obey, while the block slips in direction ``d``,
+
+    s' = nu - w,    w' = s - d f_+(d w),
+
+and while it sticks (``w = 0``, ``|s| <= 1``) ``s`` grows at rate ``nu`` until it
+reaches the static threshold: stick phases are solved in closed form. Slip
+phases are integrated by DOP853 with dense output; events are located by root
+finding on the interpolant:
+
+* stop: ``w`` reaches 0 (including a dip to zero inside one step);
+* spring-force extrema: ``w`` crosses ``nu`` (``s`` has a maximum when ``w``
+  crosses upward, a minimum when downward), including double crossings inside
+  a step;
+* velocity extrema: ``dw/dtau = 0``.
+
+After a stop the block sticks if ``-1 <= s < 1``, slips backward if ``s < -1``
+and slips forward at once if ``s >= 1``; a backward slip stops likewise.
+
+Everything here takes floats and arrays and returns floats and arrays.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .dop853 import (
+    N_STAGES,
+    N_STAGES_EXTENDED,
+    dense_eval,
+    illinois,
+    initial_step,
+    rhs,
+)
+from ._dop853_unrolled import dense2, step2
+from .laws import STATIC_THRESHOLD, df_branch, f_branch
+
+FS = STATIC_THRESHOLD
+
+# Step-size controller. Kept in this file on purpose: numba's on-disk cache is
+# invalidated by changes to the source file of the compiled function only, so a
+# constant imported from another module would be silently stale.
+ERROR_EXPONENT = -1.0 / 8.0
+SAFETY = 0.9
+MIN_FACTOR = 0.333
+MAX_FACTOR = 3.0
+
+# slip-phase outcomes
+PH_STOPPED = 0
+PH_T_END = 1
+PH_CONVERGED = 2
+PH_STEP_TOO_SMALL = 3
+PH_TOO_MANY_STEPS = 4
+
+# kernel status codes (stored in out[O_STATUS])
+ST_OK = 0
+ST_NOT_CONVERGED = 1
+ST_STEP_TOO_SMALL = 2
+ST_TOO_MANY_STEPS = 3
+ST_TOO_MANY_PHASES = 4
+
+# regimes (stored in out[O_REGIME])
+RG_UNKNOWN = -1
+RG_STICK_SLIP = 0
+RG_PURE_SLIP = 1
+RG_STEADY = 2
+
+# event kinds (event log of trajectories)
+EV_STOP = 1
+EV_FORWARD = 2
+EV_BACKWARD = 3
+EV_SMAX = 4
+EV_SMIN = 5
+EV_STICK = 6
+
+# tracker layout
+T_SMAX = 0
+T_SMIN = 1
+T_WMAX = 2
+T_WMIN = 3
+T_NMAX = 4
+T_TLAST = 5
+T_SMIN_SINCE = 6
+T_WMIN_SINCE = 7
+T_WMAX_SINCE = 8
+T_A0 = 9
+T_A1 = 10
+T_A2 = 11
+T_P0 = 12
+T_SMAXK = 13
+T_SMINK = 14
+T_WMAXK = 15
+T_WMINK = 16
+T_Q2LAST = 17
+T_Q3LAST = 18
+T_DQ2 = 19
+T_DQ3 = 20
+T_CONV = 21
+T_NSTEP = 22
+T_NREJ = 23
+T_DFNU = 24
+T_FNU = 25
+T_NAMP = 26
+NTRK = 27
+
+# output layout of the attractor kernel
+O_STATUS = 0
+O_REGIME = 1
+O_AMPLITUDE = 2
+O_PERIOD = 3
+O_STICK_TIME = 4
+O_SMAX = 5
+O_SMIN = 6
+O_WMAX = 7
+O_WMIN = 8
+O_SSTOP = 9
+O_NBACKWARD = 10
+O_DRIVE_WORK = 11
+O_FRICTION_WORK = 12
+O_TRANSIENT = 13
+O_S = 14
+O_W = 15
+O_T = 16
+O_NSTEP = 17
+O_NREJECT = 18
+NOUT = 19
+
+# a decaying oscillation below this amplitude (units of static friction) about
+# a linearly stable steady sliding state counts as steady sliding
+AMPLITUDE_STEADY = 1e-7
+MAX_PHASES = 100_000
+
+
+@njit(cache=True, inline="always")
+def _reset_tracker(trk):  # type: ignore[no-untyped-def]
+    inf = math.inf
+    trk[T_SMAX] = -inf
+    trk[T_SMIN] = inf
+    trk[T_WMAX] = -inf
+    trk[T_WMIN] = inf
+    trk[T_NMAX] = 0.0
+    trk[T_TLAST] = 0.0
+    trk[T_SMIN_SINCE] = inf
+    trk[T_WMIN_SINCE] = inf
+    trk[T_WMAX_SINCE] = -inf
+    trk[T_A0] = math.nan
+    trk[T_A1] = math.nan
+    trk[T_A2] = math.nan
+    trk[T_P0] = math.nan
+    trk[T_SMAXK] = math.nan
+    trk[T_SMINK] = math.nan
+    trk[T_WMAXK] = math.nan
+    trk[T_WMINK] = math.nan
+    trk[T_Q2LAST] = 0.0
+    trk[T_Q3LAST] = 0.0
+    trk[T_DQ2] = math.nan
+    trk[T_DQ3] = math.nan
+    trk[T_CONV] = 0.0
+    trk[T_NAMP] = 0.0
+
+
+@njit(cache=True, inline="always")
+def _log(evbuf, evn, t, kind, value):  # type: ignore[no-untyped-def]
+    k = evn[0]
+    if k < evbuf.shape[0]:
+        evbuf[k, 0] = t
+        evbuf[k, 1] = kind
+        evbuf[k, 2] = value
+    evn[0] = k + 1
+
+
+@njit(cache=True, inline="always")
+def _on_w_extremum(trk, w):  # type: ignore[no-untyped-def]
+    if w > trk[T_WMAX]:
+        trk[T_WMAX] = w
+    if w < trk[T_WMIN]:
+        trk[T_WMIN] = w
+    if w > trk[T_WMAX_SINCE]:
+        trk[T_WMAX_SINCE] = w
+    if w < trk[T_WMIN_SINCE]:
+        trk[T_WMIN_SINCE] = w
+
+
+@njit(cache=True, inline="always")
+def _on_s_extremum(trk, is_max, te, sv, q2, q3, track, conv_tol):  # type: ignore[no-untyped-def]
+    """Book-keep a spring-force extremum; test the oscillation for convergence."""
+    if not is_max:
+        if sv < trk[T_SMIN]:
+            trk[T_SMIN] = sv
+        if sv < trk[T_SMIN_SINCE]:
+            trk[T_SMIN_SINCE] = sv
+        return
+    if sv > trk[T_SMAX]:
+        trk[T_SMAX] = sv
+    if trk[T_NMAX] >= 1.0 and trk[T_SMIN_SINCE] < math.inf:
+        amp = sv - trk[T_SMIN_SINCE]
+        trk[T_A2] = trk[T_A1]
+        trk[T_A1] = trk[T_A0]
+        trk[T_A0] = amp
+        trk[T_NAMP] += 1.0
+        trk[T_P0] = te - trk[T_TLAST]
+        trk[T_SMAXK] = sv
+        trk[T_SMINK] = trk[T_SMIN_SINCE]
+        trk[T_WMAXK] = trk[T_WMAX_SINCE]
+        trk[T_WMINK] = trk[T_WMIN_SINCE]
+        trk[T_DQ2] = q2 - trk[T_Q2LAST]
+        trk[T_DQ3] = q3 - trk[T_Q3LAST]
+        if track and trk[T_NAMP] >= 3.0:
+            a0 = trk[T_A0]
+            a1 = trk[T_A1]
+            d1 = a0 - a1
+            d0 = a1 - trk[T_A2]
+            if trk[T_DFNU] > 0.0 and a0 < AMPLITUDE_STEADY and a0 < a1:
+                trk[T_CONV] = 2.0
+            elif abs(d1) <= conv_tol * abs(a0):
+                if d1 == 0.0 or d0 == 0.0:
+                    trk[T_CONV] = 1.0
+                else:
+                    r = abs(d1 / d0)
+                    if r < 1.0 and abs(d1) * r / (1.0 - r) <= conv_tol * abs(a0):
+                        trk[T_CONV] = 1.0
+    trk[T_NMAX] += 1.0
+    trk[T_TLAST] = te
+    trk[T_Q2LAST] = q2
+    trk[T_Q3LAST] = q3
+    trk[T_SMIN_SINCE] = math.inf
+    trk[T_WMIN_SINCE] = math.inf
+    trk[T_WMAX_SINCE] = -math.inf
+
+
+@njit(cache=True)
+def _slip_phase(  # type: ignore[no-untyped-def]
+    law, lp, nu, d, t, y, t_end, rtol, atol, conv_tol, track,
+    K, F, y_new, ytmp, trk, t_eval, out_y, out_mode, ie, evbuf, evn, max_steps,
+):
+    """Integrate one slip phase in direction ``d`` from ``(t, y)``.
+
+    Returns ``(t, outcome, ie)``; ``y`` holds the final state. The phase ends at a
+    stop (``w = 0``, which is set exactly), at ``t_end``, or, when ``track`` is
+    true, when successive oscillations have converged.
+    """
+    n = y.shape[0]
+    n_eval = t_eval.shape[0]
+    rhs(law, lp, nu, d, y, K[0])
+    if t_end - t <= 0.0:
+        return t, PH_T_END, ie
+    h = initial_step(law, lp, nu, d, y, K[0], rtol, atol, t_end - t, ytmp, y_new)
+    rejected = False
+    h_acc = 0.0
+    err_acc = 0.0
+    nsteps = 0
+    ev_x = np.empty(3)
+    ev_k = np.empty(3, dtype=np.int64)
+    while True:
+        if nsteps >= max_steps:
+            return t, PH_TOO_MANY_STEPS, ie
+        remaining = t_end - t
+        min_step = 10.0 * 2.220446049250313e-16 * max(abs(t), 1e-300)
+        if remaining <= min_step:
+            return t_end, PH_T_END, ie
+        hh = h if h < remaining else remaining
+        if hh < min_step:
+            return t, PH_STEP_TOO_SMALL, ie
+        err = step2(law, lp, nu, d, y, hh, K, y_new, rtol, atol)
+        if not (err <= 1.0):
+            if err != err or err == math.inf:
+                factor = MIN_FACTOR
+            else:
+                factor = max(MIN_FACTOR, SAFETY * err**ERROR_EXPONENT)
+            h = hh * factor
+            rejected = True
+            trk[T_NREJ] += 1.0
+            continue
+        if err == 0.0:
+            factor = MAX_FACTOR
+        else:
+            factor = min(MAX_FACTOR, SAFETY * err**ERROR_EXPONENT)
+            if h_acc > 0.0 and err_acc > 0.0:
+                # Gustafsson's predictive controller (as in Hairer's RADAU5): follows
+                # an error constant that changes steadily from step to step, as it
+                # does when a slip decelerates into the steep part of the law.
+                pred = SAFETY * (hh / h_acc) * (err_acc / (err * err)) ** (-ERROR_EXPONENT)
+                factor = max(MIN_FACTOR, min(factor, pred))
+        if rejected:
+            factor = min(1.0, factor)
+        h_acc = hh
+        err_acc = max(err, 1e-10)
+        h_next = hh * factor
+        rejected = False
+        nsteps += 1
+        trk[T_NSTEP] += 1.0
+
+        # ---- events inside the accepted step [t, t + hh] ----------------
+        w0 = y[1]
+        w1 = y_new[1]
+        dw0 = K[0, 1]
+        dw1 = K[N_STAGES, 1]
+        dense = False
+        x_wext = -1.0
+        wext = 0.0
+        if (dw0 > 0.0 and dw1 < 0.0) or (dw0 < 0.0 and dw1 > 0.0):
+            dense2(law, lp, nu, d, y, y_new, hh, K, F)
+            dense = True
+            x_wext = illinois(law, lp, nu, d, F, y, 2, 0.0, 0.0, dw0, 1.0, dw1)
+            wext = dense_eval(F, y, x_wext, 1)
+        # stop: d*w reaches zero
+        x_stop = 2.0
+        if d * w0 > 0.0:
+            if d * w1 <= 0.0:
+                if not dense:
+                    dense2(law, lp, nu, d, y, y_new, hh, K, F)
+                    dense = True
+                x_stop = illinois(law, lp, nu, d, F, y, 1, 0.0, 0.0, w0, 1.0, w1)
+            elif x_wext >= 0.0 and d * wext <= 0.0 and d * dw0 < 0.0:
+                x_stop = illinois(law, lp, nu, d, F, y, 1, 0.0, 0.0, w0, x_wext, wext)
+        x_end = x_stop if x_stop < 1.0 else 1.0
+        # spring-force extrema (w = nu), forward slip only; velocity extrema
+        nev = 0
+        if x_wext >= 0.0 and x_wext <= x_end:
+            ev_x[nev] = x_wext
+            ev_k[nev] = 0
+            nev += 1
+        if d > 0:
+            g0 = w0 - nu
+            g_end = -nu if x_stop <= 1.0 else w1 - nu
+            if nev == 1 and x_wext < x_end:
+                ge = wext - nu
+                if g0 * ge < 0.0 or (ge == 0.0 and g0 != 0.0):
+                    ev_x[nev] = illinois(law, lp, nu, d, F, y, 1, nu, 0.0, g0, x_wext, ge)
+                    ev_k[nev] = 1 if g0 < 0.0 else -1
+                    nev += 1
+                if ge * g_end < 0.0 or (g_end == 0.0 and ge != 0.0):
+                    ev_x[nev] = illinois(law, lp, nu, d, F, y, 1, nu, x_wext, ge, x_end, g_end)
+                    ev_k[nev] = 1 if ge < 0.0 else -1
+                    nev += 1
+            elif g0 * g_end < 0.0 or (g_end == 0.0 and g0 != 0.0):
+                if not dense:
+                    dense2(law, lp, nu, d, y, y_new, hh, K, F)
+                    dense = True
+                ev_x[nev] = illinois(law, lp, nu, d, F, y, 1, nu, 0.0, g0, x_end, g_end)
+                ev_k[nev] = 1 if g0 < 0.0 else -1
+                nev += 1
+        # process in time order (at most three events)
+        for a in range(1, nev):
+            b = a
+            while b > 0 and ev_x[b - 1] > ev_x[b]:
+                tx = ev_x[b]
+                ev_x[b] = ev_x[b - 1]
+                ev_x[b - 1] = tx
+                tk = ev_k[b]
+                ev_k[b] = ev_k[b - 1]
+                ev_k[b - 1] = tk
+                b -= 1
+        for a in range(nev):
+            xa = ev_x[a]
+            if ev_k[a] == 0:
+                _on_w_extremum(trk, wext)
+            else:
+                te = t + xa * hh
+                sv = dense_eval(F, y, xa, 0)
+                q2 = 0.0
+                q3 = 0.0
+                if n > 2:
+                    q2 = dense_eval(F, y, xa, 2)
+                    q3 = dense_eval(F, y, xa, 3)
+                is_max = ev_k[a] > 0
+                if evbuf.shape[0] > 0:
+                    _log(evbuf, evn, te, EV_SMAX if is_max else EV_SMIN, sv)
+                _on_s_extremum(trk, is_max, te, sv, q2, q3, track, conv_tol)
+        # dense samples requested by the caller
+        t_seg_end = t + x_end * hh
+        while ie < n_eval and t_eval[ie] <= t_seg_end:
+            if not dense:
+                dense2(law, lp, nu, d, y, y_new, hh, K, F)
+                dense = True
+            xe = (t_eval[ie] - t) / hh
+            if xe < 0.0:
+                xe = 0.0
+            out_y[ie, 0] = dense_eval(F, y, xe, 0)
+            out_y[ie, 1] = dense_eval(F, y, xe, 1)
+            out_mode[ie] = d
+            ie += 1
+        if x_stop <= 1.0:
+            for i in range(n):
+                y[i] = dense_eval(F, y, x_stop, i) if i != 1 else y[i]
+            y[1] = 0.0
+            return t + x_stop * hh, PH_STOPPED, ie
+        t = t + hh
+        for i in range(n):
+            y[i] = y_new[i]
+            K[0, i] = K[N_STAGES, i]
+        if track:
+            if trk[T_CONV] != 0.0:
+                return t, PH_CONVERGED, ie
+            if (
+                trk[T_DFNU] > 0.0
+                and abs(y[1] - nu) < AMPLITUDE_STEADY
+                and abs(y[0] - trk[T_FNU]) < AMPLITUDE_STEADY
+            ):
+                trk[T_CONV] = 2.0
+                return t, PH_CONVERGED, ie
+        if t >= t_end:
+            return t_end, PH_T_END, ie
+        h = h_next
+
+
+@njit(cache=True, inline="always")
+def _mode_at(s, w):  # type: ignore[no-untyped-def]
+    """Return the phase (0 stick, +1/-1 slip direction) a state at rest or moving is in."""
+    if w > 0.0:
+        return 1
+    if w < 0.0:
+        return -1
+    if s >= FS:
+        return 1
+    if s < -FS:
+        return -1
+    return 0
+
+
+@njit(cache=True)
+def attractor(  # type: ignore[no-untyped-def]
+    law, lp, nu, s0, w0, from_breakaway, rtol, atol, t_max, conv_tol, diag, max_steps, out
+):
+    """Follow the motion from ``(s0, w0)`` to its attractor (see :func:`attractor_ws`)."""
+    ws = new_workspace(4 if diag else 2)
+    attractor_ws(
+        law, lp, nu, s0, w0, from_breakaway, rtol, atol, t_max, conv_tol, max_steps, out,
+        ws[0], ws[1], ws[2], ws[3], ws[4], ws[5],
+    )
+
+
+@njit(cache=True)
+def new_workspace(n):  # type: ignore[no-untyped-def]
+    """Allocate the work arrays of one integration (``n`` = 2, or 4 with quadratures)."""
+    return (
+        np.empty((N_STAGES_EXTENDED, n)),
+        np.empty((7, n)),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(NTRK),
+    )
+
+
+@njit(cache=True)
+def attractor_ws(  # type: ignore[no-untyped-def]
+    law, lp, nu, s0, w0, from_breakaway, rtol, atol, t_max, conv_tol, max_steps, out,
+    K, F, y_new, ytmp, y, trk,
+):
+    """Follow the motion from ``(s0, w0)`` to its attractor and measure one steady cycle.
+
+    With ``from_breakaway`` the start ``(1, 0)`` is taken as the beginning of a
+    stick-slip cycle, so the first slip integration is measured at once: one
+    slip integration gives the whole steady stick-slip cycle (PHYSICS.md §2).
+    Otherwise the motion is followed until it first sticks (after which it is on
+    the stick-slip cycle, measured from the next breakaway) or until successive
+    oscillations converge (pure slip) or decay (steady sliding). ``t_max``
+    bounds the total slip time integrated. Results go to ``out`` (layout ``O_*``).
+    """
+    n = y.shape[0]
+    diag = n > 2
+    for i in range(n):
+        y[i] = 0.0
+    _reset_tracker(trk)
+    trk[T_NSTEP] = 0.0
+    trk[T_NREJ] = 0.0
+    trk[T_DFNU] = df_branch(law, lp, nu)
+    trk[T_FNU] = f_branch(law, lp, nu)
+    t_eval = np.empty(0)
+    out_y = np.empty((0, 2))
+    out_mode = np.empty(0, dtype=np.int64)
+    evbuf = np.empty((0, 3))
+    evn = np.zeros(1, dtype=np.int64)
+    for i in range(NOUT):
+        out[i] = math.nan
+    out[O_STATUS] = ST_OK
+    out[O_REGIME] = RG_UNKNOWN
+    if from_breakaway:
+        s0 = FS
+        w0 = 0.0
+    y[0] = s0
+    y[1] = w0
+    t = 0.0
+    slip_used = 0.0
+    measuring = from_breakaway
+    d = 1 if from_breakaway else _mode_at(s0, w0)
+    t_c0 = 0.0
+    n_back = 0
+    out[O_TRANSIENT] = 0.0
+    for _ in range(MAX_PHASES):
+        if d == 0:
+            s = y[0]
+            dt = (FS - s) / nu
+            if measuring:
+                out[O_REGIME] = RG_STICK_SLIP
+                out[O_AMPLITUDE] = max(trk[T_SMAX], FS) - min(trk[T_SMIN], s)
+                out[O_PERIOD] = (t - t_c0) + dt
+                out[O_STICK_TIME] = dt
+                out[O_SMAX] = max(trk[T_SMAX], FS)
+                out[O_SMIN] = min(trk[T_SMIN], s)
+                out[O_WMAX] = max(trk[T_WMAX], 0.0)
+                out[O_WMIN] = min(trk[T_WMIN], 0.0)
+                out[O_SSTOP] = s
+                out[O_NBACKWARD] = n_back
+                if diag:
+                    out[O_DRIVE_WORK] = nu * y[2] + nu * 0.5 * (s + FS) * dt
+                    out[O_FRICTION_WORK] = y[3]
+                out[O_S] = FS
+                out[O_W] = 0.0
+                out[O_T] = t + dt
+                break
+            t += dt
+            out[O_TRANSIENT] = t
+            measuring = True
+            _reset_tracker(trk)
+            for i in range(n):
+                y[i] = 0.0
+            y[0] = FS
+            d = 1
+            t_c0 = t
+            n_back = 0
+            continue
+        t_start = t
+        t, ph, _ie = _slip_phase(
+            law, lp, nu, d, t, y, t + (t_max - slip_used), rtol, atol, conv_tol,
+            not measuring, K, F, y_new, ytmp, trk, t_eval, out_y, out_mode, 0,
+            evbuf, evn, max_steps,
+        )
+        slip_used += t - t_start
+        if ph == PH_STOPPED:
+            s = y[0]
+            if s < -FS:
+                d = -1
+                n_back += 1
+            elif s >= FS:
+                d = 1
+            else:
+                d = 0
+            continue
+        out[O_S] = y[0]
+        out[O_W] = y[1]
+        out[O_T] = t
+        if ph == PH_CONVERGED or ph == PH_T_END:
+            if ph == PH_T_END:
+                out[O_STATUS] = ST_NOT_CONVERGED
+            if trk[T_CONV] == 2.0:
+                out[O_REGIME] = RG_STEADY
+                out[O_AMPLITUDE] = 0.0
+                out[O_PERIOD] = math.nan
+                out[O_STICK_TIME] = 0.0
+                out[O_SMAX] = trk[T_FNU]
+                out[O_SMIN] = trk[T_FNU]
+                out[O_WMAX] = nu
+                out[O_WMIN] = nu
+                out[O_DRIVE_WORK] = 0.0
+                out[O_FRICTION_WORK] = 0.0
+            elif trk[T_NAMP] >= 1.0 and not measuring:
+                out[O_REGIME] = RG_PURE_SLIP
+                out[O_AMPLITUDE] = trk[T_A0]
+                out[O_PERIOD] = trk[T_P0]
+                out[O_STICK_TIME] = 0.0
+                out[O_SMAX] = trk[T_SMAXK]
+                out[O_SMIN] = trk[T_SMINK]
+                out[O_WMAX] = trk[T_WMAXK]
+                out[O_WMIN] = trk[T_WMINK]
+                if diag:
+                    out[O_DRIVE_WORK] = nu * trk[T_DQ2]
+                    out[O_FRICTION_WORK] = trk[T_DQ3]
+            out[O_TRANSIENT] = t
+        elif ph == PH_STEP_TOO_SMALL:
+            out[O_STATUS] = ST_STEP_TOO_SMALL
+        else:
+            out[O_STATUS] = ST_TOO_MANY_STEPS
+        break
+    else:
+        out[O_STATUS] = ST_TOO_MANY_PHASES
+    out[O_NSTEP] = trk[T_NSTEP]
+    out[O_NREJECT] = trk[T_NREJ]
+
+
+@njit(parallel=True, cache=True)
+def attractor_batch(  # type: ignore[no-untyped-def]
+    law, lp, nu, s0, w0, from_breakaway, rtol, atol, t_max, conv_tol, diag, max_steps, out
+):
+    """Run :func:`attractor` for every row, in parallel threads.
+
+    Rows are processed in chunks, each with one workspace, so that threads do not
+    contend for the allocator.
+    """
+    m = nu.shape[0]
+    n_chunks = min(m, 512)
+    for c in prange(n_chunks):
+        ws = new_workspace(4 if diag else 2)
+        for i in range(c * m // n_chunks, (c + 1) * m // n_chunks):
+            attractor_ws(
+                law[i], lp[i], nu[i], s0[i], w0[i], from_breakaway, rtol, atol, t_max,
+                conv_tol, max_steps, out[i], ws[0], ws[1], ws[2], ws[3], ws[4], ws[5],
+            )
+
+
+@njit(cache=True)
+def trajectory(  # type: ignore[no-untyped-def]
+    law, lp, nu, s0, w0, t_eval, rtol, atol, max_steps, out_y, out_mode, evbuf, evn
+):
+    """Integrate from ``(s0, w0)`` at time 0 and sample at the sorted times ``t_eval``.
+
+    ``out_y[:, 0]`` is the spring force, ``out_y[:, 1]`` the velocity and
+    ``out_mode`` the phase (0 stick, +1 forward slip, -1 backward slip). Events
+    go to ``evbuf`` (rows ``t, kind, s``); ``evn[0]`` counts them even past the
+    buffer's capacity. Returns a status code (``ST_*``).
+    """
+    n = 2
+    K = np.empty((N_STAGES_EXTENDED, n))
+    F = np.empty((7, n))
+    y_new = np.empty(n)
+    ytmp = np.empty(n)
+    y = np.zeros(n)
+    trk = np.empty(NTRK)
+    _reset_tracker(trk)
+    trk[T_NSTEP] = 0.0
+    trk[T_NREJ] = 0.0
+    trk[T_DFNU] = 0.0
+    trk[T_FNU] = 0.0
+    y[0] = s0
+    y[1] = w0
+    n_eval = t_eval.shape[0]
+    t_end = t_eval[n_eval - 1]
+    t = 0.0
+    ie = 0
+    d = _mode_at(s0, w0)
+    for _ in range(MAX_PHASES + n_eval):
+        if ie >= n_eval:
+            return ST_OK
+        if d == 0:
+            s = y[0]
+            t_b = t + (FS - s) / nu
+            while ie < n_eval and t_eval[ie] <= t_b:
+                out_y[ie, 0] = s + nu * (t_eval[ie] - t)
+                out_y[ie, 1] = 0.0
+                out_mode[ie] = 0
+                ie += 1
+            if t_b >= t_end:
+                return ST_OK
+            t = t_b
+            y[0] = FS
+            y[1] = 0.0
+            d = 1
+            _log(evbuf, evn, t, EV_FORWARD, FS)
+            continue
+        t, ph, ie = _slip_phase(
+            law, lp, nu, d, t, y, t_end, rtol, atol, 0.0, False, K, F, y_new, ytmp,
+            trk, t_eval, out_y, out_mode, ie, evbuf, evn, max_steps,
+        )
+        if ph == PH_STOPPED:
+            s = y[0]
+            _log(evbuf, evn, t, EV_STOP, s)
+            if s < -FS:
+                d = -1
+                _log(evbuf, evn, t, EV_BACKWARD, s)
+            elif s >= FS:
+                d = 1
+                _log(evbuf, evn, t, EV_FORWARD, s)
+            else:
+                d = 0
+                _log(evbuf, evn, t, EV_STICK, s)
+            continue
+        if ph == PH_T_END:
+            while ie < n_eval:
+                out_y[ie, 0] = y[0]
+                out_y[ie, 1] = y[1]
+                out_mode[ie] = d
+                ie += 1
+            return ST_OK
+        if ph == PH_STEP_TOO_SMALL:
+            return ST_STEP_TOO_SMALL
+        return ST_TOO_MANY_STEPS
+    return ST_TOO_MANY_PHASES
