@@ -1,0 +1,382 @@
+"""The steady oscillation of one parameter set: amplitude, period, regime.
+
+:func:`cycle` follows the block from rest to its attractor and measures one
+steady cycle. Stick-slip uses the structure of PHYSICS.md §2: every slip phase
+that starts from rest starts at ``(s, w) = (1, 0)``, so one slip integration
+from breakaway gives the whole cycle. Pure slip and steady sliding are found
+without assuming them: the transient is followed until successive oscillations
+agree (or decay, about a linearly stable steady state). Steady sliding is
+probed as well, so that a second attractor is reported when there is one.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+import pint
+
+from .. import defaults
+from ..core import engine
+from ..core.api import run_attractors
+from ..models.parameters import DimensionlessParameters, PhysicalParameters, Scales
+from ..models.units import Q_, check_number
+
+__all__ = ["Attractor", "CycleResult", "cycle", "validate_tolerances"]
+
+REGIMES = {
+    engine.RG_STICK_SLIP: "stick-slip",
+    engine.RG_PURE_SLIP: "pure-slip",
+    engine.RG_STEADY: "steady-sliding",
+    engine.RG_UNKNOWN: "unknown",
+}
+STATUSES = {
+    engine.ST_OK: "ok",
+    engine.ST_NOT_CONVERGED: "not-converged",
+    engine.ST_STEP_TOO_SMALL: "step-size-too-small",
+    engine.ST_TOO_MANY_STEPS: "too-many-steps",
+    engine.ST_TOO_MANY_PHASES: "too-many-phases",
+}
+
+#: unit of each result field, by kind
+_FIELD_KIND = {
+    "amplitude": "force",
+    "period": "time",
+    "stick_time": "time",
+    "stick_fraction": "1",
+    "slip_distance": "length",
+    "peak_velocity": "velocity",
+    "min_velocity": "velocity",
+    "max_force": "force",
+    "min_force": "force",
+    "drive_work": "energy",
+    "friction_work": "energy",
+    "transient_time": "time",
+}
+DIMENSIONLESS_UNITS = {
+    "force": "static friction force mu_s W",
+    "time": "sqrt(m/k)",
+    "length": "mu_s W / k",
+    "velocity": "mu_s W / sqrt(k m)",
+    "energy": "(mu_s W)**2 / k",
+}
+SI_UNITS = {"force": "N", "time": "s", "length": "m", "velocity": "m/s", "energy": "J"}
+
+
+def validate_tolerances(rtol: float, atol: float) -> tuple[float, float]:
+    """Check integration tolerances; return them as floats.
+
+    Raises
+    ------
+    ValueError
+        If ``rtol`` is not in ``[1e-14, 1e-3]`` or ``atol`` is not positive and finite.
+
+    """
+    r = check_number(rtol, "rtol", what="a relative tolerance between 1e-14 and 1e-3")
+    if not 1e-14 <= r <= 1e-3:
+        raise ValueError(f"rtol={rtol!r}: expected a relative tolerance between 1e-14 and 1e-3")
+    a = check_number(atol, "atol", what="a positive absolute tolerance")
+    return r, a
+
+
+@dataclass(frozen=True)
+class Attractor:
+    """One attractor reached from one start.
+
+    Attributes
+    ----------
+    regime : str
+        ``stick-slip``, ``pure-slip``, ``steady-sliding`` or ``unknown``.
+    amplitude : float
+        Range of the spring force over the cycle (force unit of the result).
+    period : float
+        Period (time unit of the result); NaN for steady sliding.
+    start : str
+        Where it was reached from: ``rest`` or ``near steady sliding``.
+    status : str
+        ``ok`` or the reason the search did not converge.
+
+    """
+
+    regime: str
+    amplitude: float
+    period: float
+    start: str
+    status: str
+
+
+@dataclass(frozen=True)
+class CycleResult:
+    """The steady oscillation reached from rest, and every attractor found.
+
+    All values are in the unit system named by :attr:`units`: dimensionless
+    (force in static friction force ``mu_s W``, time in ``sqrt(m/k)``) for
+    dimensionless parameters, SI for physical ones.
+
+    Attributes
+    ----------
+    regime : str
+        ``stick-slip``, ``pure-slip``, ``steady-sliding`` or ``unknown``, reached from rest.
+    amplitude : float
+        ``max s - min s`` over one steady cycle (force).
+    period : float
+        Period of the cycle (time); NaN for steady sliding.
+    stick_fraction : float
+        Fraction of the period the block is at rest.
+    stick_time : float
+        Duration of the stick phase (time).
+    slip_distance : float
+        Distance slipped per cycle (length), equal to ``v0`` times the period.
+    peak_velocity, min_velocity : float
+        Largest and smallest block velocity over the cycle (velocity).
+    max_force, min_force : float
+        Extremes of the spring force (force).
+    backward_slips : int
+        Backward slip phases per cycle.
+    drive_work, friction_work : float
+        Work of the drive and of friction over one cycle (energy); equal on a
+        steady cycle (energy balance).
+    transient_time : float
+        Time from rest until the measured cycle starts (time).
+    status : str
+        ``ok``, or why the attractor could not be pinned down.
+    attractors : tuple of Attractor
+        Distinct attractors reached from rest and from near steady sliding.
+    multistable : bool
+        More than one attractor was found.
+    steady_sliding_stable : bool
+        Steady sliding is linearly stable (``f'(nu) > 0``).
+    units : Mapping[str, str]
+        Unit of force, time, length, velocity and energy.
+
+    """
+
+    regime: str
+    amplitude: float
+    period: float
+    stick_fraction: float
+    stick_time: float
+    slip_distance: float
+    peak_velocity: float
+    min_velocity: float
+    max_force: float
+    min_force: float
+    backward_slips: int
+    drive_work: float
+    friction_work: float
+    transient_time: float
+    status: str
+    attractors: tuple[Attractor, ...]
+    multistable: bool
+    steady_sliding_stable: bool
+    units: Mapping[str, str] = field(default_factory=dict)
+
+    def quantity(self, name: str) -> pint.Quantity:
+        """Return a result field as a pint quantity (SI results only).
+
+        Raises
+        ------
+        ValueError
+            For an unknown field or a dimensionless result.
+
+        """
+        if name not in _FIELD_KIND:
+            raise ValueError(f"name={name!r}: expected one of {sorted(_FIELD_KIND)}")
+        if self.units.get("force") != "N":
+            raise ValueError("quantity() needs a result computed from physical parameters")
+        kind = _FIELD_KIND[name]
+        return Q_(getattr(self, name), "" if kind == "1" else SI_UNITS[kind])
+
+    def as_dict(self) -> dict[str, Any]:
+        """Return a JSON-ready dictionary (NaN becomes ``None``)."""
+        return _json_clean(asdict(self))
+
+    def to_json(self, **kwargs: Any) -> str:
+        """Return :meth:`as_dict` as a JSON string."""
+        return json.dumps(self.as_dict(), **kwargs)
+
+
+def _json_clean(x: Any) -> Any:
+    if isinstance(x, float):
+        return None if not math.isfinite(x) else x
+    if isinstance(x, dict):
+        return {k: _json_clean(v) for k, v in x.items()}
+    if isinstance(x, list | tuple):
+        return [_json_clean(v) for v in x]
+    return x
+
+
+def cycle(
+    params: DimensionlessParameters | PhysicalParameters,
+    *,
+    rtol: float = defaults.RTOL,
+    atol: float = defaults.ATOL,
+    max_slip_time: float = defaults.MAX_SLIP_TIME,
+    conv_tol: float = defaults.CONV_TOL,
+    probe: bool = True,
+) -> CycleResult:
+    """Compute the steady oscillation reached from rest, and look for other attractors.
+
+    Parameters
+    ----------
+    params : DimensionlessParameters or PhysicalParameters
+        The set-up. Physical input gives SI output; dimensionless input gives
+        dimensionless output.
+    rtol, atol : float, optional
+        Tolerances of the slip integration (see :mod:`stickslip.defaults`).
+    max_slip_time : float, optional
+        Bound on the slip time followed from each start (units of ``sqrt(m/k)``).
+    conv_tol : float, optional
+        Relative amplitude change at which a non-sticking transient counts as converged.
+    probe : bool, optional
+        Also start near steady sliding to find a second attractor. Default True.
+
+    Returns
+    -------
+    CycleResult
+
+    Examples
+    --------
+    >>> from stickslip import cycle, DimensionlessParameters, WeakeningLaw
+    >>> r = cycle(DimensionlessParameters(nu=1e-3, law=WeakeningLaw(c=3.8)))
+    >>> r.regime
+    'stick-slip'
+
+    """
+    if isinstance(params, PhysicalParameters):
+        dp = params.dimensionless()
+        scales: Scales | None = params.scales
+    elif isinstance(params, DimensionlessParameters):
+        dp = params
+        scales = None
+    else:
+        raise ValueError(f"params={params!r}: expected DimensionlessParameters or PhysicalParameters")
+    rtol, atol = validate_tolerances(rtol, atol)
+    max_slip_time = check_number(max_slip_time, "max_slip_time")
+    conv_tol = check_number(conv_tol, "conv_tol", upper=0.1, what="a relative tolerance below 0.1")
+    law = dp.law
+    nu = dp.nu
+    lp = law.core_params()
+    dfnu = float(law.forward(np.array([nu]), 1)[0])
+    fnu = float(law.forward(np.array([nu]))[0])
+    steady_stable = dfnu > 0.0
+
+    starts = ["rest"]
+    s0 = [0.0]
+    w0 = [0.0]
+    if probe and not steady_stable:
+        starts.append("near steady sliding")
+        s0.append(fnu + defaults.STEADY_PERTURBATION)
+        w0.append(nu)
+    # Row 0 starts at breakaway: from rest the block sticks until s = 1 (closed
+    # form, duration 1/nu), then slips from (1, 0).
+    out0 = run_attractors(
+        law.core_id,
+        lp,
+        [nu],
+        from_breakaway=True,
+        rtol=rtol,
+        atol=atol,
+        max_slip_time=max_slip_time,
+        conv_tol=conv_tol,
+        diag=True,
+    )[0]
+    out0[engine.O_TRANSIENT] += 1.0 / nu  # the stick from s = 0 up to the threshold
+    rows = [out0]
+    if len(starts) > 1:
+        rows.append(
+            run_attractors(
+                law.core_id,
+                lp,
+                [nu],
+                s0[1:],
+                w0[1:],
+                from_breakaway=False,
+                rtol=rtol,
+                atol=atol,
+                max_slip_time=max_slip_time,
+                conv_tol=conv_tol,
+                diag=True,
+            )[0]
+        )
+
+    conv = _converter(scales)
+    attractors = [_attractor(o, start, conv) for o, start in zip(rows, starts, strict=True)]
+    if steady_stable:
+        attractors.append(Attractor("steady-sliding", 0.0, math.nan, "linear stability", "ok"))
+    distinct = _distinct(attractors)
+
+    o = out0
+    period = o[engine.O_PERIOD]
+    regime = REGIMES[int(o[engine.O_REGIME])]
+    stick_time = o[engine.O_STICK_TIME]
+    if regime == "steady-sliding":
+        stick_fraction = 0.0
+        slip_distance = math.nan
+    else:
+        stick_fraction = stick_time / period if period > 0 else math.nan
+        slip_distance = nu * period
+    return CycleResult(
+        regime=regime,
+        amplitude=conv("force", o[engine.O_AMPLITUDE]),
+        period=conv("time", period),
+        stick_fraction=float(stick_fraction),
+        stick_time=conv("time", stick_time),
+        slip_distance=conv("length", slip_distance),
+        peak_velocity=conv("velocity", o[engine.O_WMAX]),
+        min_velocity=conv("velocity", o[engine.O_WMIN]),
+        max_force=conv("force", o[engine.O_SMAX]),
+        min_force=conv("force", o[engine.O_SMIN]),
+        backward_slips=int(o[engine.O_NBACKWARD]) if math.isfinite(o[engine.O_NBACKWARD]) else 0,
+        drive_work=conv("energy", o[engine.O_DRIVE_WORK]),
+        friction_work=conv("energy", o[engine.O_FRICTION_WORK]),
+        transient_time=conv("time", o[engine.O_TRANSIENT]),
+        status=STATUSES[int(o[engine.O_STATUS])],
+        attractors=tuple(distinct),
+        multistable=len(distinct) > 1,
+        steady_sliding_stable=steady_stable,
+        units=dict(SI_UNITS) if scales is not None else dict(DIMENSIONLESS_UNITS),
+    )
+
+
+def _converter(scales: Scales | None) -> Any:
+    if scales is None:
+        return lambda kind, x: float(x)
+    factor = {
+        "force": scales.force.to("N").magnitude,
+        "time": scales.time.to("s").magnitude,
+        "length": scales.length.to("m").magnitude,
+        "velocity": scales.velocity.to("m/s").magnitude,
+        "energy": scales.energy.to("J").magnitude,
+    }
+    return lambda kind, x: float(x) * float(factor[kind])
+
+
+def _attractor(o: np.ndarray, start: str, conv: Any) -> Attractor:
+    return Attractor(
+        regime=REGIMES[int(o[engine.O_REGIME])],
+        amplitude=conv("force", o[engine.O_AMPLITUDE]),
+        period=conv("time", o[engine.O_PERIOD]),
+        start=start,
+        status=STATUSES[int(o[engine.O_STATUS])],
+    )
+
+
+def _distinct(attractors: list[Attractor], rel: float = 1e-5) -> list[Attractor]:
+    """Drop attractors that repeat an earlier one (same regime, same amplitude)."""
+    kept: list[Attractor] = []
+    for a in attractors:
+        if a.regime == "unknown":
+            continue
+        same = any(
+            k.regime == a.regime
+            and abs(k.amplitude - a.amplitude) <= rel * max(abs(k.amplitude), abs(a.amplitude), 1e-300)
+            for k in kept
+        )
+        if not same:
+            kept.append(a)
+    return kept

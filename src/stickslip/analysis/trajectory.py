@@ -1,0 +1,186 @@
+"""Time series of the block: position, velocity, spring force and phase."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from .. import defaults
+from ..core import engine
+from ..core.api import run_trajectory
+from ..models.parameters import DimensionlessParameters, PhysicalParameters
+from ..models.units import check_number, parse_quantity
+from .cycle import DIMENSIONLESS_UNITS, SI_UNITS, STATUSES, cycle, validate_tolerances
+
+__all__ = ["Trajectory", "simulate"]
+
+EVENT_NAMES = {
+    engine.EV_STOP: "stop",
+    engine.EV_FORWARD: "breakaway",
+    engine.EV_BACKWARD: "backward-slip",
+    engine.EV_SMAX: "force-maximum",
+    engine.EV_SMIN: "force-minimum",
+    engine.EV_STICK: "stick",
+}
+PHASE_NAMES = {0: "stick", 1: "slip", -1: "backward-slip"}
+
+FloatArray = npt.NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """A sampled motion of the block.
+
+    Attributes
+    ----------
+    time : ndarray
+        Sample times (s, or units of ``sqrt(m/k)``).
+    position : ndarray
+        Block position from its start (m, or units of ``mu_s W / k``).
+    velocity : ndarray
+        Block velocity (m/s, or units of ``mu_s W / sqrt(k m)``).
+    spring_force : ndarray
+        Spring force ``k (v0 t - x)`` (N, or units of ``mu_s W``).
+    phase : ndarray of int
+        0 stick, +1 slip, -1 backward slip.
+    event_time, event_force : ndarray
+        Time and spring force of each event.
+    event_kind : tuple of str
+        ``stop``, ``stick``, ``breakaway``, ``backward-slip``, ``force-maximum``, ``force-minimum``.
+    units : Mapping[str, str]
+        Units of force, time, length and velocity.
+
+    """
+
+    time: FloatArray
+    position: FloatArray
+    velocity: FloatArray
+    spring_force: FloatArray
+    phase: npt.NDArray[np.int64]
+    event_time: FloatArray
+    event_kind: tuple[str, ...]
+    event_force: FloatArray
+    units: Mapping[str, str] = field(default_factory=dict)
+
+    @property
+    def physical(self) -> bool:
+        """Whether the trajectory is in SI units."""
+        return self.units.get("force") == "N"
+
+    def columns(self) -> dict[str, Any]:
+        """Return the columns with their units in brackets, as written to CSV."""
+        if self.physical:
+            t, x, v, f = "s", "m", "m/s", "N"
+        else:
+            t, x, v, f = "sqrt(m/k)", "mu_s W/k", "mu_s W/sqrt(k m)", "mu_s W"
+        return {
+            f"time [{t}]": self.time,
+            f"position [{x}]": self.position,
+            f"velocity [{v}]": self.velocity,
+            f"spring_force [{f}]": self.spring_force,
+            "phase": np.array([PHASE_NAMES[int(p)] for p in self.phase]),
+        }
+
+    def to_csv(self, path: Any) -> None:
+        """Write the trajectory to a CSV file with units in the header."""
+        from ..io.csv import write_columns
+
+        write_columns(path, self.columns())
+
+
+def simulate(
+    params: DimensionlessParameters | PhysicalParameters,
+    *,
+    duration: Any = None,
+    cycles: float = 3.0,
+    n_points: int = 4000,
+    initial: tuple[float, float] = (0.0, 0.0),
+    rtol: float = defaults.RTOL,
+    atol: float = defaults.ATOL,
+) -> Trajectory:
+    """Integrate the motion from a start and sample it on a uniform grid plus every event.
+
+    Parameters
+    ----------
+    params : DimensionlessParameters or PhysicalParameters
+        The set-up; physical input gives SI output.
+    duration : float, str or pint.Quantity, optional
+        Length of the simulation: a time with units for physical parameters, a
+        number (units of ``sqrt(m/k)``) for dimensionless ones. Default: from rest
+        to the end of ``cycles`` steady cycles.
+    cycles : float, optional
+        Number of steady cycles when ``duration`` is not given. Default 3.
+    n_points : int, optional
+        Number of uniform samples (event times are added). Default 4000.
+    initial : (float, float), optional
+        Initial spring force and velocity, dimensionless (units of ``mu_s W`` and
+        ``mu_s W / sqrt(k m)``). Default ``(0, 0)``: at rest, spring relaxed.
+    rtol, atol : float, optional
+        Tolerances of the slip integration.
+
+    Returns
+    -------
+    Trajectory
+
+    """
+    if isinstance(params, PhysicalParameters):
+        dp = params.dimensionless()
+        scales = params.scales
+    elif isinstance(params, DimensionlessParameters):
+        dp = params
+        scales = None
+    else:
+        raise ValueError(f"params={params!r}: expected DimensionlessParameters or PhysicalParameters")
+    rtol, atol = validate_tolerances(rtol, atol)
+    if isinstance(n_points, bool) or not isinstance(n_points, int) or n_points < 2:
+        raise ValueError(f"n_points={n_points!r}: expected an integer >= 2")
+    try:
+        s0, w0 = (float(initial[0]), float(initial[1]))
+    except (TypeError, ValueError, IndexError):
+        raise ValueError(f"initial={initial!r}: expected a pair (spring force, velocity)") from None
+    if not (math.isfinite(s0) and math.isfinite(w0)):
+        raise ValueError(f"initial={initial!r}: expected finite numbers")
+    if duration is None:
+        cycles = check_number(cycles, "cycles", what="a positive number of cycles")
+        res = cycle(dp, rtol=max(rtol, 1e-9), atol=atol, probe=False)
+        period = res.period if math.isfinite(res.period) else 2.0 * math.pi
+        t_end = max(0.0, -s0) / dp.nu + 1.0 / dp.nu + cycles * period
+        if res.regime != "stick-slip":
+            t_end = min(res.transient_time, defaults.MAX_SLIP_TIME) + cycles * period
+    elif scales is not None:
+        dq = parse_quantity(duration, "duration", "[time]", "10 s")
+        t_end = float((dq / scales.time).to("").magnitude)
+    else:
+        t_end = check_number(duration, "duration", what="a positive dimensionless duration")
+
+    law = dp.law
+    lp = law.core_params()
+    grid = np.linspace(0.0, t_end, n_points)
+    # first pass: the event times, so that corners and extrema are sampled exactly
+    _, _, ev, status = run_trajectory(law.core_id, lp, dp.nu, s0, w0, grid[-1:], rtol=rtol, atol=atol)
+    t = np.unique(np.concatenate([grid, ev[:, 0][(ev[:, 0] >= 0) & (ev[:, 0] <= t_end)]]))
+    y, mode, ev, status = run_trajectory(
+        law.core_id, lp, dp.nu, s0, w0, t, rtol=rtol, atol=atol, event_capacity=max(16, ev.shape[0])
+    )
+    if status != engine.ST_OK:
+        raise RuntimeError(f"integration failed: {STATUSES[status]} (try a larger rtol)")
+    s = y[:, 0]
+    w = y[:, 1]
+    u = dp.nu * t - s
+    kinds = tuple(EVENT_NAMES[int(k)] for k in ev[:, 1])
+    if scales is None:
+        return Trajectory(
+            t, u - u[0], w, s, mode, ev[:, 0].copy(), kinds, ev[:, 2].copy(), dict(DIMENSIONLESS_UNITS)
+        )
+    ft = scales.time.to("s").magnitude
+    fx = scales.length.to("m").magnitude
+    fv = scales.velocity.to("m/s").magnitude
+    ff = scales.force.to("N").magnitude
+    return Trajectory(
+        t * ft, (u - u[0]) * fx, w * fv, s * ff, mode, ev[:, 0] * ft, kinds, ev[:, 2] * ff, dict(SI_UNITS)
+    )

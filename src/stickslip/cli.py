@@ -1,0 +1,347 @@
+"""Command line: a thin layer over the public API.
+
+Parameters are given either dimensionless (``--nu`` and the law's
+dimensionless options) or physical (``--v0 --mass --stiffness --load`` and the
+law's physical options, values with units such as ``"196 mN"``), or from the
+paper's zv set-up (``--preset zv``, each option overridable).
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import os
+import sys
+from collections.abc import Callable
+from typing import Any
+
+import click
+
+from . import defaults
+from .models.friction import (
+    CoulombLaw,
+    CubicLaw,
+    PhysicalCoulombLaw,
+    PhysicalCubicLaw,
+    PhysicalWeakeningLaw,
+    WeakeningLaw,
+)
+from .models.parameters import (
+    ZV_A,
+    ZV_LOAD,
+    ZV_MU0,
+    ZV_STIFFNESS,
+    DimensionlessParameters,
+    PhysicalParameters,
+    zv_parameters,
+)
+
+LAW_DIMENSIONLESS = {"weakening": ("c", "p"), "cubic": ("alpha", "gamma"), "coulomb": ("kinetic",)}
+LAW_PHYSICAL = {"weakening": ("mu0", "a", "b"), "cubic": ("mu_s", "k1", "k3"), "coulomb": ("mu_s", "mu_k")}
+SETUP = ("v0", "mass", "stiffness", "load")
+
+
+def _opt(name: str) -> str:
+    return "--" + name.replace("_", "-")
+
+
+def model_options(func: Callable[..., Any]) -> Callable[..., Any]:
+    """Add the options that define a parameter set to a command."""
+    opts = [
+        click.option(
+            "--law",
+            type=click.Choice(["weakening", "cubic", "coulomb"]),
+            default="weakening",
+            show_default=True,
+            help="Friction law.",
+        ),
+        click.option(
+            "--preset",
+            type=click.Choice(["zv"]),
+            default=None,
+            help="Physical set-up of the paper's zv experiment (beta = 42 s/m); other options override it.",
+        ),
+        click.option("--nu", type=float, default=None, help="Dimensionless driving velocity beta*v0."),
+        click.option("--c", "c", type=float, default=None, help="weakening: c = a/beta."),
+        click.option("--p", "p", type=float, default=None, help="weakening: p = b/beta (default 0)."),
+        click.option("--alpha", type=float, default=None, help="cubic: alpha = k1/(mu_s beta)."),
+        click.option("--gamma", type=float, default=None, help="cubic: gamma = k3/(mu_s beta^3)."),
+        click.option(
+            "--kinetic", type=float, default=None, help="coulomb: kinetic/static friction ratio, in (0, 1)."
+        ),
+        click.option("--v0", default=None, help="Driving velocity, e.g. '5 um/s'."),
+        click.option("--mass", default=None, help="Mass, e.g. '1 kg'."),
+        click.option("--stiffness", default=None, help="Spring constant, e.g. '62 N/m'."),
+        click.option("--load", default=None, help="Normal load W, e.g. '196 mN'."),
+        click.option("--mu0", type=float, default=None, help="weakening: static coefficient mu0."),
+        click.option("--a", "a", default=None, help="weakening: a, e.g. '160 s/m'."),
+        click.option("--b", "b", default=None, help="weakening: b, e.g. '100 s/m' (default 0)."),
+        click.option(
+            "--mu-s", "mu_s", type=float, default=None, help="cubic/coulomb: static coefficient mu_s."
+        ),
+        click.option("--k1", default=None, help="cubic: k1, e.g. '0.5 s/m'."),
+        click.option("--k3", default=None, help="cubic: k3, e.g. '0.01 s**3/m**3'."),
+        click.option(
+            "--mu-k", "mu_k", type=float, default=None, help="coulomb: kinetic coefficient mu_k < mu_s."
+        ),
+        click.option(
+            "--rtol",
+            type=float,
+            default=defaults.RTOL,
+            show_default=True,
+            help="Relative tolerance of the integration.",
+        ),
+        click.option(
+            "--atol",
+            type=float,
+            default=defaults.ATOL,
+            show_default=True,
+            help="Absolute tolerance of the integration.",
+        ),
+    ]
+    for o in reversed(opts):
+        func = o(func)
+    return func
+
+
+def build_parameters(
+    opts: dict[str, Any], *, default_preset: bool = False
+) -> DimensionlessParameters | PhysicalParameters:
+    """Build a parameter set from command-line options.
+
+    Raises
+    ------
+    click.UsageError
+        For a missing, conflicting or invalid option.
+
+    """
+    law = opts["law"]
+    dim_keys = ["nu", "c", "p", "alpha", "gamma", "kinetic"]
+    phys_keys = [*SETUP, "mu0", "a", "b", "mu_s", "k1", "k3", "mu_k"]
+    dim_given = [k for k in dim_keys if opts.get(k) is not None]
+    phys_given = [k for k in phys_keys if opts.get(k) is not None]
+    preset = opts.get("preset")
+    if dim_given and (phys_given or preset):
+        raise click.UsageError(
+            f"options {', '.join(map(_opt, dim_given))} are dimensionless and "
+            f"{', '.join(map(_opt, phys_given)) or '--preset'} physical: give one kind only"
+        )
+    if not dim_given and not phys_given and not preset:
+        if not default_preset:
+            raise click.UsageError(
+                "no parameters: give --nu with the law's dimensionless options "
+                "(e.g. --nu 0.01 --c 3.8), or --v0 --mass --stiffness --load with the law's "
+                "physical options, or --preset zv"
+            )
+        preset = "zv"
+    try:
+        if dim_given:
+            return _dimensionless(law, opts, dim_given)
+        return _physical(law, opts, phys_given, preset)
+    except ValueError as exc:
+        raise click.UsageError(f"invalid value: {exc}") from None
+
+
+def _check_law_options(law: str, given: list[str], table: dict[str, tuple[str, ...]]) -> None:
+    own = set(table[law])
+    for k in given:
+        for other, keys in table.items():
+            if other != law and k in keys and k not in own:
+                raise click.UsageError(f"{_opt(k)} belongs to --law {other}, not --law {law}")
+
+
+def _require(opts: dict[str, Any], names: tuple[str, ...], context: str) -> None:
+    missing = [n for n in names if opts.get(n) is None]
+    if missing:
+        raise click.UsageError(f"{context} needs {', '.join(map(_opt, missing))}")
+
+
+def _dimensionless(law: str, opts: dict[str, Any], given: list[str]) -> DimensionlessParameters:
+    _check_law_options(law, given, LAW_DIMENSIONLESS)
+    _require(opts, ("nu",), "a dimensionless set-up")
+    if law == "weakening":
+        _require(opts, ("c",), "--law weakening")
+        dlaw: Any = WeakeningLaw(c=opts["c"], p=opts["p"] if opts["p"] is not None else 0.0)
+    elif law == "cubic":
+        _require(opts, ("alpha", "gamma"), "--law cubic")
+        dlaw = CubicLaw(alpha=opts["alpha"], gamma=opts["gamma"])
+    else:
+        _require(opts, ("kinetic",), "--law coulomb")
+        dlaw = CoulombLaw(kinetic=opts["kinetic"])
+    return DimensionlessParameters(nu=opts["nu"], law=dlaw)
+
+
+def _physical(law: str, opts: dict[str, Any], given: list[str], preset: str | None) -> PhysicalParameters:
+    _check_law_options(law, [k for k in given if k not in SETUP], LAW_PHYSICAL)
+    o = dict(opts)
+    if preset == "zv":
+        base = zv_parameters()
+        for key, value in (
+            ("v0", "10 um/s"),
+            ("mass", base.mass),
+            ("stiffness", ZV_STIFFNESS),
+            ("load", ZV_LOAD),
+        ):
+            if o.get(key) is None:
+                o[key] = value
+        if law == "weakening":
+            o["mu0"] = ZV_MU0 if o.get("mu0") is None else o["mu0"]
+            o["a"] = ZV_A if o.get("a") is None else o["a"]
+    _require(o, SETUP, "a physical set-up")
+    if law == "weakening":
+        _require(o, ("mu0", "a"), "--law weakening")
+        plaw: Any = PhysicalWeakeningLaw(
+            mu0=o["mu0"], a=o["a"], b=o["b"] if o.get("b") is not None else "0 s/m"
+        )
+    elif law == "cubic":
+        _require(o, ("mu_s", "k1", "k3"), "--law cubic")
+        plaw = PhysicalCubicLaw(mu_s=o["mu_s"], k1=o["k1"], k3=o["k3"])
+    else:
+        _require(o, ("mu_s", "mu_k"), "--law coulomb")
+        plaw = PhysicalCoulombLaw(mu_s=o["mu_s"], mu_k=o["mu_k"])
+    return PhysicalParameters(mass=o["mass"], stiffness=o["stiffness"], load=o["load"], v0=o["v0"], law=plaw)
+
+
+def describe_parameters(params: DimensionlessParameters | PhysicalParameters) -> dict[str, Any]:
+    """Return a JSON-ready description of a parameter set (with the dimensionless form)."""
+    if isinstance(params, DimensionlessParameters):
+        return {"nu": params.nu, "law": params.law.name, **_law_fields(params.law)}
+    d = params.dimensionless()
+    law = params.law
+    out: dict[str, Any] = {
+        "v0": f"{params.v0:~P}",
+        "mass": f"{params.mass:~P}",
+        "stiffness": f"{params.stiffness:~P}",
+        "load": f"{params.load:~P}",
+        "law": law.name,
+    }
+    for k, v in _law_fields(law).items():
+        out[k] = v if isinstance(v, float) else f"{v:~P}"
+    out["beta"] = f"{params.beta:.6g~P}"
+    out["dimensionless"] = {"nu": d.nu, "law": d.law.name, **_law_fields(d.law)}
+    return out
+
+
+def _law_fields(law: Any) -> dict[str, Any]:
+    import dataclasses
+
+    return {f.name: getattr(law, f.name) for f in dataclasses.fields(law)}
+
+
+def _handle_errors(func: Callable[..., Any]) -> Callable[..., Any]:
+    @functools.wraps(func)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        try:
+            return func(*args, **kwargs)
+        except ValueError as exc:
+            raise click.UsageError(f"invalid value: {exc}") from None
+
+    return wrapper
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(package_name="stickslip")
+def main() -> None:
+    """Friction oscillators: the one-block spring-slider, exact and fast."""
+
+
+@main.command()
+@model_options
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+@click.option("--no-probe", is_flag=True, help="Do not look for a second attractor.")
+@_handle_errors
+def cycle(as_json: bool, no_probe: bool, **opts: Any) -> None:
+    """Compute the steady oscillation: regime, amplitude, period, stick fraction.
+
+    Dimensionless input gives dimensionless output (force in units of the static
+    friction force, time in units of sqrt(m/k)); physical input gives N and s.
+    """
+    from .analysis.cycle import cycle as compute_cycle
+
+    params = build_parameters(opts)
+    res = compute_cycle(params, rtol=opts["rtol"], atol=opts["atol"], probe=not no_probe)
+    if as_json:
+        d = res.as_dict()
+        d["parameters"] = describe_parameters(params)
+        click.echo(json.dumps(d, indent=2))
+        return
+    u = res.units
+    click.echo(f"regime          {res.regime}" + ("  (multistable)" if res.multistable else ""))
+    click.echo(f"amplitude       {res.amplitude:.10g} [{u['force']}]")
+    click.echo(f"period          {res.period:.10g} [{u['time']}]")
+    click.echo(f"stick fraction  {res.stick_fraction:.6g}")
+    click.echo(f"slip distance   {res.slip_distance:.10g} [{u['length']}]")
+    click.echo(f"peak velocity   {res.peak_velocity:.10g} [{u['velocity']}]")
+    click.echo(f"backward slips  {res.backward_slips}")
+    click.echo(f"status          {res.status}")
+    for a in res.attractors:
+        click.echo(f"attractor       {a.regime} from {a.start}: amplitude {a.amplitude:.6g}")
+
+
+@main.command()
+@model_options
+@click.option(
+    "--duration",
+    default=None,
+    help="Simulated time: with units for physical input ('600 s'), a number otherwise. "
+    "Default: from rest to the end of --cycles steady cycles.",
+)
+@click.option(
+    "--cycles",
+    type=float,
+    default=3.0,
+    show_default=True,
+    help="Steady cycles to simulate when --duration is not given.",
+)
+@click.option(
+    "--points", type=int, default=4000, show_default=True, help="Uniform samples (event times are added)."
+)
+@click.option(
+    "--out",
+    "out_dir",
+    type=click.Path(file_okay=False),
+    default="results",
+    show_default=True,
+    help="Output folder for trajectory.csv and spring_force.png/.svg.",
+)
+@click.option("--no-plot", is_flag=True, help="Write the CSV only.")
+@_handle_errors
+def simulate(
+    duration: str | None, cycles: float, points: int, out_dir: str, no_plot: bool, **opts: Any
+) -> None:
+    """Simulate the motion; write a CSV time series and plot spring force against time.
+
+    With no parameters this is the paper's zv set-up at 10 um/s (its Fig. 1).
+    """
+    from .analysis.trajectory import simulate as run
+
+    params = build_parameters(opts, default_preset=True)
+    dur: Any = duration
+    if duration is not None and isinstance(params, DimensionlessParameters):
+        try:
+            dur = float(duration)
+        except ValueError:
+            raise click.UsageError(
+                f"invalid value: duration={duration!r}: expected a number for dimensionless input"
+            ) from None
+    traj = run(params, duration=dur, cycles=cycles, n_points=points, rtol=opts["rtol"], atol=opts["atol"])
+    os.makedirs(out_dir, exist_ok=True)
+    csv_path = os.path.join(out_dir, "trajectory.csv")
+    traj.to_csv(csv_path)
+    click.echo(f"wrote {csv_path} ({traj.time.size} samples)")
+    if not no_plot:
+        from .plots.figures import plot_spring_force, save_figure
+
+        title = None
+        if isinstance(params, PhysicalParameters):
+            title = f"v0 = {params.v0:~P}, beta = {params.beta.to('s/m').magnitude:.3g} s/m"
+        paths = save_figure(plot_spring_force(traj, title=title), os.path.join(out_dir, "spring_force"))
+        click.echo("wrote " + ", ".join(paths))
+    f = traj.spring_force
+    unit = traj.units["force"]
+    n_stops = sum(1 for k in traj.event_kind if k == "stick")
+    click.echo(f"spring force from {f.min():.6g} to {f.max():.6g} [{unit}], {n_stops} stick phases")
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

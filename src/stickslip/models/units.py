@@ -1,0 +1,162 @@
+"""Units: one pint registry for the package and validation of physical inputs.
+
+Every physical argument may be a :class:`pint.Quantity` or a string such as
+``"196 mN"`` or ``"5 um/s"``. Plain numbers are refused for physical
+arguments: a bare ``5`` could be metres or micrometres, and guessing is how
+silently wrong answers are made.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import pint
+
+ureg: pint.UnitRegistry = pint.UnitRegistry()
+Q_ = ureg.Quantity
+
+QuantityLike = pint.Quantity | str
+
+__all__ = ["Q_", "QuantityLike", "check_number", "parse_quantity", "ureg"]
+
+
+def parse_quantity(
+    value: Any,
+    name: str,
+    dimension: str,
+    example: str,
+    *,
+    allow_zero: bool = False,
+) -> pint.Quantity:
+    """Return ``value`` as a validated pint quantity of the given dimension.
+
+    Parameters
+    ----------
+    value : pint.Quantity or str
+        The user's input, for instance ``"62 N/m"``.
+    name : str
+        The argument's name, used in error messages.
+    dimension : str
+        A pint dimensionality such as ``"[mass]"`` or ``"[length] / [time]"``.
+    example : str
+        An example of a valid value, used in error messages (``"1 kg"``).
+    allow_zero : bool, optional
+        Accept zero (default: only strictly positive values).
+
+    Returns
+    -------
+    pint.Quantity
+        The quantity, in the registry of this package.
+
+    Raises
+    ------
+    ValueError
+        If the value has no unit, cannot be parsed, has the wrong dimension, or
+        is NaN, infinite, negative or (unless ``allow_zero``) zero.
+
+    """
+    if isinstance(value, bool) or value is None:
+        raise ValueError(f"{name}={value!r}: expected a quantity with units such as {example!r}")
+    if isinstance(value, int | float):
+        raise ValueError(
+            f"{name}={value!r} has no unit: expected a quantity such as {example!r} (dimension {dimension})"
+        )
+    if isinstance(value, str):
+        try:
+            q: Any = ureg.Quantity(value.strip())
+        except Exception as exc:  # pint raises several unrelated exception types
+            raise ValueError(
+                f"{name}={value!r} is not a quantity pint understands "
+                f"({type(exc).__name__}: {exc}); expected something like {example!r}"
+            ) from None
+    elif isinstance(value, pint.Quantity):
+        try:
+            q = ureg.Quantity(value.magnitude, str(value.units))
+        except Exception as exc:
+            raise ValueError(f"{name}={value!r}: unusable unit ({exc})") from None
+    else:
+        raise ValueError(
+            f"{name}={value!r} (type {type(value).__name__}): expected a pint Quantity "
+            f"or a string such as {example!r}"
+        )
+    if not isinstance(q, pint.Quantity) or (q.dimensionless and dimension != "[]"):
+        raise ValueError(
+            f"{name}={value!r} has no unit: expected a quantity such as {example!r} (dimension {dimension})"
+        )
+    if not q.check(dimension):
+        raise ValueError(
+            f"{name}={value!r} has dimension {q.dimensionality}, expected {dimension} "
+            f"(for example {example!r})"
+        )
+    mag = q.magnitude
+    try:
+        x = float(mag)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}={value!r}: expected a single number with a unit") from None
+    _check_finite_sign(name, value, x, allow_zero, f"a quantity such as {example!r}")
+    return q
+
+
+def check_number(
+    value: Any,
+    name: str,
+    *,
+    allow_zero: bool = False,
+    upper: float | None = None,
+    upper_inclusive: bool = False,
+    what: str = "a positive number",
+) -> float:
+    """Return ``value`` as a float after checking that it is finite and positive.
+
+    Parameters
+    ----------
+    value : float
+        The user's input (dimensionless).
+    name : str
+        The argument's name, used in error messages.
+    allow_zero : bool, optional
+        Accept zero.
+    upper : float, optional
+        An upper bound.
+    upper_inclusive : bool, optional
+        Whether ``upper`` itself is allowed.
+    what : str, optional
+        Description of what is expected, for the error message.
+
+    Raises
+    ------
+    ValueError
+        If the value is not a real number, is NaN or infinite, or is out of range.
+
+    """
+    if isinstance(value, pint.Quantity):
+        if not value.dimensionless:
+            raise ValueError(f"{name}={value!r}: expected a dimensionless number, got units {value.units}")
+        value = value.to("").magnitude
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        try:
+            import numpy as np
+
+            if isinstance(value, np.floating | np.integer):
+                value = float(value)
+            else:
+                raise TypeError
+        except TypeError:
+            raise ValueError(f"{name}={value!r}: expected {what}") from None
+    x = float(value)
+    _check_finite_sign(name, value, x, allow_zero, what)
+    if upper is not None and (x > upper or (x == upper and not upper_inclusive)):
+        rel = "<=" if upper_inclusive else "<"
+        raise ValueError(f"{name}={value!r}: expected {what} {rel} {upper}")
+    return x
+
+
+def _check_finite_sign(name: str, shown: Any, x: float, allow_zero: bool, what: str) -> None:
+    if math.isnan(x):
+        raise ValueError(f"{name}={shown!r} is NaN: expected {what}")
+    if math.isinf(x):
+        raise ValueError(f"{name}={shown!r} is infinite: expected {what}")
+    if x < 0 or (x == 0 and not allow_zero):
+        bound = "non-negative" if allow_zero else "positive"
+        raise ValueError(f"{name}={shown!r} must be {bound}: expected {what}")

@@ -1,0 +1,5 @@
+"""Figures (matplotlib)."""
+
+from .figures import plot_spring_force, save_figure
+
+__all__ = ["plot_spring_force", "save_figure"]

@@ -1,0 +1,77 @@
+"""Figures for papers: labelled axes with units, PNG and vector output."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from ..analysis.trajectory import Trajectory
+
+__all__ = ["plot_spring_force", "save_figure"]
+
+
+def plot_spring_force(traj: Trajectory, *, title: str | None = None) -> Figure:
+    """Plot the spring force against time, with stick phases shaded.
+
+    Parameters
+    ----------
+    traj : Trajectory
+        A simulated (or measured) trajectory.
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    """
+    fig, ax = plt.subplots(figsize=(6.4, 3.6), layout="constrained")
+    if traj.physical:
+        ax.plot(traj.time, traj.spring_force * 1e3, color="C0", lw=1.2)
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel("spring force [mN]")
+        scale = 1e3
+    else:
+        ax.plot(traj.time, traj.spring_force, color="C0", lw=1.2)
+        ax.set_xlabel(r"time $\tau$ [$\sqrt{m/k}$]")
+        ax.set_ylabel(r"spring force $s$ [$\mu_s W$]")
+        scale = 1.0
+    stick = traj.phase == 0
+    if stick.any():
+        lo = float(np.min(traj.spring_force)) * scale
+        hi = float(np.max(traj.spring_force)) * scale
+        ax.fill_between(
+            traj.time, lo, hi, where=stick, color="0.85", step="mid", lw=0, label="stick", zorder=0
+        )
+        ax.legend(loc="lower right", frameon=False)
+    ax.set_xlim(traj.time[0], traj.time[-1])
+    if title:
+        ax.set_title(title)
+    return fig
+
+
+def save_figure(
+    fig: Figure, stem: str | os.PathLike[str], formats: Sequence[str] = ("png", "svg")
+) -> list[str]:
+    """Save ``fig`` as ``stem.png`` and ``stem.svg`` (or the given formats); return the paths."""
+    stem = os.fspath(stem)
+    folder = os.path.dirname(stem)
+    if folder:
+        os.makedirs(folder, exist_ok=True)
+    paths = []
+    for fmt in formats:
+        path = f"{stem}.{fmt}"
+        fig.savefig(path, dpi=200)
+        paths.append(path)
+    plt.close(fig)
+    return paths

@@ -1,0 +1,126 @@
+"""Independent reference: the one-block stick-slip cycle the plain SciPy way.
+
+Written separately from the compiled engine and sharing no code with it:
+``scipy.integrate.solve_ivp`` with its own event location (``events=``), the
+friction laws typed in again, and the stick/slip switching re-implemented.
+Slow, simple and meant to be obviously right.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+
+def forward_branch(law: str, params: dict[str, float], w: float) -> float:
+    """Friction for forward slip (analytic expression of the law for w > 0)."""
+    if law == "weakening":
+        return 1.0 / (1.0 + params["c"] * w) + params.get("p", 0.0) * w
+    if law == "cubic":
+        return 1.0 - params["alpha"] * w + params["gamma"] * w**3
+    if law == "coulomb":
+        return params["kinetic"]
+    raise ValueError(law)
+
+
+@dataclass
+class RefCycle:
+    amplitude: float
+    period: float
+    stick_time: float
+    s_stop: float
+    w_max: float
+    n_backward: int
+
+
+def reference_cycle(
+    law: str,
+    params: dict[str, float],
+    nu: float,
+    rtol: float = 1e-13,
+    atol: float = 1e-15,
+    t_phase: float = 1e4,
+) -> RefCycle:
+    """Steady stick-slip cycle from breakaway (s, w) = (1, 0), with solve_ivp events."""
+    s, w, t = 1.0, 0.0, 0.0
+    direction = 1
+    s_values = [1.0]
+    w_max = 0.0
+    n_back = 0
+    for _ in range(100):
+        d = direction
+
+        def rhs(_t: float, y: np.ndarray, d: int = d) -> list[float]:
+            return [nu - y[1], y[0] - d * forward_branch(law, params, d * y[1])]
+
+        def stop(_t: float, y: np.ndarray) -> float:
+            return y[1]
+
+        stop.terminal = True  # type: ignore[attr-defined]
+        stop.direction = -d  # type: ignore[attr-defined]
+
+        def extremum(_t: float, y: np.ndarray) -> float:
+            return y[1] - nu
+
+        def w_extremum(_t: float, y: np.ndarray, d: int = d) -> float:
+            return rhs(_t, y, d)[1]
+
+        sol = solve_ivp(
+            rhs,
+            (t, t + t_phase),
+            [s, w],
+            method="DOP853",
+            rtol=rtol,
+            atol=atol,
+            events=[stop, extremum, w_extremum],
+        )
+        if sol.status != 1:
+            raise RuntimeError("reference: slip phase did not stop")
+        crossings = np.reshape(sol.y_events[1], (-1, 2))
+        w_extrema = np.reshape(sol.y_events[2], (-1, 2))
+        s_values.extend(crossings[:, 0].tolist())
+        if len(w_extrema):
+            w_max = max(w_max, float(np.max(w_extrema[:, 1])))
+        t = float(sol.t_events[0][0])
+        s = float(sol.y_events[0][0, 0])
+        w = 0.0
+        s_values.append(s)
+        if s < -1.0:
+            direction = -1
+            n_back += 1
+            continue
+        if s >= 1.0:
+            direction = 1
+            continue
+        stick = (1.0 - s) / nu
+        return RefCycle(max(s_values) - min(s_values), t + stick, stick, s, w_max, n_back)
+    raise RuntimeError("reference: no stick after 100 phases")
+
+
+def coulomb_cycle(nu: float, fk: float) -> dict[str, float]:
+    """Closed-form stick-slip cycle of the Coulomb law (static 1, kinetic fk).
+
+    Forward slip from (1, 0): with y = s - fk, w'' = nu - w, so
+    w = nu - nu cos t + (1 - fk) sin t = nu + R sin(t - phi) with
+    R = hypot(nu, 1 - fk), phi = atan2(nu, 1 - fk); it stops at t = pi + 2 phi
+    with s = 2 fk - 1, then sticks for (1 - s)/nu.
+    """
+    r = math.hypot(nu, 1.0 - fk)
+    phi = math.atan2(nu, 1.0 - fk)
+    t_slip = math.pi + 2.0 * phi
+    stick = 2.0 * (1.0 - fk) / nu
+    return {
+        "amplitude": 2.0 * r,
+        "period": t_slip + stick,
+        "stick_time": stick,
+        "s_stop": 2.0 * fk - 1.0,
+        "w_max": nu + r,
+        "max_force": fk + r,
+        "min_force": fk - r,
+        "slip_time": t_slip,
+        # friction does fk times the slip distance, which is nu times the period
+        "friction_work": fk * nu * (t_slip + stick),
+    }

@@ -1,0 +1,189 @@
+"""The command line: outputs, and a clear error for every bad option."""
+
+import csv
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from stickslip.cli import main
+
+PHYS = [
+    "--v0",
+    "20 um/s",
+    "--mass",
+    "231 g",
+    "--stiffness",
+    "62 N/m",
+    "--load",
+    "196 mN",
+    "--mu0",
+    "0.46",
+    "--a",
+    "160 s/m",
+]
+
+
+def run(*args: str):
+    return CliRunner().invoke(main, list(args))
+
+
+def test_cycle_json_dimensionless() -> None:
+    res = run("cycle", "--nu", "0.001", "--law", "weakening", "--c", "3.8", "--json")
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.output)
+    assert d["regime"] == "stick-slip"
+    assert d["amplitude"] == pytest.approx(1.2152321, rel=1e-6)
+    assert 0.99 < d["stick_fraction"] < 1.0
+    assert d["units"]["force"].startswith("static friction force")
+    assert d["units"]["time"] == "sqrt(m/k)"
+    assert d["parameters"] == {"nu": 0.001, "law": "weakening", "c": 3.8, "p": 0.0}
+
+
+def test_cycle_json_physical_matches_dimensionless() -> None:
+    res = run("cycle", *PHYS, "--json")
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.output)
+    assert d["units"] == {"force": "N", "time": "s", "length": "m", "velocity": "m/s", "energy": "J"}
+    dim = d["parameters"]["dimensionless"]
+    res2 = run("cycle", "--nu", repr(dim["nu"]), "--c", repr(dim["c"]), "--json")
+    d2 = json.loads(res2.output)
+    force = 0.46 * 0.196
+    time = (0.231 / 62) ** 0.5
+    assert d["amplitude"] == pytest.approx(d2["amplitude"] * force, rel=1e-9)
+    assert d["period"] == pytest.approx(d2["period"] * time, rel=1e-3)  # mass rounded to 231 g
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["--law", "cubic", "--nu", "0.05", "--alpha", "0.5", "--gamma", "0.1"],
+        ["--law", "coulomb", "--nu", "0.05", "--kinetic", "0.3"],
+        [
+            "--law",
+            "cubic",
+            "--v0",
+            "1 mm/s",
+            "--mass",
+            "1 kg",
+            "--stiffness",
+            "100 N/m",
+            "--load",
+            "1 N",
+            "--mu-s",
+            "0.5",
+            "--k1",
+            "2 s/m",
+            "--k3",
+            "10 s**3/m**3",
+        ],
+        [
+            "--law",
+            "coulomb",
+            "--v0",
+            "1 mm/s",
+            "--mass",
+            "1 kg",
+            "--stiffness",
+            "100 N/m",
+            "--load",
+            "1 N",
+            "--mu-s",
+            "0.5",
+            "--mu-k",
+            "0.3",
+        ],
+        ["--preset", "zv", "--v0", "50 um/s", "--b", "100 s/m"],
+    ],
+)
+def test_cycle_every_law(args: list[str]) -> None:
+    res = run("cycle", *args, "--json")
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.output)
+    assert d["regime"] in ("stick-slip", "pure-slip", "steady-sliding")
+    assert {"regime", "amplitude", "period", "stick_fraction", "units"} <= set(d)
+
+
+def test_cycle_text_output() -> None:
+    res = run("cycle", "--nu", "0.01", "--c", "2")
+    assert res.exit_code == 0
+    assert "regime          stick-slip" in res.output
+
+
+def test_simulate_writes_csv_and_figures(tmp_path: Path) -> None:
+    res = run("simulate", "--out", str(tmp_path), "--points", "400")
+    assert res.exit_code == 0, res.output
+    with open(tmp_path / "trajectory.csv") as fh:
+        rows = list(csv.reader(fh))
+    assert rows[0] == ["time [s]", "position [m]", "velocity [m/s]", "spring_force [N]", "phase"]
+    assert len(rows) > 400
+    assert {r[4] for r in rows[1:]} == {"stick", "slip"}
+    for name in ("spring_force.png", "spring_force.svg"):
+        assert (tmp_path / name).stat().st_size > 5000
+
+
+def test_simulate_dimensionless_duration(tmp_path: Path) -> None:
+    res = run("simulate", "--nu", "0.1", "--c", "3", "--duration", "50", "--out", str(tmp_path), "--no-plot")
+    assert res.exit_code == 0, res.output
+    header = (tmp_path / "trajectory.csv").read_text().splitlines()[0]
+    assert header.startswith("time [sqrt(m/k)]")
+
+
+BAD = [
+    (["cycle"], "no parameters"),
+    (["cycle", "--nu", "0.01"], "needs --c"),
+    (["cycle", "--nu", "-0.01", "--c", "3"], "nu=-0.01 must be positive"),
+    (["cycle", "--nu", "nan", "--c", "3"], "nu=nan is NaN"),
+    (["cycle", "--nu", "inf", "--c", "3"], "nu=inf is infinite"),
+    (["cycle", "--nu", "0.01", "--c", "0"], "c=0.0 must be positive"),
+    (["cycle", "--nu", "0.01", "--c", "3", "--p", "-1"], "p=-1.0 must be non-negative"),
+    (["cycle", "--nu", "0.01", "--alpha", "1"], "--alpha belongs to --law cubic"),
+    (["cycle", "--law", "cubic", "--nu", "0.01", "--alpha", "1"], "needs --gamma"),
+    (
+        ["cycle", "--law", "cubic", "--nu", "0.01", "--alpha", "1", "--gamma", "0"],
+        "gamma=0.0 must be positive",
+    ),
+    (["cycle", "--law", "coulomb", "--nu", "0.01", "--kinetic", "1.2"], "kinetic=1.2"),
+    (["cycle", "--nu", "0.01", "--c", "3", "--v0", "1 um/s"], "give one kind only"),
+    (["cycle", *PHYS[:-2]], "needs --a"),
+    (["cycle", *PHYS[2:]], "needs --v0"),
+    (["cycle", *PHYS[:1], "5 m", *PHYS[2:]], "v0='5 m' has dimension"),
+    (["cycle", *PHYS[:3], "231", *PHYS[4:]], "mass='231' has no unit"),
+    (["cycle", *PHYS[:5], "-62 N/m", *PHYS[6:]], "stiffness='-62 N/m' must be positive"),
+    (["cycle", *PHYS[:7], "196 mN/m", *PHYS[8:]], "load='196 mN/m' has dimension"),
+    (["cycle", *PHYS[:9], "0", *PHYS[10:]], "mu0=0.0 must be positive"),
+    (["cycle", *PHYS[:11], "160 m/s"], "a='160 m/s' has dimension"),
+    (["cycle", *PHYS, "--b", "-3 s/m"], "b='-3 s/m' must be non-negative"),
+    (["cycle", *PHYS, "--k1", "1 s/m"], "--k1 belongs to --law cubic"),
+    (
+        ["cycle", "--law", "cubic", *PHYS[:8], "--mu-s", "0.5", "--k1", "1 s/m", "--k3", "1 s/m"],
+        "k3='1 s/m' has dimension",
+    ),
+    (["cycle", "--law", "coulomb", *PHYS[:8], "--mu-s", "0.5", "--mu-k", "0.7"], "mu_k=0.7"),
+    (["cycle", "--v0", "12 bananas", *PHYS[2:]], "not a quantity"),
+    (["cycle", "--nu", "0.01", "--c", "3", "--rtol", "0"], "rtol=0.0"),
+    (["cycle", "--nu", "0.01", "--c", "3", "--rtol", "0.5"], "rtol=0.5"),
+    (["cycle", "--nu", "0.01", "--c", "3", "--atol", "-1"], "atol=-1.0"),
+    (["cycle", "--nu", "abc", "--c", "3"], "'abc' is not a valid float"),
+    (["cycle", "--law", "stribeck", "--nu", "0.1"], "'stribeck' is not one of"),
+    (
+        ["simulate", "--nu", "0.1", "--c", "3", "--duration", "10 s", "--no-plot"],
+        "expected a number for dimensionless input",
+    ),
+    (["simulate", "--preset", "zv", "--duration", "10 m", "--no-plot"], "duration='10 m' has dimension"),
+    (["simulate", "--preset", "zv", "--duration", "-3 s", "--no-plot"], "must be positive"),
+    (["simulate", "--nu", "0.1", "--c", "3", "--points", "1", "--no-plot"], "n_points=1"),
+    (["simulate", "--nu", "0.1", "--c", "3", "--cycles", "0", "--no-plot"], "cycles=0.0"),
+]
+
+
+@pytest.mark.parametrize(("args", "message"), BAD, ids=[" ".join(a) for a, _ in BAD])
+def test_bad_input_gives_a_clear_error(args: list[str], message: str, tmp_path: Path) -> None:
+    if args[0] == "simulate":
+        args = [*args, "--out", str(tmp_path)]
+    res = run(*args)
+    assert res.exit_code == 2, res.output
+    assert message in res.output
+    assert "Traceback" not in res.output
+    assert res.exception is None or isinstance(res.exception, SystemExit)

@@ -1,0 +1,110 @@
+"""Invariants: energy balance, periodicity by simulation, convergence order."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from reference import coulomb_cycle
+
+from stickslip import CubicLaw, DimensionlessParameters, WeakeningLaw, cycle, simulate
+from stickslip.core._dop853_unrolled import step2
+from stickslip.core.dop853 import rhs
+
+
+@given(nu=st.floats(1e-5, 1.0), c=st.floats(0.5, 100.0), p=st.floats(0.0, 0.5))
+def test_energy_balance_stick_slip(nu: float, c: float, p: float) -> None:
+    """Over a steady cycle the drive's work equals the work of friction."""
+    r = cycle(DimensionlessParameters(nu=nu, law=WeakeningLaw(c=c, p=p)), probe=False)
+    if r.regime != "stick-slip":
+        return
+    assert r.drive_work > 0
+    assert r.drive_work == pytest.approx(r.friction_work, rel=1e-8)
+
+
+@given(nu=st.floats(1e-3, 0.3), alpha=st.floats(0.2, 1.0), gamma=st.floats(0.02, 0.3))
+def test_energy_balance_cubic(nu: float, alpha: float, gamma: float) -> None:
+    r = cycle(DimensionlessParameters(nu=nu, law=CubicLaw(alpha=alpha, gamma=gamma)), probe=False)
+    if r.regime not in ("stick-slip", "pure-slip") or r.status != "ok":
+        return
+    assert r.drive_work == pytest.approx(r.friction_work, rel=1e-7, abs=1e-12)
+
+
+def test_energy_balance_pure_slip() -> None:
+    """A pure-slip cycle (cubic law just below its supercritical Hopf point)."""
+    alpha, gamma = 0.5, 0.5 / 3  # Hopf at nu = 1; averaging: velocity amplitude 0.28 at 0.97
+    r = cycle(DimensionlessParameters(nu=0.97, law=CubicLaw(alpha=alpha, gamma=gamma)))
+    pure = [a for a in r.attractors if a.regime == "pure-slip"]
+    assert pure, r
+    r2 = cycle(DimensionlessParameters(nu=0.97, law=CubicLaw(alpha=alpha, gamma=gamma)), probe=False)
+    if r2.regime == "pure-slip":
+        assert r2.drive_work == pytest.approx(r2.friction_work, rel=1e-6)
+
+
+@pytest.mark.parametrize(("nu", "c"), [(1e-3, 3.8), (0.05, 10.0), (1.0, 3.8)])
+def test_simulated_cycles_repeat_the_computed_cycle(nu: float, c: float) -> None:
+    """One slip integration from breakaway gives the cycle: simulation agrees cycle by cycle."""
+    p = DimensionlessParameters(nu=nu, law=WeakeningLaw(c=c))
+    r = cycle(p, probe=False)
+    traj = simulate(p, cycles=4, n_points=20001)
+    breaks = np.array(
+        [
+            t
+            for t, k in zip(traj.event_time, traj.event_kind, strict=True)
+            if k == "breakaway" and np.isclose(traj.spring_force[np.searchsorted(traj.time, t)], 1.0)
+        ]
+    )
+    periods = np.diff(breaks)
+    assert len(periods) >= 3
+    np.testing.assert_allclose(periods, r.period, rtol=1e-9)
+    # amplitude over the last full cycle, from the force extrema events
+    last = (traj.event_time >= breaks[-2]) & (traj.event_time <= breaks[-1])
+    forces = traj.event_force[last]
+    assert forces.max() - forces.min() == pytest.approx(r.amplitude, rel=1e-9)
+
+
+def _slip_fixed_step(h: float, t_end: float, nu: float, fk: float) -> np.ndarray:
+    law, lp = 2, np.array([fk, 0.0, 0.0])
+    y = np.array([1.0, 0.0])
+    K = np.empty((16, 2))
+    y_new = np.empty(2)
+    n = round(t_end / h)
+    for _ in range(n):
+        rhs(law, lp, nu, 1, y, K[0])
+        step2(law, lp, nu, 1, y, h, K, y_new, 1.0, 1.0)
+        y = y_new.copy()
+    return y
+
+
+def test_dop853_convergence_order_is_eight() -> None:
+    """Fixed-step error on the harmonic slip phase falls as h**8."""
+    nu, fk, t_end = 0.1, 0.3, 4.0
+    exact_w = nu - nu * math.cos(t_end) + (1 - fk) * math.sin(t_end)
+    hs = np.array([1.0, 0.8, 0.5, 0.4])  # larger steps reach round-off
+    errs = np.array([abs(_slip_fixed_step(h, t_end, nu, fk)[1] - exact_w) for h in hs])
+    slope = np.polyfit(np.log(hs), np.log(errs), 1)[0]
+    assert 7.5 < slope < 8.8, (slope, errs)
+
+
+def test_error_proportional_to_tolerance() -> None:
+    """The adaptive engine's global error scales with rtol (slope about 1 in log-log)."""
+    nu, fk = 0.05, 0.3
+    exact = coulomb_cycle(nu, fk)["amplitude"]
+    # a law with curvature, against a very tight solution, to avoid the exactly-harmonic case
+    law = WeakeningLaw(c=5.0)
+    ref = cycle(DimensionlessParameters(nu=nu, law=law), rtol=1e-14, atol=1e-16, probe=False)
+    rtols = np.array([1e-5, 1e-6, 1e-7, 1e-8])
+    errs = np.array(
+        [
+            abs(
+                cycle(DimensionlessParameters(nu=nu, law=law), rtol=r, atol=1e-16, probe=False).period
+                - ref.period
+            )
+            for r in rtols
+        ]
+    )
+    slope = np.polyfit(np.log(rtols), np.log(errs), 1)[0]
+    assert 0.6 < slope < 1.4, (slope, errs)
+    assert np.all(errs < 100 * rtols * ref.period)
+    assert exact > 0

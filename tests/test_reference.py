@@ -1,0 +1,96 @@
+"""The compiled engine against the independent plain-SciPy implementation."""
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from reference import reference_cycle
+
+from stickslip import CoulombLaw, CubicLaw, DimensionlessParameters, WeakeningLaw, cycle
+from stickslip.core import engine
+from stickslip.core.api import run_attractors
+
+RTOL = 1e-10
+
+
+def _agree(law_name: str, law_params: dict, law: object, nu: float) -> None:
+    ref = reference_cycle(law_name, law_params, nu)
+    r = cycle(
+        DimensionlessParameters(nu=nu, law=law),
+        rtol=1e-13,
+        atol=1e-15,  # type: ignore[arg-type]
+        probe=False,
+    )
+    assert r.regime == "stick-slip"
+    assert r.amplitude == pytest.approx(ref.amplitude, rel=RTOL)
+    assert r.period == pytest.approx(ref.period, rel=RTOL)
+    assert r.peak_velocity == pytest.approx(ref.w_max, rel=RTOL)
+    assert r.backward_slips == ref.n_backward
+
+
+@given(
+    nu=st.floats(1e-5, 0.5),
+    c=st.floats(0.5, 50.0),
+)
+def test_f1_matches_scipy(nu: float, c: float) -> None:
+    _agree("weakening", {"c": c}, WeakeningLaw(c=c), nu)
+
+
+@given(
+    nu=st.floats(1e-4, 0.3),
+    c=st.floats(1.0, 20.0),
+    ratio=st.floats(0.05, 0.6),
+)
+def test_f2_matches_scipy(nu: float, c: float, ratio: float) -> None:
+    # keep p below the value at which nu would be past the Hopf point
+    p = ratio * c / (1 + c * nu) ** 2
+    _agree("weakening", {"c": c, "p": p}, WeakeningLaw(c=c, p=p), nu)
+
+
+@given(
+    nu=st.floats(1e-4, 0.2),
+    alpha=st.floats(0.1, 1.0),
+    gamma=st.floats(0.01, 0.3),
+)
+def test_cubic_matches_scipy(nu: float, alpha: float, gamma: float) -> None:
+    _agree("cubic", {"alpha": alpha, "gamma": gamma}, CubicLaw(alpha=alpha, gamma=gamma), nu)
+
+
+@given(nu=st.floats(1e-4, 1.0), fk=st.floats(0.01, 0.95))
+def test_coulomb_matches_scipy(nu: float, fk: float) -> None:
+    _agree("coulomb", {"kinetic": fk}, CoulombLaw(kinetic=fk), nu)
+
+
+@pytest.mark.parametrize("nu", [1e-7, 1e-6])
+def test_tiny_driving_velocity(nu: float) -> None:
+    _agree("weakening", {"c": 3.8}, WeakeningLaw(c=3.8), nu)
+
+
+@pytest.mark.parametrize("c", [100.0, 1000.0])
+def test_steep_weakening(c: float) -> None:
+    _agree("weakening", {"c": c}, WeakeningLaw(c=c), 1e-3)
+
+
+def test_backward_slip_cycle_matches_scipy() -> None:
+    """At nu = 1, c = 3.8 the block overshoots on its stop and slips backward once per cycle."""
+    ref = reference_cycle("weakening", {"c": 3.8}, 1.0)
+    assert ref.n_backward == 1
+    _agree("weakening", {"c": 3.8}, WeakeningLaw(c=3.8), 1.0)
+
+
+def test_batch_equals_single_calls() -> None:
+    rng = np.random.default_rng(3)
+    n = 64
+    nu = 10 ** rng.uniform(-5, -1, n)
+    c = rng.uniform(0.5, 50, n)
+    lp = np.zeros((n, 3))
+    lp[:, 0] = c
+    batch = run_attractors(
+        0, lp, nu, from_breakaway=True, rtol=1e-10, atol=1e-12, max_slip_time=1e4, conv_tol=1e-8
+    )
+    for i in range(0, n, 7):
+        r = cycle(
+            DimensionlessParameters(nu=nu[i], law=WeakeningLaw(c=c[i])), rtol=1e-10, atol=1e-12, probe=False
+        )
+        assert batch[i, engine.O_AMPLITUDE] == r.amplitude
+        assert batch[i, engine.O_PERIOD] == r.period
