@@ -1,0 +1,4 @@
+"""Numeric core: compiled friction laws, the DOP853 slip integrator and the event-driven engine.
+
+Numbers only: no units, plotting or I/O.
+"""

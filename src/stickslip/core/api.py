@@ -11,7 +11,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import engine
-from .laws import N_LAW_PARAMS
+from .laws import LAW_COULOMB, N_LAW_PARAMS
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -60,12 +60,16 @@ def run_attractors(
 
     """
     nu_a = np.ascontiguousarray(np.atleast_1d(np.asarray(nu, dtype=np.float64)))
+    if nu_a.ndim != 1 or not np.all(np.isfinite(nu_a) & (nu_a > 0)):
+        raise ValueError("nu: expected a 1-d array of finite positive driving velocities")
     n = nu_a.shape[0]
-    law_a = np.ascontiguousarray(np.broadcast_to(np.asarray(law, dtype=np.int64), (n,)))
-    lp_a = np.ascontiguousarray(np.broadcast_to(np.asarray(lp, dtype=np.float64), (n, N_LAW_PARAMS)))
+    law_a = _broadcast("law", np.asarray(law, dtype=np.int64), (n,))
+    if not np.all((law_a >= 0) & (law_a <= LAW_COULOMB)):
+        raise ValueError(f"law={law!r}: expected law ids 0 (weakening), 1 (cubic) or 2 (coulomb)")
+    lp_a = _broadcast("lp", np.asarray(lp, dtype=np.float64), (n, N_LAW_PARAMS))
     z = np.zeros(n)
-    s0_a = z if s0 is None else np.ascontiguousarray(np.broadcast_to(np.asarray(s0, float), (n,)))
-    w0_a = z if w0 is None else np.ascontiguousarray(np.broadcast_to(np.asarray(w0, float), (n,)))
+    s0_a = z if s0 is None else _broadcast("s0", np.asarray(s0, dtype=np.float64), (n,))
+    w0_a = z if w0 is None else _broadcast("w0", np.asarray(w0, dtype=np.float64), (n,))
     out = np.empty((n, engine.NOUT))
     engine.attractor_batch(
         law_a,
@@ -83,6 +87,13 @@ def run_attractors(
         out,
     )
     return out
+
+
+def _broadcast(name: str, a: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
+    try:
+        return np.ascontiguousarray(np.broadcast_to(a, shape))
+    except ValueError:
+        raise ValueError(f"{name}: shape {a.shape} does not broadcast to {shape}") from None
 
 
 def run_trajectory(
@@ -113,6 +124,8 @@ def run_trajectory(
 
     """
     t = np.ascontiguousarray(np.asarray(t_eval, dtype=np.float64))
+    if t.ndim != 1 or t.size == 0 or t[0] < 0 or np.any(np.diff(t) < 0) or not np.all(np.isfinite(t)):
+        raise ValueError("t_eval: expected a non-empty, sorted 1-d array of finite times >= 0")
     lp_a = np.ascontiguousarray(np.asarray(lp, dtype=np.float64))
     cap = max(16, int(event_capacity))
     while True:

@@ -17,14 +17,15 @@ import math
 from numba import njit
 
 from ._dop853_tableau import N_STAGES, N_STAGES_EXTENDED
-from .laws import friction
+from .laws import friction, friction_scalar
 
 __all__ = [
     "N_STAGES",
     "N_STAGES_EXTENDED",
     "dense_eval",
-    "illinois",
+    "illinois_sw",
     "initial_step",
+    "poly7",
     "rhs",
 ]
 
@@ -83,20 +84,37 @@ def dense_eval(F, y_old, x, i):  # type: ignore[no-untyped-def]
     return y_old[i] + acc
 
 
+# Scalar versions for the slip-phase loop: the interpolant of one component is a
+# tuple of seven coefficients, so that no array (and no atomic reference count
+# update) crosses a call.
+
+
 @njit(cache=True, inline="always")
-def dense_dw(law, lp, nu, d, F, y_old, x):  # type: ignore[no-untyped-def]
-    """Return ``dw/dtau = s - f(w)`` on the interpolant at ``x``."""
-    s = dense_eval(F, y_old, x, 0)
-    w = dense_eval(F, y_old, x, 1)
-    return s - friction(law, lp, d, w)
+def poly7(c, y0, x):  # type: ignore[no-untyped-def]
+    """Evaluate at ``x`` the interpolant with coefficients ``c`` (7-tuple) from ``y0``.
+
+    Same operations, in the same order, as :func:`dense_eval`.
+    """
+    x1 = 1.0 - x
+    acc = c[6] * x
+    acc = (acc + c[5]) * x1
+    acc = (acc + c[4]) * x
+    acc = (acc + c[3]) * x1
+    acc = (acc + c[2]) * x
+    acc = (acc + c[1]) * x1
+    acc = (acc + c[0]) * x
+    return y0 + acc
 
 
 @njit(cache=True)
-def illinois(law, lp, nu, d, F, y_old, what, level, xa, ga, xb, gb):  # type: ignore[no-untyped-def]
-    """Find a root in ``[xa, xb]`` of a function on the interpolant (Illinois method).
+def illinois_sw(law, p0, p1, d, cs, s0, cw, w0, what, level, xa, ga, xb, gb):  # type: ignore[no-untyped-def]
+    """Find a root by the Illinois method on the interpolants of ``s`` and ``w``.
+
+    ``(cs, s0)`` and ``(cw, w0)`` are the coefficient tuples and start values of
+    the interpolants of ``s`` and ``w`` (see :func:`poly7`); ``ga`` and ``gb``
+    are the function values at ``xa`` and ``xb``, of opposite sign.
 
     ``what = 1`` finds ``w(x) = level``; ``what = 2`` finds ``dw/dtau(x) = 0``.
-    ``ga`` and ``gb`` are the function values at the ends, of opposite sign.
     """
     if ga == 0.0:
         return xa
@@ -109,9 +127,9 @@ def illinois(law, lp, nu, d, F, y_old, what, level, xa, ga, xb, gb):  # type: ig
         if not (xa < xc < xb):
             xc = 0.5 * (xa + xb)
         if what == 1:
-            gc = dense_eval(F, y_old, xc, 1) - level
+            gc = poly7(cw, w0, xc) - level
         else:
-            gc = dense_dw(law, lp, nu, d, F, y_old, xc)
+            gc = poly7(cs, s0, xc) - friction_scalar(law, p0, p1, d, poly7(cw, w0, xc))
         if gc == 0.0:
             return xc
         if (gc > 0.0) == (gb > 0.0):

@@ -29,15 +29,16 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from ._dop853_unrolled import dense_sw, step_sw, store_dense, store_step
 from .dop853 import (
     N_STAGES,
     N_STAGES_EXTENDED,
     dense_eval,
-    illinois,
+    illinois_sw,
     initial_step,
+    poly7,
     rhs,
 )
-from ._dop853_unrolled import dense2, step2
 from .laws import STATIC_THRESHOLD, df_branch, f_branch
 
 FS = STATIC_THRESHOLD
@@ -45,7 +46,7 @@ FS = STATIC_THRESHOLD
 # Step-size controller. Kept in this file on purpose: numba's on-disk cache is
 # invalidated by changes to the source file of the compiled function only, so a
 # constant imported from another module would be silently stale.
-ERROR_EXPONENT = -1.0 / 8.0
+ERROR_EXPONENT = -1.0 / 8.0  # computed by _root8 (three square roots), not pow
 SAFETY = 0.9
 MIN_FACTOR = 0.333
 MAX_FACTOR = 3.0
@@ -130,10 +131,22 @@ O_NSTEP = 17
 O_NREJECT = 18
 NOUT = 19
 
+_ZERO7 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
 # a decaying oscillation below this amplitude (units of static friction) about
 # a linearly stable steady sliding state counts as steady sliding
 AMPLITUDE_STEADY = 1e-7
 MAX_PHASES = 100_000
+
+
+@njit(cache=True, inline="always")
+def _root8(x):  # type: ignore[no-untyped-def]
+    """Return ``x ** (1/8)`` (the controller's ``-ERROR_EXPONENT``) for ``x >= 0``.
+
+    Three correctly rounded square roots agree with ``pow`` to an ulp or two and
+    cost a fraction of a libm ``pow`` call, which took a tenth of the run time.
+    """
+    return math.sqrt(math.sqrt(math.sqrt(x)))
 
 
 @njit(cache=True, inline="always")
@@ -243,13 +256,28 @@ def _slip_phase(  # type: ignore[no-untyped-def]
     Returns ``(t, outcome, ie)``; ``y`` holds the final state. The phase ends at a
     stop (``w = 0``, which is set exactly), at ``t_end``, or, when ``track`` is
     true, when successive oscillations have converged.
+
+    The loop keeps the state ``(s, w)``, the stages and the interpolant as numbers
+    and tuples and calls kernels that take no arrays: passing an array to a
+    compiled function (inlined or not) costs two atomic reference-count updates,
+    which took a fifth of the run time. ``K``, ``F`` and ``y_new`` are filled only
+    with the quadratures (``y`` of length 4), which need their stages.
     """
     n = y.shape[0]
+    diag = n > 2
     n_eval = t_eval.shape[0]
     rhs(law, lp, nu, d, y, K[0])
     if t_end - t <= 0.0:
         return t, PH_T_END, ie
     h = initial_step(law, lp, nu, d, y, K[0], rtol, atol, t_end - t, ytmp, y_new)
+    p0 = lp[0]
+    p1 = lp[1]
+    s = y[0]
+    w = y[1]
+    ks0 = K[0, 0]  # derivative at (s, w)
+    kw0 = K[0, 1]
+    cs = _ZERO7  # interpolant coefficients of s and w in the current step
+    cw = _ZERO7
     rejected = False
     h_acc = 0.0
     err_acc = 0.0
@@ -266,12 +294,12 @@ def _slip_phase(  # type: ignore[no-untyped-def]
         hh = h if h < remaining else remaining
         if hh < min_step:
             return t, PH_STEP_TOO_SMALL, ie
-        err = step2(law, lp, nu, d, y, hh, K, y_new, rtol, atol)
+        err, s1, w1, ks, kw = step_sw(law, p0, p1, nu, d, s, w, ks0, kw0, hh, rtol, atol)
         if not (err <= 1.0):
             if err != err or err == math.inf:
                 factor = MIN_FACTOR
             else:
-                factor = max(MIN_FACTOR, SAFETY * err**ERROR_EXPONENT)
+                factor = max(MIN_FACTOR, SAFETY / _root8(err))
             h = hh * factor
             rejected = True
             trk[T_NREJ] += 1.0
@@ -279,12 +307,12 @@ def _slip_phase(  # type: ignore[no-untyped-def]
         if err == 0.0:
             factor = MAX_FACTOR
         else:
-            factor = min(MAX_FACTOR, SAFETY * err**ERROR_EXPONENT)
+            factor = min(MAX_FACTOR, SAFETY / _root8(err))
             if h_acc > 0.0 and err_acc > 0.0:
                 # Gustafsson's predictive controller (as in Hairer's RADAU5): follows
                 # an error constant that changes steadily from step to step, as it
                 # does when a slip decelerates into the steep part of the law.
-                pred = SAFETY * (hh / h_acc) * (err_acc / (err * err)) ** (-ERROR_EXPONENT)
+                pred = SAFETY * (hh / h_acc) * _root8(err_acc / (err * err))
                 factor = max(MIN_FACTOR, min(factor, pred))
         if rejected:
             factor = min(1.0, factor)
@@ -294,30 +322,36 @@ def _slip_phase(  # type: ignore[no-untyped-def]
         rejected = False
         nsteps += 1
         trk[T_NSTEP] += 1.0
+        if diag:
+            store_step(law, lp, nu, d, y, hh, K, y_new, s1, w1, ks, kw)
 
         # ---- events inside the accepted step [t, t + hh] ----------------
-        w0 = y[1]
-        w1 = y_new[1]
-        dw0 = K[0, 1]
-        dw1 = K[N_STAGES, 1]
+        # The interpolant (dense_sw) is computed at the first event that needs it.
+        w0 = w
+        dw0 = kw0
+        dw1 = kw[N_STAGES]
         dense = False
         x_wext = -1.0
         wext = 0.0
         if (dw0 > 0.0 and dw1 < 0.0) or (dw0 < 0.0 and dw1 > 0.0):
-            dense2(law, lp, nu, d, y, y_new, hh, K, F)
+            cs, cw, ksx, kwx = dense_sw(law, p0, p1, nu, d, s, w, s1, w1, hh, ks, kw)
+            if diag:
+                store_dense(law, lp, nu, d, y, y_new, hh, K, F, cs, cw, ksx, kwx)
             dense = True
-            x_wext = illinois(law, lp, nu, d, F, y, 2, 0.0, 0.0, dw0, 1.0, dw1)
-            wext = dense_eval(F, y, x_wext, 1)
+            x_wext = illinois_sw(law, p0, p1, d, cs, s, cw, w, 2, 0.0, 0.0, dw0, 1.0, dw1)
+            wext = poly7(cw, w, x_wext)
         # stop: d*w reaches zero
         x_stop = 2.0
         if d * w0 > 0.0:
             if d * w1 <= 0.0:
                 if not dense:
-                    dense2(law, lp, nu, d, y, y_new, hh, K, F)
+                    cs, cw, ksx, kwx = dense_sw(law, p0, p1, nu, d, s, w, s1, w1, hh, ks, kw)
+                    if diag:
+                        store_dense(law, lp, nu, d, y, y_new, hh, K, F, cs, cw, ksx, kwx)
                     dense = True
-                x_stop = illinois(law, lp, nu, d, F, y, 1, 0.0, 0.0, w0, 1.0, w1)
+                x_stop = illinois_sw(law, p0, p1, d, cs, s, cw, w, 1, 0.0, 0.0, w0, 1.0, w1)
             elif x_wext >= 0.0 and d * wext <= 0.0 and d * dw0 < 0.0:
-                x_stop = illinois(law, lp, nu, d, F, y, 1, 0.0, 0.0, w0, x_wext, wext)
+                x_stop = illinois_sw(law, p0, p1, d, cs, s, cw, w, 1, 0.0, 0.0, w0, x_wext, wext)
         x_end = x_stop if x_stop < 1.0 else 1.0
         # spring-force extrema (w = nu), forward slip only; velocity extrema
         nev = 0
@@ -331,18 +365,22 @@ def _slip_phase(  # type: ignore[no-untyped-def]
             if nev == 1 and x_wext < x_end:
                 ge = wext - nu
                 if g0 * ge < 0.0 or (ge == 0.0 and g0 != 0.0):
-                    ev_x[nev] = illinois(law, lp, nu, d, F, y, 1, nu, 0.0, g0, x_wext, ge)
+                    ev_x[nev] = illinois_sw(law, p0, p1, d, cs, s, cw, w, 1, nu, 0.0, g0, x_wext, ge)
                     ev_k[nev] = 1 if g0 < 0.0 else -1
                     nev += 1
                 if ge * g_end < 0.0 or (g_end == 0.0 and ge != 0.0):
-                    ev_x[nev] = illinois(law, lp, nu, d, F, y, 1, nu, x_wext, ge, x_end, g_end)
+                    ev_x[nev] = illinois_sw(
+                        law, p0, p1, d, cs, s, cw, w, 1, nu, x_wext, ge, x_end, g_end
+                    )
                     ev_k[nev] = 1 if ge < 0.0 else -1
                     nev += 1
             elif g0 * g_end < 0.0 or (g_end == 0.0 and g0 != 0.0):
                 if not dense:
-                    dense2(law, lp, nu, d, y, y_new, hh, K, F)
+                    cs, cw, ksx, kwx = dense_sw(law, p0, p1, nu, d, s, w, s1, w1, hh, ks, kw)
+                    if diag:
+                        store_dense(law, lp, nu, d, y, y_new, hh, K, F, cs, cw, ksx, kwx)
                     dense = True
-                ev_x[nev] = illinois(law, lp, nu, d, F, y, 1, nu, 0.0, g0, x_end, g_end)
+                ev_x[nev] = illinois_sw(law, p0, p1, d, cs, s, cw, w, 1, nu, 0.0, g0, x_end, g_end)
                 ev_k[nev] = 1 if g0 < 0.0 else -1
                 nev += 1
         # process in time order (at most three events)
@@ -362,10 +400,10 @@ def _slip_phase(  # type: ignore[no-untyped-def]
                 _on_w_extremum(trk, wext)
             else:
                 te = t + xa * hh
-                sv = dense_eval(F, y, xa, 0)
+                sv = poly7(cs, s, xa)
                 q2 = 0.0
                 q3 = 0.0
-                if n > 2:
+                if diag:
                     q2 = dense_eval(F, y, xa, 2)
                     q3 = dense_eval(F, y, xa, 3)
                 is_max = ev_k[a] > 0
@@ -376,24 +414,34 @@ def _slip_phase(  # type: ignore[no-untyped-def]
         t_seg_end = t + x_end * hh
         while ie < n_eval and t_eval[ie] <= t_seg_end:
             if not dense:
-                dense2(law, lp, nu, d, y, y_new, hh, K, F)
+                cs, cw, ksx, kwx = dense_sw(law, p0, p1, nu, d, s, w, s1, w1, hh, ks, kw)
+                if diag:
+                    store_dense(law, lp, nu, d, y, y_new, hh, K, F, cs, cw, ksx, kwx)
                 dense = True
             xe = (t_eval[ie] - t) / hh
             if xe < 0.0:
                 xe = 0.0
-            out_y[ie, 0] = dense_eval(F, y, xe, 0)
-            out_y[ie, 1] = dense_eval(F, y, xe, 1)
+            out_y[ie, 0] = poly7(cs, s, xe)
+            out_y[ie, 1] = poly7(cw, w, xe)
             out_mode[ie] = d
             ie += 1
         if x_stop <= 1.0:
-            for i in range(n):
-                y[i] = dense_eval(F, y, x_stop, i) if i != 1 else y[i]
+            if diag:
+                for i in range(2, n):
+                    y[i] = dense_eval(F, y, x_stop, i)
+            y[0] = poly7(cs, s, x_stop)
             y[1] = 0.0
             return t + x_stop * hh, PH_STOPPED, ie
         t = t + hh
-        for i in range(n):
-            y[i] = y_new[i]
-            K[0, i] = K[N_STAGES, i]
+        s = s1
+        w = w1
+        ks0 = ks[N_STAGES]
+        kw0 = kw[N_STAGES]
+        y[0] = s1
+        y[1] = w1
+        if diag:
+            for i in range(2, n):
+                y[i] = y_new[i]
         if track:
             if trk[T_CONV] != 0.0:
                 return t, PH_CONVERGED, ie
@@ -456,12 +504,14 @@ def attractor_ws(  # type: ignore[no-untyped-def]
     """Follow the motion from ``(s0, w0)`` to its attractor and measure one steady cycle.
 
     With ``from_breakaway`` the start ``(1, 0)`` is taken as the beginning of a
-    stick-slip cycle, so the first slip integration is measured at once: one
-    slip integration gives the whole steady stick-slip cycle (PHYSICS.md §2).
-    Otherwise the motion is followed until it first sticks (after which it is on
-    the stick-slip cycle, measured from the next breakaway) or until successive
-    oscillations converge (pure slip) or decay (steady sliding). ``t_max``
-    bounds the total slip time integrated. Results go to ``out`` (layout ``O_*``).
+    stick-slip cycle, so the first slip integration is measured at once: if it
+    ends in a stick, that one slip integration is the whole steady stick-slip
+    cycle (PHYSICS.md §2). Otherwise the motion is followed until it first
+    sticks (after which it is on the stick-slip cycle, measured from the next
+    breakaway). In both cases, a motion that does not stick is followed until
+    successive oscillations converge (pure slip) or decay about a linearly
+    stable steady state (steady sliding). ``t_max`` bounds the total slip time
+    integrated. Results go to ``out`` (layout ``O_*``).
     """
     n = y.shape[0]
     diag = n > 2
@@ -529,7 +579,7 @@ def attractor_ws(  # type: ignore[no-untyped-def]
         t_start = t
         t, ph, _ie = _slip_phase(
             law, lp, nu, d, t, y, t + (t_max - slip_used), rtol, atol, conv_tol,
-            not measuring, K, F, y_new, ytmp, trk, t_eval, out_y, out_mode, 0,
+            True, K, F, y_new, ytmp, trk, t_eval, out_y, out_mode, 0,
             evbuf, evn, max_steps,
         )
         slip_used += t - t_start
@@ -560,7 +610,7 @@ def attractor_ws(  # type: ignore[no-untyped-def]
                 out[O_WMIN] = nu
                 out[O_DRIVE_WORK] = 0.0
                 out[O_FRICTION_WORK] = 0.0
-            elif trk[T_NAMP] >= 1.0 and not measuring:
+            elif trk[T_NAMP] >= 1.0:
                 out[O_REGIME] = RG_PURE_SLIP
                 out[O_AMPLITUDE] = trk[T_A0]
                 out[O_PERIOD] = trk[T_P0]

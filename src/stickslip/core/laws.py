@@ -53,7 +53,30 @@ def f_scalar(law, p0, p1, w):  # type: ignore[no-untyped-def]
 @njit(cache=True, inline="always")
 def friction_scalar(law, p0, p1, d, w):  # type: ignore[no-untyped-def]
     """Return the friction of a slip phase in direction ``d`` from scalar parameters."""
+    if law == LAW_WEAKENING and d * w >= 0.0:
+        # Same value as d * f_scalar(law, p0, p1, d * w), bit for bit (d = +-1 only
+        # flips signs), but with one multiplication fewer before the division: this
+        # is the latency-bound inner link of every Runge-Kutta stage.
+        return d / (1.0 + (p0 * d) * w) + p1 * w
     return d * f_scalar(law, p0, p1, d * w)
+
+
+@njit(cache=True, inline="always")
+def slip_accel(law, p0, p1, d, s, w):  # type: ignore[no-untyped-def]
+    """Return ``dw/dtau = s - friction`` of a slip phase in direction ``d``.
+
+    The same value as ``s - friction_scalar(...)`` (so that, e.g., steady sliding
+    stays an exact fixed point), but for the weakening law with ``p1 = 0`` the
+    addition of ``p1 * w = 0`` is skipped: the division is the slowest link of
+    the chain of dependent operations from one Runge-Kutta stage to the next, and
+    every operation after it lengthens that chain.
+    """
+    if law == LAW_WEAKENING and d * w >= 0.0:
+        fr = d / (1.0 + (p0 * d) * w)
+        if p1 != 0.0:
+            fr += p1 * w
+        return s - fr
+    return s - friction_scalar(law, p0, p1, d, w)
 
 
 @njit(cache=True, inline="always")
