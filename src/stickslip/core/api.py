@@ -59,7 +59,7 @@ def run_attractors(
         Bound on the steps of one slip phase.
 
     """
-    nu_a = np.ascontiguousarray(np.atleast_1d(np.asarray(nu, dtype=np.float64)))
+    nu_a = np.array(np.atleast_1d(np.asarray(nu, dtype=np.float64)), order="C")
     if nu_a.ndim != 1 or not np.all(np.isfinite(nu_a) & (nu_a > 0)):
         raise ValueError("nu: expected a 1-d array of finite positive driving velocities")
     n = nu_a.shape[0]
@@ -91,7 +91,8 @@ def run_attractors(
 
 def _broadcast(name: str, a: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
     try:
-        return np.ascontiguousarray(np.broadcast_to(a, shape))
+        # a writable copy: numba compiles read-only arrays (broadcast views) separately
+        return np.array(np.broadcast_to(a, shape), order="C")
     except ValueError:
         raise ValueError(f"{name}: shape {a.shape} does not broadcast to {shape}") from None
 
@@ -126,7 +127,7 @@ def run_trajectory(
     t = np.ascontiguousarray(np.asarray(t_eval, dtype=np.float64))
     if t.ndim != 1 or t.size == 0 or t[0] < 0 or np.any(np.diff(t) < 0) or not np.all(np.isfinite(t)):
         raise ValueError("t_eval: expected a non-empty, sorted 1-d array of finite times >= 0")
-    lp_a = np.ascontiguousarray(np.asarray(lp, dtype=np.float64))
+    lp_a = np.array(lp, dtype=np.float64, order="C")
     cap = max(16, int(event_capacity))
     while True:
         y = np.empty((t.shape[0], 2))

@@ -42,7 +42,7 @@ def rhs(law, lp, nu, d, y, out):  # type: ignore[no-untyped-def]
         out[3] = fr * w
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _rms2(a0, a1):  # type: ignore[no-untyped-def]
     return math.sqrt(0.5 * (a0 * a0 + a1 * a1))
 
@@ -89,7 +89,7 @@ def dense_eval(F, y_old, x, i):  # type: ignore[no-untyped-def]
 # update) crosses a call.
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def poly7(c, y0, x):  # type: ignore[no-untyped-def]
     """Evaluate at ``x`` the interpolant with coefficients ``c`` (7-tuple) from ``y0``.
 

@@ -139,7 +139,7 @@ AMPLITUDE_STEADY = 1e-7
 MAX_PHASES = 100_000
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _root8(x):  # type: ignore[no-untyped-def]
     """Return ``x ** (1/8)`` (the controller's ``-ERROR_EXPONENT``) for ``x >= 0``.
 
@@ -248,14 +248,16 @@ def _on_s_extremum(trk, is_max, te, sv, q2, q3, track, conv_tol):  # type: ignor
 
 @njit(cache=True)
 def _slip_phase(  # type: ignore[no-untyped-def]
-    law, lp, nu, d, t, y, t_end, rtol, atol, conv_tol, track,
+    law, lp, nu, d, t, y, t_end, rtol, atol, conv_tol,
     K, F, y_new, ytmp, trk, t_eval, out_y, out_mode, ie, evbuf, evn, max_steps,
 ):
     """Integrate one slip phase in direction ``d`` from ``(t, y)``.
 
     Returns ``(t, outcome, ie)``; ``y`` holds the final state. The phase ends at a
-    stop (``w = 0``, which is set exactly), at ``t_end``, or, when ``track`` is
-    true, when successive oscillations have converged.
+    stop (``w = 0``, which is set exactly), at ``t_end``, or, when ``conv_tol``
+    is positive, when successive oscillations have converged (trajectories pass
+    a negative ``conv_tol``: no flag argument, so that every caller shares one
+    compiled specialization).
 
     The loop keeps the state ``(s, w)``, the stages and the interpolant as numbers
     and tuples and calls kernels that take no arrays: passing an array to a
@@ -265,6 +267,7 @@ def _slip_phase(  # type: ignore[no-untyped-def]
     """
     n = y.shape[0]
     diag = n > 2
+    track = conv_tol > 0.0
     n_eval = t_eval.shape[0]
     rhs(law, lp, nu, d, y, K[0])
     if t_end - t <= 0.0:
@@ -457,7 +460,7 @@ def _slip_phase(  # type: ignore[no-untyped-def]
         h = h_next
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _mode_at(s, w):  # type: ignore[no-untyped-def]
     """Return the phase (0 stick, +1/-1 slip direction) a state at rest or moving is in."""
     if w > 0.0:
@@ -527,6 +530,7 @@ def attractor_ws(  # type: ignore[no-untyped-def]
     out_mode = np.empty(0, dtype=np.int64)
     evbuf = np.empty((0, 3))
     evn = np.zeros(1, dtype=np.int64)
+    ie0 = np.int64(0)  # not the literal 0: one compiled _slip_phase for every caller
     for i in range(NOUT):
         out[i] = math.nan
     out[O_STATUS] = ST_OK
@@ -579,7 +583,7 @@ def attractor_ws(  # type: ignore[no-untyped-def]
         t_start = t
         t, ph, _ie = _slip_phase(
             law, lp, nu, d, t, y, t + (t_max - slip_used), rtol, atol, conv_tol,
-            True, K, F, y_new, ytmp, trk, t_eval, out_y, out_mode, 0,
+            K, F, y_new, ytmp, trk, t_eval, out_y, out_mode, ie0,
             evbuf, evn, max_steps,
         )
         slip_used += t - t_start
@@ -682,7 +686,7 @@ def trajectory(  # type: ignore[no-untyped-def]
     n_eval = t_eval.shape[0]
     t_end = t_eval[n_eval - 1]
     t = 0.0
-    ie = 0
+    ie = np.int64(0)
     d = _mode_at(s0, w0)
     for _ in range(MAX_PHASES + n_eval):
         if ie >= n_eval:
@@ -704,7 +708,7 @@ def trajectory(  # type: ignore[no-untyped-def]
             _log(evbuf, evn, t, EV_FORWARD, FS)
             continue
         t, ph, ie = _slip_phase(
-            law, lp, nu, d, t, y, t_end, rtol, atol, 0.0, False, K, F, y_new, ytmp,
+            law, lp, nu, d, t, y, t_end, rtol, atol, -1.0, K, F, y_new, ytmp,
             trk, t_eval, out_y, out_mode, ie, evbuf, evn, max_steps,
         )
         if ph == PH_STOPPED:

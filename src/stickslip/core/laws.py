@@ -30,7 +30,7 @@ N_LAW_PARAMS = 3
 STATIC_THRESHOLD = 1.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def f_scalar(law, p0, p1, w):  # type: ignore[no-untyped-def]
     """Return the forward-branch friction ``f_+(w)`` from scalar law parameters."""
     if law == LAW_WEAKENING:
@@ -50,7 +50,7 @@ def f_scalar(law, p0, p1, w):  # type: ignore[no-untyped-def]
     return p0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def friction_scalar(law, p0, p1, d, w):  # type: ignore[no-untyped-def]
     """Return the friction of a slip phase in direction ``d`` from scalar parameters."""
     if law == LAW_WEAKENING and d * w >= 0.0:
@@ -61,7 +61,7 @@ def friction_scalar(law, p0, p1, d, w):  # type: ignore[no-untyped-def]
     return d * f_scalar(law, p0, p1, d * w)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def slip_accel(law, p0, p1, d, s, w):  # type: ignore[no-untyped-def]
     """Return ``dw/dtau = s - friction`` of a slip phase in direction ``d``.
 
