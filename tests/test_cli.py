@@ -123,6 +123,14 @@ def test_simulate_writes_csv_and_figures(tmp_path: Path) -> None:
         assert (tmp_path / name).stat().st_size > 5000
 
 
+def test_simulate_out_must_be_a_folder(tmp_path: Path) -> None:
+    f = tmp_path / "a_file"
+    f.write_text("x")
+    res = run("simulate", "--nu", "0.1", "--c", "3", "--out", str(f))
+    assert res.exit_code == 2
+    assert "is a file" in res.output
+
+
 def test_simulate_dimensionless_duration(tmp_path: Path) -> None:
     res = run("simulate", "--nu", "0.1", "--c", "3", "--duration", "50", "--out", str(tmp_path), "--no-plot")
     assert res.exit_code == 0, res.output
@@ -166,6 +174,19 @@ BAD = [
     (["cycle", "--nu", "0.01", "--c", "3", "--rtol", "0.5"], "rtol=0.5"),
     (["cycle", "--nu", "0.01", "--c", "3", "--atol", "-1"], "atol=-1.0"),
     (["cycle", "--nu", "abc", "--c", "3"], "'abc' is not a valid float"),
+    (["cycle", "--preset", "bri"], "'bri' is not 'zv'"),
+    (
+        ["cycle", "--law", "cubic", *PHYS[:8], "--mu-s", "-0.5", "--k1", "1 s/m", "--k3", "1 s**3/m**3"],
+        "mu_s=-0.5 must be positive",
+    ),
+    (
+        ["cycle", "--law", "cubic", *PHYS[:8], "--mu-s", "0.5", "--k1", "1 kg", "--k3", "1 s**3/m**3"],
+        "k1='1 kg' has dimension",
+    ),
+    (
+        ["cycle", "--law", "coulomb", "--nu", "0.01", "--kinetic", "0.3", "--c", "2"],
+        "--c belongs to --law weakening",
+    ),
     (["cycle", "--law", "stribeck", "--nu", "0.1"], "'stribeck' is not one of"),
     (
         ["simulate", "--nu", "0.1", "--c", "3", "--duration", "10 s", "--no-plot"],

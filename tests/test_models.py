@@ -188,3 +188,47 @@ def test_other_bad_input() -> None:
         WeakeningLaw(c=1.0).derivative(1.0, order=0)
     with pytest.raises(ValueError, match="v="):
         f1(0.4, "1 s/m").coefficient(3.0)
+
+
+@pytest.mark.parametrize("plaw", PHYSICAL_LAWS, ids=repr)
+@pytest.mark.parametrize("order", [1, 2])
+def test_physical_derivatives(plaw, order: int) -> None:
+    v = np.linspace(2e-4, 0.05, 40)
+    h = 1e-7
+    if order == 1:
+        fd = (plaw.value(Q_(v + h, "m/s")) - plaw.value(Q_(v - h, "m/s"))) / (2 * h)
+    else:
+        fd = (plaw.derivative(Q_(v + h, "m/s")).magnitude - plaw.derivative(Q_(v - h, "m/s")).magnitude) / (
+            2 * h
+        )
+    d = plaw.derivative(Q_(v, "m/s"), order)
+    assert d.check(f"[time]**{order} / [length]**{order}")
+    np.testing.assert_allclose(d.to(f"(s/m)**{order}").magnitude, fd, rtol=2e-5, atol=1e-6)
+    np.testing.assert_allclose(plaw.value(Q_(v, "m/s")), plaw.coefficient(Q_(v, "m/s")))
+    assert plaw.static_threshold == plaw.static_coefficient
+
+
+def test_more_bad_input() -> None:
+    with pytest.raises(ValueError, match="v0='fast'"):
+        zv_parameters("fast")
+    with pytest.raises(ValueError, match="b='1 m'"):
+        zv_parameters(b="1 m")
+    d = DimensionlessParameters(nu=0.01, law=WeakeningLaw(c=2.0))
+    with pytest.raises(ValueError, match=r"static_coefficient=-0\.5"):
+        PhysicalParameters.from_dimensionless(
+            d, mass="1 kg", stiffness="1 N/m", load="1 N", static_coefficient=-0.5
+        )
+    with pytest.raises(ValueError, match="mass='1 N'"):
+        PhysicalParameters.from_dimensionless(
+            d, mass="1 N", stiffness="1 N/m", load="1 N", static_coefficient=0.5
+        )
+    from stickslip import cycle
+
+    r = cycle(d)
+    with pytest.raises(ValueError, match="physical parameters"):
+        r.quantity("amplitude")
+    rp = cycle(zv_parameters("50 um/s"))
+    assert rp.quantity("amplitude").check("[force]")
+    assert rp.quantity("period").check("[time]")
+    with pytest.raises(ValueError, match="name='volume'"):
+        rp.quantity("volume")

@@ -25,7 +25,9 @@ import numpy.typing as npt
 import pint
 
 from ..core.laws import LAW_COULOMB, LAW_CUBIC, LAW_WEAKENING, N_LAW_PARAMS
-from .units import check_number, parse_quantity
+from .units import Q_, check_number, parse_quantity
+
+_ONE_S_PER_M = Q_(1.0, "s/m")
 
 __all__ = [
     "CoulombLaw",
@@ -276,9 +278,48 @@ class PhysicalLaw(Protocol):
         """Return the friction coefficient at slip velocity ``v`` (odd in ``v``)."""
         ...
 
+    def value(self, v: Any) -> npt.NDArray[np.float64]:
+        """Return the friction coefficient at slip velocity ``v`` (as :meth:`coefficient`)."""
+        ...
+
+    def derivative(self, v: Any, order: int = 1) -> pint.Quantity:
+        """Return the ``order``-th derivative of the coefficient with respect to ``v``."""
+        ...
+
     def nondimensionalize(self, beta: pint.Quantity) -> DimensionlessLaw:
         """Return the dimensionless law for ``beta = sqrt(k m) / (mu_s W)``."""
         ...
+
+
+class _PhysicalLawMixin:
+    """Value and derivatives of a physical law, through its dimensionless form.
+
+    ``mu(v) = mu_s f(beta v)`` for any ``beta``; with ``beta = 1 s/m`` the
+    derivatives are ``d^n mu / dv^n = mu_s f^(n)(v)`` in units of ``(s/m)**n``.
+    """
+
+    @property
+    def static_coefficient(self) -> float:
+        raise NotImplementedError
+
+    def nondimensionalize(self, beta: pint.Quantity) -> Any:
+        raise NotImplementedError
+
+    @property
+    def static_threshold(self) -> float:
+        """Static friction coefficient: the threshold of ``|mu|`` at rest."""
+        return self.static_coefficient
+
+    def value(self, v: Any) -> npt.NDArray[np.float64]:
+        """Return the friction coefficient at slip velocity ``v`` (0 at ``v = 0``)."""
+        x = _velocity_magnitude(v)
+        return self.static_coefficient * self.nondimensionalize(_ONE_S_PER_M).value(x)
+
+    def derivative(self, v: Any, order: int = 1) -> pint.Quantity:
+        """Return ``d^n mu / dv^n`` at ``v != 0``, in units of ``(s/m)**order``."""
+        x = _velocity_magnitude(v)
+        d = self.nondimensionalize(_ONE_S_PER_M).derivative(x, order)
+        return Q_(self.static_coefficient * d, f"(s/m)**{order}")
 
 
 def _velocity_magnitude(v: Any) -> npt.NDArray[np.float64]:
@@ -290,7 +331,7 @@ def _velocity_magnitude(v: Any) -> npt.NDArray[np.float64]:
 
 
 @dataclass(frozen=True)
-class PhysicalWeakeningLaw:
+class PhysicalWeakeningLaw(_PhysicalLawMixin):
     r"""The paper's law in physical units: ``mu(v) = mu0 [1/(1 + a v) + b v]``.
 
     ``b = 0`` is F1, ``b > 0`` is F2 normalised as in PHYSICS.md §1 (the linear
@@ -351,7 +392,7 @@ def f2(mu0: float, a: Any, b: Any) -> PhysicalWeakeningLaw:
 
 
 @dataclass(frozen=True)
-class PhysicalCubicLaw:
+class PhysicalCubicLaw(_PhysicalLawMixin):
     r"""Thomsen–Fidlin cubic law: ``mu(v) = mu_s sgn(v) - k1 v + k3 v**3``.
 
     Source: J. J. Thomsen and A. Fidlin, Int. J. Non-Linear Mech. 38 (2003)
@@ -401,7 +442,7 @@ class PhysicalCubicLaw:
 
 
 @dataclass(frozen=True)
-class PhysicalCoulombLaw:
+class PhysicalCoulombLaw(_PhysicalLawMixin):
     """Coulomb law with static ``mu_s`` and kinetic ``mu_k < mu_s`` coefficients.
 
     Parameters
