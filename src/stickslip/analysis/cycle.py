@@ -11,6 +11,7 @@ probed as well, so that a second attractor is reported when there is one.
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 from collections.abc import Mapping
@@ -23,7 +24,12 @@ import pint
 from .. import defaults
 from ..core import engine
 from ..core.api import run_attractors
-from ..models.parameters import DimensionlessParameters, PhysicalParameters, Scales
+from ..models.parameters import (
+    DimensionlessParameters,
+    PhysicalParameters,
+    Scales,
+    as_dimensionless,
+)
 from ..models.units import Q_, check_number
 
 __all__ = ["Attractor", "CycleResult", "cycle", "validate_tolerances"]
@@ -247,14 +253,7 @@ def cycle(
     'stick-slip'
 
     """
-    if isinstance(params, PhysicalParameters):
-        dp = params.dimensionless()
-        scales: Scales | None = params.scales
-    elif isinstance(params, DimensionlessParameters):
-        dp = params
-        scales = None
-    else:
-        raise ValueError(f"params={params!r}: expected DimensionlessParameters or PhysicalParameters")
+    dp, scales = as_dimensionless(params)
     rtol, atol = validate_tolerances(rtol, atol)
     max_slip_time = check_number(max_slip_time, "max_slip_time")
     conv_tol = check_number(conv_tol, "conv_tol", upper=0.1, what="a relative tolerance below 0.1")
@@ -265,44 +264,25 @@ def cycle(
     fnu = float(law.forward(np.array([nu]))[0])
     steady_stable = dfnu > 0.0
 
-    starts = ["rest"]
-    s0 = [0.0]
-    w0 = [0.0]
-    if probe and not steady_stable:
-        starts.append("near steady sliding")
-        s0.append(fnu + defaults.STEADY_PERTURBATION)
-        w0.append(nu)
-    # Row 0 starts at breakaway: from rest the block sticks until s = 1 (closed
-    # form, duration 1/nu), then slips from (1, 0).
-    out0 = run_attractors(
+    run = functools.partial(
+        run_attractors,
         law.core_id,
         lp,
         [nu],
-        from_breakaway=True,
         rtol=rtol,
         atol=atol,
         max_slip_time=max_slip_time,
         conv_tol=conv_tol,
         diag=True,
-    )[0]
-    out0[engine.O_TRANSIENT] += 1.0 / nu  # the stick from s = 0 up to the threshold
-    rows = [out0]
-    if len(starts) > 1:
-        rows.append(
-            run_attractors(
-                law.core_id,
-                lp,
-                [nu],
-                s0[1:],
-                w0[1:],
-                from_breakaway=False,
-                rtol=rtol,
-                atol=atol,
-                max_slip_time=max_slip_time,
-                conv_tol=conv_tol,
-                diag=True,
-            )[0]
-        )
+    )
+    # From rest the block sticks until s = 1 (closed form, duration 1/nu), then
+    # slips from (1, 0): start there and add the stick to the transient.
+    out0 = run(from_breakaway=True)[0]
+    out0[engine.O_TRANSIENT] += 1.0 / nu
+    rows, starts = [out0], ["rest"]
+    if probe and not steady_stable:
+        rows.append(run([fnu + defaults.STEADY_PERTURBATION], [nu], from_breakaway=False)[0])
+        starts.append("near steady sliding")
 
     conv = _converter(scales)
     attractors = [_attractor(o, start, conv) for o, start in zip(rows, starts, strict=True)]

@@ -13,7 +13,7 @@ import numpy.typing as npt
 from .. import defaults
 from ..core import engine
 from ..core.api import run_trajectory
-from ..models.parameters import DimensionlessParameters, PhysicalParameters
+from ..models.parameters import DimensionlessParameters, PhysicalParameters, as_dimensionless
 from ..models.units import check_number, parse_quantity
 from .cycle import DIMENSIONLESS_UNITS, SI_UNITS, STATUSES, cycle, validate_tolerances
 
@@ -128,14 +128,7 @@ def simulate(
     Trajectory
 
     """
-    if isinstance(params, PhysicalParameters):
-        dp = params.dimensionless()
-        scales = params.scales
-    elif isinstance(params, DimensionlessParameters):
-        dp = params
-        scales = None
-    else:
-        raise ValueError(f"params={params!r}: expected DimensionlessParameters or PhysicalParameters")
+    dp, scales = as_dimensionless(params)
     rtol, atol = validate_tolerances(rtol, atol)
     if isinstance(n_points, bool) or not isinstance(n_points, int) or n_points < 2:
         raise ValueError(f"n_points={n_points!r}: expected an integer >= 2")

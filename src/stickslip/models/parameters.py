@@ -28,6 +28,7 @@ __all__ = [
     "DimensionlessParameters",
     "PhysicalParameters",
     "Scales",
+    "as_dimensionless",
     "zv_parameters",
 ]
 
@@ -241,3 +242,21 @@ def zv_parameters(v0: Any = "10 um/s", *, b: Any = "0 s/m", beta: Any = ZV_BETA)
         v0=v0,
         law=PhysicalWeakeningLaw(mu0=ZV_MU0, a=ZV_A, b=b),
     )
+
+
+def as_dimensionless(
+    params: DimensionlessParameters | PhysicalParameters,
+) -> tuple[DimensionlessParameters, Scales | None]:
+    """Return the dimensionless form of a parameter set and its SI scales (None if none).
+
+    Raises
+    ------
+    ValueError
+        If ``params`` is neither kind of parameter set.
+
+    """
+    if isinstance(params, PhysicalParameters):
+        return params.dimensionless(), params.scales
+    if isinstance(params, DimensionlessParameters):
+        return params, None
+    raise ValueError(f"params={params!r}: expected DimensionlessParameters or PhysicalParameters")
