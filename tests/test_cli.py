@@ -208,3 +208,16 @@ def test_bad_input_gives_a_clear_error(args: list[str], message: str, tmp_path: 
     assert message in res.output
     assert "Traceback" not in res.output
     assert res.exception is None or isinstance(res.exception, SystemExit)
+
+
+def test_failed_computation_is_reported_without_traceback(monkeypatch: pytest.MonkeyPatch) -> None:
+    import stickslip.analysis.trajectory as tr
+
+    def boom(*args, **kwargs):
+        raise RuntimeError("integration failed: step-size-too-small (try a larger rtol)")
+
+    monkeypatch.setattr(tr, "simulate", boom)
+    res = run("simulate", "--nu", "0.1", "--c", "3", "--no-plot")
+    assert res.exit_code == 1
+    assert "integration failed" in res.output
+    assert "Traceback" not in res.output

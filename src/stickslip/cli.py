@@ -235,6 +235,8 @@ def _handle_errors(func: Callable[..., Any]) -> Callable[..., Any]:
             return func(*args, **kwargs)
         except ValueError as exc:
             raise click.UsageError(f"invalid value: {exc}") from None
+        except RuntimeError as exc:  # a computation that failed (not a user mistake)
+            raise click.ClickException(str(exc)) from None
 
     return wrapper
 
