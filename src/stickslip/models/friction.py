@@ -290,6 +290,10 @@ class PhysicalLaw(Protocol):
         """Return the dimensionless law for ``beta = sqrt(k m) / (mu_s W)``."""
         ...
 
+    def si_parameters(self) -> dict[str, float]:
+        """Return the law's physical parameters (other than ``mu_s``) as SI numbers."""
+        ...
+
 
 class _PhysicalLawMixin:
     """Value and derivatives of a physical law, through its dimensionless form.
@@ -374,6 +378,10 @@ class PhysicalWeakeningLaw(_PhysicalLawMixin):
         b = self.b.to("s/m").magnitude
         return np.where(x == 0, 0.0, np.sign(x) * self.mu0 * (1.0 / (1.0 + a * ax) + b * ax))
 
+    def si_parameters(self) -> dict[str, float]:
+        """Return ``a`` and ``b`` in s/m."""
+        return {"a": float(self.a.to("s/m").magnitude), "b": float(self.b.to("s/m").magnitude)}
+
     def nondimensionalize(self, beta: pint.Quantity) -> WeakeningLaw:
         """Return ``WeakeningLaw(c = a/beta, p = b/beta)``."""
         return WeakeningLaw(
@@ -433,6 +441,10 @@ class PhysicalCubicLaw(_PhysicalLawMixin):
         k3 = self.k3.to("s**3/m**3").magnitude
         return np.where(x == 0, 0.0, self.mu_s * np.sign(x) - k1 * x + k3 * x**3)
 
+    def si_parameters(self) -> dict[str, float]:
+        """Return ``k1`` in s/m and ``k3`` in s**3/m**3."""
+        return {"k1": float(self.k1.to("s/m").magnitude), "k3": float(self.k3.to("s**3/m**3").magnitude)}
+
     def nondimensionalize(self, beta: pint.Quantity) -> CubicLaw:
         """Return ``CubicLaw(alpha = k1/(mu_s beta), gamma = k3/(mu_s beta**3))``."""
         return CubicLaw(
@@ -477,6 +489,10 @@ class PhysicalCoulombLaw(_PhysicalLawMixin):
         """Return ``mu_k sgn(v)`` for a velocity with units (0 at ``v = 0``)."""
         x = _velocity_magnitude(v)
         return self.mu_k * np.sign(x)
+
+    def si_parameters(self) -> dict[str, float]:
+        """Return ``mu_k``."""
+        return {"mu_k": self.mu_k}
 
     def nondimensionalize(self, beta: pint.Quantity) -> CoulombLaw:
         """Return ``CoulombLaw(kinetic = mu_k / mu_s)``."""

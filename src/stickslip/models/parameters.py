@@ -12,15 +12,21 @@ the paper's law).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any
 
+import numpy as np
+import numpy.typing as npt
 import pint
 
 from .friction import (
+    CoulombLaw,
+    CubicLaw,
     DimensionlessLaw,
     PhysicalLaw,
     PhysicalWeakeningLaw,
+    WeakeningLaw,
 )
 from .units import Q_, check_number, parse_quantity
 
@@ -142,30 +148,43 @@ class PhysicalParameters:
                 "PhysicalCubicLaw or PhysicalCoulombLaw)"
             )
 
+    def _si_form(self) -> tuple[Any, dict[str, Any], dict[str, Any]]:
+        return dimensionless_from_si(
+            self.law.name,
+            stiffness=self.stiffness.to("N/m").magnitude,
+            mass=self.mass.to("kg").magnitude,
+            load=self.load.to("N").magnitude,
+            v0=self.v0.to("m/s").magnitude,
+            static_coefficient=self.law.static_coefficient,
+            law_si=self.law.si_parameters(),
+        )
+
     @property
     def scales(self) -> Scales:
         """Return the force, time, length and velocity units of the dimensionless model."""
-        force = (self.law.static_coefficient * self.load).to("N")
-        k = self.stiffness.to("N/m")
-        m = self.mass.to("kg")
-        time = ((m / k) ** 0.5).to("s")
-        length = (force / k).to("m")
-        velocity = (force / (k * m) ** 0.5).to("m/s")
-        return Scales(force=force, time=time, length=length, velocity=velocity)
+        sc = self._si_form()[2]
+        return Scales(
+            force=Q_(float(sc["force"]), "N"),
+            time=Q_(float(sc["time"]), "s"),
+            length=Q_(float(sc["length"]), "m"),
+            velocity=Q_(float(sc["velocity"]), "m/s"),
+        )
 
     @property
     def beta(self) -> pint.Quantity:
         """``beta = sqrt(k m)/(mu_s W)`` (s/m)."""
-        return self.scales.beta
+        return Q_(1.0 / float(self._si_form()[2]["velocity"]), "s/m")
 
     @property
     def nu(self) -> float:
         """Dimensionless driving velocity ``beta v0``."""
-        return float((self.beta * self.v0).to("").magnitude)
+        return float(self._si_form()[0])
 
     def dimensionless(self) -> DimensionlessParameters:
         """Return the dimensionless parameter set (``nu`` and the dimensionless law)."""
-        return DimensionlessParameters(nu=self.nu, law=self.law.nondimensionalize(self.beta))
+        nu, nd, _ = self._si_form()
+        law = DIMENSIONLESS_LAWS[self.law.name](**{k: float(v) for k, v in nd.items()})
+        return DimensionlessParameters(nu=float(nu), law=law)
 
     def with_v0(self, v0: Any) -> PhysicalParameters:
         """Return a copy with another driving velocity."""
@@ -260,3 +279,61 @@ def as_dimensionless(
     if isinstance(params, DimensionlessParameters):
         return params, None
     raise ValueError(f"params={params!r}: expected DimensionlessParameters or PhysicalParameters")
+
+
+DIMENSIONLESS_LAWS: dict[str, Any] = {"weakening": WeakeningLaw, "cubic": CubicLaw, "coulomb": CoulombLaw}
+
+
+def dimensionless_from_si(
+    law: str,
+    *,
+    stiffness: npt.ArrayLike,
+    mass: npt.ArrayLike,
+    load: npt.ArrayLike,
+    v0: npt.ArrayLike,
+    static_coefficient: npt.ArrayLike,
+    law_si: Mapping[str, npt.ArrayLike],
+) -> tuple[Any, dict[str, Any], dict[str, Any]]:
+    """Convert SI values (scalars or arrays) to the dimensionless form; one formula for all.
+
+    Parameters
+    ----------
+    law : str
+        ``weakening``, ``cubic`` or ``coulomb``.
+    stiffness, mass, load, v0 : array_like
+        In N/m, kg, N and m/s.
+    static_coefficient : array_like
+        ``mu_s`` (``mu0``).
+    law_si : dict
+        The law's physical parameters in SI: ``a``, ``b`` (s/m); ``k1`` (s/m), ``k3``
+        (s**3/m**3); ``mu_k``.
+
+    Returns
+    -------
+    nu : array_like
+        ``beta v0``.
+    law_params : dict
+        The dimensionless law parameters (``c``, ``p``; ``alpha``, ``gamma``; ``kinetic``).
+    scales : dict
+        ``force`` (N), ``time`` (s), ``length`` (m), ``velocity`` (m/s).
+
+    """
+    k = np.asarray(stiffness, dtype=float)
+    m = np.asarray(mass, dtype=float)
+    mu = np.asarray(static_coefficient, dtype=float)
+    force = mu * np.asarray(load, dtype=float)
+    beta = np.sqrt(k * m) / force
+    nu = beta * np.asarray(v0, dtype=float)
+    if law == "weakening":
+        nd = {"c": np.asarray(law_si["a"]) / beta, "p": np.asarray(law_si["b"]) / beta}
+    elif law == "cubic":
+        nd = {
+            "alpha": np.asarray(law_si["k1"]) / (mu * beta),
+            "gamma": np.asarray(law_si["k3"]) / (mu * beta**3),
+        }
+    elif law == "coulomb":
+        nd = {"kinetic": np.asarray(law_si["mu_k"]) / mu}
+    else:
+        raise ValueError(f"law={law!r}: expected weakening, cubic or coulomb")
+    scales = {"force": force, "time": np.sqrt(m / k), "length": force / k, "velocity": 1.0 / beta}
+    return nu, nd, scales

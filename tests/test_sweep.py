@@ -1,0 +1,142 @@
+"""Sweeps: equal to single cycle calls, labelled, round-trip to NetCDF, robust to failures."""
+
+import itertools
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from stickslip import (
+    Q_,
+    CubicLaw,
+    DimensionlessParameters,
+    PhysicalParameters,
+    WeakeningLaw,
+    cycle,
+    f2,
+    zv_parameters,
+)
+from stickslip.analysis.sweep import load_sweep, save_sweep, sweep
+
+
+def test_physical_sweep_equals_single_calls() -> None:
+    base = zv_parameters()
+    grid = {
+        "v0": Q_(np.geomspace(5, 1000, 4), "um/s"),
+        "b": ["0 s/m", "100 s/m"],
+        "load": ["100 mN", "196 mN", "0.3 N"],
+    }
+    ds = sweep(base, grid, progress=False)
+    assert ds.amplitude.dims == ("v0", "b", "load")
+    assert ds["v0"].attrs["units"] == "µm / s"
+    assert ds["b"].attrs["units"] == "s / m"
+    assert ds["load"].attrs["units"] == "mN"
+    np.testing.assert_allclose(ds["load"].values, [100, 196, 300])
+    assert ds.amplitude.attrs["units"] == "N"
+    assert ds.period.attrs["units"] == "s"
+    for i, j, k in itertools.product(range(4), range(2), range(3)):
+        p = PhysicalParameters(
+            mass=base.mass,
+            stiffness=base.stiffness,
+            load=Q_(ds["load"].values[k], "mN"),
+            v0=Q_(ds["v0"].values[i], "um/s"),
+            law=f2(0.46, "160 s/m", Q_(ds["b"].values[j], "s/m")),
+        )
+        r = cycle(p, probe=False)
+        point = ds.isel(v0=i, b=j, load=k)
+        assert float(point.amplitude) == r.amplitude
+        assert float(point.period) == r.period
+        assert float(point.stick_fraction) == r.stick_fraction
+        assert str(point.regime.values) == r.regime
+        assert str(point.status.values) == "ok"
+
+
+def test_beta_sweep_sets_the_mass() -> None:
+    ds = sweep(zv_parameters(), {"beta": ["42 s/m", "158 s/m"], "v0": ["100 um/s"]}, progress=False)
+    for beta in (42.0, 158.0):
+        p = zv_parameters("100 um/s", beta=Q_(beta, "s/m"))
+        r = cycle(p, probe=False)
+        got = float(ds.amplitude.sel(beta=beta, v0=100.0))
+        assert got == pytest.approx(r.amplitude, rel=1e-12)
+        assert float(ds.nu.sel(beta=beta, v0=100.0)) == pytest.approx(beta * 1e-4)
+
+
+def test_dimensionless_sweep_equals_single_calls() -> None:
+    base = DimensionlessParameters(nu=0.01, law=CubicLaw(alpha=0.5, gamma=0.5 / 3))
+    ds = sweep(base, {"nu": [0.3, 0.97, 1.2], "gamma": [0.5 / 3]}, progress=False)
+    assert list(ds.regime.values[:, 0]) == ["stick-slip", "pure-slip", "steady-sliding"]
+    assert ds.amplitude.attrs["units"].startswith("static friction force")
+    for i, nu in enumerate([0.3, 0.97, 1.2]):
+        r = cycle(DimensionlessParameters(nu=nu, law=CubicLaw(alpha=0.5, gamma=0.5 / 3)), probe=False)
+        np.testing.assert_equal(float(ds.amplitude[i, 0]), r.amplitude)
+        assert bool(ds.steady_sliding_stable[i, 0]) == r.steady_sliding_stable
+
+
+def test_netcdf_round_trip(tmp_path: Path) -> None:
+    ds = sweep(zv_parameters(), {"v0": Q_([5.0, 50.0, 500.0], "um/s")}, progress=False)
+    path = tmp_path / "sub" / "sweep.nc"
+    save_sweep(ds, path)
+    back = load_sweep(path)
+    xr.testing.assert_identical(back, ds)
+    assert back.regime.dtype == ds.regime.dtype
+
+
+def test_failed_point_leaves_the_others_intact() -> None:
+    """Near the Hopf point the transient to pure slip does not converge in the time allowed."""
+    base = DimensionlessParameters(nu=0.5, law=CubicLaw(alpha=0.5, gamma=0.5 / 3))
+    nus = [0.3, 0.99999, 0.5]
+    ds = sweep(base, {"nu": nus}, max_slip_time=300.0, progress=False)
+    assert list(ds.status.values) == ["ok", "not-converged", "ok"]
+    assert ds.regime.values[1] == "unknown"
+    assert np.isnan(ds.amplitude.values[1])
+    for i in (0, 2):
+        r = cycle(DimensionlessParameters(nu=nus[i], law=base.law), probe=False, max_slip_time=300.0)
+        assert float(ds.amplitude[i]) == r.amplitude
+
+
+def test_progress_bar(capsys: pytest.CaptureFixture[str]) -> None:
+    base = DimensionlessParameters(nu=0.01, law=WeakeningLaw(c=2.0))
+    sweep(base, {"nu": np.geomspace(1e-4, 0.1, 600)}, progress=True)
+    err = capsys.readouterr().err
+    assert "sweep:" in err
+    assert "/600" in err
+    sweep(base, {"nu": np.geomspace(1e-4, 0.1, 600)}, progress=None)  # not a terminal: silent
+    sweep(base, {"nu": np.geomspace(1e-4, 0.1, 600)}, progress=False)
+    assert capsys.readouterr().err == ""
+
+
+@pytest.mark.parametrize(
+    ("grid", "message"),
+    [
+        ({}, "grid is empty"),
+        ({"c": [1.0]}, "cannot sweep 'c'"),
+        ({"v0": []}, "empty"),
+        ({"v0": "5 um/s"}, "not a single string"),
+        ({"v0": ["5 m"]}, "v0='5 m' has dimension"),
+        ({"v0": ["-5 um/s"]}, "must be positive"),
+        ({"mu0": [0.4, -1]}, "mu0=-1 must be positive"),
+        ({"b": ["-1 s/m"]}, "must be non-negative"),
+        ({"beta": ["42 s/m"], "mass": ["1 kg"]}, "either 'beta' or 'mass'"),
+    ],
+)
+def test_bad_grids(grid: dict, message: str) -> None:
+    with pytest.raises(ValueError, match=message):
+        sweep(zv_parameters(), grid, progress=False)
+
+
+def test_bad_dimensionless_grid() -> None:
+    base = DimensionlessParameters(nu=0.01, law=WeakeningLaw(c=2.0))
+    with pytest.raises(ValueError, match="nu=nan"):
+        sweep(base, {"nu": [0.1, float("nan")]})
+    with pytest.raises(ValueError, match="cannot sweep 'v0'"):
+        sweep(base, {"v0": ["1 um/s"]})
+
+
+def test_load_sweep_errors(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match="no such file"):
+        load_sweep(tmp_path / "missing.nc")
+    bad = tmp_path / "bad.nc"
+    bad.write_text("not netcdf")
+    with pytest.raises(ValueError, match="not a readable NetCDF"):
+        load_sweep(bad)
