@@ -16,6 +16,7 @@ from collections.abc import Callable
 from typing import Any
 
 import click
+import numpy as np
 
 from . import defaults
 from .models.friction import (
@@ -35,6 +36,7 @@ from .models.parameters import (
     PhysicalParameters,
     zv_parameters,
 )
+from .models.units import parse_quantity
 
 LAW_DIMENSIONLESS = {"weakening": ("c", "p"), "cubic": ("alpha", "gamma"), "coulomb": ("kinetic",)}
 LAW_PHYSICAL = {"weakening": ("mu0", "a", "b"), "cubic": ("mu_s", "k1", "k3"), "coulomb": ("mu_s", "mu_k")}
@@ -45,8 +47,14 @@ def _opt(name: str) -> str:
     return "--" + name.replace("_", "-")
 
 
-def model_options(func: Callable[..., Any]) -> Callable[..., Any]:
-    """Add the options that define a parameter set to a command."""
+def model_options(func: Callable[..., Any] | None = None, *, text: bool = False) -> Any:
+    """Add the options that define a parameter set to a command.
+
+    With ``text=True`` every value option is read as text (for sweep ranges).
+    """
+    if func is None:
+        return functools.partial(model_options, text=text)
+    num: Any = str if text else float
     opts = [
         click.option(
             "--law",
@@ -61,28 +69,31 @@ def model_options(func: Callable[..., Any]) -> Callable[..., Any]:
             default=None,
             help="Physical set-up of the paper's zv experiment (beta = 42 s/m); other options override it.",
         ),
-        click.option("--nu", type=float, default=None, help="Dimensionless driving velocity beta*v0."),
-        click.option("--c", "c", type=float, default=None, help="weakening: c = a/beta."),
-        click.option("--p", "p", type=float, default=None, help="weakening: p = b/beta (default 0)."),
-        click.option("--alpha", type=float, default=None, help="cubic: alpha = k1/(mu_s beta)."),
-        click.option("--gamma", type=float, default=None, help="cubic: gamma = k3/(mu_s beta^3)."),
+        click.option("--nu", type=num, default=None, help="Dimensionless driving velocity beta*v0."),
+        click.option("--c", "c", type=num, default=None, help="weakening: c = a/beta."),
+        click.option("--p", "p", type=num, default=None, help="weakening: p = b/beta (default 0)."),
+        click.option("--alpha", type=num, default=None, help="cubic: alpha = k1/(mu_s beta)."),
+        click.option("--gamma", type=num, default=None, help="cubic: gamma = k3/(mu_s beta^3)."),
         click.option(
-            "--kinetic", type=float, default=None, help="coulomb: kinetic/static friction ratio, in (0, 1)."
+            "--kinetic", type=num, default=None, help="coulomb: kinetic/static friction ratio, in (0, 1)."
         ),
         click.option("--v0", default=None, help="Driving velocity, e.g. '5 um/s'."),
         click.option("--mass", default=None, help="Mass, e.g. '1 kg'."),
+        click.option(
+            "--beta", default=None, help="Instead of --mass: beta = sqrt(k m)/(mu_s W), e.g. '42 s/m'."
+        ),
         click.option("--stiffness", default=None, help="Spring constant, e.g. '62 N/m'."),
         click.option("--load", default=None, help="Normal load W, e.g. '196 mN'."),
-        click.option("--mu0", type=float, default=None, help="weakening: static coefficient mu0."),
+        click.option("--mu0", type=num, default=None, help="weakening: static coefficient mu0."),
         click.option("--a", "a", default=None, help="weakening: a, e.g. '160 s/m'."),
         click.option("--b", "b", default=None, help="weakening: b, e.g. '100 s/m' (default 0)."),
         click.option(
-            "--mu-s", "mu_s", type=float, default=None, help="cubic/coulomb: static coefficient mu_s."
+            "--mu-s", "mu_s", type=num, default=None, help="cubic/coulomb: static coefficient mu_s."
         ),
         click.option("--k1", default=None, help="cubic: k1, e.g. '0.5 s/m'."),
         click.option("--k3", default=None, help="cubic: k3, e.g. '0.01 s**3/m**3'."),
         click.option(
-            "--mu-k", "mu_k", type=float, default=None, help="coulomb: kinetic coefficient mu_k < mu_s."
+            "--mu-k", "mu_k", type=num, default=None, help="coulomb: kinetic coefficient mu_k < mu_s."
         ),
         click.option(
             "--rtol",
@@ -117,7 +128,7 @@ def build_parameters(
     """
     law = opts["law"]
     dim_keys = ["nu", "c", "p", "alpha", "gamma", "kinetic"]
-    phys_keys = [*SETUP, "mu0", "a", "b", "mu_s", "k1", "k3", "mu_k"]
+    phys_keys = [*SETUP, "beta", "mu0", "a", "b", "mu_s", "k1", "k3", "mu_k"]
     dim_given = [k for k in dim_keys if opts.get(k) is not None]
     phys_given = [k for k in phys_keys if opts.get(k) is not None]
     preset = opts.get("preset")
@@ -136,10 +147,20 @@ def build_parameters(
         preset = "zv"
     try:
         if dim_given:
+            opts = {k: (_to_float(k, v) if k in dim_keys else v) for k, v in opts.items()}
             return _dimensionless(law, opts, dim_given)
         return _physical(law, opts, phys_given, preset)
     except ValueError as exc:
         raise click.UsageError(f"invalid value: {exc}") from None
+
+
+def _to_float(name: str, value: Any) -> Any:
+    if value is None or isinstance(value, float):
+        return value
+    try:
+        return float(value)
+    except ValueError:
+        raise ValueError(f"{name}={value!r}: expected a number") from None
 
 
 def _check_law_options(law: str, given: list[str], table: dict[str, tuple[str, ...]]) -> None:
@@ -172,8 +193,10 @@ def _dimensionless(law: str, opts: dict[str, Any], given: list[str]) -> Dimensio
 
 
 def _physical(law: str, opts: dict[str, Any], given: list[str], preset: str | None) -> PhysicalParameters:
-    _check_law_options(law, [k for k in given if k not in SETUP], LAW_PHYSICAL)
-    o = dict(opts)
+    _check_law_options(law, [k for k in given if k not in (*SETUP, "beta")], LAW_PHYSICAL)
+    o = {k: (_to_float(k, v) if k in ("mu0", "mu_s", "mu_k") else v) for k, v in opts.items()}
+    if o.get("beta") is not None and o.get("mass") is not None:
+        raise click.UsageError("give --mass or --beta, not both: beta sets the mass")
     if preset == "zv":
         base = zv_parameters()
         for key, value in (
@@ -187,6 +210,15 @@ def _physical(law: str, opts: dict[str, Any], given: list[str], preset: str | No
         if law == "weakening":
             o["mu0"] = ZV_MU0 if o.get("mu0") is None else o["mu0"]
             o["a"] = ZV_A if o.get("a") is None else o["a"]
+    if o.get("beta") is not None:
+        _require(o, ("stiffness", "load"), "--beta")
+        mu = o.get("mu0") if law == "weakening" else o.get("mu_s")
+        if mu is None:
+            raise click.UsageError("--beta needs the static coefficient (--mu0 or --mu-s)")
+        beta = parse_quantity(o["beta"], "beta", "[time] / [length]", "42 s/m")
+        k = parse_quantity(o["stiffness"], "stiffness", "[mass] / [time] ** 2", "62 N/m")
+        w = parse_quantity(o["load"], "load", "[force]", "196 mN")
+        o["mass"] = ((beta * float(mu) * w) ** 2 / k).to("kg")
     _require(o, SETUP, "a physical set-up")
     if law == "weakening":
         _require(o, ("mu0", "a"), "--law weakening")
@@ -343,6 +375,157 @@ def simulate(
     unit = traj.units["force"]
     n_stops = sum(1 for k in traj.event_kind if k == "stick")
     click.echo(f"spring force from {f.min():.6g} to {f.max():.6g} [{unit}], {n_stops} stick phases")
+
+
+NUMBER_KEYS = {"nu", "c", "p", "alpha", "gamma", "kinetic", "mu0", "mu_s", "mu_k"}
+VALUE_KEYS = NUMBER_KEYS | {*SETUP, "beta", "a", "b", "k1", "k3"}
+
+
+def parse_axis(name: str, text: str, num: int, log: bool) -> Any:
+    """Parse a sweep axis: a range ``'A..B'`` (``num`` points) or a list ``'A,B,C'``.
+
+    Physical values keep units (``'5 um/s..1000 um/s'``, or ``'5..1000 um/s'``);
+    numbers are floats. Raises ValueError for a malformed axis.
+    """
+    import numpy as np
+
+    from .models.units import Q_
+
+    if ".." in text:
+        parts = [t.strip() for t in text.split("..")]
+        if len(parts) != 2 or not all(parts):
+            raise ValueError(f"{name}={text!r}: expected a range 'A..B'")
+        if num < 2:
+            raise ValueError(f"--num={num}: a range needs at least 2 points")
+        if name in NUMBER_KEYS:
+            lo, hi = (_to_float(name, t) for t in parts)
+            qlo = Q_(lo, "")
+            qhi = Q_(hi, "")
+        else:
+            qhi = parse_quantity(
+                parts[1], name, "[]" if False else _dimension_of(name), "1 um/s", allow_zero=name == "b"
+            )
+            lo_text = parts[0]
+            try:
+                float(lo_text)
+                lo_text = f"{lo_text} {qhi.units:~}"
+            except ValueError:
+                pass
+            qlo = parse_quantity(lo_text, name, _dimension_of(name), "1 um/s", allow_zero=name == "b")
+            qlo = qlo.to(qhi.units)
+        a, b = float(qlo.magnitude), float(qhi.magnitude)
+        if log:
+            if a <= 0 or b <= 0:
+                raise ValueError(f"{name}={text!r}: a --log range needs positive ends")
+            vals = np.geomspace(a, b, num)
+        else:
+            vals = np.linspace(a, b, num)
+        return list(vals) if name in NUMBER_KEYS else Q_(vals, qhi.units)
+    items = [t.strip() for t in text.split(",") if t.strip()]
+    if not items:
+        raise ValueError(f"{name}={text!r}: expected values separated by commas")
+    if name in NUMBER_KEYS:
+        return [_to_float(name, t) for t in items]
+    return items
+
+
+def _dimension_of(name: str) -> str:
+    from .analysis.sweep import PHYSICAL_LAW
+    from .analysis.sweep import SETUP as SWEEP_SETUP
+
+    if name in SWEEP_SETUP:
+        return SWEEP_SETUP[name][0]
+    for table in PHYSICAL_LAW.values():
+        if name in table:
+            return table[name][0]
+    raise ValueError(f"{name}: not a sweepable parameter")
+
+
+@main.command()
+@model_options(text=True)
+@click.option("--num", type=int, default=30, show_default=True, help="Points per range 'A..B'.")
+@click.option("--log", "log_spacing", is_flag=True, help="Space the points of ranges logarithmically.")
+@click.option(
+    "--out",
+    "out_path",
+    type=click.Path(dir_okay=False),
+    default="results/sweep.nc",
+    show_default=True,
+    help="NetCDF output; the plot goes beside it (.png, .svg).",
+)
+@click.option("--no-plot", is_flag=True, help="Write the NetCDF file only.")
+@click.option("--quiet", is_flag=True, help="No progress bar.")
+@_handle_errors
+def sweep(num: int, log_spacing: bool, out_path: str, no_plot: bool, quiet: bool, **opts: Any) -> None:
+    """Sweep parameters over ranges ('A..B') or lists ('A,B,C'); write NetCDF and a plot.
+
+    Any value option can be swept; the others are fixed as in 'stickslip cycle'.
+    Example: stickslip sweep --preset zv --v0 "5 um/s..1000 um/s" --num 60 --log
+    """
+    from .analysis.sweep import save_sweep
+    from .analysis.sweep import sweep as run_sweep
+
+    axes: dict[str, Any] = {}
+    fixed = dict(opts)
+    for key, val in opts.items():
+        if key in VALUE_KEYS and isinstance(val, str) and (".." in val or "," in val):
+            axes[key] = parse_axis(key, val, num, log_spacing)
+            first = axes[key][0]
+            fixed[key] = first if key in NUMBER_KEYS else (first if isinstance(first, str) else f"{first:~}")
+    if not axes:
+        raise click.UsageError(
+            "nothing to sweep: give a range such as --v0 '5 um/s..1000 um/s' "
+            "or a list such as --b '0 s/m,100 s/m'"
+        )
+    fixed["rtol"] = _to_float("rtol", opts["rtol"])
+    fixed["atol"] = _to_float("atol", opts["atol"])
+    params = build_parameters(fixed)
+    if isinstance(params, PhysicalParameters) and "beta" in axes and opts.get("mass") is None:
+        pass  # the base mass came from the first beta; the sweep sets it per point
+    ds = run_sweep(params, axes, rtol=fixed["rtol"], atol=fixed["atol"], progress=False if quiet else None)
+    save_sweep(ds, out_path)
+    click.echo(f"wrote {out_path} ({ds.amplitude.size} points, dimensions {dict(ds.sizes)})")
+    if not no_plot:
+        from .plots.figures import plot_sweep, save_figure
+
+        stem = os.path.splitext(out_path)[0]
+        paths = save_figure(plot_sweep(ds, log=log_spacing), stem)
+        click.echo("wrote " + ", ".join(paths))
+    counts = {str(k): int(v) for k, v in zip(*np.unique(ds.regime.values, return_counts=True), strict=True)}
+    click.echo(f"regimes: {counts}")
+
+
+@main.command()
+@click.argument("file", type=click.Path(dir_okay=False))
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+@click.option(
+    "--confidence",
+    type=float,
+    default=0.95,
+    show_default=True,
+    help="Confidence level of the slope interval.",
+)
+@click.option("--min-points", type=int, default=4, show_default=True, help="Fewest points for a verdict.")
+@_handle_errors
+def classify(file: str, as_json: bool, confidence: float, min_points: int) -> None:
+    """Apply the amplitude-velocity criterion to a CSV of measured amplitudes.
+
+    The CSV needs columns 'velocity' and 'amplitude', optionally 'amplitude_err',
+    with units in brackets: velocity [um/s],amplitude [mN],amplitude_err [mN].
+    Verdict: stick-slip (amplitude rises with velocity), pure-slip (it falls) or
+    inconclusive (too few points, slope consistent with zero, non-monotonic).
+    """
+    from .analysis.criterion import classify_file
+
+    res = classify_file(file, confidence=confidence, min_points=min_points)
+    if as_json:
+        click.echo(json.dumps(res.as_dict(), indent=2))
+        return
+    lo, hi = res.slope_ci
+    click.echo(f"verdict   {res.verdict}")
+    click.echo(f"slope     {res.slope:.4g}  ({100 * res.confidence:g}% CI [{lo:.4g}, {hi:.4g}])")
+    click.echo(f"points    {res.n_points}")
+    click.echo(f"reason    {res.reason}")
 
 
 if __name__ == "__main__":  # pragma: no cover

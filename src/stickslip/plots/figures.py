@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import matplotlib
 
@@ -75,3 +75,35 @@ def save_figure(
         paths.append(path)
     plt.close(fig)
     return paths
+
+
+def plot_sweep(ds: Any, *, log: bool = False) -> Figure:
+    """Plot amplitude and period of a sweep against its first dimension.
+
+    One line per value of the second dimension; further dimensions are fixed at
+    their first value (say so in the title).
+    """
+    dims = list(ds.amplitude.dims)
+    x = dims[0]
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), layout="constrained")
+    sel = {d: 0 for d in dims[2:]}
+    sub = ds.isel(sel) if sel else ds
+    series = (
+        [(None, sub)]
+        if len(dims) == 1
+        else [(float(v), sub.isel({dims[1]: i})) for i, v in enumerate(sub[dims[1]].values)]
+    )
+    for ax, var in zip(axes, ("amplitude", "period"), strict=True):
+        for value, part in series:
+            label = None if value is None else f"{dims[1]} = {value:g} {sub[dims[1]].attrs.get('units', '')}"
+            ax.plot(part[x].values, part[var].values, marker="o", ms=3, lw=1.2, label=label)
+        ax.set_xlabel(f"{x} [{ds[x].attrs.get('units', '1')}]")
+        ax.set_ylabel(f"{var} [{ds[var].attrs.get('units', '1')}]")
+        if log:
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+        if len(dims) > 1:
+            ax.legend(frameon=False, fontsize=8)
+    if sel:
+        fig.suptitle(", ".join(f"{d} = {float(ds[d].values[0]):g}" for d in sel), fontsize=9)
+    return fig

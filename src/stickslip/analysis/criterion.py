@@ -1,0 +1,308 @@
+"""The paper's criterion: the sign of d(log amplitude)/d(log driving velocity).
+
+Szkutnik and Kułakowski (after Thomsen and Fidlin) propose that the amplitude
+of friction oscillations grows with the driving velocity in the stick-slip
+regime and shrinks with it in the pure-slip regime. :func:`classify` fits the
+log-log slope of measured amplitudes against driving velocity, with a
+confidence interval, and applies that rule, saying ``inconclusive`` when the
+data cannot carry it: too few points, a slope consistent with zero, or a trend
+that reverses inside the measured range.
+
+What it cannot tell: the rule is a heuristic from one friction law (a cubic
+law, in the weakly nonlinear limit); it is not a theorem for every law, and it
+says nothing about data that mix regimes. See ``docs/criterion.md``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import asdict, dataclass
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+from scipy import stats
+
+from ..io.tables import read_table
+from ..models.units import ureg
+
+__all__ = ["CriterionResult", "classify", "classify_file"]
+
+
+@dataclass(frozen=True)
+class CriterionResult:
+    """Verdict of the amplitude-velocity criterion.
+
+    Attributes
+    ----------
+    verdict : str
+        ``stick-slip`` (amplitude rises with velocity), ``pure-slip`` (it falls)
+        or ``inconclusive``.
+    slope : float
+        d log(amplitude) / d log(velocity), least squares (weighted when errors are given).
+    slope_ci : tuple of float
+        Confidence interval of the slope (NaN when it cannot be estimated).
+    confidence : float
+        Confidence level of the interval.
+    n_points : int
+        Number of data points used.
+    reason : str
+        One line saying why.
+
+    """
+
+    verdict: str
+    slope: float
+    slope_ci: tuple[float, float]
+    confidence: float
+    n_points: int
+    reason: str
+
+    def as_dict(self) -> dict[str, Any]:
+        """Return a JSON-ready dictionary (NaN becomes ``None``)."""
+        d = asdict(self)
+        d["slope"] = _finite_or_none(self.slope)
+        d["slope_ci"] = [_finite_or_none(x) for x in self.slope_ci]
+        return d
+
+
+def _finite_or_none(x: float) -> float | None:
+    return x if math.isfinite(x) else None
+
+
+def _as_array(name: str, x: Any) -> npt.NDArray[np.float64]:
+    try:
+        a = np.asarray(x, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}: expected numbers") from None
+    if a.ndim != 1:
+        raise ValueError(f"{name}: expected a 1-d sequence of numbers, got shape {a.shape}")
+    if not np.all(np.isfinite(a)):
+        i = int(np.argmax(~np.isfinite(a)))
+        raise ValueError(f"{name}[{i}]={a[i]!r}: expected finite numbers")
+    return a
+
+
+def classify(
+    velocity: npt.ArrayLike,
+    amplitude: npt.ArrayLike,
+    amplitude_err: npt.ArrayLike | None = None,
+    *,
+    confidence: float = 0.95,
+    min_points: int = 4,
+) -> CriterionResult:
+    """Apply the amplitude-velocity criterion to measured (or computed) data.
+
+    Parameters
+    ----------
+    velocity : array_like
+        Driving velocities (> 0), any unit: only the log-log slope matters.
+    amplitude : array_like
+        Oscillation amplitudes (> 0), any unit.
+    amplitude_err : array_like, optional
+        One-sigma errors of the amplitudes (same unit); weights the fit.
+    confidence : float, optional
+        Confidence level of the slope interval. Default 0.95.
+    min_points : int, optional
+        Fewest points for a verdict. Default 4.
+
+    Returns
+    -------
+    CriterionResult
+
+    Raises
+    ------
+    ValueError
+        Different lengths, non-finite values, non-positive velocities or
+        amplitudes, negative errors, or an invalid ``confidence``.
+
+    """
+    v = _as_array("velocity", velocity)
+    a = _as_array("amplitude", amplitude)
+    if v.shape != a.shape:
+        raise ValueError(f"velocity has {v.size} values and amplitude {a.size}: expected equal lengths")
+    if np.any(v <= 0):
+        i = int(np.argmax(v <= 0))
+        raise ValueError(f"velocity[{i}]={v[i]!r}: driving velocities must be positive")
+    if np.any(a <= 0):
+        i = int(np.argmax(a <= 0))
+        raise ValueError(f"amplitude[{i}]={a[i]!r}: amplitudes must be positive")
+    if not (isinstance(confidence, float | int) and 0.5 <= confidence < 1):
+        raise ValueError(f"confidence={confidence!r}: expected a level in [0.5, 1), e.g. 0.95")
+    if not isinstance(min_points, int) or min_points < 3:
+        raise ValueError(f"min_points={min_points!r}: expected an integer >= 3")
+    sigma = None
+    if amplitude_err is not None:
+        e = _as_array("amplitude_err", amplitude_err)
+        if e.shape != a.shape:
+            raise ValueError("amplitude_err: expected one error per amplitude")
+        if np.any(e < 0):
+            i = int(np.argmax(e < 0))
+            raise ValueError(f"amplitude_err[{i}]={e[i]!r}: errors must be non-negative")
+        if np.any(e > 0):
+            sigma = np.where(e > 0, e / a, np.min(e[e > 0] / a[e > 0]))
+
+    n = v.size
+    x = np.log(v)
+    y = np.log(a)
+    nan_ci = (math.nan, math.nan)
+    if n < 2 or np.ptp(x) == 0:
+        return CriterionResult(
+            "inconclusive",
+            math.nan,
+            nan_ci,
+            confidence,
+            n,
+            f"too few distinct velocities ({np.unique(v).size}); need at least {min_points} points",
+        )
+    slope, se, dof = _fit(x, y, sigma, 1)
+    lo, hi = _interval(slope, se, dof, confidence)
+    trend = "rises" if slope > 0 else "falls"
+    pct = f"{100 * confidence:g}%"
+    summary = f"slope {slope:.3g}, {pct} CI [{lo:.3g}, {hi:.3g}], {n} points"
+    if n < min_points:
+        return CriterionResult(
+            "inconclusive",
+            slope,
+            (lo, hi),
+            confidence,
+            n,
+            f"too few points ({n}; need at least {min_points}): {summary}",
+        )
+    reversal = _reversal(x, y, sigma, confidence)
+    if reversal is not None:
+        return CriterionResult(
+            "inconclusive",
+            slope,
+            (lo, hi),
+            confidence,
+            n,
+            f"non-monotonic: the amplitude {reversal} inside the measured range ({summary})",
+        )
+    if lo <= 0.0 <= hi:
+        return CriterionResult(
+            "inconclusive", slope, (lo, hi), confidence, n, f"slope consistent with zero ({summary})"
+        )
+    verdict = "stick-slip" if slope > 0 else "pure-slip"
+    return CriterionResult(
+        verdict,
+        slope,
+        (lo, hi),
+        confidence,
+        n,
+        f"amplitude {trend} with driving velocity ({summary}): {verdict}",
+    )
+
+
+def _polyfit(
+    x: np.ndarray, y: np.ndarray, sigma: np.ndarray | None, degree: int
+) -> tuple[np.ndarray, np.ndarray, int]:
+    """Weighted polynomial fit in ``x - mean(x)``; return coefficients, covariance, dof.
+
+    Without errors the covariance is scaled by the residual variance; with
+    errors by the reduced chi-square when it exceeds 1 (errors too small).
+    """
+    n = x.size
+    X = np.vander(x - x.mean(), degree + 1, increasing=True)
+    w = np.ones(n) if sigma is None else 1.0 / sigma**2
+    XtW = X.T * w
+    cov = np.linalg.pinv(XtW @ X)
+    coef = cov @ (XtW @ y)
+    dof = n - degree - 1
+    chi2 = float(np.sum(w * (y - X @ coef) ** 2))
+    if dof <= 0:
+        scale = math.nan if sigma is None else 1.0
+    else:
+        scale = chi2 / dof if sigma is None else max(1.0, chi2 / dof)
+    return coef, cov * scale, dof
+
+
+def _fit(x: np.ndarray, y: np.ndarray, sigma: np.ndarray | None, degree: int) -> tuple[float, float, int]:
+    """Return the highest coefficient of a weighted polynomial fit, its standard error, dof."""
+    coef, cov, dof = _polyfit(x, y, sigma, degree)
+    return float(coef[degree]), math.sqrt(cov[degree, degree]) if cov[degree, degree] >= 0 else math.nan, dof
+
+
+def _interval(b: float, se: float, dof: int, confidence: float) -> tuple[float, float]:
+    if not math.isfinite(se) or dof <= 0:
+        return (math.nan, math.nan)
+    t = float(stats.t.ppf(0.5 + confidence / 2, dof))
+    return (b - t * se, b + t * se)
+
+
+def _reversal(x: np.ndarray, y: np.ndarray, sigma: np.ndarray | None, confidence: float) -> str | None:
+    """Detect a significant turn of the trend inside the data (quadratic test).
+
+    The trend turns back when the quadratic term of a log-log fit is significant
+    at ``confidence`` and its vertex lies in the inner 70% of the velocity range.
+    """
+    if x.size < 5:
+        return None
+    coef, cov, dof = _polyfit(x, y, sigma, 2)
+    q, se_q = float(coef[2]), math.sqrt(max(cov[2, 2], 0.0))
+    if not math.isfinite(se_q) or se_q == 0:
+        return None
+    t = float(stats.t.ppf(0.5 + confidence / 2, dof))
+    if abs(q) <= t * se_q:
+        return None
+    xc = x - x.mean()
+    vertex = -float(coef[1]) / (2 * q)
+    span = xc.max() - xc.min()
+    if xc.min() + 0.15 * span < vertex < xc.max() - 0.15 * span:
+        v_turn = math.exp(vertex + x.mean())
+        return f"{'peaks' if q < 0 else 'dips'} near velocity {v_turn:.3g} and turns back"
+    return None
+
+
+def classify_file(
+    path: str | os.PathLike[str], *, confidence: float = 0.95, min_points: int = 4
+) -> CriterionResult:
+    """Apply :func:`classify` to a CSV with columns ``velocity``, ``amplitude`` [, ``amplitude_err``].
+
+    Units in brackets in the header are honoured (``velocity [um/s]``,
+    ``amplitude [mN]``): the velocity must be a velocity, and the error must have
+    the amplitude's dimension (it is converted to the amplitude's unit).
+
+    Raises
+    ------
+    ValueError
+        For a malformed file (see :func:`stickslip.io.tables.read_table`),
+        inconsistent units, or values the criterion cannot take.
+
+    """
+    p = os.fspath(path)
+    cols = read_table(p, ["velocity", "amplitude"], ["amplitude_err"])
+    vel, amp = cols["velocity"], cols["amplitude"]
+    if vel.unit is not None and not (1 * vel.unit).check("[length] / [time]"):
+        raise ValueError(
+            f"{p}: column 'velocity' has unit [{vel.unit:~}], expected a velocity such as [um/s]"
+        )
+    if amp.unit is not None and (1 * amp.unit).check("[length] / [time]"):
+        raise ValueError(
+            f"{p}: column 'amplitude' has unit [{amp.unit:~}], a velocity: "
+            "expected a force, a length or [a.u.]"
+        )
+    err = None
+    if "amplitude_err" in cols:
+        e = cols["amplitude_err"]
+        if e.unit is not None and amp.unit is not None:
+            if (1 * e.unit).dimensionality != (1 * amp.unit).dimensionality:
+                raise ValueError(
+                    f"{p}: amplitude_err [{e.unit:~}] and amplitude [{amp.unit:~}] have inconsistent units"
+                )
+            err = (e.values * ureg.Quantity(1, e.unit)).to(amp.unit).magnitude
+        elif (e.unit is None) != (amp.unit is None):
+            raise ValueError(f"{p}: give units for both amplitude and amplitude_err, or for neither")
+        else:
+            err = e.values
+    if np.any(vel.values <= 0):
+        i = int(np.argmax(vel.values <= 0))
+        raise ValueError(
+            f"{p}: row {i + 2}: velocity {vel.values[i]!r} is not positive "
+            "(driving velocities must be positive)"
+        )
+    if np.any(amp.values <= 0):
+        i = int(np.argmax(amp.values <= 0))
+        raise ValueError(f"{p}: row {i + 2}: amplitude {amp.values[i]!r} is not positive")
+    return classify(vel.values, amp.values, err, confidence=confidence, min_points=min_points)

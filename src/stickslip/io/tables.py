@@ -1,0 +1,128 @@
+"""Reading CSV tables whose header gives units in brackets, e.g. ``velocity [um/s]``."""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+import pint
+
+from ..models.units import ureg
+
+__all__ = ["Column", "parse_header", "read_table"]
+
+_HEADER = re.compile(r"^\s*([^\[\]]*?)\s*(?:\[([^\[\]]*)\])?\s*$")
+MAX_BYTES = 500_000_000
+
+
+@dataclass(frozen=True)
+class Column:
+    """One column of a table: name, values and unit (None when the header gives none)."""
+
+    name: str
+    values: npt.NDArray[np.float64]
+    unit: pint.Unit | None
+
+
+def parse_header(cell: str, path: str) -> tuple[str, pint.Unit | None]:
+    """Split ``"velocity [um/s]"`` into ``("velocity", unit)``; raise ValueError if malformed."""
+    m = _HEADER.match(cell)
+    if not m or not m.group(1):
+        raise ValueError(f"{path}: header cell {cell!r} is not of the form 'name [unit]'")
+    name = m.group(1).strip().lower()
+    unit_text = m.group(2)
+    if unit_text is None or unit_text.strip() == "":
+        return name, None
+    text = unit_text.strip()
+    if text.lower() in ("a.u.", "au", "arb", "arbitrary", "arb. units", "1", "-"):
+        return name, ureg.dimensionless
+    try:
+        unit = ureg.Unit(text)
+    except Exception:
+        raise ValueError(
+            f"{path}: column {name!r} has unknown unit [{text}] (pint does not know it; "
+            "write e.g. [um/s], [mN], [a.u.])"
+        ) from None
+    return name, unit
+
+
+def read_table(
+    path: str | os.PathLike[str],
+    required: Sequence[str],
+    optional: Sequence[str] = (),
+) -> dict[str, Column]:
+    """Read the named numeric columns of a CSV (or TSV) file with units in the header.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file. Lines starting with ``#`` are comments.
+    required : sequence of str
+        Column names that must be present (case-insensitive, without the unit).
+    optional : sequence of str
+        Column names read when present.
+
+    Returns
+    -------
+    dict of Column
+        By lower-case name.
+
+    Raises
+    ------
+    ValueError
+        Missing file, empty file, huge file, missing column, duplicate column,
+        unknown unit, ragged rows, or a cell that is not a number; the message
+        names the file, the column and the row.
+
+    """
+    p = os.fspath(path)
+    if not os.path.isfile(p):
+        raise ValueError(f"{p}: no such file")
+    size = os.path.getsize(p)
+    if size == 0:
+        raise ValueError(f"{p}: the file is empty")
+    if size > MAX_BYTES:
+        raise ValueError(f"{p}: {size / 1e6:.0f} MB is larger than the {MAX_BYTES / 1e6:.0f} MB limit")
+    with open(p, newline="", encoding="utf-8-sig") as fh:
+        lines = [ln for ln in fh if ln.strip() and not ln.lstrip().startswith("#")]
+    if not lines:
+        raise ValueError(f"{p}: the file has no header and no data")
+    delimiter = "\t" if lines[0].count("\t") > lines[0].count(",") else ","
+    rows = list(csv.reader(lines, delimiter=delimiter))
+    header = [parse_header(c, p) for c in rows[0]]
+    names = [h[0] for h in header]
+    dup = {n for n in names if names.count(n) > 1}
+    if dup:
+        raise ValueError(f"{p}: column {sorted(dup)[0]!r} appears more than once")
+    missing = [r for r in required if r not in names]
+    if missing:
+        raise ValueError(
+            f"{p}: missing column {missing[0]!r} (found {names}); expected a header such as "
+            + ", ".join(f"{r} [unit]" for r in required)
+        )
+    data = rows[1:]
+    if not data:
+        raise ValueError(f"{p}: the file has a header but no data rows")
+    out: dict[str, Column] = {}
+    for name in [*required, *[o for o in optional if o in names]]:
+        j = names.index(name)
+        vals = np.empty(len(data))
+        for i, row in enumerate(data):
+            if len(row) != len(names):
+                raise ValueError(f"{p}: row {i + 2} has {len(row)} cells, the header has {len(names)}")
+            cell = row[j].strip()
+            try:
+                x = float(cell)
+            except ValueError:
+                raise ValueError(f"{p}: row {i + 2}, column {name!r}: {cell!r} is not a number") from None
+            if math.isnan(x):
+                raise ValueError(f"{p}: row {i + 2}, column {name!r} is NaN")
+            vals[i] = x
+        out[name] = Column(name, vals, header[j][1])
+    return out
