@@ -4,6 +4,7 @@ import csv
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 from click.testing import CliRunner
 
@@ -220,4 +221,85 @@ def test_failed_computation_is_reported_without_traceback(monkeypatch: pytest.Mo
     res = run("simulate", "--nu", "0.1", "--c", "3", "--no-plot")
     assert res.exit_code == 1
     assert "integration failed" in res.output
+    assert "Traceback" not in res.output
+
+
+def test_sweep_command(tmp_path: Path) -> None:
+    out = tmp_path / "zv.nc"
+    res = run(
+        "sweep",
+        "--preset",
+        "zv",
+        "--v0",
+        "5 um/s..1000 um/s",
+        "--num",
+        "6",
+        "--log",
+        "--b",
+        "0 s/m,100 s/m",
+        "--out",
+        str(out),
+        "--quiet",
+    )
+    assert res.exit_code == 0, res.output
+    from stickslip.analysis.sweep import load_sweep
+
+    ds = load_sweep(out)
+    assert dict(ds.sizes) == {"v0": 6, "b": 2}
+    np.testing.assert_allclose(ds["v0"].values, np.geomspace(5, 1000, 6))
+    assert (tmp_path / "zv.png").stat().st_size > 5000
+    assert (tmp_path / "zv.svg").stat().st_size > 5000
+
+
+def test_sweep_command_dimensionless_and_beta(tmp_path: Path) -> None:
+    res = run(
+        "sweep",
+        "--nu",
+        "0.001..0.1",
+        "--num",
+        "3",
+        "--c",
+        "1,3.8",
+        "--out",
+        str(tmp_path / "d.nc"),
+        "--no-plot",
+    )
+    assert res.exit_code == 0, res.output
+    res = run(
+        "sweep",
+        "--preset",
+        "zv",
+        "--a",
+        "250 s/m",
+        "--beta",
+        "42 s/m,158 s/m,418 s/m",
+        "--v0",
+        "5..1000 um/s",
+        "--num",
+        "4",
+        "--log",
+        "--out",
+        str(tmp_path / "b.nc"),
+        "--no-plot",
+    )
+    assert res.exit_code == 0, res.output
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--preset", "zv"], "nothing to sweep"),
+        (["--preset", "zv", "--v0", "5 um/s..1000 m"], "has dimension"),
+        (["--preset", "zv", "--v0", "5 um/s..1000 um/s..3"], "expected a range"),
+        (["--preset", "zv", "--v0", "0..1000 um/s", "--log"], "must be positive"),
+        (["--nu", "-1..1", "--c", "3", "--log"], "positive ends"),
+        (["--preset", "zv", "--v0", "5..1000 um/s", "--num", "1"], "at least 2 points"),
+        (["--nu", "0.1..x", "--c", "3"], "nu='x': expected a number"),
+        (["--preset", "zv", "--mass", "1 kg", "--beta", "42 s/m,60 s/m"], "not both"),
+    ],
+)
+def test_sweep_bad_input(args: list[str], message: str, tmp_path: Path) -> None:
+    res = run("sweep", *args, "--out", str(tmp_path / "x.nc"), "--no-plot")
+    assert res.exit_code == 2, res.output
+    assert message in res.output
     assert "Traceback" not in res.output

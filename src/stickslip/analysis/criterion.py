@@ -80,7 +80,7 @@ def _as_array(name: str, x: Any) -> npt.NDArray[np.float64]:
         raise ValueError(f"{name}: expected a 1-d sequence of numbers, got shape {a.shape}")
     if not np.all(np.isfinite(a)):
         i = int(np.argmax(~np.isfinite(a)))
-        raise ValueError(f"{name}[{i}]={a[i]!r}: expected finite numbers")
+        raise ValueError(f"{name}[{i}]={float(a[i])!r}: expected finite numbers")
     return a
 
 
@@ -124,10 +124,10 @@ def classify(
         raise ValueError(f"velocity has {v.size} values and amplitude {a.size}: expected equal lengths")
     if np.any(v <= 0):
         i = int(np.argmax(v <= 0))
-        raise ValueError(f"velocity[{i}]={v[i]!r}: driving velocities must be positive")
+        raise ValueError(f"velocity[{i}]={float(v[i])!r}: driving velocities must be positive")
     if np.any(a <= 0):
         i = int(np.argmax(a <= 0))
-        raise ValueError(f"amplitude[{i}]={a[i]!r}: amplitudes must be positive")
+        raise ValueError(f"amplitude[{i}]={float(a[i])!r}: amplitudes must be positive")
     if not (isinstance(confidence, float | int) and 0.5 <= confidence < 1):
         raise ValueError(f"confidence={confidence!r}: expected a level in [0.5, 1), e.g. 0.95")
     if not isinstance(min_points, int) or min_points < 3:
@@ -139,7 +139,7 @@ def classify(
             raise ValueError("amplitude_err: expected one error per amplitude")
         if np.any(e < 0):
             i = int(np.argmax(e < 0))
-            raise ValueError(f"amplitude_err[{i}]={e[i]!r}: errors must be non-negative")
+            raise ValueError(f"amplitude_err[{i}]={float(e[i])!r}: errors must be non-negative")
         if np.any(e > 0):
             sigma = np.where(e > 0, e / a, np.min(e[e > 0] / a[e > 0]))
 
@@ -178,7 +178,7 @@ def classify(
             (lo, hi),
             confidence,
             n,
-            f"non-monotonic: the amplitude {reversal} inside the measured range ({summary})",
+            f"non-monotonic: the amplitude {reversal} ({summary})",
         )
     if lo <= 0.0 <= hi:
         return CriterionResult(
@@ -232,26 +232,32 @@ def _interval(b: float, se: float, dof: int, confidence: float) -> tuple[float, 
 
 
 def _reversal(x: np.ndarray, y: np.ndarray, sigma: np.ndarray | None, confidence: float) -> str | None:
-    """Detect a significant turn of the trend inside the data (quadratic test).
+    """Detect a trend that turns back inside the data.
 
-    The trend turns back when the quadratic term of a log-log fit is significant
-    at ``confidence`` and its vertex lies in the inner 70% of the velocity range.
+    The points are split at the median velocity into a lower and an upper half
+    (the middle point in both when their number is odd) and each half gets its
+    own log-log slope. The trend turns back when the two slopes are of opposite
+    sign and each excludes zero at ``confidence``. A monotonic but curved trend
+    (steeper at one end) is not a reversal.
     """
-    if x.size < 5:
+    n = x.size
+    if n < 6:
         return None
-    coef, cov, dof = _polyfit(x, y, sigma, 2)
-    q, se_q = float(coef[2]), math.sqrt(max(cov[2, 2], 0.0))
-    if not math.isfinite(se_q) or se_q == 0:
-        return None
-    t = float(stats.t.ppf(0.5 + confidence / 2, dof))
-    if abs(q) <= t * se_q:
-        return None
-    xc = x - x.mean()
-    vertex = -float(coef[1]) / (2 * q)
-    span = xc.max() - xc.min()
-    if xc.min() + 0.15 * span < vertex < xc.max() - 0.15 * span:
-        v_turn = math.exp(vertex + x.mean())
-        return f"{'peaks' if q < 0 else 'dips'} near velocity {v_turn:.3g} and turns back"
+    order = np.argsort(x, kind="stable")
+    half = (n + 1) // 2
+    parts = [order[:half], order[n - half :]]
+    bounds = []
+    for idx in parts:
+        if np.ptp(x[idx]) == 0:
+            return None
+        slope, se, dof = _fit(x[idx], y[idx], None if sigma is None else sigma[idx], 1)
+        bounds.append(_interval(slope, se, dof, confidence))
+    (lo1, hi1), (lo2, hi2) = bounds
+    v_mid = math.exp(float(np.median(x)))
+    if lo1 > 0 and hi2 < 0:
+        return f"rises below and falls above velocity {v_mid:.3g}"
+    if hi1 < 0 and lo2 > 0:
+        return f"falls below and rises above velocity {v_mid:.3g}"
     return None
 
 
@@ -291,7 +297,7 @@ def classify_file(
                 raise ValueError(
                     f"{p}: amplitude_err [{e.unit:~}] and amplitude [{amp.unit:~}] have inconsistent units"
                 )
-            err = (e.values * ureg.Quantity(1, e.unit)).to(amp.unit).magnitude
+            err = ureg.Quantity(e.values, e.unit).to(amp.unit).magnitude
         elif (e.unit is None) != (amp.unit is None):
             raise ValueError(f"{p}: give units for both amplitude and amplitude_err, or for neither")
         else:
@@ -299,10 +305,10 @@ def classify_file(
     if np.any(vel.values <= 0):
         i = int(np.argmax(vel.values <= 0))
         raise ValueError(
-            f"{p}: row {i + 2}: velocity {vel.values[i]!r} is not positive "
+            f"{p}: row {i + 2}: velocity {float(vel.values[i])!r} is not positive "
             "(driving velocities must be positive)"
         )
     if np.any(amp.values <= 0):
         i = int(np.argmax(amp.values <= 0))
-        raise ValueError(f"{p}: row {i + 2}: amplitude {amp.values[i]!r} is not positive")
+        raise ValueError(f"{p}: row {i + 2}: amplitude {float(amp.values[i])!r} is not positive")
     return classify(vel.values, amp.values, err, confidence=confidence, min_points=min_points)

@@ -124,9 +124,9 @@ def _number(name: str, v: Any) -> float:
     except (TypeError, ValueError):
         raise ValueError(f"{name}={v!r}: expected a number") from None
     if not math.isfinite(x):
-        raise ValueError(f"{name}={v!r}: expected a finite number")
+        raise ValueError(f"{name}={x!r}: expected a finite number")
     if x < 0 or (x == 0 and name not in ZERO_ALLOWED):
-        raise ValueError(f"{name}={v!r} must be {'non-negative' if name in ZERO_ALLOWED else 'positive'}")
+        raise ValueError(f"{name}={x!r} must be {'non-negative' if name in ZERO_ALLOWED else 'positive'}")
     return x
 
 
@@ -247,7 +247,7 @@ def _physical_to_dimensionless(
     law_si = {key: arr(key, v) for key, v in law.si_parameters().items()}
     if law.name == "coulomb" and np.any(law_si["mu_k"] >= mu):
         i = int(np.argmax(law_si["mu_k"] >= mu))
-        raise ValueError(f"mu_k={law_si['mu_k'][i]!r} is not below mu_s={mu[i]!r} at point {i}")
+        raise ValueError(f"mu_k={float(law_si['mu_k'][i])!r} is not below mu_s={float(mu[i])!r} at point {i}")
     nu, nd, scales = dimensionless_from_si(
         law.name,
         stiffness=k,
@@ -273,7 +273,7 @@ def _dimensionless_arrays(
 def _check_dimensionless_law(law_name: str, nd: dict[str, FloatArray]) -> None:
     if law_name == "coulomb" and np.any(nd["kinetic"] >= 1.0):
         i = int(np.argmax(nd["kinetic"] >= 1.0))
-        raise ValueError(f"kinetic={nd['kinetic'][i]!r} at point {i}: expected a ratio below 1")
+        raise ValueError(f"kinetic={float(nd['kinetic'][i])!r} at point {i}: expected a ratio below 1")
 
 
 def _show_progress(progress: bool | None) -> bool:
