@@ -115,7 +115,7 @@ def test_progress_bar(capsys: pytest.CaptureFixture[str]) -> None:
         ({"v0": "5 um/s"}, "not a single string"),
         ({"v0": ["5 m"]}, "v0='5 m' has dimension"),
         ({"v0": ["-5 um/s"]}, "must be positive"),
-        ({"mu0": [0.4, -1]}, "mu0=-1 must be positive"),
+        ({"mu0": [0.4, -1]}, r"mu0=-1\.0 must be positive"),
         ({"b": ["-1 s/m"]}, "must be non-negative"),
         ({"beta": ["42 s/m"], "mass": ["1 kg"]}, "either 'beta' or 'mass'"),
     ],
