@@ -377,6 +377,38 @@ def simulate(
     click.echo(f"spring force from {f.min():.6g} to {f.max():.6g} [{unit}], {n_stops} stick phases")
 
 
+@main.command()
+@click.option(
+    "--out",
+    "out_dir",
+    type=click.Path(file_okay=False),
+    default="results",
+    show_default=True,
+    help="Output folder.",
+)
+@click.option("--quick", is_flag=True, help="A reduced version (fewer points per curve), for tests.")
+@_handle_errors
+def reproduce(out_dir: str, quick: bool) -> None:
+    """Reproduce the paper: Figs. 1-3, parameter dependences, the criterion, a report.
+
+    Writes reproduce.nc (every curve), each figure as PNG and SVG, report.md and a
+    self-contained report.html into the output folder.
+    """
+    import time
+
+    from .paper import reproduce as run
+
+    t0 = time.perf_counter()
+    res = run(out_dir, quick=quick)
+    click.echo(f"wrote {res.netcdf}")
+    for paths in res.figures.values():
+        click.echo(f"wrote {', '.join(paths)}")
+    click.echo(f"wrote {res.report_md}, {res.report_html}")
+    for c in res.claims:
+        click.echo(f"claim {c.number:2d}: {c.verdict}")
+    click.echo(f"done in {time.perf_counter() - t0:.1f} s")
+
+
 NUMBER_KEYS = {"nu", "c", "p", "alpha", "gamma", "kinetic", "mu0", "mu_s", "mu_k"}
 VALUE_KEYS = NUMBER_KEYS | {*SETUP, "beta", "a", "b", "k1", "k3"}
 

@@ -1,0 +1,183 @@
+"""The paper's computations: every curve of Szkutnik and Kułakowski, in one dataset.
+
+All curves go into one ``xarray.Dataset`` whose variables and dimensions are
+prefixed by the figure they belong to (``fig1_``, ``fig2_``, ``fig3_``,
+``load_``, ``mass_``); figures and the report are made from this dataset only.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+from scipy.optimize import brentq
+
+from ..analysis.sweep import sweep
+from ..analysis.trajectory import simulate
+from ..models.friction import f1
+from ..models.parameters import PhysicalParameters, zv_parameters
+from ..models.units import Q_
+
+__all__ = ["PaperConfig", "compute_paper", "measured_trends"]
+
+# measured trends as the paper states them (no data points are public)
+MEASURED: dict[str, dict[str, float | str]] = {
+    "zv": {
+        "text": "the amplitude decreases about two times when the velocity increases by two "
+        "orders of magnitude (PMMA scratched by a conical diamond, Ref. [zv])",
+        "factor": 0.5,
+        "decades": 2.0,
+    },
+    "bri": {
+        "text": "the amplitude increases about two times when the velocity increases by one "
+        "order of magnitude (PMMA, Ref. [bri], Fig. 5)",
+        "factor": 2.0,
+        "decades": 1.0,
+    },
+}
+
+
+def measured_trends() -> dict[str, dict[str, float | str]]:
+    """Return the measured trends as stated in the paper, with the log-log slope they imply."""
+    out: dict[str, dict[str, float | str]] = {}
+    for key, m in MEASURED.items():
+        slope = math.log10(float(m["factor"])) / float(m["decades"])  # type: ignore[arg-type]
+        out[key] = {**m, "slope": slope}
+    return out
+
+
+@dataclass(frozen=True)
+class PaperConfig:
+    """Resolution of the reproduction.
+
+    Attributes
+    ----------
+    n_v0 : int
+        Points per amplitude-velocity curve (5 to 1000 um/s, log-spaced).
+    n_load : int
+        Points of the load curves.
+    n_time : int
+        Samples of the Fig. 1 time series.
+
+    """
+
+    n_v0: int = 60
+    n_load: int = 24
+    n_time: int = 4000
+
+    @classmethod
+    def quick(cls) -> PaperConfig:
+        """Return a reduced configuration for tests."""
+        return cls(n_v0=8, n_load=5, n_time=600)
+
+
+V0_RANGE = (5.0, 1000.0)  # um/s, the paper's range
+FIG1_V0 = "10 um/s"
+LOADS = (50.0, 500.0)  # mN, around the paper's 196 mN
+LOAD_V0 = ("10 um/s", "100 um/s", "1000 um/s")
+MASSES = ("0.1 g", "1 g", "10 g", "100 g", "1 kg")
+FIG3_BETAS = ("42 s/m", "158 s/m", "418 s/m")
+FIG3_A = "250 s/m"
+
+
+def _fig3_base() -> PhysicalParameters:
+    base = zv_parameters()
+    return PhysicalParameters(
+        mass=base.mass, stiffness=base.stiffness, load=base.load, v0=base.v0, law=f1(0.46, FIG3_A)
+    )
+
+
+def _prefixed(ds: xr.Dataset, prefix: str, keep: list[str]) -> xr.Dataset:
+    names = {d: f"{prefix}_{d}" for d in ds.dims}
+    sub = ds[keep].rename({**names, **{k: f"{prefix}_{k}" for k in keep}})
+    for d in names.values():
+        sub[d].attrs = ds[d.split("_", 1)[1]].attrs
+    return sub
+
+
+def compute_paper(config: PaperConfig | None = None, *, progress: bool | None = False) -> xr.Dataset:
+    """Compute every curve of the paper (and the parameter dependences it reports).
+
+    Parameters
+    ----------
+    config : PaperConfig, optional
+        Resolution; default the full one.
+    progress : bool, optional
+        Progress bars on the sweeps (default off).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``fig1_*``: spring force against time (zv set-up, F1, 10 um/s);
+        ``fig2_*``: amplitude and period against v0 for b = 0 and 100 s/m;
+        ``fig3_*``: amplitude against v0 for a = 250 s/m and beta = 42, 158, 418 s/m;
+        ``load_*``: amplitude and period against the normal load;
+        ``mass_*``: amplitude against v0 for masses from 0.1 g to 1 kg.
+
+    """
+    cfg = config or PaperConfig()
+    v0 = Q_(np.geomspace(*V0_RANGE, cfg.n_v0), "um/s")
+    zv = zv_parameters()
+    keep = ["amplitude", "period", "stick_fraction", "regime", "status", "nu"]
+
+    traj = simulate(zv_parameters(FIG1_V0), cycles=3, n_points=cfg.n_time)
+    fig1 = xr.Dataset(
+        {
+            "fig1_spring_force": (
+                "fig1_time",
+                traj.spring_force,
+                {"units": "N", "long_name": "spring force"},
+            ),
+            "fig1_velocity": ("fig1_time", traj.velocity, {"units": "m/s", "long_name": "block velocity"}),
+            "fig1_phase": (
+                "fig1_time",
+                traj.phase.astype(np.int8),
+                {"long_name": "phase", "flag_values": "0 1 -1", "flag_meanings": "stick slip backward-slip"},
+            ),
+        },
+        coords={"fig1_time": ("fig1_time", traj.time, {"units": "s", "long_name": "time"})},
+        attrs={},
+    )
+    fig2 = _prefixed(sweep(zv, {"b": ["0 s/m", "100 s/m"], "v0": v0}, progress=progress), "fig2", keep)
+    fig3_raw = sweep(_fig3_base(), {"beta": list(FIG3_BETAS), "v0": v0}, progress=progress)
+    fig3 = _prefixed(fig3_raw, "fig3", keep)
+    fig3["fig3_amplitude_au"] = (fig3_raw.amplitude / (0.46 * Q_(196.0, "mN").to("N").magnitude)).rename(
+        {"beta": "fig3_beta", "v0": "fig3_v0"}
+    )
+    fig3["fig3_amplitude_au"].attrs = {"units": "1", "long_name": "amplitude in units of mu0 W"}
+    loads = Q_(np.geomspace(*LOADS, cfg.n_load), "mN")
+    load = _prefixed(sweep(zv, {"v0": list(LOAD_V0), "load": loads}, progress=progress), "load", keep)
+    load = load.rename({"load_load": "load_W"})
+    mass = _prefixed(sweep(zv, {"mass": list(MASSES), "v0": v0}, progress=progress), "mass", keep)
+
+    ds = xr.merge([fig1, fig2, fig3, load, mass], combine_attrs="override")
+    ds.attrs = {
+        "title": "Szkutnik and Kułakowski, 'How to distinguish between stick-slip and pure slip "
+        "oscillations' (arXiv cond-mat/0506435), reproduced with stickslip",
+        "zv_setup": "W = 196 mN, mu0 = 0.46, a = 160 s/m, k = 62 N/m, beta = 42 s/m (m = 0.2313 kg)",
+        "fig1_v0": FIG1_V0,
+        "fig3_a": FIG3_A,
+        "fig3_beta_for_doubling": _beta_for_slope(math.log10(2.0), max(cfg.n_v0, 12)),
+        "beta_from_1kg": _beta_from_mass(1.0),
+        "mass_for_beta_42": float(zv.mass.to("kg").magnitude),
+    }
+    return ds
+
+
+def _beta_from_mass(m_kg: float) -> float:
+    """Beta = sqrt(k m)/(mu0 W) of the zv set-up (s/m) for a mass in kg."""
+    return math.sqrt(62.0 * m_kg) / (0.46 * 0.196)
+
+
+def fig3_slope(beta: float, n: int) -> float:
+    """Log-log slope of amplitude against v0 (5 to 1000 um/s) for a = 250 s/m, b = 0."""
+    v = np.geomspace(*V0_RANGE, n)
+    ds = sweep(_fig3_base(), {"beta": [Q_(beta, "s/m")], "v0": Q_(v, "um/s")}, progress=False)
+    return float(np.polyfit(np.log(v), np.log(ds.amplitude.values[0]), 1)[0])
+
+
+def _beta_for_slope(target: float, n: int) -> float:
+    """Return the beta (s/m) at which the Fig. 3 curve rises with the given log-log slope."""
+    return float(brentq(lambda b: fig3_slope(b, n) - target, 42.0, 418.0, xtol=1e-3))

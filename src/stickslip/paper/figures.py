@@ -1,0 +1,159 @@
+"""The paper's figures, drawn only from the reproduction dataset (as read from NetCDF)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import matplotlib
+import matplotlib.ticker
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import xarray as xr
+from matplotlib.figure import Figure
+
+__all__ = ["FIGURES", "make_figures"]
+
+
+def _v0_axis(ax: plt.Axes, ds: xr.Dataset, coord: str) -> None:
+    ax.set_xscale("log")
+    ax.set_xlabel(f"driving velocity $v_0$ [{ds[coord].attrs.get('units', '')}]")
+
+
+def fig1_spring_force(ds: xr.Dataset) -> Figure:
+    """Fig. 1: spring force against time, zv set-up."""
+    fig, ax = plt.subplots(figsize=(6.4, 3.6), layout="constrained")
+    t = ds["fig1_time"].values
+    f = ds["fig1_spring_force"].values * 1e3
+    ax.plot(t, f, color="C0", lw=1.2)
+    stick = ds["fig1_phase"].values == 0
+    ax.fill_between(t, f.min(), f.max(), where=stick, color="0.9", step="mid", lw=0, zorder=0, label="stick")
+    ax.set_xlim(t[0], t[-1])
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("spring force [mN]")
+    ax.set_title(f"Fig. 1: zv set-up, F1, $v_0$ = {ds.attrs.get('fig1_v0', '')}", fontsize=10)
+    ax.legend(loc="lower right", frameon=False)
+    return fig
+
+
+def fig2_amplitude_v0(ds: xr.Dataset) -> Figure:
+    """Fig. 2: amplitude against v0 for b = 0 (solid) and b = 100 s/m (dotted)."""
+    fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
+    v = ds["fig2_v0"].values
+    for i, b in enumerate(ds["fig2_b"].values):
+        ax.plot(
+            v,
+            ds["fig2_amplitude"].values[i] * 1e3,
+            ls="-" if b == 0 else ":",
+            lw=1.8,
+            color="k",
+            label=f"b = {b:g} s/m",
+        )
+    _v0_axis(ax, ds, "fig2_v0")
+    ax.set_yscale("log")
+    ax.set_ylabel("amplitude of the spring force [mN]")
+    ax.set_title(r"Fig. 2: zv set-up, $\beta$ = 42 s/m, a = 160 s/m", fontsize=10)
+    ax.legend(frameon=False)
+    return fig
+
+
+def fig3_amplitude_v0(ds: xr.Dataset) -> Figure:
+    """Fig. 3: amplitude (units of mu0 W) against v0 for a = 250 s/m, three betas."""
+    fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
+    v = ds["fig3_v0"].values
+    for i, beta in enumerate(ds["fig3_beta"].values):
+        ax.plot(v, ds["fig3_amplitude_au"].values[i], lw=1.8, label=rf"$\beta$ = {beta:g} s/m")
+    _v0_axis(ax, ds, "fig3_v0")
+    ax.set_yscale("log")
+    ax.set_ylabel(r"amplitude [arbitrary units: $\mu_0 W$]")
+    ax.set_title(f"Fig. 3: a = {ds.attrs.get('fig3_a', '')}, b = 0", fontsize=10)
+    ax.legend(frameon=False)
+    return fig
+
+
+def period_v0(ds: xr.Dataset) -> Figure:
+    """Period against v0 (zv set-up), b = 0 and b = 100 s/m."""
+    fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
+    v = ds["fig2_v0"].values
+    for i, b in enumerate(ds["fig2_b"].values):
+        ax.plot(
+            v,
+            ds["fig2_period"].values[i],
+            ls="-" if b == 0 else ":",
+            lw=1.8,
+            color="k",
+            label=f"b = {b:g} s/m",
+        )
+    _v0_axis(ax, ds, "fig2_v0")
+    ax.set_yscale("log")
+    ax.set_ylabel("period [s]")
+    ax.set_title("Period against driving velocity, zv set-up", fontsize=10)
+    ax.legend(frameon=False)
+    return fig
+
+
+def load_dependence(ds: xr.Dataset) -> Figure:
+    """Amplitude and period against the normal load, at three driving velocities."""
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.0), layout="constrained")
+    w = ds["load_W"].values
+    for j, v in enumerate(ds["load_v0"].values):
+        label = f"$v_0$ = {v:g} {ds['load_v0'].attrs.get('units', '')}"
+        axes[0].plot(w, ds["load_amplitude"].values[j] * 1e3, lw=1.8, label=label)
+        axes[1].plot(w, ds["load_period"].values[j], lw=1.8, label=label)
+    for ax, ylabel in zip(axes, ("amplitude [mN]", "period [s]"), strict=True):
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel(f"normal load W [{ds['load_W'].attrs.get('units', '')}]")
+        ax.xaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.set_ylabel(ylabel)
+        ax.legend(frameon=False, fontsize=8)
+    fig.suptitle("Dependence on the normal load (zv set-up otherwise)", fontsize=10)
+    return fig
+
+
+def mass_dependence(ds: xr.Dataset) -> Figure:
+    """Amplitude against v0 for masses from 0.1 g to 1 kg, relative to its value at 5 um/s."""
+    fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
+    v = ds["mass_v0"].values
+    unit = ds["mass_mass"].attrs.get("units", "")
+    for i, m in enumerate(ds["mass_mass"].values):
+        a = ds["mass_amplitude"].values[i]
+        ax.plot(v, a / a[0], lw=1.8, label=f"m = {m:g} {unit}")
+    _v0_axis(ax, ds, "mass_v0")
+    ax.set_yscale("log")
+    ax.set_ylabel(r"amplitude / amplitude at the lowest $v_0$")
+    ax.set_title("Dependence on the mass (zv set-up otherwise)", fontsize=10)
+    ax.legend(frameon=False, fontsize=8)
+    return fig
+
+
+FIGURES: dict[str, tuple[Callable[[xr.Dataset], Figure], str]] = {
+    "fig1_spring_force": (
+        fig1_spring_force,
+        "Fig. 1: spring force against time, zv set-up (F1, beta = 42 s/m, 10 um/s); stick phases shaded.",
+    ),
+    "fig2_amplitude_v0": (
+        fig2_amplitude_v0,
+        "Fig. 2: amplitude against driving velocity, zv set-up, b = 0 (solid) and b = 100 s/m (dotted).",
+    ),
+    "fig3_amplitude_v0": (
+        fig3_amplitude_v0,
+        "Fig. 3: amplitude (units of mu0 W) against driving velocity, a = 250 s/m, b = 0, "
+        "beta = 42, 158, 418 s/m.",
+    ),
+    "period_v0": (period_v0, "Period against driving velocity, zv set-up."),
+    "load_dependence": (
+        load_dependence,
+        "Amplitude and period against the normal load at three driving velocities.",
+    ),
+    "mass_dependence": (
+        mass_dependence,
+        "Relative amplitude against driving velocity for masses from 0.1 g to 1 kg.",
+    ),
+}
+
+
+def make_figures(ds: xr.Dataset) -> dict[str, Figure]:
+    """Draw every figure from the dataset."""
+    return {name: func(ds) for name, (func, _) in FIGURES.items()}

@@ -1,0 +1,93 @@
+"""stickslip reproduce --quick, end to end: data, figures drawn from the data, report."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+from click.testing import CliRunner
+
+from stickslip.cli import main
+from stickslip.paper.compute import measured_trends
+from stickslip.paper.figures import FIGURES, make_figures
+
+
+@pytest.fixture(scope="module")
+def quick_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("repro")
+    res = CliRunner().invoke(main, ["reproduce", "--out", str(out), "--quick"])
+    assert res.exit_code == 0, res.output
+    assert "done in" in res.output
+    return out
+
+
+def test_every_file_is_written_and_not_empty(quick_run: Path) -> None:
+    assert (quick_run / "reproduce.nc").stat().st_size > 10_000
+    for name in FIGURES:
+        for ext in ("png", "svg"):
+            assert (quick_run / f"{name}.{ext}").stat().st_size > 5_000, name
+    md = (quick_run / "report.md").read_text()
+    html = (quick_run / "report.html").read_text()
+    for name in FIGURES:
+        assert f"{name}.png" in md
+    assert html.count("data:image/png;base64,") == len(FIGURES)
+    assert "<img" in html and 'src="fig' not in html  # self-contained
+
+
+def test_figures_are_drawn_from_the_netcdf_data(quick_run: Path) -> None:
+    ds = xr.load_dataset(quick_run / "reproduce.nc")
+    figs = make_figures(ds)
+    line = figs["fig2_amplitude_v0"].axes[0].lines[0]
+    np.testing.assert_array_equal(line.get_xdata(), ds["fig2_v0"].values)
+    np.testing.assert_array_equal(line.get_ydata(), ds["fig2_amplitude"].values[0] * 1e3)
+    line = figs["fig3_amplitude_v0"].axes[0].lines[2]
+    np.testing.assert_array_equal(line.get_ydata(), ds["fig3_amplitude_au"].values[2])
+    line = figs["fig1_spring_force"].axes[0].lines[0]
+    np.testing.assert_array_equal(line.get_ydata(), ds["fig1_spring_force"].values * 1e3)
+    line = figs["load_dependence"].axes[1].lines[1]
+    np.testing.assert_array_equal(line.get_ydata(), ds["load_period"].values[1])
+    import matplotlib.pyplot as plt
+
+    plt.close("all")
+
+
+def test_dataset_has_units_and_every_curve(quick_run: Path) -> None:
+    ds = xr.load_dataset(quick_run / "reproduce.nc")
+    for var, unit in [
+        ("fig2_amplitude", "N"),
+        ("fig2_period", "s"),
+        ("fig1_spring_force", "N"),
+        ("fig1_time", "s"),
+        ("load_W", "mN"),
+        ("fig3_beta", "s / m"),
+        ("mass_mass", "g"),
+        ("fig3_amplitude_au", "1"),
+    ]:
+        assert ds[var].attrs["units"] == unit, var
+    assert list(ds["fig3_beta"].values) == [42.0, 158.0, 418.0]
+    assert list(ds["fig2_b"].values) == [0.0, 100.0]
+    assert ds["fig2_v0"].values[0] == pytest.approx(5.0)
+    assert ds["fig2_v0"].values[-1] == pytest.approx(1000.0)
+    assert set(np.unique(ds["fig2_status"].values)) == {"ok"}
+
+
+def test_report_states_claims_and_beta_inconsistency(quick_run: Path) -> None:
+    md = (quick_run / "report.md").read_text()
+    assert "beta = 87.3 s/m" in md
+    assert "0.231 kg" in md
+    assert "slope" in md
+    assert "pure-slip" in md and "stick-slip" in md
+    # the measured trends are quoted, with the slope they imply, never as invented points
+    assert "two orders of magnitude" in md
+    t = measured_trends()
+    assert t["zv"]["slope"] == pytest.approx(np.log10(0.5) / 2)
+    assert t["bri"]["slope"] == pytest.approx(np.log10(2.0))
+    assert f"{t['zv']['slope']:+.3f}" in md
+
+
+def test_reproduce_bad_out(tmp_path: Path) -> None:
+    f = tmp_path / "file"
+    f.write_text("x")
+    res = CliRunner().invoke(main, ["reproduce", "--out", str(f), "--quick"])
+    assert res.exit_code == 2
+    assert "Traceback" not in res.output
