@@ -48,6 +48,9 @@ def claims(ds: xr.Dataset) -> list[Claim]:
     amp2 = ds["fig2_amplitude"].values
     per2 = ds["fig2_period"].values
     slope_b0 = _slope(v2, amp2[0])
+    c2 = 160.0 / 42.0  # a / beta and b / beta of Fig. 2 (zv set-up, beta = 42 s/m)
+    p2 = float(ds["fig2_b"].values[1]) / 42.0
+    w_min2 = (math.sqrt(c2 / p2) - 1.0) / c2  # f'(w) = -c/(1 + c w)**2 + p = 0
     slope_b100 = _slope(v2, amp2[1])
     reg_b100 = sorted(set(ds["fig2_regime"].values[1].tolist()))
     measured = measured_trends()
@@ -85,8 +88,9 @@ def claims(ds: xr.Dataset) -> list[Claim]:
             "stick-slip regime.",
             f"slope {slope_b100:+.4f} (x{_per_decade(slope_b100):.3f} per decade); regimes found over "
             f"the range: {', '.join(reg_b100)}. Note the amplitude is much smaller than for b = 0 "
-            f"({1e3 * amp2[1, 0]:.3f} to {1e3 * amp2[1, -1]:.2f} mN): with p = 2.38 friction weakens "
-            "only below w = 0.07.",
+            f"({1e3 * amp2[1, 0]:.3f} to {1e3 * amp2[1, -1]:.2f} mN): with c = {c2:.3f}, "
+            f"p = {p2:.3f} friction weakens only for w < {w_min2:.3f} (where f' = 0), i.e. slip "
+            f"velocities below {1e6 * w_min2 / 42.0:.0f} um/s.",
             "supported" if slope_b100 > 0 and reg_b100 == ["stick-slip"] else "contradicted",
         )
     )
