@@ -409,6 +409,55 @@ def reproduce(out_dir: str, quick: bool) -> None:
     click.echo(f"done in {time.perf_counter() - t0:.1f} s")
 
 
+@main.command()
+@click.option("--A", "a", type=float, default=None, help="Direct effect A (> 0).")
+@click.option("--B", "b", type=float, default=None, help="Evolution effect B (>= 0).")
+@click.option("--kappa", type=float, default=None, help="Stiffness kappa = k D0 / W (> 0).")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+@_handle_errors
+def dulac(a: float | None, b: float | None, kappa: float | None, as_json: bool) -> None:
+    """Dulac's criterion for the quasi-static Rice-Ruina model (the paper's appendix).
+
+    Derives the dimensionless system and its divergence with sympy from the
+    physical equations and prints them; with --A --B --kappa says whether
+    periodic orbits are excluded for those values.
+    """
+    import sympy as sp
+
+    from .analysis.dulac import derive, excluded, sign_verdict
+
+    given = [v is not None for v in (a, b, kappa)]
+    if any(given) and not all(given):
+        raise click.UsageError("give all of --A, --B and --kappa, or none")
+    d = derive()
+    out: dict[str, Any] = {
+        "alpha_dot": sp.sstr(d.alpha_dot),
+        "phi_dot": sp.sstr(d.phi_dot),
+        "divergence": sp.sstr(d.divergence),
+        "divergence_latex": sp.latex(d.divergence),
+        "sign_factor": sp.sstr(d.sign_factor),
+        "positive_factor": sp.sstr(d.positive_factor),
+        "verdict": "no periodic orbits unless B - A - kappa = 0 (Dulac's criterion with g = 1 on "
+        "the simply connected half-plane phi > 0)",
+    }
+    if all(given):
+        assert a is not None and b is not None and kappa is not None
+        out["values"] = {"A": a, "B": b, "kappa": kappa, "B - A - kappa": b - a - kappa}
+        out["excluded"] = excluded(a, b, kappa)
+        out["verdict"] = sign_verdict(a, b, kappa)
+    if as_json:
+        click.echo(json.dumps(out, indent=2))
+        return
+    click.echo(f"alpha' = {out['alpha_dot']}")
+    click.echo(f"phi'   = {out['phi_dot']}")
+    click.echo(f"divergence = {out['divergence']}")
+    click.echo(f"LaTeX: {out['divergence_latex']}")
+    click.echo(f"sign decided by: {out['sign_factor']}  (times {out['positive_factor']} > 0)")
+    if "excluded" in out:
+        click.echo(f"periodic orbits excluded: {'yes' if out['excluded'] else 'no'}")
+    click.echo(f"verdict: {out['verdict']}")
+
+
 NUMBER_KEYS = {"nu", "c", "p", "alpha", "gamma", "kinetic", "mu0", "mu_s", "mu_k"}
 VALUE_KEYS = NUMBER_KEYS | {*SETUP, "beta", "a", "b", "k1", "k3"}
 
