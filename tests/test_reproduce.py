@@ -91,3 +91,18 @@ def test_reproduce_bad_out(tmp_path: Path) -> None:
     res = CliRunner().invoke(main, ["reproduce", "--out", str(f), "--quick"])
     assert res.exit_code == 2
     assert "Traceback" not in res.output
+
+
+def test_appendix_evidence(quick_run: Path) -> None:
+    ds = xr.load_dataset(quick_run / "reproduce.nc")
+    mult = ds["return_multiplier"]
+    above = mult.sel(kappa=0.006).values
+    below = mult.sel(kappa=0.004).values
+    at = mult.sel(kappa=0.005).values
+    assert np.all(above[np.isfinite(above)] < 0.9)  # spirals into steady sliding
+    assert np.all(below[np.isfinite(below)] > 1.1)  # spirals out
+    np.testing.assert_allclose(at, 1.0, atol=1e-6)  # closed orbits at kappa = B - A
+    np.testing.assert_allclose(ds["growth_simulated"], ds["growth_linear"], rtol=0.01)
+    assert "accelerates without bound" in ds.attrs["appendix_quasi_static_runaway"]
+    md = (quick_run / "report.md").read_text()
+    assert "simplifies to 0: True" in md

@@ -126,18 +126,18 @@ class RateStateParameters:
         return (self.critical_kw * self.load).to("N/m")
 
     def kappa(self) -> float:
-        """The appendix's ``kappa = k D0 / W``."""
+        """Return the appendix's ``kappa = k D0 / W``."""
         return float((self.kw * self.dc).to("").magnitude)
 
     def steady_state_friction(self, v: Any) -> npt.NDArray[np.float64]:
         """Return ``mu_ss = mu0 + (A - B) ln(v/V_r)`` at slip velocity ``v`` (> 0)."""
         if isinstance(v, str):
-            v = parse_quantity(v, "v", "[length] / [time]", "1 um/s")
+            v = parse_quantity(v, "v", "[length] / [time]", "1 um/s", allow_zero=True)
         if not isinstance(v, pint.Quantity) or not v.check("[length] / [time]"):
             raise ValueError(f"v={v!r}: expected a velocity with units such as '1 um/s'")
         x = np.asarray((v / self.v_ref).to("").magnitude, dtype=float)
         if np.any(~(x > 0)):
-            raise ValueError(f"v={v!r}: the logarithm needs a positive velocity")
+            raise ValueError(f"v={v!r}: mu_ss has ln(v/V_r), the logarithm needs a positive velocity")
         return self.mu0 + (self.a - self.b) * np.log(x)
 
     def core_params(self) -> npt.NDArray[np.float64]:

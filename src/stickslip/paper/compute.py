@@ -97,7 +97,9 @@ def _prefixed(ds: xr.Dataset, prefix: str, keep: list[str]) -> xr.Dataset:
     return sub
 
 
-def compute_paper(config: PaperConfig | None = None, *, progress: bool | None = False) -> xr.Dataset:
+def compute_paper(
+    config: PaperConfig | None = None, *, progress: bool | None = False, appendix: bool = True
+) -> xr.Dataset:
     """Compute every curve of the paper (and the parameter dependences it reports).
 
     Parameters
@@ -106,6 +108,8 @@ def compute_paper(config: PaperConfig | None = None, *, progress: bool | None = 
         Resolution; default the full one.
     progress : bool, optional
         Progress bars on the sweeps (default off).
+    appendix : bool, optional
+        Also compute the appendix's evidence (rate and state). Default True.
 
     Returns
     -------
@@ -163,6 +167,13 @@ def compute_paper(config: PaperConfig | None = None, *, progress: bool | None = 
         "beta_from_1kg": _beta_from_mass(1.0),
         "mass_for_beta_42": float(zv.mass.to("kg").magnitude),
     }
+    if appendix:
+        from .appendix import compute_appendix
+
+        app = compute_appendix(quick=cfg.n_v0 < 20)
+        attrs = {**ds.attrs, **app.attrs}
+        ds = xr.merge([ds, app], combine_attrs="override")
+        ds.attrs = attrs
     return ds
 
 

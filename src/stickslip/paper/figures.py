@@ -128,6 +128,56 @@ def mass_dependence(ds: xr.Dataset) -> Figure:
     return fig
 
 
+def appendix_phase_portraits(ds: xr.Dataset) -> Figure:
+    """Phase portraits of the appendix's system for kappa above, below and at B - A."""
+    fig, axes = plt.subplots(1, 3, figsize=(12, 3.8), layout="constrained")
+    b_minus_a = float(ds.attrs["appendix_B"]) - float(ds.attrs["appendix_A"])
+    for ax, k in zip(axes, range(ds.sizes["kappa"]), strict=True):
+        kappa = float(ds["kappa"].values[k])
+        for j in range(ds.sizes["orbit"]):
+            ax.plot(ds["portrait_alpha"].values[k, j], ds["portrait_phi"].values[k, j], lw=0.8)
+        rel = "=" if abs(kappa - b_minus_a) < 1e-12 else (">" if kappa > b_minus_a else "<")
+        ax.set_title(rf"$\kappa$ = {kappa:g} {rel} B - A", fontsize=10)
+        ax.set_xlabel(r"$\alpha - \alpha^*$")
+        ax.set_ylabel(r"$\phi$")
+    fig.suptitle("Quasi-static Rice-Ruina model (aging law), derived dimensionless system", fontsize=10)
+    return fig
+
+
+def appendix_critical_stiffness(ds: xr.Dataset) -> Figure:
+    """Growth rate of small perturbations against k/k_c: simulation and linear theory."""
+    fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
+    r = ds["stiffness_ratio"].values
+    ax.plot(r, ds["growth_linear"].values, "k-", lw=1.2, label="linear theory")
+    ax.plot(r, ds["growth_simulated"].values, "o", color="C3", label="simulated (peak envelope)")
+    ax.axhline(0, color="0.6", lw=0.8)
+    ax.axvline(1, color="0.6", lw=0.8, ls=":")
+    ax.set_xlabel(r"stiffness $k / k_c$, $k_c = (B - A) W / D_0$")
+    ax.set_ylabel("growth rate [1/s]")
+    ax.legend(frameon=False)
+    ax.set_title("Critical stiffness: simulations against the linearisation", fontsize=10)
+    return fig
+
+
+def appendix_inertia(ds: xr.Dataset) -> Figure:
+    """Inertia: the critical stiffness against the mass, and a limit cycle below it."""
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.0), layout="constrained")
+    eps = ds["inertia_eps"].values
+    axes[0].loglog(eps, ds["inertia_kc_ratio"].values - 1.0, "o-", ms=3)
+    axes[0].set_xlabel(r"$m v_0^2 / (W A D_0)$")
+    axes[0].set_ylabel(r"$k_c(m) / k_c(0) - 1$")
+    axes[0].set_title("critical stiffness with inertia (linearised)", fontsize=10)
+    axes[1].semilogy(ds["cycle_time"].values, ds["cycle_velocity"].values, lw=1.0)
+    axes[1].axhline(
+        float(ds.attrs["appendix_inertia_v0"]), color="0.5", ls=":", lw=0.8, label="load-point velocity"
+    )
+    axes[1].set_xlabel("time [s]")
+    axes[1].set_ylabel("slip velocity [m/s]")
+    axes[1].set_title("k = 0.8 k_c with inertia: a bounded stick-slip cycle", fontsize=10)
+    axes[1].legend(frameon=False)
+    return fig
+
+
 FIGURES: dict[str, tuple[Callable[[xr.Dataset], Figure], str]] = {
     "fig1_spring_force": (
         fig1_spring_force,
@@ -154,6 +204,31 @@ FIGURES: dict[str, tuple[Callable[[xr.Dataset], Figure], str]] = {
 }
 
 
+FIGURES.update(
+    {
+        "appendix_phase_portraits": (
+            appendix_phase_portraits,
+            "Appendix: phase portraits of the quasi-static "
+            "Rice-Ruina model for kappa above (spiral in), below (spiral out, run "
+            "away) and at B - A (closed orbits).",
+        ),
+        "appendix_critical_stiffness": (
+            appendix_critical_stiffness,
+            "Appendix: growth rate of small perturbations against stiffness, simulated and linearised.",
+        ),
+        "appendix_inertia": (
+            appendix_inertia,
+            "Beyond the appendix: the critical stiffness with inertia, "
+            "and a bounded stick-slip cycle below it where the quasi-static slider runs away.",
+        ),
+    }
+)
+
+
 def make_figures(ds: xr.Dataset) -> dict[str, Figure]:
-    """Draw every figure from the dataset."""
-    return {name: func(ds) for name, (func, _) in FIGURES.items()}
+    """Draw every figure from the dataset (the appendix's only when its data are there)."""
+    return {
+        name: func(ds)
+        for name, (func, _) in FIGURES.items()
+        if not name.startswith("appendix") or "kappa" in ds.dims
+    }

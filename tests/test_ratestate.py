@@ -1,0 +1,225 @@
+"""Rate and state: the appendix derived symbolically, protocols, stability, inertia, bad input."""
+
+import json
+import math
+import time
+
+import numpy as np
+import pytest
+import sympy as sp
+from click.testing import CliRunner
+from scipy.integrate import solve_ivp
+
+from stickslip.analysis.dulac import derive, excluded, paper_divergence, symbols
+from stickslip.analysis.ratestate import (
+    linear_stability,
+    simulate_rate_state,
+    slide_hold_slide,
+    velocity_steps,
+)
+from stickslip.cli import main
+from stickslip.models.ratestate import RateStateParameters
+
+BASE = {"a": 0.01, "b": 0.015, "dc": "10 um", "v_ref": "1 um/s", "mu0": 0.6}
+
+
+def params(**kw):
+    return RateStateParameters(**{**BASE, "stiffness_per_load": "1 1/mm", **kw})
+
+
+def test_divergence_equals_the_paper() -> None:
+    d = derive()
+    assert sp.simplify(d.divergence - paper_divergence()) == 0
+    s = symbols()
+    alpha, phi, omega, gamma, kappa, a, b = (s[n] for n in "alpha phi omega gamma kappa A B".split())
+    # the derived system is the appendix's eqs. (5)-(6)
+    e = gamma * phi ** (-b / a) * sp.exp(-kappa * alpha / a)
+    assert sp.simplify(d.alpha_dot - (e - omega)) == 0
+    assert sp.simplify(d.phi_dot - (1 - phi * e)) == 0
+    # ... and was solved from the physical force balance, not typed in
+    assert {s["k"], s["W"], s["x"], s["t"], s["v0"]} <= d.velocity.free_symbols
+    assert sp.simplify(d.sign_factor * d.positive_factor - d.divergence) == 0
+
+
+def test_dulac_cli_json() -> None:
+    res = CliRunner().invoke(main, ["dulac", "--json"])
+    assert res.exit_code == 0, res.output
+    out = json.loads(res.output)
+    names = {n: sp.Symbol(n, positive=True) for n in ("alpha", "phi", "A", "B", "kappa", "gamma")}
+    parsed = sp.sympify(out["divergence"], locals=names)
+    paper = paper_divergence().subs({symbols()[n]: names[n] for n in names})
+    assert sp.simplify(parsed - paper) == 0
+    assert "excluded" not in out
+    res = CliRunner().invoke(main, ["dulac", "--A", "0.01", "--B", "0.015", "--kappa", "0.004", "--json"])
+    assert json.loads(res.output)["excluded"] is True
+    res = CliRunner().invoke(main, ["dulac", "--A", "0.01", "--B", "0.015", "--kappa", "0.005", "--json"])
+    out = json.loads(res.output)
+    assert out["excluded"] is False
+    assert "closed orbits" in out["verdict"]
+    res = CliRunner().invoke(main, ["dulac"])
+    assert "divergence = " in res.output and "LaTeX" in res.output
+
+
+def test_excluded_values() -> None:
+    assert excluded(0.01, 0.015, 0.006)
+    assert not excluded(0.01, 0.015, 0.005)
+    with pytest.raises(ValueError, match=r"A=-0\.01"):
+        excluded(-0.01, 0.015, 0.005)
+
+
+@pytest.mark.parametrize("law", ["aging", "slip"])
+def test_steady_state_after_velocity_steps(law: str) -> None:
+    # 10 k_c: with the slip law a tenfold step destabilises a softer spring (a known property)
+    p = params(state_law=law, stiffness_per_load="5 1/mm")
+    ds = velocity_steps(p, ["1 um/s", "10 um/s", "1 um/s"], displacement="1 mm", n_points=300)
+    mu = ds.friction.values
+    for k, v in enumerate(["1 um/s", "10 um/s", "1 um/s"]):
+        end = mu[(k + 1) * 300 - 1 - k]
+        assert end == pytest.approx(float(p.steady_state_friction(v)), abs=1e-7)
+    # load point and slider moved the same distance in steady state
+    drift = ds.load_point_displacement.values[-1] - ds.slider_displacement.values[-1]
+    assert abs(drift) < 1e-3 * ds.load_point_displacement.values[-1]
+    assert ds.friction.attrs["units"] == "1" and ds.time.attrs["units"] == "s"
+
+
+@pytest.mark.parametrize("law", ["aging", "slip"])
+def test_decay_matches_linear_theory(law: str) -> None:
+    p = params(state_law=law, stiffness_per_load="0.6 1/mm")
+    st = linear_stability(p, "1 um/s")
+    assert st.growth_rate < 0
+    mu_ss = float(p.steady_state_friction("1 um/s"))
+    period = 2 * math.pi / st.angular_frequency
+    ds = simulate_rate_state(
+        p, [(f"{6 * period} s", "1 um/s")], initial=(mu_ss + 1e-6, "10 s"), n_points=4000
+    )
+    dv = np.abs(ds.slip_velocity.values - 1e-6)
+    t = ds.time.values
+    pk = [i for i in range(1, dv.size - 1) if dv[i] > dv[i - 1] and dv[i] >= dv[i + 1]]
+    rate = np.polyfit(t[pk], np.log(dv[pk]), 1)[0]
+    assert rate == pytest.approx(st.growth_rate, rel=0.01)
+    # the oscillation's angular frequency too
+    assert 2 * math.pi / np.mean(np.diff(t[pk])) / 2 == pytest.approx(st.angular_frequency, rel=0.01)
+
+
+def test_critical_stiffness() -> None:
+    p = RateStateParameters(**BASE, stiffness="1000 N/m", load="2 N")
+    assert p.critical_stiffness.to("N/m").magnitude == pytest.approx(0.005 * 2 / 1e-5)
+    below = linear_stability(params(stiffness_per_load="0.45 1/mm"), "1 um/s")
+    above = linear_stability(params(stiffness_per_load="0.55 1/mm"), "1 um/s")
+    assert below.growth_rate > 0 > above.growth_rate
+
+
+def reference(
+    p: RateStateParameters, v_lp: float, t_end: float, mu_i: float, phi_i: float, law: str, t_eval: np.ndarray
+) -> np.ndarray:
+    """Plain SciPy, written separately: state Phi itself and the slider position x."""
+    a, b, dc, vr, mu0 = 0.01, 0.015, 1e-5, 1e-6, 0.6
+    kw = p.kw.to("1/m").magnitude
+
+    def rhs(t: float, y: np.ndarray) -> list[float]:
+        x, ph = y
+        mu = kw * (v_lp * t - x)
+        v = vr * math.exp((mu - mu0 - b * math.log(ph * vr / dc)) / a)
+        if law == "aging":
+            dph = 1 - v * ph / dc
+        else:
+            dph = -(v * ph / dc) * math.log(v * ph / dc)
+        return [v, dph]
+
+    x0 = -mu_i / kw
+    sol = solve_ivp(
+        rhs, (0, t_end), [x0, phi_i], method="LSODA", rtol=1e-12, atol=[1e-18, 1e-12], t_eval=t_eval
+    )
+    return kw * (v_lp * sol.t - sol.y[0])
+
+
+@pytest.mark.parametrize("law", ["aging", "slip"])
+def test_against_plain_scipy(law: str) -> None:
+    p = params(state_law=law, stiffness_per_load="0.6 1/mm")  # just above k_c: slow decay
+    ds = simulate_rate_state(p, [("60 s", "3 um/s")], initial=(0.6, "10 s"), n_points=200, rtol=1e-11)
+    ref = reference(p, 3e-6, 60.0, 0.6, 10.0, law, ds.time.values)
+    np.testing.assert_allclose(ds.friction.values, ref, atol=2e-9)
+
+
+def test_slide_hold_slide_healing() -> None:
+    ds = slide_hold_slide(params(), "1 um/s", ["1 s", "10 s", "100 s", "1000 s"])
+    heal = ds.peak_friction_change.values
+    assert np.all(np.diff(heal) > 0)
+    assert ds.hold_time.attrs["units"] == "s"
+    # held slider: the load point stops, the state grows (aging law)
+    assert ds.state.values.max() > 100.0
+
+
+def test_stiff_case_succeeds_or_fails_with_a_message() -> None:
+    p = params(state_law="slip", stiffness_per_load="10 1/mm")
+    t0 = time.monotonic()
+    try:
+        ds = velocity_steps(p, ["1 um/s", "1 mm/s", "1 um/s"], displacement="200 um", n_points=100)
+        assert np.all(np.isfinite(ds.friction.values))
+    except RuntimeError as exc:
+        assert "segment" in str(exc)
+    assert time.monotonic() - t0 < 60
+
+
+def test_runaway_is_reported() -> None:
+    p = params(stiffness_per_load="0.3 1/mm")
+    with pytest.raises(RuntimeError, match="accelerates without bound"):
+        simulate_rate_state(p, [("200 s", "1 um/s"), ("2 s", "2 um/s"), ("2000 s", "1 um/s")])
+
+
+def test_work_bound_is_reported() -> None:
+    p = params(stiffness_per_load="0.3 1/mm")
+    with pytest.raises(RuntimeError, match="stopped after"):
+        simulate_rate_state(p, [("2000 s", "1 um/s")], initial=(0.61, "10 s"), max_steps=10)
+
+
+def test_inertial_model() -> None:
+    p = RateStateParameters(**BASE, stiffness="1e4 N/m", load="10 N", mass="1 kg")
+    ds = simulate_rate_state(p, [("50 s", "1 um/s"), ("50 s", "10 um/s")], n_points=200)
+    assert "spring_friction" in ds
+    assert ds.friction.values[-1] == pytest.approx(float(p.steady_state_friction("10 um/s")), abs=1e-6)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"a": -0.01}, "a=-0.01 must be positive"),
+        ({"a": 0.0}, "a=0.0 must be positive"),
+        ({"b": -0.1}, "b=-0.1 must be non-negative"),
+        ({"dc": "-10 um"}, "dc='-10 um' must be positive"),
+        ({"dc": "0 um"}, "dc='0 um' must be positive"),
+        ({"dc": "10 s"}, "dc='10 s' has dimension"),
+        ({"v_ref": "1 um"}, "v_ref='1 um' has dimension"),
+        ({"mu0": float("nan")}, "mu0=nan is NaN"),
+        ({"state_law": "ruina"}, "state_law='ruina'"),
+        ({"stiffness_per_load": "1 N/m"}, "stiffness_per_load='1 N/m' has dimension"),
+        ({"stiffness_per_load": None, "stiffness": "1e4 N/m"}, "needs load"),
+        ({"stiffness_per_load": None}, "give stiffness and load"),
+        ({"mass": "1 kg"}, "mass needs load"),
+    ],
+)
+def test_bad_parameters(kwargs: dict, message: str) -> None:
+    args = {**BASE, "stiffness_per_load": "1 1/mm", **kwargs}
+    args = {k: v for k, v in args.items() if v is not None}
+    with pytest.raises(ValueError, match=message.replace("(", r"\(")):
+        RateStateParameters(**args)
+
+
+def test_bad_protocol_input() -> None:
+    p = params()
+    with pytest.raises(ValueError, match="positive velocity"):
+        p.steady_state_friction("0 um/s")
+    with pytest.raises(ValueError, match="positive first velocity"):
+        simulate_rate_state(p, [("10 s", "0 um/s")])
+    with pytest.raises(ValueError, match="duration"):
+        simulate_rate_state(p, [("10 m", "1 um/s")])
+    with pytest.raises(ValueError, match="velocity"):
+        simulate_rate_state(p, [("10 s", "-1 um/s")])
+    with pytest.raises(ValueError, match="history is empty"):
+        simulate_rate_state(p, [])
+    with pytest.raises(ValueError, match="velocities\\[1\\]"):
+        velocity_steps(p, ["1 um/s", "0 um/s"])
+    with pytest.raises(ValueError, match="holds is empty"):
+        slide_hold_slide(p, "1 um/s", [])
+    with pytest.raises(ValueError, match="quasi-static"):
+        linear_stability(RateStateParameters(**BASE, stiffness="1e4 N/m", load="1 N", mass="1 kg"), "1 um/s")
