@@ -223,3 +223,72 @@ def test_bad_protocol_input() -> None:
         slide_hold_slide(p, "1 um/s", [])
     with pytest.raises(ValueError, match="quasi-static"):
         linear_stability(RateStateParameters(**BASE, stiffness="1e4 N/m", load="1 N", mass="1 kg"), "1 um/s")
+
+
+RS = ["ratestate", "--a", "0.01", "--b", "0.015", "--dc", "10 um", "--v-ref", "1 um/s", "--mu0", "0.6"]
+
+
+def test_ratestate_cli(tmp_path) -> None:
+    res = CliRunner().invoke(
+        main,
+        [*RS, "--stiffness-per-load", "5 1/mm", "--steps", "1 um/s,10 um/s,1 um/s", "--out", str(tmp_path)],
+    )
+    assert res.exit_code == 0, res.output
+    assert (tmp_path / "ratestate.png").stat().st_size > 5000
+    import xarray as xr
+
+    ds = xr.load_dataset(tmp_path / "ratestate.nc")
+    assert {"friction", "slip_velocity", "state", "slider_displacement", "load_point_displacement"} <= set(
+        ds.data_vars
+    )
+    res = CliRunner().invoke(
+        main,
+        [
+            *RS,
+            "--stiffness",
+            "1e4 N/m",
+            "--load",
+            "10 N",
+            "--holds",
+            "1 s,10 s",
+            "--v-slide",
+            "1 um/s",
+            "--out",
+            str(tmp_path),
+        ],
+    )
+    assert res.exit_code == 0, res.output
+    assert "hold 10 s: peak friction change" in res.output
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--stiffness-per-load", "5 1/mm"], "give one protocol"),
+        (["--stiffness-per-load", "5 1/mm", "--holds", "1 s"], "--holds needs --v-slide"),
+        (["--stiffness-per-load", "5 1/mm", "--steps", "1 um/s,abc"], "velocities[1]"),
+        (["--stiffness", "1e4 N/m", "--steps", "1 um/s"], "needs load"),
+        (["--stiffness-per-load", "5 N", "--steps", "1 um/s"], "has dimension"),
+        (["--stiffness-per-load", "5 1/mm", "--steps", "1 um/s", "--law", "ruina"], "'ruina' is not"),
+    ],
+)
+def test_ratestate_cli_errors(args: list[str], message: str, tmp_path) -> None:
+    res = CliRunner().invoke(main, [*RS, *args, "--out", str(tmp_path)])
+    assert res.exit_code == 2, res.output
+    assert message in res.output
+    assert "Traceback" not in res.output
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--A", "0.01"], "give all of --A, --B and --kappa"),
+        (["--A", "0.01", "--B", "-1", "--kappa", "0.1"], "B=-1.0 must be non-negative"),
+        (["--A", "0.01", "--B", "0.1", "--kappa", "0"], "kappa=0.0 must be positive"),
+        (["--A", "x", "--B", "0.1", "--kappa", "1"], "'x' is not a valid float"),
+    ],
+)
+def test_dulac_cli_errors(args: list[str], message: str) -> None:
+    res = CliRunner().invoke(main, ["dulac", *args])
+    assert res.exit_code == 2, res.output
+    assert message in res.output

@@ -458,6 +458,96 @@ def dulac(a: float | None, b: float | None, kappa: float | None, as_json: bool) 
     click.echo(f"verdict: {out['verdict']}")
 
 
+@main.command()
+@click.option("--a", "a", type=float, required=True, help="Direct effect A.")
+@click.option("--b", "b", type=float, required=True, help="Evolution effect B.")
+@click.option("--dc", required=True, help="Characteristic slip D0, e.g. '10 um'.")
+@click.option("--v-ref", "v_ref", required=True, help="Reference velocity V_r, e.g. '1 um/s'.")
+@click.option("--mu0", type=float, required=True, help="Steady friction at V_r.")
+@click.option("--stiffness", default=None, help="Spring constant k (with --load), e.g. '1e4 N/m'.")
+@click.option("--load", default=None, help="Normal load W, e.g. '10 N'.")
+@click.option("--stiffness-per-load", "kw", default=None, help="k/W instead, e.g. '1 1/mm'.")
+@click.option("--mass", default=None, help="Slider mass (inertial model), e.g. '1 kg'.")
+@click.option(
+    "--law",
+    type=click.Choice(["aging", "slip"]),
+    default="aging",
+    show_default=True,
+    help="State evolution law.",
+)
+@click.option("--steps", default=None, help="Velocity-step test: velocities, e.g. '1 um/s,10 um/s,1 um/s'.")
+@click.option("--displacement", default=None, help="Load-point displacement per slide (default 20 D0).")
+@click.option("--holds", default=None, help="Slide-hold-slide test: hold times, e.g. '1 s,10 s,100 s'.")
+@click.option("--v-slide", "v_slide", default=None, help="Slide velocity of the slide-hold-slide test.")
+@click.option(
+    "--out",
+    "out_dir",
+    type=click.Path(file_okay=False),
+    default="results",
+    show_default=True,
+    help="Output folder for ratestate.nc and ratestate.png/.svg.",
+)
+@_handle_errors
+def ratestate(
+    a: float,
+    b: float,
+    dc: str,
+    v_ref: str,
+    mu0: float,
+    stiffness: str | None,
+    load: str | None,
+    kw: str | None,
+    mass: str | None,
+    law: str,
+    steps: str | None,
+    displacement: str | None,
+    holds: str | None,
+    v_slide: str | None,
+    out_dir: str,
+) -> None:
+    """Run a rate-and-state laboratory protocol: velocity steps or slide-hold-slide.
+
+    Example: stickslip ratestate --a 0.01 --b 0.015 --dc "10 um" --v-ref "1 um/s" --mu0 0.6
+    --stiffness-per-load "1 1/mm" --steps "1 um/s,10 um/s,1 um/s"
+    """
+    from .analysis.ratestate import slide_hold_slide, velocity_steps
+    from .analysis.sweep import save_sweep
+    from .models.ratestate import RateStateParameters
+    from .plots.figures import plot_rate_state, save_figure
+
+    if (steps is None) == (holds is None):
+        raise click.UsageError("give one protocol: --steps VELOCITIES or --holds TIMES (with --v-slide)")
+    params = RateStateParameters(
+        a=a,
+        b=b,
+        dc=dc,
+        v_ref=v_ref,
+        mu0=mu0,
+        stiffness=stiffness,
+        load=load,
+        stiffness_per_load=kw,
+        mass=mass,
+        state_law=law,
+    )
+    if steps is not None:
+        ds = velocity_steps(params, [v.strip() for v in steps.split(",")], displacement=displacement)
+    else:
+        if v_slide is None:
+            raise click.UsageError("--holds needs --v-slide")
+        assert holds is not None
+        ds = slide_hold_slide(
+            params, v_slide, [h.strip() for h in holds.split(",")], displacement=displacement
+        )
+    path = os.path.join(out_dir, "ratestate.nc")
+    save_sweep(ds, path)
+    paths = save_figure(plot_rate_state(ds), os.path.join(out_dir, "ratestate"))
+    click.echo(f"wrote {path}, {', '.join(paths)}")
+    click.echo(f"friction from {float(ds.friction.min()):.6g} to {float(ds.friction.max()):.6g}")
+    if "peak_friction_change" in ds:
+        for t_h, dmu in zip(ds.hold_time.values, ds.peak_friction_change.values, strict=True):
+            click.echo(f"hold {t_h:g} s: peak friction change {dmu:.6g}")
+
+
 NUMBER_KEYS = {"nu", "c", "p", "alpha", "gamma", "kinetic", "mu0", "mu_s", "mu_k"}
 VALUE_KEYS = NUMBER_KEYS | {*SETUP, "beta", "a", "b", "k1", "k3"}
 

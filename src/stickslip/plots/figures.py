@@ -107,3 +107,24 @@ def plot_sweep(ds: Any, *, log: bool = False) -> Figure:
     if sel:
         fig.suptitle(", ".join(f"{d} = {float(ds[d].values[0]):g}" for d in sel), fontsize=9)
     return fig
+
+
+def plot_rate_state(ds: Any) -> Figure:
+    """Plot a rate-and-state run: friction, slip velocity and state against time."""
+    fig, axes = plt.subplots(3, 1, figsize=(7.0, 7.5), sharex=True, layout="constrained")
+    t = ds.time.values
+    axes[0].plot(t, ds.friction.values, lw=1.2)
+    axes[0].set_ylabel("friction coefficient")
+    axes[1].semilogy(t, ds.slip_velocity.values, lw=1.2, label="slider")
+    vlp = ds.load_point_velocity.values
+    if np.any(vlp > 0):
+        axes[1].semilogy(t, np.where(vlp > 0, vlp, np.nan), "k:", lw=1.0, label="load point")
+    axes[1].set_ylabel("velocity [m/s]")
+    axes[1].legend(frameon=False, fontsize=8)
+    axes[2].semilogy(t, ds.state.values, lw=1.2)
+    axes[2].set_ylabel(r"state $\Phi$ [s]")
+    axes[2].set_xlabel("time [s]")
+    fig.suptitle(
+        f"rate and state ({ds.attrs.get('model', '')}, {ds.attrs.get('state_law', '')} law)", fontsize=10
+    )
+    return fig
