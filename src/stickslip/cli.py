@@ -548,6 +548,46 @@ def ratestate(
             click.echo(f"hold {t_h:g} s: peak friction change {dmu:.6g}")
 
 
+@main.command()
+@click.argument("source", type=click.Path(exists=False))
+@click.option("--out", "out_dir", type=click.Path(file_okay=False), default="results",
+              show_default=True, help="Output folder: summary.csv and figures.")
+@click.option("--json", "as_json", is_flag=True, help="Print the verdict and summary as JSON.")
+@_handle_errors
+def analyze(source: str, out_dir: str, as_json: bool) -> None:
+    """Measure a folder of force-time records (or one long table) and apply the criterion.
+
+    SOURCE is a folder of CSV/TSV records (with index.csv giving 'file', 'v0 [unit]',
+    'load [unit]', or '# v0 = ...' header lines in each file) or one table with a
+    'record' column. Writes summary.csv (one row per record) and amplitude and
+    period against driving velocity and load.
+    """
+    from .analysis.records import analyze_records
+    from .io.records import read_records
+    from .plots.figures import plot_records, save_figure
+
+    records = read_records(source)
+    table, verdict = analyze_records(records)
+    os.makedirs(out_dir, exist_ok=True)
+    path = os.path.join(out_dir, "summary.csv")
+    table.to_csv(path, index=False, float_format="%.10g")
+    written = [path]
+    for name, fig in plot_records(table).items():
+        written += save_figure(fig, os.path.join(out_dir, name))
+    if as_json:
+        click.echo(json.dumps({"verdict": None if verdict is None else verdict.as_dict(),
+                               "records": json.loads(table.to_json(orient="records"))}, indent=2))
+        return
+    click.echo("wrote " + ", ".join(written))
+    cols = ["name", "n_cycles", "v0 [m/s]", "load [N]", "amplitude [N]", "period [s]",
+            "stick_fraction"]
+    click.echo(table[cols].to_string(index=False, float_format=lambda x: f"{x:.4g}"))
+    if verdict is None:
+        click.echo("criterion: no verdict (records need driving velocities)")
+    else:
+        click.echo(f"criterion: {verdict.verdict} ({verdict.reason})")
+
+
 NUMBER_KEYS = {"nu", "c", "p", "alpha", "gamma", "kinetic", "mu0", "mu_s", "mu_k"}
 VALUE_KEYS = NUMBER_KEYS | {*SETUP, "beta", "a", "b", "k1", "k3"}
 

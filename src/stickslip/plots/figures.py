@@ -128,3 +128,26 @@ def plot_rate_state(ds: Any) -> Figure:
         f"rate and state ({ds.attrs.get('model', '')}, {ds.attrs.get('state_law', '')} law)", fontsize=10
     )
     return fig
+
+
+def plot_records(table: Any) -> dict[str, Figure]:
+    """Amplitude and period of measured records against driving velocity and against load."""
+    figs: dict[str, Figure] = {}
+    for key, label, scale, unit in (("v0 [m/s]", "driving velocity", 1e6, "um/s"),
+                                    ("load [N]", "normal load", 1e3, "mN")):
+        x = table[key].to_numpy(dtype=float)
+        if not np.isfinite(x).any() or np.unique(x[np.isfinite(x)]).size < 2:
+            continue
+        fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), layout="constrained")
+        order = np.argsort(x)
+        for ax, col, ylabel, yscale in ((axes[0], "amplitude", "amplitude [mN]", 1e3),
+                                        (axes[1], "period", "period [s]", 1.0)):
+            y = table[f"{col} [{'N' if col == 'amplitude' else 's'}]"].to_numpy(dtype=float)
+            e = table[f"{col}_spread [{'N' if col == 'amplitude' else 's'}]"].to_numpy(dtype=float)
+            ax.errorbar(x[order] * scale, y[order] * yscale, yerr=e[order] * yscale, fmt="o-",
+                        ms=4, capsize=2)
+            ax.set_xscale("log")
+            ax.set_xlabel(f"{label} [{unit}]")
+            ax.set_ylabel(ylabel)
+        figs[f"records_vs_{'v0' if key.startswith('v0') else 'load'}"] = fig
+    return figs

@@ -1,0 +1,270 @@
+"""Reading measured force-time records.
+
+A record is a CSV or TSV file with a header row whose cells give units in
+brackets: ``time [s]`` and ``force [mN]`` (also accepted: ``spring_force``,
+``friction_force``), optionally ``displacement [um]`` and/or ``velocity [um/s]``.
+Lines starting with ``#`` before the header may carry metadata as
+``# key = value``, e.g. ``# v0 = 10 um/s`` and ``# load = 196 mN``.
+
+A folder of records has one file per record and either an index file
+(``index.csv`` with columns ``file``, ``v0 [unit]`` and optionally ``load [unit]``)
+or the metadata in each file's header lines. One long table with a ``record``
+column (and ``v0``/``load`` columns) holds several records at once.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+import pandas as pd
+import pint
+
+from ..models.units import parse_quantity, ureg
+from .tables import parse_header
+
+__all__ = ["Record", "read_record", "read_records"]
+
+FORCE_NAMES = ("force", "spring_force", "friction_force")
+MAX_BYTES = 2_000_000_000
+_META = re.compile(r"^\s*#\s*([A-Za-z_][\w ]*?)\s*[=:]\s*(.+?)\s*$")
+
+FloatArray = npt.NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Record:
+    """One measured record in SI units.
+
+    Attributes
+    ----------
+    name : str
+        File name or record label.
+    time : ndarray
+        Sample times (s), strictly increasing.
+    force : ndarray
+        Spring (friction) force (N).
+    displacement, velocity : ndarray or None
+        Slider displacement (m) and velocity (m/s) when recorded.
+    v0, load : pint.Quantity or None
+        Driving velocity and normal load, from the index or the header lines.
+    metadata : dict
+        Every ``# key = value`` header line.
+
+    """
+
+    name: str
+    time: FloatArray
+    force: FloatArray
+    displacement: FloatArray | None = None
+    velocity: FloatArray | None = None
+    v0: pint.Quantity | None = None
+    load: pint.Quantity | None = None
+    metadata: Mapping[str, str] = field(default_factory=dict)
+
+
+def _si(values: FloatArray, unit: pint.Unit | None, name: str, dimension: str, si: str,
+        where: str) -> FloatArray:
+    if unit is None:
+        raise ValueError(f"{where}: column {name!r} has no unit; write e.g. '{name} [{si}]'")
+    q = ureg.Quantity(1.0, unit)
+    if not q.check(dimension):
+        raise ValueError(f"{where}: column {name!r} has unit [{unit:~}], expected {dimension} "
+                         f"(e.g. [{si}])")
+    return values * float(q.to(si).magnitude)
+
+
+def _check_numeric(df: pd.DataFrame, col: str, where: str) -> FloatArray:
+    s = df[col]
+    v = pd.to_numeric(s, errors="coerce").to_numpy(dtype=float)
+    bad = np.isnan(v) & ~s.isna().to_numpy()
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise ValueError(f"{where}: row {i + 2}, column {col!r}: {s.iloc[i]!r} is not a number")
+    nan = np.isnan(v)
+    if nan.any():
+        starts = np.flatnonzero(nan & ~np.concatenate([[False], nan[:-1]]))
+        ends = np.flatnonzero(nan & ~np.concatenate([nan[1:], [False]]))
+        longest = int(np.argmax(ends - starts))
+        raise ValueError(
+            f"{where}: column {col!r} has {int(nan.sum())} missing/NaN values in {starts.size} "
+            f"run(s), the longest {int(ends[longest] - starts[longest] + 1)} samples at rows "
+            f"{starts[longest] + 2}-{ends[longest] + 2}; fill or cut them before analysis"
+        )
+    return v
+
+
+def _parse_text(text: str, where: str) -> tuple[pd.DataFrame, dict[str, pint.Unit | None], dict[str, str]]:
+    meta: dict[str, str] = {}
+    lines = text.splitlines()
+    i = 0
+    while i < len(lines) and (not lines[i].strip() or lines[i].lstrip().startswith("#")):
+        m = _META.match(lines[i])
+        if m:
+            meta[m.group(1).strip().lower().replace(" ", "_")] = m.group(2)
+        i += 1
+    if i >= len(lines):
+        raise ValueError(f"{where}: no header row and no data")
+    header_line = lines[i]
+    sep = "\t" if header_line.count("\t") > header_line.count(",") else (
+        ";" if header_line.count(";") > header_line.count(",") else ",")
+    cells = [c.strip() for c in header_line.split(sep)]
+    parsed = [parse_header(c, where) for c in cells]
+    names = [p[0] for p in parsed]
+    dup = {n for n in names if names.count(n) > 1}
+    if dup:
+        raise ValueError(f"{where}: column {sorted(dup)[0]!r} appears more than once")
+    body = "\n".join(lines[i + 1:])
+    if not body.strip():
+        raise ValueError(f"{where}: the file has a header but no data rows")
+    try:
+        df = pd.read_csv(io.StringIO(body), sep=sep, header=None, names=names, comment="#",
+                         skipinitialspace=True, dtype=str, engine="c", na_filter=True)
+    except pd.errors.ParserError as exc:
+        raise ValueError(f"{where}: malformed rows ({exc})") from None
+    return df, dict(zip(names, [p[1] for p in parsed], strict=True)), meta
+
+
+def _record_from_frame(df: pd.DataFrame, units: Mapping[str, pint.Unit | None],
+                       meta: Mapping[str, str], name: str, where: str,
+                       v0: Any = None, load: Any = None) -> Record:
+    if "time" not in df.columns:
+        raise ValueError(f"{where}: missing column 'time' (found {list(df.columns)}); expected "
+                         "'time [s]' and 'force [N]'")
+    force_col = next((c for c in FORCE_NAMES if c in df.columns), None)
+    if force_col is None:
+        raise ValueError(f"{where}: missing a force column ('force', 'spring_force' or "
+                         f"'friction_force'; found {list(df.columns)})")
+    if len(df) < 3:
+        raise ValueError(f"{where}: only {len(df)} samples; a record needs many cycles")
+    t = _si(_check_numeric(df, "time", where), units["time"], "time", "[time]", "s", where)
+    f = _si(_check_numeric(df, force_col, where), units[force_col], force_col, "[force]", "N", where)
+    dt = np.diff(t)
+    if np.any(dt <= 0):
+        i = int(np.argmax(dt <= 0))
+        raise ValueError(f"{where}: time is not strictly increasing at rows {i + 2}-{i + 3} "
+                         f"({t[i]!r} s then {t[i + 1]!r} s)")
+    x = v = None
+    if "displacement" in df.columns:
+        x = _si(_check_numeric(df, "displacement", where), units["displacement"], "displacement",
+                "[length]", "m", where)
+    if "velocity" in df.columns:
+        v = _si(_check_numeric(df, "velocity", where), units["velocity"], "velocity",
+                "[length] / [time]", "m/s", where)
+    v0q = _quantity(v0 if v0 is not None else meta.get("v0"), "v0", "[length] / [time]", "10 um/s", where)
+    loadq = _quantity(load if load is not None else meta.get("load"), "load", "[force]", "196 mN", where)
+    return Record(name, t, f, x, v, v0q, loadq, dict(meta))
+
+
+def _quantity(value: Any, name: str, dimension: str, example: str, where: str) -> pint.Quantity | None:
+    if value is None or (isinstance(value, float) and np.isnan(value)):
+        return None
+    try:
+        return parse_quantity(value, name, dimension, example)
+    except ValueError as exc:
+        raise ValueError(f"{where}: {exc}") from None
+
+
+def read_record(path: str | os.PathLike[str], *, v0: Any = None, load: Any = None) -> Record:
+    """Read one force-time record (CSV or TSV, units in the header).
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file.
+    v0, load : quantity or str, optional
+        Driving velocity and normal load; override ``# v0 = ...`` header lines.
+
+    Raises
+    ------
+    ValueError
+        For a missing, empty or huge file, a missing column, an unknown unit, a
+        cell that is not a number, a run of NaN, or time that does not increase.
+
+    """
+    p = os.fspath(path)
+    if not os.path.isfile(p):
+        raise ValueError(f"{p}: no such file")
+    size = os.path.getsize(p)
+    if size == 0:
+        raise ValueError(f"{p}: the file is empty")
+    if size > MAX_BYTES:
+        raise ValueError(f"{p}: {size / 1e9:.1f} GB is larger than the {MAX_BYTES / 1e9:.0f} GB limit; "
+                         "split the record")
+    with open(p, encoding="utf-8-sig", newline="") as fh:
+        text = fh.read()
+    df, units, meta = _parse_text(text, p)
+    return _record_from_frame(df, units, meta, os.path.basename(p), p, v0, load)
+
+
+def read_records(path: str | os.PathLike[str]) -> list[Record]:
+    """Read several records: a folder (with ``index.csv`` or header lines) or one long table.
+
+    A long table has a ``record`` column naming the record of each row, and may
+    have ``v0 [unit]`` and ``load [unit]`` columns (constant within a record).
+
+    Raises
+    ------
+    ValueError
+        For a folder without records, index entries naming missing files, and
+        every error of :func:`read_record`.
+
+    """
+    p = os.fspath(path)
+    if os.path.isdir(p):
+        index = os.path.join(p, "index.csv")
+        if os.path.isfile(index):
+            df, units, _ = _parse_text(open(index, encoding="utf-8-sig").read(), index)
+            if "file" not in df.columns:
+                raise ValueError(f"{index}: missing column 'file'")
+            out = []
+            for _, row in df.iterrows():
+                f = os.path.join(p, str(row["file"]).strip())
+                if not os.path.isfile(f):
+                    raise ValueError(f"{index}: names {row['file']!r}, which is not in {p}")
+                v0 = _with_unit(row.get("v0"), units.get("v0"))
+                load = _with_unit(row.get("load"), units.get("load"))
+                out.append(read_record(f, v0=v0, load=load))
+            return out
+        files = sorted(f for f in os.listdir(p) if f.lower().endswith((".csv", ".tsv", ".txt")))
+        if not files:
+            raise ValueError(f"{p}: no .csv, .tsv or .txt records in the folder")
+        return [read_record(os.path.join(p, f)) for f in files]
+    if not os.path.isfile(p):
+        raise ValueError(f"{p}: no such file or folder")
+    if os.path.getsize(p) == 0:
+        raise ValueError(f"{p}: the file is empty")
+    df, units, meta = _parse_text(open(p, encoding="utf-8-sig").read(), p)
+    if "record" not in df.columns:
+        return [_record_from_frame(df, units, meta, os.path.basename(p), p)]
+    out = []
+    for name, part in df.groupby("record", sort=False):
+        where = f"{p} (record {name!r})"
+        v0 = _constant(part, "v0", units, where)
+        load = _constant(part, "load", units, where)
+        out.append(_record_from_frame(part.reset_index(drop=True), units, meta, str(name), where,
+                                      v0, load))
+    return out
+
+
+def _with_unit(value: Any, unit: pint.Unit | None) -> Any:
+    if value is None or (isinstance(value, float) and np.isnan(value)):
+        return None
+    if unit is None:
+        return str(value)
+    return ureg.Quantity(float(value), unit)
+
+
+def _constant(df: pd.DataFrame, col: str, units: Mapping[str, pint.Unit | None], where: str) -> Any:
+    if col not in df.columns:
+        return None
+    vals = pd.to_numeric(df[col], errors="coerce").to_numpy(dtype=float)
+    if np.any(np.isnan(vals)) or np.ptp(vals) != 0:
+        raise ValueError(f"{where}: column {col!r} must hold one number per record")
+    return _with_unit(float(vals[0]), units.get(col))
