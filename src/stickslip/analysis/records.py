@@ -14,8 +14,9 @@ The method, robust to noise, drift and sampling rate:
 4. Linear drift is estimated from the peaks (the static threshold is the same
    every cycle) and removed before the values are taken.
 5. Per cycle: amplitude (peak minus the following trough, as in the paper),
-   period (peak to peak), rise and drop times; with displacement or velocity
-   columns, the fraction of the cycle at rest.
+   period (peak to peak), drop time (the 90% to 10% fall time of the drop,
+   interpolated on the falling edge) and rise time (the rest of the period);
+   with displacement or velocity columns, the fraction of the cycle at rest.
 """
 
 from __future__ import annotations
@@ -48,6 +49,7 @@ class CycleTable:
     rise_time: FloatArray
     drop_time: FloatArray
     stick_fraction: FloatArray
+    rise_slope: FloatArray
 
 
 @dataclass(frozen=True)
@@ -65,6 +67,7 @@ class RecordSummary:
     rise_time: float
     drop_time: float
     stick_fraction: float
+    rise_slope: float
     drift: float
     v0: float
     load: float
@@ -168,14 +171,19 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
         q = tr[j]
         peak_v = _side_fit(t, fd, p, w, -1)
         trough_v = _side_fit(t, fd, q, w, +1)
-        cycles.append((t[p], peak_v, trough_v, t[pk[a + 1]] - t[p], t[pk[a + 1]] - t[q], t[q] - t[p],
-                       _stick(record, p, pk[a + 1])))
+        period_c = t[pk[a + 1]] - t[p]
+        drop = _fall_time(t, fd, p, q, peak_v, trough_v)
+        nxt = pk[a + 1]
+        lo, hi = q + (nxt - q) // 5, nxt - (nxt - q) // 5
+        slope = float(np.polyfit(t[lo:hi], fd[lo:hi], 1)[0]) if hi - lo >= 3 else math.nan
+        cycles.append((t[p], peak_v, trough_v, period_c, period_c - drop, drop,
+                       _stick(record, p, nxt), slope))
     if len(cycles) < min_cycles:
         raise ValueError(f"{record.name}: found {len(cycles)} complete cycles, need at least "
                          f"{min_cycles} (is the record long enough, or the oscillation too noisy?)")
     arr = np.array(cycles)
     table = CycleTable(arr[:, 0], arr[:, 1], arr[:, 2], arr[:, 1] - arr[:, 2], arr[:, 3], arr[:, 4],
-                       arr[:, 5], arr[:, 6])
+                       arr[:, 5], arr[:, 6], arr[:, 7])
     warning = ""
     if w < 8:
         warning = (f"only {per_n} samples per period: extrema values are rough; sample faster")
@@ -191,12 +199,30 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
         rise_time=_median(table.rise_time),
         drop_time=_median(table.drop_time),
         stick_fraction=_median(table.stick_fraction),
+        rise_slope=_median(table.rise_slope),
         drift=drift,
         v0=float(record.v0.to("m/s").magnitude) if record.v0 is not None else math.nan,
         load=float(record.load.to("N").magnitude) if record.load is not None else math.nan,
         warning=warning,
     )
     return table, summary
+
+
+def _fall_time(t: FloatArray, f: FloatArray, p: int, q: int, hi: float, lo: float) -> float:
+    """Time for the force to fall from 90% to 10% of the drop between samples p and q.
+
+    Interpolated on the falling edge, so that noise on the flat start of the next
+    ramp (where the trough sits) does not move it.
+    """
+    seg = f[p:q + 1]
+    tt = t[p:q + 1]
+    a = lo + 0.9 * (hi - lo)
+    b = lo + 0.1 * (hi - lo)
+    ia = int(np.argmax(seg < a)) if np.any(seg < a) else 0
+    ib = int(np.argmax(seg < b)) if np.any(seg < b) else seg.size - 1
+    ta = tt[ia] if ia == 0 else np.interp(a, [seg[ia], seg[ia - 1]], [tt[ia], tt[ia - 1]])
+    tb = tt[ib] if ib == 0 else np.interp(b, [seg[ib], seg[ib - 1]], [tt[ib], tt[ib - 1]])
+    return float(max(tb - ta, 0.0))
 
 
 def _stick(record: Record, i0: int, i1: int) -> float:
@@ -312,6 +338,7 @@ def analyze_records(records: list[Record], *, confidence: float = 0.95) -> tuple
         "period": "period [s]", "period_spread": "period_spread [s]",
         "peak_force": "peak_force [N]", "trough_force": "trough_force [N]",
         "rise_time": "rise_time [s]", "drop_time": "drop_time [s]", "drift": "drift [N/s]",
+        "rise_slope": "rise_slope [N/s]",
         "v0": "v0 [m/s]", "load": "load [N]",
     })
     verdict = None

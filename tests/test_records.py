@@ -1,0 +1,193 @@
+"""Measured records: reading, cycle extraction on synthetic records, analyze, bad input."""
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import stickslip as S
+from stickslip.analysis.records import analyze_records, measure_record, synthetic_record
+from stickslip.cli import main
+from stickslip.io import records as records_io
+from stickslip.io.records import read_record, read_records
+
+CUBIC = S.PhysicalCubicLaw(mu_s=0.5, k1="5 s/m", k3=f"{0.5 * 8000 / 6} s**3/m**3")  # Hopf at 50 mm/s
+
+
+def cubic_params(v_mm_s: float) -> S.PhysicalParameters:
+    return S.PhysicalParameters(mass="1 kg", stiffness="100 N/m", load="1 N", v0=f"{v_mm_s} mm/s",
+                                law=CUBIC)
+
+
+def write_record(path: Path, rec, header: str = "time [s],force [mN]", meta: str = "") -> Path:
+    with open(path, "w") as fh:
+        fh.write(meta + header + "\n")
+        cols = [rec.time, rec.force * 1e3]
+        if rec.velocity is not None and "velocity" in header:
+            cols.append(rec.velocity * 1e6)
+        np.savetxt(fh, np.column_stack(cols), delimiter=",", fmt="%.9g")
+    return path
+
+
+@pytest.mark.parametrize(
+    ("noise", "drift", "rate"),
+    [("0 N", "0 N/s", "100 Hz"), ("1 mN", "0 N/s", "100 Hz"), ("2 mN", "0.1 mN/s", "50 Hz"),
+     ("2 mN", "-0.1 mN/s", "1 kHz")],
+)
+def test_stick_slip_record_measured(noise: str, drift: str, rate: str) -> None:
+    """Tolerances: amplitude within 1.5%, period within 0.5%, noise up to 2% of the amplitude."""
+    p = S.zv_parameters("100 um/s")
+    true = S.cycle(p, probe=False)
+    rec = synthetic_record(p, duration=f"{22 * true.period} s", rate=rate, noise=noise, drift=drift,
+                           with_velocity=True, start=f"{true.transient_time} s")
+    table, s = measure_record(rec)
+    assert s.n_cycles >= 20
+    assert s.amplitude == pytest.approx(true.amplitude, rel=0.015)
+    assert s.period == pytest.approx(true.period, rel=0.005)
+    assert s.stick_fraction == pytest.approx(true.stick_fraction, abs=0.01)
+    slip_time = true.period - true.stick_time
+    assert 0.3 * slip_time < s.drop_time < slip_time + 2 / float(S.Q_(rate).to("Hz").magnitude)
+    np.testing.assert_allclose(table.rise_time, table.period - table.drop_time, rtol=1e-12)
+    assert s.drift == pytest.approx(float(S.Q_(drift).to("N/s").magnitude), abs=2e-6)
+    assert table.amplitude.size == s.n_cycles
+
+
+def test_pure_slip_record_measured() -> None:
+    p = cubic_params(48.5)
+    true = S.cycle(p)
+    assert true.regime == "pure-slip"
+    rec = synthetic_record(p, duration=f"{15 * true.period} s", rate="500 Hz", noise="1 mN",
+                           start=f"{true.transient_time} s")
+    _, s = measure_record(rec)
+    assert s.amplitude == pytest.approx(true.amplitude, rel=0.01)
+    assert s.period == pytest.approx(true.period, rel=0.01)
+
+
+def make_folder(folder: Path, params_list, *, index: bool) -> Path:
+    folder.mkdir()
+    lines = ["file,v0 [mm/s],load [N]"]
+    for i, p in enumerate(params_list):
+        true = S.cycle(p, probe=False)
+        rec = synthetic_record(p, duration=f"{12 * true.period} s", rate="500 Hz", noise="0.5 mN",
+                               seed=i, start=f"{true.transient_time} s")
+        v = p.v0.to("mm/s").magnitude
+        meta = "" if index else f"# v0 = {v} mm/s\n# load = {p.load.to('N').magnitude} N\n"
+        write_record(folder / f"r{i}.csv", rec, meta=meta)
+        lines.append(f"r{i}.csv,{v},{p.load.to('N').magnitude}")
+    if index:
+        (folder / "index.csv").write_text("\n".join(lines) + "\n")
+    return folder
+
+
+def test_analyze_stick_slip_folder(tmp_path: Path) -> None:
+    folder = make_folder(tmp_path / "ss", [S.zv_parameters(f"{v} um/s") for v in (20, 50, 100, 200, 500)],
+                         index=True)
+    table, verdict = analyze_records(read_records(folder))
+    assert verdict is not None and verdict.verdict == "stick-slip"
+    # the model that made them agrees
+    model = S.analysis.criterion.classify(
+        [20, 50, 100, 200, 500], [S.cycle(S.zv_parameters(f"{v} um/s"), probe=False).amplitude
+                                  for v in (20, 50, 100, 200, 500)])
+    assert model.verdict == verdict.verdict
+    res = CliRunner().invoke(main, ["analyze", str(folder), "--out", str(tmp_path / "out")])
+    assert res.exit_code == 0, res.output
+    assert "criterion: stick-slip" in res.output
+    assert (tmp_path / "out" / "summary.csv").exists()
+    assert (tmp_path / "out" / "records_vs_v0.png").stat().st_size > 5000
+
+
+def test_analyze_pure_slip_folder(tmp_path: Path) -> None:
+    folder = make_folder(tmp_path / "ps", [cubic_params(v) for v in (47.6, 48.0, 48.5, 49.0, 49.5)],
+                         index=False)
+    table, verdict = analyze_records(read_records(folder))
+    assert verdict is not None and verdict.verdict == "pure-slip"
+    np.testing.assert_allclose(table["v0 [m/s]"], [0.0476, 0.048, 0.0485, 0.049, 0.0495])
+
+
+def test_long_table_and_tsv(tmp_path: Path) -> None:
+    rows = ["record\tv0 [um/s]\tload [mN]\ttime [s]\tforce [N]"]
+    for name, v in (("a", 100), ("b", 200)):
+        p = S.zv_parameters(f"{v} um/s")
+        true = S.cycle(p, probe=False)
+        rec = synthetic_record(p, duration=f"{6 * true.period} s", rate="50 Hz",
+                               start=f"{true.transient_time} s")
+        rows += [f"{name}\t{v}\t196\t{float(t)!r}\t{float(f)!r}"
+                 for t, f in zip(rec.time, rec.force, strict=True)]
+    path = tmp_path / "all.tsv"
+    path.write_text("\n".join(rows) + "\n")
+    recs = read_records(path)
+    assert [r.name for r in recs] == ["a", "b"]
+    assert recs[1].v0.to("um/s").magnitude == pytest.approx(200)
+    assert recs[0].load.to("N").magnitude == pytest.approx(0.196)
+
+
+def test_header_metadata_and_units(tmp_path: Path) -> None:
+    p = S.zv_parameters("100 um/s")
+    rec = synthetic_record(p, duration="100 s", rate="20 Hz", with_velocity=True)
+    path = write_record(tmp_path / "r.csv", rec, header="time [s],force [mN],velocity [um/s]",
+                        meta="# sample = PMMA\n# v0 = 100 um/s\n# load = 196 mN\n")
+    r = read_record(path)
+    assert r.metadata["sample"] == "PMMA"
+    assert r.v0.to("um/s").magnitude == pytest.approx(100)
+    np.testing.assert_allclose(r.force, rec.force, rtol=1e-8)
+    np.testing.assert_allclose(r.velocity, rec.velocity, rtol=1e-8, atol=1e-12)
+
+
+BAD = [
+    ("", "is empty"),
+    ("# only comments\n", "no header"),
+    ("time [s],force [N]\n", "no data rows"),
+    ("t [s],force [N]\n0,1\n1,2\n2,3\n", "missing column 'time'"),
+    ("time [s],load [N]\n0,1\n1,2\n2,3\n", "missing a force column"),
+    ("time [s],force [N]\n0,1\n1,x\n2,3\n", "row 3, column 'force': 'x' is not a number"),
+    ("time [s],force [blarg]\n0,1\n1,2\n2,3\n", "unknown unit"),
+    ("time [s],force [m]\n0,1\n1,2\n2,3\n", "expected [force]"),
+    ("time,force [N]\n0,1\n1,2\n2,3\n", "column 'time' has no unit"),
+    ("time [s],force [N]\n0,1\n2,2\n1,3\n", "not strictly increasing at rows 3-4"),
+    ("time [s],force [N]\n0,1\n1,\n2,\n3,4\n", "2 missing/NaN values in 1 run(s), the longest 2"),
+    ("time [s],force [N]\n0,1\n1,nan\n2,3\n", "missing/NaN"),
+    ("# v0 = fast\ntime [s],force [N]\n0,1\n1,2\n2,3\n", "v0='fast'"),
+]
+
+
+@pytest.mark.parametrize(("content", "message"), BAD)
+def test_malformed_records(tmp_path: Path, content: str, message: str) -> None:
+    path = tmp_path / "bad.csv"
+    path.write_text(content)
+    with pytest.raises(ValueError, match=message.replace("[", r"\[").replace("(", r"\(").replace(")", r"\)")):
+        read_record(path)
+    res = CliRunner().invoke(main, ["analyze", str(path), "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2
+    assert "Traceback" not in res.output
+
+
+def test_huge_file_is_refused(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    path = tmp_path / "big.csv"
+    path.write_text("time [s],force [N]\n" + "0,1\n" * 1000)
+    monkeypatch.setattr(records_io, "MAX_BYTES", 100)
+    with pytest.raises(ValueError, match="larger than"):
+        read_record(path)
+
+
+def test_folder_errors(tmp_path: Path) -> None:
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    with pytest.raises(ValueError, match="no .csv"):
+        read_records(empty)
+    bad_index = tmp_path / "idx"
+    bad_index.mkdir()
+    (bad_index / "index.csv").write_text("file,v0 [um/s]\nmissing.csv,10\n")
+    with pytest.raises(ValueError, match="which is not in"):
+        read_records(bad_index)
+    with pytest.raises(ValueError, match="no such file or folder"):
+        read_records(tmp_path / "nope")
+
+
+def test_too_few_cycles(tmp_path: Path) -> None:
+    p = S.zv_parameters("100 um/s")
+    rec = synthetic_record(p, duration="30 s", rate="50 Hz")
+    with pytest.raises(ValueError, match="complete cycles|no oscillation"):
+        measure_record(rec)
+    assert os.path.exists(tmp_path)
