@@ -37,8 +37,14 @@ def main() -> None:
     true = S.cycle(p, probe=False)
     duration = 60 * true.period
     rate = (args.samples - 1) / duration
-    rec = synthetic_record(p, duration=f"{duration} s", rate=f"{rate} Hz", noise="1 mN",
-                           drift="0.05 mN/s", start=f"{true.transient_time} s")
+    rec = synthetic_record(
+        p,
+        duration=f"{duration} s",
+        rate=f"{rate} Hz",
+        noise="1 mN",
+        drift="0.05 mN/s",
+        start=f"{true.transient_time} s",
+    )
     measure_record(rec)  # warm-up (imports)
     t0 = time.perf_counter()
     _, s = measure_record(rec)
@@ -46,12 +52,18 @@ def main() -> None:
     t0 = time.perf_counter()
     amp_sp, per_sp = straightforward(rec.time, rec.force, true.period)
     t_sp = time.perf_counter() - t0
-    print(f"record: {rec.time.size} samples, {s.n_cycles} cycles, {rate:.0f} Hz, noise 1 mN "
-          f"(amplitude {1e3 * true.amplitude:.1f} mN), drift 0.05 mN/s")
-    print(f"measure_record  : {t_ours:.3f} s; amplitude error {s.amplitude / true.amplitude - 1:+.2e}, "
-          f"period error {s.period / true.period - 1:+.2e}")
-    print(f"find_peaks (raw): {t_sp:.3f} s; amplitude error {amp_sp / true.amplitude - 1:+.2e}, "
-          f"period error {per_sp / true.period - 1:+.2e}")
+    print(
+        f"record: {rec.time.size} samples, {s.n_cycles} cycles, {rate:.0f} Hz, noise 1 mN "
+        f"(amplitude {1e3 * true.amplitude:.1f} mN), drift 0.05 mN/s"
+    )
+    print(
+        f"measure_record  : {t_ours:.3f} s; amplitude error {s.amplitude / true.amplitude - 1:+.2e}, "
+        f"period error {s.period / true.period - 1:+.2e}"
+    )
+    print(
+        f"find_peaks (raw): {t_sp:.3f} s; amplitude error {amp_sp / true.amplitude - 1:+.2e}, "
+        f"period error {per_sp / true.period - 1:+.2e}"
+    )
     print(f"time ratio measure_record / find_peaks: {t_ours / t_sp:.2f}")
 
 

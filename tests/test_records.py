@@ -17,8 +17,7 @@ CUBIC = S.PhysicalCubicLaw(mu_s=0.5, k1="5 s/m", k3=f"{0.5 * 8000 / 6} s**3/m**3
 
 
 def cubic_params(v_mm_s: float) -> S.PhysicalParameters:
-    return S.PhysicalParameters(mass="1 kg", stiffness="100 N/m", load="1 N", v0=f"{v_mm_s} mm/s",
-                                law=CUBIC)
+    return S.PhysicalParameters(mass="1 kg", stiffness="100 N/m", load="1 N", v0=f"{v_mm_s} mm/s", law=CUBIC)
 
 
 def write_record(path: Path, rec, header: str = "time [s],force [mN]", meta: str = "") -> Path:
@@ -33,15 +32,26 @@ def write_record(path: Path, rec, header: str = "time [s],force [mN]", meta: str
 
 @pytest.mark.parametrize(
     ("noise", "drift", "rate"),
-    [("0 N", "0 N/s", "100 Hz"), ("1 mN", "0 N/s", "100 Hz"), ("2 mN", "0.1 mN/s", "50 Hz"),
-     ("2 mN", "-0.1 mN/s", "1 kHz")],
+    [
+        ("0 N", "0 N/s", "100 Hz"),
+        ("1 mN", "0 N/s", "100 Hz"),
+        ("2 mN", "0.1 mN/s", "50 Hz"),
+        ("2 mN", "-0.1 mN/s", "1 kHz"),
+    ],
 )
 def test_stick_slip_record_measured(noise: str, drift: str, rate: str) -> None:
     """Tolerances: amplitude within 1.5%, period within 0.5%, noise up to 2% of the amplitude."""
     p = S.zv_parameters("100 um/s")
     true = S.cycle(p, probe=False)
-    rec = synthetic_record(p, duration=f"{22 * true.period} s", rate=rate, noise=noise, drift=drift,
-                           with_velocity=True, start=f"{true.transient_time} s")
+    rec = synthetic_record(
+        p,
+        duration=f"{22 * true.period} s",
+        rate=rate,
+        noise=noise,
+        drift=drift,
+        with_velocity=True,
+        start=f"{true.transient_time} s",
+    )
     table, s = measure_record(rec)
     assert s.n_cycles >= 20
     assert s.amplitude == pytest.approx(true.amplitude, rel=0.015)
@@ -58,8 +68,9 @@ def test_pure_slip_record_measured() -> None:
     p = cubic_params(48.5)
     true = S.cycle(p)
     assert true.regime == "pure-slip"
-    rec = synthetic_record(p, duration=f"{15 * true.period} s", rate="500 Hz", noise="1 mN",
-                           start=f"{true.transient_time} s")
+    rec = synthetic_record(
+        p, duration=f"{15 * true.period} s", rate="500 Hz", noise="1 mN", start=f"{true.transient_time} s"
+    )
     _, s = measure_record(rec)
     assert s.amplitude == pytest.approx(true.amplitude, rel=0.01)
     assert s.period == pytest.approx(true.period, rel=0.01)
@@ -70,8 +81,14 @@ def make_folder(folder: Path, params_list, *, index: bool) -> Path:
     lines = ["file,v0 [mm/s],load [N]"]
     for i, p in enumerate(params_list):
         true = S.cycle(p, probe=False)
-        rec = synthetic_record(p, duration=f"{12 * true.period} s", rate="500 Hz", noise="0.5 mN",
-                               seed=i, start=f"{true.transient_time} s")
+        rec = synthetic_record(
+            p,
+            duration=f"{12 * true.period} s",
+            rate="500 Hz",
+            noise="0.5 mN",
+            seed=i,
+            start=f"{true.transient_time} s",
+        )
         v = p.v0.to("mm/s").magnitude
         meta = "" if index else f"# v0 = {v} mm/s\n# load = {p.load.to('N').magnitude} N\n"
         write_record(folder / f"r{i}.csv", rec, meta=meta)
@@ -82,14 +99,16 @@ def make_folder(folder: Path, params_list, *, index: bool) -> Path:
 
 
 def test_analyze_stick_slip_folder(tmp_path: Path) -> None:
-    folder = make_folder(tmp_path / "ss", [S.zv_parameters(f"{v} um/s") for v in (20, 50, 100, 200, 500)],
-                         index=True)
-    table, verdict = analyze_records(read_records(folder))
+    folder = make_folder(
+        tmp_path / "ss", [S.zv_parameters(f"{v} um/s") for v in (20, 50, 100, 200, 500)], index=True
+    )
+    _, verdict = analyze_records(read_records(folder))
     assert verdict is not None and verdict.verdict == "stick-slip"
     # the model that made them agrees
     model = S.analysis.criterion.classify(
-        [20, 50, 100, 200, 500], [S.cycle(S.zv_parameters(f"{v} um/s"), probe=False).amplitude
-                                  for v in (20, 50, 100, 200, 500)])
+        [20, 50, 100, 200, 500],
+        [S.cycle(S.zv_parameters(f"{v} um/s"), probe=False).amplitude for v in (20, 50, 100, 200, 500)],
+    )
     assert model.verdict == verdict.verdict
     res = CliRunner().invoke(main, ["analyze", str(folder), "--out", str(tmp_path / "out")])
     assert res.exit_code == 0, res.output
@@ -99,8 +118,9 @@ def test_analyze_stick_slip_folder(tmp_path: Path) -> None:
 
 
 def test_analyze_pure_slip_folder(tmp_path: Path) -> None:
-    folder = make_folder(tmp_path / "ps", [cubic_params(v) for v in (47.6, 48.0, 48.5, 49.0, 49.5)],
-                         index=False)
+    folder = make_folder(
+        tmp_path / "ps", [cubic_params(v) for v in (47.6, 48.0, 48.5, 49.0, 49.5)], index=False
+    )
     table, verdict = analyze_records(read_records(folder))
     assert verdict is not None and verdict.verdict == "pure-slip"
     np.testing.assert_allclose(table["v0 [m/s]"], [0.0476, 0.048, 0.0485, 0.049, 0.0495])
@@ -111,10 +131,12 @@ def test_long_table_and_tsv(tmp_path: Path) -> None:
     for name, v in (("a", 100), ("b", 200)):
         p = S.zv_parameters(f"{v} um/s")
         true = S.cycle(p, probe=False)
-        rec = synthetic_record(p, duration=f"{6 * true.period} s", rate="50 Hz",
-                               start=f"{true.transient_time} s")
-        rows += [f"{name}\t{v}\t196\t{float(t)!r}\t{float(f)!r}"
-                 for t, f in zip(rec.time, rec.force, strict=True)]
+        rec = synthetic_record(
+            p, duration=f"{6 * true.period} s", rate="50 Hz", start=f"{true.transient_time} s"
+        )
+        rows += [
+            f"{name}\t{v}\t196\t{float(t)!r}\t{float(f)!r}" for t, f in zip(rec.time, rec.force, strict=True)
+        ]
     path = tmp_path / "all.tsv"
     path.write_text("\n".join(rows) + "\n")
     recs = read_records(path)
@@ -126,8 +148,12 @@ def test_long_table_and_tsv(tmp_path: Path) -> None:
 def test_header_metadata_and_units(tmp_path: Path) -> None:
     p = S.zv_parameters("100 um/s")
     rec = synthetic_record(p, duration="100 s", rate="20 Hz", with_velocity=True)
-    path = write_record(tmp_path / "r.csv", rec, header="time [s],force [mN],velocity [um/s]",
-                        meta="# sample = PMMA\n# v0 = 100 um/s\n# load = 196 mN\n")
+    path = write_record(
+        tmp_path / "r.csv",
+        rec,
+        header="time [s],force [mN],velocity [um/s]",
+        meta="# sample = PMMA\n# v0 = 100 um/s\n# load = 196 mN\n",
+    )
     r = read_record(path)
     assert r.metadata["sample"] == "PMMA"
     assert r.v0.to("um/s").magnitude == pytest.approx(100)
@@ -174,7 +200,7 @@ def test_huge_file_is_refused(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -
 def test_folder_errors(tmp_path: Path) -> None:
     empty = tmp_path / "empty"
     empty.mkdir()
-    with pytest.raises(ValueError, match="no .csv"):
+    with pytest.raises(ValueError, match=r"no \.csv"):
         read_records(empty)
     bad_index = tmp_path / "idx"
     bad_index.mkdir()
@@ -188,6 +214,6 @@ def test_folder_errors(tmp_path: Path) -> None:
 def test_too_few_cycles(tmp_path: Path) -> None:
     p = S.zv_parameters("100 um/s")
     rec = synthetic_record(p, duration="30 s", rate="50 Hz")
-    with pytest.raises(ValueError, match="complete cycles|no oscillation"):
+    with pytest.raises(ValueError, match=r"complete cycles|no oscillation"):
         measure_record(rec)
     assert os.path.exists(tmp_path)

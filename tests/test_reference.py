@@ -23,7 +23,10 @@ def _agree(law_name: str, law_params: dict, law: object, nu: float) -> None:
     )
     assert r.regime == "stick-slip"
     assert r.amplitude == pytest.approx(ref.amplitude, rel=RTOL)
-    assert r.period == pytest.approx(ref.period, rel=RTOL)
+    # the stick time (1 - s_stop)/nu turns an absolute error of the stop force (about
+    # 1e-13 at these tolerances) into 1e-13/nu of period: ill-conditioned when the
+    # amplitude is tiny (c = 1, nu = 1e-5: 1 - s_stop = 1.2e-4), so that term is allowed
+    assert r.period == pytest.approx(ref.period, rel=RTOL, abs=1e-13 / nu)
     assert r.peak_velocity == pytest.approx(ref.w_max, rel=RTOL)
     assert r.backward_slips == ref.n_backward
 

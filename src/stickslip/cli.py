@@ -550,8 +550,14 @@ def ratestate(
 
 @main.command()
 @click.argument("source", type=click.Path(exists=False))
-@click.option("--out", "out_dir", type=click.Path(file_okay=False), default="results",
-              show_default=True, help="Output folder: summary.csv and figures.")
+@click.option(
+    "--out",
+    "out_dir",
+    type=click.Path(file_okay=False),
+    default="results",
+    show_default=True,
+    help="Output folder: summary.csv and figures.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print the verdict and summary as JSON.")
 @_handle_errors
 def analyze(source: str, out_dir: str, as_json: bool) -> None:
@@ -575,17 +581,91 @@ def analyze(source: str, out_dir: str, as_json: bool) -> None:
     for name, fig in plot_records(table).items():
         written += save_figure(fig, os.path.join(out_dir, name))
     if as_json:
-        click.echo(json.dumps({"verdict": None if verdict is None else verdict.as_dict(),
-                               "records": json.loads(table.to_json(orient="records"))}, indent=2))
+        click.echo(
+            json.dumps(
+                {
+                    "verdict": None if verdict is None else verdict.as_dict(),
+                    "records": json.loads(table.to_json(orient="records")),
+                },
+                indent=2,
+            )
+        )
         return
     click.echo("wrote " + ", ".join(written))
-    cols = ["name", "n_cycles", "v0 [m/s]", "load [N]", "amplitude [N]", "period [s]",
-            "stick_fraction"]
+    cols = ["name", "n_cycles", "v0 [m/s]", "load [N]", "amplitude [N]", "period [s]", "stick_fraction"]
     click.echo(table[cols].to_string(index=False, float_format=lambda x: f"{x:.4g}"))
     if verdict is None:
         click.echo("criterion: no verdict (records need driving velocities)")
     else:
         click.echo(f"criterion: {verdict.verdict} ({verdict.reason})")
+
+
+@main.command()
+@click.argument("record_file", type=click.Path(exists=False, dir_okay=False))
+@click.option("--v0", default=None, help="Driving velocity (overrides the file's '# v0 = ...').")
+@click.option("--load", default=None, help="Normal load (overrides the file's '# load = ...').")
+@click.option("--fit-b", is_flag=True, help="Also fit b (law F2); default F1 (b = 0).")
+@click.option(
+    "--out",
+    "out_dir",
+    type=click.Path(file_okay=False),
+    default="results",
+    show_default=True,
+    help="Output folder: fit.json, fit.csv, fit_overlay.png/.svg.",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print the fit as JSON.")
+@_handle_errors
+def fit(record_file: str, v0: str | None, load: str | None, fit_b: bool, out_dir: str, as_json: bool) -> None:
+    """Fit mu0, a, k and the mass (and b) of the paper's model to a stick-slip record.
+
+    The fit is on cycle features (peak and trough force, period, stick-ramp slope,
+    drop time), with uncertainties, correlations and identifiability warnings.
+    """
+    import numpy as np
+
+    from .analysis.fitting import fit_record
+    from .analysis.records import synthetic_record
+    from .io.records import read_record
+    from .plots.figures import plot_fit_overlay, save_figure
+
+    rec = read_record(record_file, v0=v0, load=load)
+    res = fit_record(rec, fit_b=fit_b)
+    os.makedirs(out_dir, exist_ok=True)
+    d = res.as_dict()
+    with open(os.path.join(out_dir, "fit.json"), "w") as fh:
+        json.dump(d, fh, indent=2)
+    with open(os.path.join(out_dir, "fit.csv"), "w") as fh:
+        fh.write("parameter,value,error,unit\n")
+        for name, v in d["parameters"].items():
+            fh.write(f"{name},{v['value']!r},{v['error']!r},{v['unit']}\n")
+    # the fitted model over the record's span, its first peak aligned with the data's
+    params = res.parameters
+    from .analysis.cycle import cycle as compute_cycle
+
+    cyc = compute_cycle(params, probe=False)
+    dt = float(np.median(np.diff(rec.time)))
+    span = float(rec.time[-1] - rec.time[0])
+    model = synthetic_record(
+        params, duration=f"{span + cyc.period} s", rate=f"{1.0 / dt} Hz", start=f"{cyc.transient_time} s"
+    )
+    first_data = float(rec.time[int(np.argmax(rec.force[: max(2, int(cyc.period / dt))]))])
+    first_model = float(model.time[int(np.argmax(model.force[: max(2, int(cyc.period / dt))]))])
+    shift = first_data - first_model
+    keep = (model.time + shift >= rec.time[0]) & (model.time + shift <= rec.time[-1])
+    paths = save_figure(
+        plot_fit_overlay(rec, model.force[keep], model.time[keep] + shift),
+        os.path.join(out_dir, "fit_overlay"),
+    )
+    if as_json:
+        click.echo(json.dumps(d, indent=2))
+        return
+    for name, v in d["parameters"].items():
+        click.echo(f"{name:4s} = {v['value']:.6g} +- {v['error']:.2g} {v['unit']}")
+    for w in res.warnings:
+        click.echo(f"warning: {w}")
+    click.echo(
+        f"wrote {os.path.join(out_dir, 'fit.json')}, {os.path.join(out_dir, 'fit.csv')}, " + ", ".join(paths)
+    )
 
 
 NUMBER_KEYS = {"nu", "c", "p", "alpha", "gamma", "kinetic", "mu0", "mu_s", "mu_k"}

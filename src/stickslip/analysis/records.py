@@ -104,8 +104,14 @@ def _dominant_period(t: FloatArray, f: FloatArray) -> float:
 
 
 def _side_fit(t: FloatArray, f: FloatArray, i: int, w: int, side: int) -> float:
-    """Value at sample ``i`` of a quadratic fitted on ``w`` samples before (-1) or after (+1) it."""
-    lo, hi = (i - w, i + 1) if side < 0 else (i, i + w + 1)
+    """Value at sample ``i`` of a quadratic fitted on ``w`` samples before (-1) or after (+1) it.
+
+    Before a peak a guard of ``w // 20`` samples (at least 2) next to ``i`` is left
+    out: with noise the raw maximum can sit a sample or two into the sharp drop, and
+    those samples would bend the fit. After a trough the ramp starts at once.
+    """
+    g = max(2, w // 20)
+    lo, hi = (i - w, i + 1 - g) if side < 0 else (i, i + w + 1)
     lo, hi = max(lo, 0), min(hi, f.size)
     if hi - lo < 4:
         return float(f[i])
@@ -152,8 +158,8 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
     tr, _ = find_peaks(-smooth, distance=max(1, per_n // 2), prominence=0.3 * span)
     # snap to the raw extremum next to the smoothed one (the smoothing blurs the corner)
     r = max(1, per_n // 100)
-    pk = np.array([max(0, p - r) + int(np.argmax(f[max(0, p - r):p + r + 1])) for p in pk], dtype=int)
-    tr = np.array([max(0, q - r) + int(np.argmin(f[max(0, q - r):q + r + 1])) for q in tr], dtype=int)
+    pk = np.array([max(0, p - r) + int(np.argmax(f[max(0, p - r) : p + r + 1])) for p in pk], dtype=int)
+    tr = np.array([max(0, q - r) + int(np.argmin(f[max(0, q - r) : q + r + 1])) for q in tr], dtype=int)
     w = max(4, per_n // 10)
     # drift: the peaks' trend
     drift = 0.0
@@ -176,17 +182,29 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
         nxt = pk[a + 1]
         lo, hi = q + (nxt - q) // 5, nxt - (nxt - q) // 5
         slope = float(np.polyfit(t[lo:hi], fd[lo:hi], 1)[0]) if hi - lo >= 3 else math.nan
-        cycles.append((t[p], peak_v, trough_v, period_c, period_c - drop, drop,
-                       _stick(record, p, nxt), slope))
+        cycles.append(
+            (t[p], peak_v, trough_v, period_c, period_c - drop, drop, _stick(record, p, nxt), slope)
+        )
     if len(cycles) < min_cycles:
-        raise ValueError(f"{record.name}: found {len(cycles)} complete cycles, need at least "
-                         f"{min_cycles} (is the record long enough, or the oscillation too noisy?)")
+        raise ValueError(
+            f"{record.name}: found {len(cycles)} complete cycles, need at least "
+            f"{min_cycles} (is the record long enough, or the oscillation too noisy?)"
+        )
     arr = np.array(cycles)
-    table = CycleTable(arr[:, 0], arr[:, 1], arr[:, 2], arr[:, 1] - arr[:, 2], arr[:, 3], arr[:, 4],
-                       arr[:, 5], arr[:, 6], arr[:, 7])
+    table = CycleTable(
+        arr[:, 0],
+        arr[:, 1],
+        arr[:, 2],
+        arr[:, 1] - arr[:, 2],
+        arr[:, 3],
+        arr[:, 4],
+        arr[:, 5],
+        arr[:, 6],
+        arr[:, 7],
+    )
     warning = ""
     if w < 8:
-        warning = (f"only {per_n} samples per period: extrema values are rough; sample faster")
+        warning = f"only {per_n} samples per period: extrema values are rough; sample faster"
     summary = RecordSummary(
         name=record.name,
         n_cycles=len(cycles),
@@ -214,8 +232,8 @@ def _fall_time(t: FloatArray, f: FloatArray, p: int, q: int, hi: float, lo: floa
     Interpolated on the falling edge, so that noise on the flat start of the next
     ramp (where the trough sits) does not move it.
     """
-    seg = f[p:q + 1]
-    tt = t[p:q + 1]
+    seg = f[p : q + 1]
+    tt = t[p : q + 1]
     a = lo + 0.9 * (hi - lo)
     b = lo + 0.1 * (hi - lo)
     ia = int(np.argmax(seg < a)) if np.any(seg < a) else 0
@@ -288,21 +306,25 @@ def synthetic_record(
     dur = parse_quantity(duration, "duration", "[time]", "300 s").to("s").magnitude
     fs = parse_quantity(rate, "rate", "1 / [time]", "100 Hz").to("Hz").magnitude
     sigma = parse_quantity(noise, "noise", "[force]", "1 mN", allow_zero=True).to("N").magnitude
-    slope = drift if not isinstance(drift, str) else drift
     from ..models.units import ureg
 
-    dq = ureg.Quantity(slope) if isinstance(slope, str) else slope
-    if not dq.check("[force] / [time]"):
-        raise ValueError(f"drift={drift!r}: expected a force per time such as '0.1 mN/s'")
+    try:
+        dq = ureg.Quantity(drift.strip()) if isinstance(drift, str) else drift
+        ok = dq.check("[force] / [time]") and np.isfinite(float(dq.magnitude))
+    except Exception:
+        ok = False
+    if not ok:
+        raise ValueError(f"drift={drift!r}: expected a force per time such as '0.1 mN/s' (may be negative)")
     k_drift = float(dq.to("N/s").magnitude)
     t0 = parse_quantity(start, "start", "[time]", "100 s", allow_zero=True).to("s").magnitude
-    n = int(round(dur * fs)) + 1
+    n = round(dur * fs) + 1
     t = t0 + np.arange(n) / fs
     sc = params.scales
     d = params.dimensionless()
     tau = t / sc.time.to("s").magnitude
-    y, _, _, status = run_trajectory(d.law.core_id, d.law.core_params(), d.nu, 0.0, 0.0, tau,
-                                     rtol=1e-10, atol=1e-12)
+    y, _, _, status = run_trajectory(
+        d.law.core_id, d.law.core_params(), d.nu, 0.0, 0.0, tau, rtol=1e-10, atol=1e-12
+    )
     if status != 0:
         raise RuntimeError("synthetic_record: the integration failed")
     rng = np.random.default_rng(seed)
@@ -333,14 +355,22 @@ def analyze_records(records: list[Record], *, confidence: float = 0.95) -> tuple
     for rec in records:
         _, s = measure_record(rec)
         rows.append(s.as_dict())
-    df = pd.DataFrame(rows).rename(columns={
-        "amplitude": "amplitude [N]", "amplitude_spread": "amplitude_spread [N]",
-        "period": "period [s]", "period_spread": "period_spread [s]",
-        "peak_force": "peak_force [N]", "trough_force": "trough_force [N]",
-        "rise_time": "rise_time [s]", "drop_time": "drop_time [s]", "drift": "drift [N/s]",
-        "rise_slope": "rise_slope [N/s]",
-        "v0": "v0 [m/s]", "load": "load [N]",
-    })
+    df = pd.DataFrame(rows).rename(
+        columns={
+            "amplitude": "amplitude [N]",
+            "amplitude_spread": "amplitude_spread [N]",
+            "period": "period [s]",
+            "period_spread": "period_spread [s]",
+            "peak_force": "peak_force [N]",
+            "trough_force": "trough_force [N]",
+            "rise_time": "rise_time [s]",
+            "drop_time": "drop_time [s]",
+            "drift": "drift [N/s]",
+            "rise_slope": "rise_slope [N/s]",
+            "v0": "v0 [m/s]",
+            "load": "load [N]",
+        }
+    )
     verdict = None
     sel = df[np.isfinite(df["v0 [m/s]"])]
     if len(sel) and sel["load [N]"].notna().any():
@@ -350,6 +380,10 @@ def analyze_records(records: list[Record], *, confidence: float = 0.95) -> tuple
     if len(sel) >= 2:
         err = sel["amplitude_spread [N]"].to_numpy() / np.sqrt(sel["n_cycles"].to_numpy())
         err = np.where(np.isfinite(err) & (err > 0), err, np.nan)
-        verdict = classify(sel["v0 [m/s]"].to_numpy(), sel["amplitude [N]"].to_numpy(),
-                           None if np.any(np.isnan(err)) else err, confidence=confidence)
+        verdict = classify(
+            sel["v0 [m/s]"].to_numpy(),
+            sel["amplitude [N]"].to_numpy(),
+            None if np.any(np.isnan(err)) else err,
+            confidence=confidence,
+        )
     return df, verdict

@@ -69,14 +69,14 @@ class Record:
     metadata: Mapping[str, str] = field(default_factory=dict)
 
 
-def _si(values: FloatArray, unit: pint.Unit | None, name: str, dimension: str, si: str,
-        where: str) -> FloatArray:
+def _si(
+    values: FloatArray, unit: pint.Unit | None, name: str, dimension: str, si: str, where: str
+) -> FloatArray:
     if unit is None:
         raise ValueError(f"{where}: column {name!r} has no unit; write e.g. '{name} [{si}]'")
     q = ureg.Quantity(1.0, unit)
     if not q.check(dimension):
-        raise ValueError(f"{where}: column {name!r} has unit [{unit:~}], expected {dimension} "
-                         f"(e.g. [{si}])")
+        raise ValueError(f"{where}: column {name!r} has unit [{unit:~}], expected {dimension} (e.g. [{si}])")
     return values * float(q.to(si).magnitude)
 
 
@@ -112,35 +112,56 @@ def _parse_text(text: str, where: str) -> tuple[pd.DataFrame, dict[str, pint.Uni
     if i >= len(lines):
         raise ValueError(f"{where}: no header row and no data")
     header_line = lines[i]
-    sep = "\t" if header_line.count("\t") > header_line.count(",") else (
-        ";" if header_line.count(";") > header_line.count(",") else ",")
+    sep = (
+        "\t"
+        if header_line.count("\t") > header_line.count(",")
+        else (";" if header_line.count(";") > header_line.count(",") else ",")
+    )
     cells = [c.strip() for c in header_line.split(sep)]
     parsed = [parse_header(c, where) for c in cells]
     names = [p[0] for p in parsed]
     dup = {n for n in names if names.count(n) > 1}
     if dup:
         raise ValueError(f"{where}: column {sorted(dup)[0]!r} appears more than once")
-    body = "\n".join(lines[i + 1:])
+    body = "\n".join(lines[i + 1 :])
     if not body.strip():
         raise ValueError(f"{where}: the file has a header but no data rows")
     try:
-        df = pd.read_csv(io.StringIO(body), sep=sep, header=None, names=names, comment="#",
-                         skipinitialspace=True, dtype=str, engine="c", na_filter=True)
+        df = pd.read_csv(
+            io.StringIO(body),
+            sep=sep,
+            header=None,
+            names=names,
+            comment="#",
+            skipinitialspace=True,
+            dtype=str,
+            engine="c",
+            na_filter=True,
+        )
     except pd.errors.ParserError as exc:
         raise ValueError(f"{where}: malformed rows ({exc})") from None
     return df, dict(zip(names, [p[1] for p in parsed], strict=True)), meta
 
 
-def _record_from_frame(df: pd.DataFrame, units: Mapping[str, pint.Unit | None],
-                       meta: Mapping[str, str], name: str, where: str,
-                       v0: Any = None, load: Any = None) -> Record:
+def _record_from_frame(
+    df: pd.DataFrame,
+    units: Mapping[str, pint.Unit | None],
+    meta: Mapping[str, str],
+    name: str,
+    where: str,
+    v0: Any = None,
+    load: Any = None,
+) -> Record:
     if "time" not in df.columns:
-        raise ValueError(f"{where}: missing column 'time' (found {list(df.columns)}); expected "
-                         "'time [s]' and 'force [N]'")
+        raise ValueError(
+            f"{where}: missing column 'time' (found {list(df.columns)}); expected 'time [s]' and 'force [N]'"
+        )
     force_col = next((c for c in FORCE_NAMES if c in df.columns), None)
     if force_col is None:
-        raise ValueError(f"{where}: missing a force column ('force', 'spring_force' or "
-                         f"'friction_force'; found {list(df.columns)})")
+        raise ValueError(
+            f"{where}: missing a force column ('force', 'spring_force' or "
+            f"'friction_force'; found {list(df.columns)})"
+        )
     if len(df) < 3:
         raise ValueError(f"{where}: only {len(df)} samples; a record needs many cycles")
     t = _si(_check_numeric(df, "time", where), units["time"], "time", "[time]", "s", where)
@@ -148,15 +169,29 @@ def _record_from_frame(df: pd.DataFrame, units: Mapping[str, pint.Unit | None],
     dt = np.diff(t)
     if np.any(dt <= 0):
         i = int(np.argmax(dt <= 0))
-        raise ValueError(f"{where}: time is not strictly increasing at rows {i + 2}-{i + 3} "
-                         f"({t[i]!r} s then {t[i + 1]!r} s)")
+        raise ValueError(
+            f"{where}: time is not strictly increasing at rows {i + 2}-{i + 3} "
+            f"({t[i]!r} s then {t[i + 1]!r} s)"
+        )
     x = v = None
     if "displacement" in df.columns:
-        x = _si(_check_numeric(df, "displacement", where), units["displacement"], "displacement",
-                "[length]", "m", where)
+        x = _si(
+            _check_numeric(df, "displacement", where),
+            units["displacement"],
+            "displacement",
+            "[length]",
+            "m",
+            where,
+        )
     if "velocity" in df.columns:
-        v = _si(_check_numeric(df, "velocity", where), units["velocity"], "velocity",
-                "[length] / [time]", "m/s", where)
+        v = _si(
+            _check_numeric(df, "velocity", where),
+            units["velocity"],
+            "velocity",
+            "[length] / [time]",
+            "m/s",
+            where,
+        )
     v0q = _quantity(v0 if v0 is not None else meta.get("v0"), "v0", "[length] / [time]", "10 um/s", where)
     loadq = _quantity(load if load is not None else meta.get("load"), "load", "[force]", "196 mN", where)
     return Record(name, t, f, x, v, v0q, loadq, dict(meta))
@@ -195,8 +230,9 @@ def read_record(path: str | os.PathLike[str], *, v0: Any = None, load: Any = Non
     if size == 0:
         raise ValueError(f"{p}: the file is empty")
     if size > MAX_BYTES:
-        raise ValueError(f"{p}: {size / 1e9:.1f} GB is larger than the {MAX_BYTES / 1e9:.0f} GB limit; "
-                         "split the record")
+        raise ValueError(
+            f"{p}: {size / 1e9:.1f} GB is larger than the {MAX_BYTES / 1e9:.0f} GB limit; split the record"
+        )
     with open(p, encoding="utf-8-sig", newline="") as fh:
         text = fh.read()
     df, units, meta = _parse_text(text, p)
@@ -248,8 +284,7 @@ def read_records(path: str | os.PathLike[str]) -> list[Record]:
         where = f"{p} (record {name!r})"
         v0 = _constant(part, "v0", units, where)
         load = _constant(part, "load", units, where)
-        out.append(_record_from_frame(part.reset_index(drop=True), units, meta, str(name), where,
-                                      v0, load))
+        out.append(_record_from_frame(part.reset_index(drop=True), units, meta, str(name), where, v0, load))
     return out
 
 

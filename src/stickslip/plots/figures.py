@@ -133,21 +133,38 @@ def plot_rate_state(ds: Any) -> Figure:
 def plot_records(table: Any) -> dict[str, Figure]:
     """Amplitude and period of measured records against driving velocity and against load."""
     figs: dict[str, Figure] = {}
-    for key, label, scale, unit in (("v0 [m/s]", "driving velocity", 1e6, "um/s"),
-                                    ("load [N]", "normal load", 1e3, "mN")):
+    for key, label, scale, unit in (
+        ("v0 [m/s]", "driving velocity", 1e6, "um/s"),
+        ("load [N]", "normal load", 1e3, "mN"),
+    ):
         x = table[key].to_numpy(dtype=float)
         if not np.isfinite(x).any() or np.unique(x[np.isfinite(x)]).size < 2:
             continue
         fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), layout="constrained")
         order = np.argsort(x)
-        for ax, col, ylabel, yscale in ((axes[0], "amplitude", "amplitude [mN]", 1e3),
-                                        (axes[1], "period", "period [s]", 1.0)):
+        for ax, col, ylabel, yscale in (
+            (axes[0], "amplitude", "amplitude [mN]", 1e3),
+            (axes[1], "period", "period [s]", 1.0),
+        ):
             y = table[f"{col} [{'N' if col == 'amplitude' else 's'}]"].to_numpy(dtype=float)
             e = table[f"{col}_spread [{'N' if col == 'amplitude' else 's'}]"].to_numpy(dtype=float)
-            ax.errorbar(x[order] * scale, y[order] * yscale, yerr=e[order] * yscale, fmt="o-",
-                        ms=4, capsize=2)
+            ax.errorbar(
+                x[order] * scale, y[order] * yscale, yerr=e[order] * yscale, fmt="o-", ms=4, capsize=2
+            )
             ax.set_xscale("log")
             ax.set_xlabel(f"{label} [{unit}]")
             ax.set_ylabel(ylabel)
         figs[f"records_vs_{'v0' if key.startswith('v0') else 'load'}"] = fig
     return figs
+
+
+def plot_fit_overlay(record: Any, fitted_force: Any, fitted_time: Any, *, cycles: int = 3) -> Figure:
+    """Overlay a measured record and the fitted model over the first cycles."""
+    fig, ax = plt.subplots(figsize=(7.0, 3.8), layout="constrained")
+    ax.plot(record.time, record.force * 1e3, color="0.6", lw=0.8, label="measured")
+    ax.plot(fitted_time, fitted_force * 1e3, color="C3", lw=1.3, label="fitted model")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("force [mN]")
+    ax.legend(frameon=False)
+    ax.set_title(f"{record.name}: data and fitted model", fontsize=10)
+    return fig
