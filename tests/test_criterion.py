@@ -117,8 +117,8 @@ def test_non_monotonic() -> None:
         ("velocity [um/s],amplitude [mN]\n", "no data rows"),
         ("speed [um/s],amplitude [mN]\n1,2\n", "missing column 'velocity'"),
         ("velocity [um/s],force [mN]\n1,2\n", "missing column 'amplitude'"),
-        ("velocity [um/s],amplitude [mN]\n1,abc\n", "row 2, column 'amplitude': 'abc' is not a number"),
-        ("velocity [um/s],amplitude [mN]\n1,2\n3\n", "row 3 has 1 cells"),
+        ("velocity [um/s],amplitude [mN]\n1,abc\n", "line 2, column 'amplitude': 'abc' is not a number"),
+        ("velocity [um/s],amplitude [mN]\n1,2\n3\n", "line 3 has 1 cells"),
         ("velocity [furlongs/fortnight_x],amplitude [mN]\n1,2\n", "unknown unit"),
         ("velocity [mN],amplitude [mN]\n1,2\n", "expected a velocity"),
         ("velocity [um/s],amplitude [m/s]\n1,2\n", "a velocity"),
@@ -145,6 +145,15 @@ def test_missing_file(tmp_path: Path) -> None:
     res = CliRunner().invoke(main, ["classify", str(tmp_path / "nope.csv")])
     assert res.exit_code == 2
     assert "no such file" in res.output
+
+
+def test_line_numbers_semicolons_and_trailing_commas(tmp_path: Path) -> None:
+    path = tmp_path / "c.csv"
+    path.write_text("# comment\n\n# another\nvelocity [um/s];amplitude [mN];\n5;1;\n50;x;\n")
+    with pytest.raises(ValueError, match="line 6, column 'amplitude'"):
+        classify_file(path)
+    path.write_text("velocity [um/s],amplitude [mN],,\n5,1.0,,\n50,1.4,,\n500,2.1,,\n5000,2.9,,\n")
+    assert classify_file(path).verdict == "stick-slip"
 
 
 def test_tsv_and_comments(tmp_path: Path) -> None:

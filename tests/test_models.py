@@ -232,3 +232,12 @@ def test_more_bad_input() -> None:
     assert rp.quantity("period").check("[time]")
     with pytest.raises(ValueError, match="name='volume'"):
         rp.quantity("volume")
+
+
+@pytest.mark.parametrize("text", ["5,5 um/s", "196,5 mN", "[5, 6] um/s", "5 6 um/s", ""])
+def test_decimal_commas_and_lists_are_errors(text: str) -> None:
+    """Regression: pint alone read '5,5 um/s' as 55 um/s and '5 6 um/s' as 30 um/s."""
+    with pytest.raises(ValueError, match="is not a quantity"):
+        zv_parameters(
+            text if "N" not in text else "5 um/s", b="0 s/m"
+        ) if "N" not in text else PhysicalParameters(**{**GOOD, "load": text}, law=f1(0.46, "160 s/m"))

@@ -269,6 +269,8 @@ def _handle_errors(func: Callable[..., Any]) -> Callable[..., Any]:
             raise click.UsageError(f"invalid value: {exc}") from None
         except RuntimeError as exc:  # a computation that failed (not a user mistake)
             raise click.ClickException(str(exc)) from None
+        except OSError as exc:  # an output path that cannot be written
+            raise click.ClickException(f"cannot write {exc.filename or ''}: {exc.strerror or exc}") from None
 
     return wrapper
 
@@ -309,7 +311,7 @@ def cycle(as_json: bool, no_probe: bool, **opts: Any) -> None:
     click.echo(f"backward slips  {res.backward_slips}")
     click.echo(f"status          {res.status}")
     for a in res.attractors:
-        click.echo(f"attractor       {a.regime} from {a.start}: amplitude {a.amplitude:.6g}")
+        click.echo(f"attractor       {a.regime} from {a.start}: amplitude {a.amplitude:.6g} ({a.status})")
 
 
 @main.command()
@@ -768,11 +770,13 @@ def sweep(num: int, log_spacing: bool, out_path: str, no_plot: bool, quiet: bool
             "nothing to sweep: give a range such as --v0 '5 um/s..1000 um/s' "
             "or a list such as --b '0 s/m,100 s/m'"
         )
+    if opts.get("beta") is not None and "beta" not in axes and opts.get("nu") is None:
+        # a fixed beta must hold at every point: sweep it as a one-value axis so that the
+        # mass follows the swept load, stiffness or friction coefficient
+        axes["beta"] = [opts["beta"]]
     fixed["rtol"] = _to_float("rtol", opts["rtol"])
     fixed["atol"] = _to_float("atol", opts["atol"])
     params = build_parameters(fixed)
-    if isinstance(params, PhysicalParameters) and "beta" in axes and opts.get("mass") is None:
-        pass  # the base mass came from the first beta; the sweep sets it per point
     ds = run_sweep(params, axes, rtol=fixed["rtol"], atol=fixed["atol"], progress=False if quiet else None)
     save_sweep(ds, out_path)
     click.echo(f"wrote {out_path} ({ds.amplitude.size} points, dimensions {dict(ds.sizes)})")

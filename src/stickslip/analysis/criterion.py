@@ -16,6 +16,7 @@ says nothing about data that mix regimes. See ``docs/criterion.md``.
 from __future__ import annotations
 
 import math
+import numbers
 import os
 from dataclasses import asdict, dataclass
 from typing import Any
@@ -130,7 +131,7 @@ def classify(
         raise ValueError(f"amplitude[{i}]={float(a[i])!r}: amplitudes must be positive")
     if not (isinstance(confidence, float | int) and 0.5 <= confidence < 1):
         raise ValueError(f"confidence={confidence!r}: expected a level in [0.5, 1), e.g. 0.95")
-    if not isinstance(min_points, int) or min_points < 3:
+    if isinstance(min_points, bool) or not isinstance(min_points, numbers.Integral) or min_points < 3:
         raise ValueError(f"min_points={min_points!r}: expected an integer >= 3")
     sigma = None
     if amplitude_err is not None:
@@ -305,10 +306,10 @@ def classify_file(
     if np.any(vel.values <= 0):
         i = int(np.argmax(vel.values <= 0))
         raise ValueError(
-            f"{p}: row {i + 2}: velocity {float(vel.values[i])!r} is not positive "
+            f"{p}: data row {i + 1}: velocity {float(vel.values[i])!r} is not positive "
             "(driving velocities must be positive)"
         )
     if np.any(amp.values <= 0):
         i = int(np.argmax(amp.values <= 0))
-        raise ValueError(f"{p}: row {i + 2}: amplitude {float(amp.values[i])!r} is not positive")
+        raise ValueError(f"{p}: data row {i + 1}: amplitude {float(amp.values[i])!r} is not positive")
     return classify(vel.values, amp.values, err, confidence=confidence, min_points=min_points)

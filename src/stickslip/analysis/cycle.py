@@ -280,12 +280,18 @@ def cycle(
     out0 = run(from_breakaway=True)[0]
     out0[engine.O_TRANSIENT] += 1.0 / nu
     rows, starts = [out0], ["rest"]
-    if probe and not steady_stable:
+    if probe and dfnu < 0.0:  # strictly unstable: f'(nu) = 0 (Coulomb) is neutral, no attractor
         rows.append(run([fnu + defaults.STEADY_PERTURBATION], [nu], from_breakaway=False)[0])
         starts.append("near steady sliding")
 
     conv = _converter(scales)
     attractors = [_attractor(o, start, conv) for o, start in zip(rows, starts, strict=True)]
+    if len(rows) > 1:
+        # a probe that never left the neighbourhood of steady sliding (amplitude still about
+        # twice the push) found no attractor: steady sliding is (nearly) neutral there
+        push = conv("force", 2.0 * defaults.STEADY_PERTURBATION)
+        if abs(attractors[1].amplitude - push) <= 0.1 * push:
+            attractors.pop(1)
     if steady_stable:
         attractors.append(Attractor("steady-sliding", 0.0, math.nan, "linear stability", "ok"))
     distinct = _distinct(attractors)
@@ -350,7 +356,7 @@ def _distinct(attractors: list[Attractor], rel: float = 1e-5) -> list[Attractor]
     """Drop attractors that repeat an earlier one (same regime, same amplitude)."""
     kept: list[Attractor] = []
     for a in attractors:
-        if a.regime == "unknown":
+        if a.regime == "unknown" or a.status != "ok":
             continue
         same = any(
             k.regime == a.regime

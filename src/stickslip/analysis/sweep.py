@@ -83,7 +83,12 @@ def _grid_values(name: str, values: Any, dimension: str) -> tuple[FloatArray, Fl
     if isinstance(values, str):
         raise ValueError(f"{name}={values!r}: expected a sequence of values, not a single string")
     if isinstance(values, pint.Quantity):
-        items: list[Any] = [values[i] for i in range(len(np.atleast_1d(values.magnitude)))]
+        if np.ndim(values.magnitude) == 0:
+            raise ValueError(
+                f"{name}={values!r}: expected a sequence of values (an array "
+                "quantity or a list), not a single value"
+            )
+        items: list[Any] = [values[i] for i in range(len(values.magnitude))]
     else:
         try:
             items = list(values)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -130,7 +131,7 @@ def simulate(
     """
     dp, scales = as_dimensionless(params)
     rtol, atol = validate_tolerances(rtol, atol)
-    if isinstance(n_points, bool) or not isinstance(n_points, int) or n_points < 2:
+    if isinstance(n_points, bool) or not isinstance(n_points, numbers.Integral) or n_points < 2:
         raise ValueError(f"n_points={n_points!r}: expected an integer >= 2")
     try:
         s0, w0 = (float(initial[0]), float(initial[1]))
@@ -161,7 +162,12 @@ def simulate(
         law.core_id, lp, dp.nu, s0, w0, t, rtol=rtol, atol=atol, event_capacity=max(16, ev.shape[0])
     )
     if status != engine.ST_OK:
-        raise RuntimeError(f"integration failed: {STATUSES[status]} (try a larger rtol)")
+        hint = (
+            "simulate fewer cycles or a shorter duration"
+            if status == engine.ST_TOO_MANY_PHASES
+            else "try a larger rtol"
+        )
+        raise RuntimeError(f"integration failed: {STATUSES[status]} ({hint})")
     s = y[:, 0]
     w = y[:, 1]
     u = dp.nu * t - s

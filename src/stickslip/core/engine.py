@@ -107,7 +107,9 @@ T_NREJ = 23
 T_DFNU = 24
 T_FNU = 25
 T_NAMP = 26
-NTRK = 27
+T_NBACK_SINCE = 27  # backward slip phases since the last spring-force maximum
+T_NBACK_K = 28  # ... in the last complete oscillation
+NTRK = 29
 
 # output layout of the attractor kernel
 O_STATUS = 0
@@ -175,6 +177,8 @@ def _reset_tracker(trk):  # type: ignore[no-untyped-def]
     trk[T_DQ3] = math.nan
     trk[T_CONV] = 0.0
     trk[T_NAMP] = 0.0
+    trk[T_NBACK_SINCE] = 0.0
+    trk[T_NBACK_K] = 0.0
 
 
 @njit(cache=True, inline="always")
@@ -223,6 +227,7 @@ def _on_s_extremum(trk, is_max, te, sv, q2, q3, track, conv_tol):  # type: ignor
         trk[T_WMINK] = trk[T_WMIN_SINCE]
         trk[T_DQ2] = q2 - trk[T_Q2LAST]
         trk[T_DQ3] = q3 - trk[T_Q3LAST]
+        trk[T_NBACK_K] = trk[T_NBACK_SINCE]
         if track and trk[T_NAMP] >= 3.0:
             a0 = trk[T_A0]
             a1 = trk[T_A1]
@@ -244,6 +249,7 @@ def _on_s_extremum(trk, is_max, te, sv, q2, q3, track, conv_tol):  # type: ignor
     trk[T_SMIN_SINCE] = math.inf
     trk[T_WMIN_SINCE] = math.inf
     trk[T_WMAX_SINCE] = -math.inf
+    trk[T_NBACK_SINCE] = 0.0
 
 
 @njit(cache=True)
@@ -592,6 +598,7 @@ def attractor_ws(  # type: ignore[no-untyped-def]
             if s < -FS:
                 d = -1
                 n_back += 1
+                trk[T_NBACK_SINCE] += 1.0
             elif s >= FS:
                 d = 1
             else:
@@ -623,6 +630,7 @@ def attractor_ws(  # type: ignore[no-untyped-def]
                 out[O_SMIN] = trk[T_SMINK]
                 out[O_WMAX] = trk[T_WMAXK]
                 out[O_WMIN] = trk[T_WMINK]
+                out[O_NBACKWARD] = trk[T_NBACK_K]
                 if diag:
                     out[O_DRIVE_WORK] = nu * trk[T_DQ2]
                     out[O_FRICTION_WORK] = trk[T_DQ3]

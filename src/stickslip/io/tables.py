@@ -90,11 +90,15 @@ def read_table(
     if size > MAX_BYTES:
         raise ValueError(f"{p}: {size / 1e6:.0f} MB is larger than the {MAX_BYTES / 1e6:.0f} MB limit")
     with open(p, newline="", encoding="utf-8-sig") as fh:
-        lines = [ln for ln in fh if ln.strip() and not ln.lstrip().startswith("#")]
-    if not lines:
+        numbered = [(i + 1, ln) for i, ln in enumerate(fh) if ln.strip() and not ln.lstrip().startswith("#")]
+    if not numbered:
         raise ValueError(f"{p}: the file has no header and no data")
-    delimiter = "\t" if lines[0].count("\t") > lines[0].count(",") else ","
-    rows = list(csv.reader(lines, delimiter=delimiter))
+    first = numbered[0][1]
+    delimiter = max(("\t", ";", ","), key=first.count) if any(c in first for c in "\t;,") else ","
+    rows = list(csv.reader([ln for _, ln in numbered], delimiter=delimiter))
+    line_no = [n for n, _ in numbered]
+    # spreadsheet exports end every line with empty cells: drop trailing empties
+    rows = [r[: len(r) - next((k for k, c in enumerate(reversed(r)) if c.strip()), len(r))] for r in rows]
     header = [parse_header(c, p) for c in rows[0]]
     names = [h[0] for h in header]
     dup = {n for n in names if names.count(n) > 1}
@@ -114,15 +118,16 @@ def read_table(
         j = names.index(name)
         vals = np.empty(len(data))
         for i, row in enumerate(data):
+            where = f"{p}: line {line_no[i + 1]}"
             if len(row) != len(names):
-                raise ValueError(f"{p}: row {i + 2} has {len(row)} cells, the header has {len(names)}")
+                raise ValueError(f"{where} has {len(row)} cells, the header has {len(names)}")
             cell = row[j].strip()
             try:
                 x = float(cell)
             except ValueError:
-                raise ValueError(f"{p}: row {i + 2}, column {name!r}: {cell!r} is not a number") from None
+                raise ValueError(f"{where}, column {name!r}: {cell!r} is not a number") from None
             if math.isnan(x):
-                raise ValueError(f"{p}: row {i + 2}, column {name!r} is NaN")
+                raise ValueError(f"{where}, column {name!r} is NaN")
             vals[i] = x
         out[name] = Column(name, vals, header[j][1])
     return out

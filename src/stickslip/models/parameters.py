@@ -58,7 +58,17 @@ class DimensionlessParameters:
     law: DimensionlessLaw
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "nu", check_number(self.nu, "nu", what="a positive driving velocity"))
+        object.__setattr__(
+            self,
+            "nu",
+            check_number(
+                self.nu,
+                "nu",
+                upper=1e12,
+                upper_inclusive=True,
+                what="a positive driving velocity (at most 1e12)",
+            ),
+        )
         if not isinstance(self.law, DimensionlessLaw):
             raise ValueError(
                 f"law={self.law!r}: expected a dimensionless law (WeakeningLaw, CubicLaw or "

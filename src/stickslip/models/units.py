@@ -9,6 +9,7 @@ silently wrong answers are made.
 from __future__ import annotations
 
 import math
+import re
 from typing import Any
 
 import pint
@@ -63,13 +64,7 @@ def parse_quantity(
             f"{name}={value!r} has no unit: expected a quantity such as {example!r} (dimension {dimension})"
         )
     if isinstance(value, str):
-        try:
-            q: Any = ureg.Quantity(value.strip())
-        except Exception as exc:  # pint raises several unrelated exception types
-            raise ValueError(
-                f"{name}={value!r} is not a quantity pint understands "
-                f"({type(exc).__name__}: {exc}); expected something like {example!r}"
-            ) from None
+        q: Any = _parse_string(value, name, example)
     elif isinstance(value, pint.Quantity):
         try:
             q = ureg.Quantity(value.magnitude, str(value.units))
@@ -96,6 +91,43 @@ def parse_quantity(
         raise ValueError(f"{name}={value!r}: expected a single number with a unit") from None
     _check_finite_sign(name, value, x, allow_zero, f"a quantity such as {example!r}")
     return q
+
+
+_NUMBER = re.compile(
+    r"^\s*([+-]?(?:(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|nan|inf|infinity))(?:\s+|(?=[^\d.,\s]))(.*?)\s*$",
+    re.IGNORECASE,
+)
+
+
+def _parse_string(value: str, name: str, example: str) -> Any:
+    """Parse exactly one number followed by a unit (no expressions, no lists).
+
+    pint alone would evaluate ``"5,5 um/s"`` as 55 um/s and ``"5 6 um/s"`` as
+    30 um/s; a decimal comma or a second number must be an error instead.
+    """
+    text = value.strip()
+    m = _NUMBER.match(text)
+    bad = (
+        m is None
+        or "," in text
+        or (re.match(r"^[\d.(\[]", m.group(2)) is not None and not m.group(2).startswith("1/"))
+    )
+    if bad or m is None:
+        if re.fullmatch(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?", text):
+            raise ValueError(f"{name}={value!r} has no unit: expected a quantity such as {example!r}")
+        raise ValueError(
+            f"{name}={value!r} is not a quantity: expected one number (with a decimal point, not "
+            f"a comma) followed by a unit, such as {example!r}"
+        )
+    number, unit = m.group(1), m.group(2)
+    try:
+        u = ureg.Unit(unit) if unit else ureg.dimensionless
+    except Exception as exc:  # pint raises several unrelated exception types
+        raise ValueError(
+            f"{name}={value!r} is not a quantity pint understands "
+            f"({type(exc).__name__}: {exc}); expected something like {example!r}"
+        ) from None
+    return ureg.Quantity(float(number), u)
 
 
 def check_number(

@@ -83,11 +83,12 @@ def plot_sweep(ds: Any, *, log: bool = False) -> Figure:
     One line per value of the second dimension; further dimensions are fixed at
     their first value (say so in the title).
     """
-    dims = list(ds.amplitude.dims)
+    # x: the longest dimension (the range), lines: the next longest
+    dims = sorted(ds.amplitude.dims, key=lambda d: -ds.sizes[d])
     x = dims[0]
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), layout="constrained")
     sel = {d: 0 for d in dims[2:]}
-    sub = ds.isel(sel) if sel else ds
+    sub = (ds.isel(sel) if sel else ds).transpose(*dims[:2]) if len(dims) > 1 else ds
     series = (
         [(None, sub)]
         if len(dims) == 1

@@ -1,0 +1,60 @@
+"""Regression tests for defects found in review; each names the bug it guards."""
+
+from pathlib import Path
+
+import numpy as np
+from click.testing import CliRunner
+
+import stickslip as S
+from stickslip.analysis.criterion import classify
+from stickslip.cli import main
+
+
+def test_coulomb_is_not_reported_multistable() -> None:
+    """Bug: the neutral orbit around Coulomb steady sliding (f' = 0) was listed as pure slip."""
+    r = S.cycle(S.DimensionlessParameters(nu=0.01, law=S.CoulombLaw(kinetic=0.3)))
+    assert not r.multistable
+    assert [a.regime for a in r.attractors] == ["stick-slip"]
+
+
+def test_unconverged_probe_is_not_an_attractor() -> None:
+    """Bug: a probe that had not converged still made the result 'multistable'."""
+    r = S.cycle(S.DimensionlessParameters(nu=0.1, law=S.WeakeningLaw(c=1e-6)))
+    assert all(a.status == "ok" for a in r.attractors)
+    assert r.multistable == (len(r.attractors) > 1)
+
+
+def test_backward_slips_counted_in_pure_slip() -> None:
+    """Bug: backward_slips was always 0 when the motion never sticks."""
+    r = S.cycle(S.DimensionlessParameters(nu=42.0, law=S.WeakeningLaw(c=3.8)))
+    assert r.regime == "pure-slip"
+    assert r.min_velocity < 0
+    assert r.backward_slips == 1
+
+
+def test_fixed_beta_holds_at_every_sweep_point(tmp_path: Path) -> None:
+    """Bug: with --beta fixed and --load swept, the mass stayed that of the first load."""
+    out = tmp_path / "s.nc"
+    res = CliRunner().invoke(main, ["sweep", "--preset", "zv", "--beta", "42 s/m", "--load",
+                                    "100 mN..400 mN", "--num", "3", "--out", str(out), "--no-plot",
+                                    "--quiet"])
+    assert res.exit_code == 0, res.output
+    from stickslip.analysis.sweep import load_sweep
+
+    ds = load_sweep(out)
+    np.testing.assert_allclose(ds.c.values.ravel(), 160 / 42)
+
+
+def test_unwritable_output_is_a_one_line_error() -> None:
+    """Bug: NotADirectoryError traceback for an output path that cannot be created."""
+    res = CliRunner().invoke(main, ["simulate", "--nu", "0.1", "--c", "3", "--out", "/dev/null/x"])
+    assert res.exit_code == 1
+    assert "cannot write" in res.output
+    assert "Traceback" not in res.output
+
+
+def test_numpy_integers_are_integers() -> None:
+    """Bug: np.int64 was refused as 'expected an integer'."""
+    assert classify([1, 2, 3, 4, 5], [1, 2, 3, 4, 5], min_points=np.int64(4)).verdict == "stick-slip"
+    p = S.DimensionlessParameters(nu=0.1, law=S.WeakeningLaw(c=2.0))
+    assert S.simulate(p, n_points=np.int64(50)).time.size >= 50
