@@ -79,3 +79,15 @@ def test_fit_cli(tmp_path: Path) -> None:
     res = CliRunner().invoke(main, ["fit", str(path), "--out", str(tmp_path)])
     assert res.exit_code == 2
     assert "needs the driving velocity" in res.output
+
+
+def test_fit_b_warns_that_a_and_b_are_not_separable() -> None:
+    """From one F2 record only a combination of a and b is determined: the fit must say so."""
+    p = S.zv_parameters("100 um/s", b="100 s/m")
+    true = S.cycle(p, probe=False)
+    rec = synthetic_record(
+        p, duration=f"{30 * true.period} s", rate="1 kHz", noise="0.05 mN", start=f"{true.transient_time} s"
+    )
+    f = fit_record(rec, fit_b=True)
+    assert "b" in f.names
+    assert any("a and b are correlated" in w for w in f.warnings), f.warnings

@@ -300,6 +300,7 @@ def cycle(as_json: bool, no_probe: bool, **opts: Any) -> None:
         d = res.as_dict()
         d["parameters"] = describe_parameters(params)
         click.echo(json.dumps(d, indent=2))
+        _fail_unless_ok(res.status)
         return
     u = res.units
     click.echo(f"regime          {res.regime}" + ("  (multistable)" if res.multistable else ""))
@@ -312,6 +313,20 @@ def cycle(as_json: bool, no_probe: bool, **opts: Any) -> None:
     click.echo(f"status          {res.status}")
     for a in res.attractors:
         click.echo(f"attractor       {a.regime} from {a.start}: amplitude {a.amplitude:.6g} ({a.status})")
+    _fail_unless_ok(res.status)
+
+
+def _fail_unless_ok(status: str) -> None:
+    """Exit with status 1 (after the output) when the computation did not finish."""
+    if status != "ok":
+        hint = {
+            "not-converged": "the transient did not settle within max_slip_time (near a Hopf "
+            "point a periodic-orbit solver is the right tool)",
+            "too-many-steps": "the slip phase needs more steps than allowed: the law is very "
+            "stiff at these parameters",
+        }.get(status, "")
+        click.echo(f"stickslip: the computation did not finish: {status}; {hint}", err=True)
+        raise SystemExit(1)
 
 
 @main.command()
