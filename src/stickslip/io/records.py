@@ -27,7 +27,7 @@ import pandas as pd
 import pint
 
 from ..models.units import parse_quantity, ureg
-from .tables import parse_header
+from .tables import check_file, parse_header
 
 __all__ = ["Record", "read_record", "read_records"]
 
@@ -223,16 +223,7 @@ def read_record(path: str | os.PathLike[str], *, v0: Any = None, load: Any = Non
         cell that is not a number, a run of NaN, or time that does not increase.
 
     """
-    p = os.fspath(path)
-    if not os.path.isfile(p):
-        raise ValueError(f"{p}: no such file")
-    size = os.path.getsize(p)
-    if size == 0:
-        raise ValueError(f"{p}: the file is empty")
-    if size > MAX_BYTES:
-        raise ValueError(
-            f"{p}: {size / 1e9:.1f} GB is larger than the {MAX_BYTES / 1e9:.0f} GB limit; split the record"
-        )
+    p = check_file(path, MAX_BYTES)
     with open(p, encoding="utf-8-sig", newline="") as fh:
         text = fh.read()
     df, units, meta = _parse_text(text, p)

@@ -15,7 +15,7 @@ import pint
 
 from ..models.units import ureg
 
-__all__ = ["Column", "parse_header", "read_table"]
+__all__ = ["Column", "check_file", "parse_header", "read_table"]
 
 _HEADER = re.compile(r"^\s*([^\[\]]*?)\s*(?:\[([^\[\]]*)\])?\s*$")
 MAX_BYTES = 500_000_000
@@ -52,6 +52,26 @@ def parse_header(cell: str, path: str) -> tuple[str, pint.Unit | None]:
     return name, unit
 
 
+def check_file(path: str | os.PathLike[str], max_bytes: int) -> str:
+    """Return the path as a string after checking that it is a non-empty file below ``max_bytes``.
+
+    Raises
+    ------
+    ValueError
+        Naming the file: missing, empty, or too large (with the limit).
+    """
+    p = os.fspath(path)
+    if not os.path.isfile(p):
+        raise ValueError(f"{p}: no such file")
+    size = os.path.getsize(p)
+    if size == 0:
+        raise ValueError(f"{p}: the file is empty")
+    if size > max_bytes:
+        raise ValueError(f"{p}: {size / 1e6:.0f} MB is larger than the {max_bytes / 1e6:.0f} MB limit; "
+                         "split it")
+    return p
+
+
 def read_table(
     path: str | os.PathLike[str],
     required: Sequence[str],
@@ -81,14 +101,7 @@ def read_table(
         names the file, the column and the row.
 
     """
-    p = os.fspath(path)
-    if not os.path.isfile(p):
-        raise ValueError(f"{p}: no such file")
-    size = os.path.getsize(p)
-    if size == 0:
-        raise ValueError(f"{p}: the file is empty")
-    if size > MAX_BYTES:
-        raise ValueError(f"{p}: {size / 1e6:.0f} MB is larger than the {MAX_BYTES / 1e6:.0f} MB limit")
+    p = check_file(path, MAX_BYTES)
     with open(p, newline="", encoding="utf-8-sig") as fh:
         numbered = [(i + 1, ln) for i, ln in enumerate(fh) if ln.strip() and not ln.lstrip().startswith("#")]
     if not numbered:
