@@ -59,6 +59,7 @@ def check_file(path: str | os.PathLike[str], max_bytes: int) -> str:
     ------
     ValueError
         Naming the file: missing, empty, or too large (with the limit).
+
     """
     p = os.fspath(path)
     if not os.path.isfile(p):
