@@ -15,6 +15,6 @@ MAX_SLIP_TIME = 1e5
 #: relative change of the amplitude between oscillations at which a transient counts as converged
 CONV_TOL = 1e-8
 #: largest number of steps of one slip phase
-MAX_STEPS = 10_000_000
+MAX_STEPS = 2_000_000
 #: perturbation of steady sliding (units of static friction) used to probe its basin
 STEADY_PERTURBATION = 1e-3

@@ -31,7 +31,7 @@ def run_attractors(
     max_slip_time: float,
     conv_tol: float,
     diag: bool = False,
-    max_steps: int = 10_000_000,
+    max_steps: int = 2_000_000,
 ) -> FloatArray:
     """Run the attractor kernel for each row, in parallel; return an ``(n, NOUT)`` array.
 
@@ -107,7 +107,7 @@ def run_trajectory(
     *,
     rtol: float,
     atol: float,
-    max_steps: int = 10_000_000,
+    max_steps: int = 2_000_000,
     event_capacity: int = 1024,
 ) -> tuple[FloatArray, npt.NDArray[np.int64], FloatArray, int]:
     """Integrate from ``(s0, w0)`` and sample at ``t_eval`` (sorted, starting at or after 0).
