@@ -1,0 +1,116 @@
+"""Steady sliding: linear stability, Hopf points and their criticality, for any law.
+
+Near steady sliding ``(s, w) = (f(nu), nu)`` the slip dynamics is the Liénard
+oscillator ``x'' + f'(nu + x) x' + x = 0`` with ``x = w - nu`` (PHYSICS.md §3).
+Linearised, steady sliding has eigenvalues ``(-f' +- sqrt(f'^2 - 4))/2`` and is
+stable exactly when ``f'(nu) > 0``; a Hopf bifurcation sits where ``f'(nu_H) = 0``.
+First-order averaging of ``x = a cos t`` gives the amplitude equation
+
+    a' = -(a/2) f'(nu) - (f'''(nu)/16) a^3,
+
+so the first Lyapunov coefficient (the cubic coefficient) is
+``l1 = -f'''(nu_H)/16``: negative (``f''' > 0``) means supercritical, a small
+stable pure-slip cycle of amplitude ``a = sqrt(-8 f'(nu)/f'''(nu))`` on the
+unstable side; positive means subcritical, an unstable small cycle on the stable
+side (bistability). The analysis is local; the regimes far from ``nu_H`` need
+the engine (``stickslip.cycle``), which the tests use to check these claims.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+from ..models.friction import DimensionlessLaw
+from ..models.units import check_number
+
+__all__ = ["Hopf", "averaged_amplitude", "hopf_points", "steady_sliding_eigenvalues"]
+
+
+@dataclass(frozen=True)
+class Hopf:
+    """A Hopf point of steady sliding.
+
+    Attributes
+    ----------
+    nu : float
+        Driving velocity where ``f'(nu) = 0``.
+    l1 : float
+        First Lyapunov coefficient, ``-f'''(nu)/16`` (cubic coefficient of the
+        averaged amplitude equation).
+    criticality : str
+        ``supercritical`` (``l1 < 0``) or ``subcritical`` (``l1 > 0``);
+        ``degenerate`` when ``f'''(nu) = 0``.
+    stable_side : str
+        ``above`` when steady sliding is stable for larger ``nu`` (``f'' > 0``), else ``below``.
+
+    """
+
+    nu: float
+    l1: float
+    criticality: str
+    stable_side: str
+
+
+def _d(law: DimensionlessLaw, nu: float, order: int) -> float:
+    return float(law.derivative(np.array([nu]), order)[0])  # type: ignore[attr-defined]
+
+
+def steady_sliding_eigenvalues(law: DimensionlessLaw, nu: float) -> tuple[complex, complex]:
+    """Return the eigenvalues of steady sliding at ``nu`` (units of ``sqrt(k/m)``)."""
+    nu = check_number(nu, "nu")
+    g = _d(law, nu, 1)
+    disc = complex(g * g - 4.0)
+    root = disc**0.5
+    return ((-g + root) / 2, (-g - root) / 2)
+
+
+def hopf_points(
+    law: DimensionlessLaw, nu_min: float = 1e-6, nu_max: float = 1e3, n_grid: int = 4000
+) -> list[Hopf]:
+    """Find the Hopf points ``f'(nu) = 0`` in ``[nu_min, nu_max]`` and their criticality.
+
+    Roots are bracketed on a logarithmic grid and refined by Brent's method.
+
+    Raises
+    ------
+    ValueError
+        For a non-positive or reversed range.
+
+    """
+    lo = check_number(nu_min, "nu_min")
+    hi = check_number(nu_max, "nu_max")
+    if hi <= lo:
+        raise ValueError(f"nu_max={nu_max!r} must exceed nu_min={nu_min!r}")
+    grid = np.geomspace(lo, hi, n_grid)
+    g = np.asarray(law.derivative(grid, 1), dtype=np.float64)  # type: ignore[attr-defined]
+    if np.all(g == 0.0):
+        return []  # f' vanishes identically (Coulomb): steady sliding is neutral, no Hopf point
+    # a root on the grid itself, isolated: the neighbours have opposite signs
+    roots = [float(grid[i]) for i in np.flatnonzero(g == 0.0)
+             if 0 < i < grid.size - 1 and g[i - 1] * g[i + 1] < 0]
+    for i in np.flatnonzero(np.sign(g[:-1]) * np.sign(g[1:]) < 0):
+        roots.append(float(brentq(lambda v: _d(law, v, 1), grid[i], grid[i + 1], xtol=1e-14, rtol=1e-14)))
+    out = []
+    for nu_h in sorted(roots):
+        f3 = _d(law, nu_h, 3)
+        l1 = -f3 / 16.0
+        crit = "degenerate" if f3 == 0 else ("supercritical" if l1 < 0 else "subcritical")
+        side = "above" if _d(law, nu_h, 2) > 0 else "below"
+        out.append(Hopf(nu_h, l1, crit, side))
+    return out
+
+
+def averaged_amplitude(law: DimensionlessLaw, nu: float) -> float:
+    """Return the first-order averaging amplitude of the small cycle near a Hopf point.
+
+    ``a = sqrt(-8 f'(nu)/f'''(nu))``, the amplitude of ``w - nu`` (and, at unit
+    frequency, of ``s``); NaN where no small cycle exists (``f'/f''' > 0``).
+    """
+    g1, g3 = _d(law, nu, 1), _d(law, nu, 3)
+    if g3 == 0 or g1 / g3 >= 0:
+        return math.nan
+    return math.sqrt(-8.0 * g1 / g3)
