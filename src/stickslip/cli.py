@@ -47,6 +47,18 @@ def _opt(name: str) -> str:
     return "--" + name.replace("_", "-")
 
 
+def out_dir_option(help_text: str) -> Any:
+    """Return the ``--out`` option (an output folder, default ``results``) of a command."""
+    return click.option(
+        "--out",
+        "out_dir",
+        type=click.Path(file_okay=False),
+        default="results",
+        show_default=True,
+        help=help_text,
+    )
+
+
 def model_options(func: Callable[..., Any] | None = None, *, text: bool = False) -> Any:
     """Add the options that define a parameter set to a command.
 
@@ -347,14 +359,7 @@ def _fail_unless_ok(status: str) -> None:
 @click.option(
     "--points", type=int, default=4000, show_default=True, help="Uniform samples (event times are added)."
 )
-@click.option(
-    "--out",
-    "out_dir",
-    type=click.Path(file_okay=False),
-    default="results",
-    show_default=True,
-    help="Output folder for trajectory.csv and spring_force.png/.svg.",
-)
+@out_dir_option("Output folder for trajectory.csv and spring_force.png/.svg.")
 @click.option("--no-plot", is_flag=True, help="Write the CSV only.")
 @_handle_errors
 def simulate(
@@ -395,14 +400,7 @@ def simulate(
 
 
 @main.command()
-@click.option(
-    "--out",
-    "out_dir",
-    type=click.Path(file_okay=False),
-    default="results",
-    show_default=True,
-    help="Output folder.",
-)
+@out_dir_option("Output folder.")
 @click.option("--quick", is_flag=True, help="A reduced version (fewer points per curve), for tests.")
 @_handle_errors
 def reproduce(out_dir: str, quick: bool) -> None:
@@ -496,14 +494,7 @@ def dulac(a: float | None, b: float | None, kappa: float | None, as_json: bool) 
 @click.option("--displacement", default=None, help="Load-point displacement per slide (default 20 D0).")
 @click.option("--holds", default=None, help="Slide-hold-slide test: hold times, e.g. '1 s,10 s,100 s'.")
 @click.option("--v-slide", "v_slide", default=None, help="Slide velocity of the slide-hold-slide test.")
-@click.option(
-    "--out",
-    "out_dir",
-    type=click.Path(file_okay=False),
-    default="results",
-    show_default=True,
-    help="Output folder for ratestate.nc and ratestate.png/.svg.",
-)
+@out_dir_option("Output folder for ratestate.nc and ratestate.png/.svg.")
 @_handle_errors
 def ratestate(
     a: float,
@@ -567,14 +558,7 @@ def ratestate(
 
 @main.command()
 @click.argument("source", type=click.Path(exists=False))
-@click.option(
-    "--out",
-    "out_dir",
-    type=click.Path(file_okay=False),
-    default="results",
-    show_default=True,
-    help="Output folder: summary.csv and figures.",
-)
+@out_dir_option("Output folder: summary.csv and figures.")
 @click.option("--json", "as_json", is_flag=True, help="Print the verdict and summary as JSON.")
 @_handle_errors
 def analyze(source: str, out_dir: str, as_json: bool) -> None:
@@ -622,14 +606,7 @@ def analyze(source: str, out_dir: str, as_json: bool) -> None:
 @click.option("--v0", default=None, help="Driving velocity (overrides the file's '# v0 = ...').")
 @click.option("--load", default=None, help="Normal load (overrides the file's '# load = ...').")
 @click.option("--fit-b", is_flag=True, help="Also fit b (law F2); default F1 (b = 0).")
-@click.option(
-    "--out",
-    "out_dir",
-    type=click.Path(file_okay=False),
-    default="results",
-    show_default=True,
-    help="Output folder: fit.json, fit.csv, fit_overlay.png/.svg.",
-)
+@out_dir_option("Output folder: fit.json, fit.csv, fit_overlay.png/.svg.")
 @click.option("--json", "as_json", is_flag=True, help="Print the fit as JSON.")
 @_handle_errors
 def fit(record_file: str, v0: str | None, load: str | None, fit_b: bool, out_dir: str, as_json: bool) -> None:

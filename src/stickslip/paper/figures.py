@@ -36,25 +36,31 @@ def fig1_spring_force(ds: xr.Dataset) -> Figure:
     return fig
 
 
-def fig2_amplitude_v0(ds: xr.Dataset) -> Figure:
-    """Fig. 2: amplitude against v0 for b = 0 (solid) and b = 100 s/m (dotted)."""
+def _fig2_curves(ds: xr.Dataset, var: str, scale: float, ylabel: str, title: str) -> Figure:
+    """One zv curve per b against v0: b = 0 solid, b = 100 s/m dotted, log-log."""
     fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
     v = ds["fig2_v0"].values
     for i, b in enumerate(ds["fig2_b"].values):
         ax.plot(
-            v,
-            ds["fig2_amplitude"].values[i] * 1e3,
-            ls="-" if b == 0 else ":",
-            lw=1.8,
-            color="k",
-            label=f"b = {b:g} s/m",
+            v, ds[var].values[i] * scale, ls="-" if b == 0 else ":", lw=1.8, color="k", label=f"b = {b:g} s/m"
         )
     _v0_axis(ax, ds, "fig2_v0")
     ax.set_yscale("log")
-    ax.set_ylabel("amplitude of the spring force [mN]")
-    ax.set_title(r"Fig. 2: zv set-up, $\beta$ = 42 s/m, a = 160 s/m", fontsize=10)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=10)
     ax.legend(frameon=False)
     return fig
+
+
+def fig2_amplitude_v0(ds: xr.Dataset) -> Figure:
+    """Fig. 2: amplitude against v0 for b = 0 (solid) and b = 100 s/m (dotted)."""
+    return _fig2_curves(
+        ds,
+        "fig2_amplitude",
+        1e3,
+        "amplitude of the spring force [mN]",
+        r"Fig. 2: zv set-up, $\beta$ = 42 s/m, a = 160 s/m",
+    )
 
 
 def fig3_amplitude_v0(ds: xr.Dataset) -> Figure:
@@ -73,23 +79,7 @@ def fig3_amplitude_v0(ds: xr.Dataset) -> Figure:
 
 def period_v0(ds: xr.Dataset) -> Figure:
     """Period against v0 (zv set-up), b = 0 and b = 100 s/m."""
-    fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
-    v = ds["fig2_v0"].values
-    for i, b in enumerate(ds["fig2_b"].values):
-        ax.plot(
-            v,
-            ds["fig2_period"].values[i],
-            ls="-" if b == 0 else ":",
-            lw=1.8,
-            color="k",
-            label=f"b = {b:g} s/m",
-        )
-    _v0_axis(ax, ds, "fig2_v0")
-    ax.set_yscale("log")
-    ax.set_ylabel("period [s]")
-    ax.set_title("Period against driving velocity, zv set-up", fontsize=10)
-    ax.legend(frameon=False)
-    return fig
+    return _fig2_curves(ds, "fig2_period", 1.0, "period [s]", "Period against driving velocity, zv set-up")
 
 
 def load_dependence(ds: xr.Dataset) -> Figure:
