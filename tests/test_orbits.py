@@ -1,0 +1,80 @@
+"""Pure-slip orbits by shooting: against converged transients, Floquet multipliers, averaging."""
+
+import math
+
+import numpy as np
+import pytest
+
+from stickslip import CubicLaw, DimensionlessParameters, WeakeningLaw, cycle, simulate
+from stickslip.analysis.orbits import pure_slip_orbit
+from stickslip.analysis.stability import averaged_amplitude
+
+LAW = CubicLaw(alpha=0.5, gamma=0.5 / 3)  # supercritical Hopf at nu = 1
+
+
+@pytest.mark.parametrize("nu", [0.995, 0.97, 0.95])
+def test_shooting_matches_converged_transients(nu: float) -> None:
+    p = DimensionlessParameters(nu=nu, law=LAW)
+    o = pure_slip_orbit(p)
+    r = cycle(p)  # transient followed until the amplitude changes by < 1e-8 per oscillation
+    assert r.regime == "pure-slip"
+    assert o.amplitude == pytest.approx(r.amplitude, rel=1e-7)
+    assert o.period == pytest.approx(r.period, rel=1e-8)
+    assert o.min_velocity == pytest.approx(r.min_velocity, rel=1e-6)
+    assert o.residual < 1e-10
+
+
+@pytest.mark.parametrize("nu", [0.999, 0.97])
+def test_floquet_multipliers(nu: float) -> None:
+    o = pure_slip_orbit(DimensionlessParameters(nu=nu, law=LAW))
+    assert abs(o.multipliers[0] - 1.0) < 1e-9  # autonomous: the trivial multiplier
+    assert o.multipliers[1].imag == 0.0
+    assert o.multipliers[1].real == pytest.approx(o.divergence_multiplier, rel=1e-9)
+    assert o.stable and abs(o.multipliers[1]) < 1
+
+
+def test_stability_confirmed_by_perturbed_simulation() -> None:
+    """A push off the orbit decays by the nontrivial multiplier per period."""
+    p = DimensionlessParameters(nu=0.97, law=LAW)
+    o = pure_slip_orbit(p)
+    eps = 1e-4
+    n = 5
+    traj = simulate(
+        p, duration=(n + 0.5) * o.period, n_points=20 * n + 1, initial=(o.s0 + eps, p.nu), rtol=1e-12
+    )
+    # back on the section w = nu after n periods (phase drifts slightly): compare the deviation
+    # of s at w = nu crossings with eps * multiplier**n
+    maxima = [
+        f
+        for t, k, f in zip(traj.event_time, traj.event_kind, traj.event_force, strict=True)
+        if k == "force-maximum"
+    ]
+    dev = maxima[n - 1] - o.s0
+    assert dev == pytest.approx(eps * o.multipliers[1].real ** n, rel=0.05)
+
+
+def test_weakly_nonlinear_limit_order() -> None:
+    """Against first-order averaging the error shrinks like the distance to the Hopf point."""
+    errs = []
+    for d in (0.04, 0.02, 0.01):
+        nu = 1.0 - d
+        o = pure_slip_orbit(DimensionlessParameters(nu=nu, law=LAW))
+        errs.append(abs(o.amplitude / (2 * averaged_amplitude(LAW, nu)) - 1))
+    slope = np.polyfit(np.log([0.04, 0.02, 0.01]), np.log(errs), 1)[0]
+    assert 0.8 < slope < 1.2, (slope, errs)
+
+
+def test_grazing_orbit_is_refused() -> None:
+    """At 0.9 nu_H averaging's cycle reaches w = 0.03: the true orbit grazes (stick-slip)."""
+    with pytest.raises(RuntimeError, match="grazes|did not converge|diverged"):
+        pure_slip_orbit(DimensionlessParameters(nu=0.85, law=LAW))
+
+
+def test_bad_input() -> None:
+    with pytest.raises(ValueError, match="no small-cycle guess"):
+        pure_slip_orbit(DimensionlessParameters(nu=0.5, law=WeakeningLaw(c=3.8)))
+    with pytest.raises(ValueError, match="tol="):
+        pure_slip_orbit(DimensionlessParameters(nu=0.97, law=LAW), tol=1.0)
+    with pytest.raises(ValueError, match="params="):
+        pure_slip_orbit("nu=0.97")  # type: ignore[arg-type]
+    assert math.isfinite(pure_slip_orbit(DimensionlessParameters(nu=0.97, law=LAW), guess=(1.1, 6.3)).period)
