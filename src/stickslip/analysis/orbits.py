@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -76,7 +77,7 @@ class PeriodicOrbit:
 
 def _flow(
     params: DimensionlessParameters, s0: float, period: float, rtol: float, dense: bool = False
-) -> object:
+) -> Any:
     law, nu = params.law, params.nu
 
     def rhs(_t: float, y: np.ndarray) -> list[float]:
