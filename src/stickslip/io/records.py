@@ -173,25 +173,14 @@ def _record_from_frame(
             f"{where}: time is not strictly increasing at rows {i + 2}-{i + 3} "
             f"({t[i]!r} s then {t[i + 1]!r} s)"
         )
-    x = v = None
-    if "displacement" in df.columns:
-        x = _si(
-            _check_numeric(df, "displacement", where),
-            units["displacement"],
-            "displacement",
-            "[length]",
-            "m",
-            where,
-        )
-    if "velocity" in df.columns:
-        v = _si(
-            _check_numeric(df, "velocity", where),
-            units["velocity"],
-            "velocity",
-            "[length] / [time]",
-            "m/s",
-            where,
-        )
+
+    def optional(col: str, dimension: str, si: str) -> FloatArray | None:
+        if col not in df.columns:
+            return None
+        return _si(_check_numeric(df, col, where), units[col], col, dimension, si, where)
+
+    x = optional("displacement", "[length]", "m")
+    v = optional("velocity", "[length] / [time]", "m/s")
     v0q = _quantity(v0 if v0 is not None else meta.get("v0"), "v0", "[length] / [time]", "10 um/s", where)
     loadq = _quantity(load if load is not None else meta.get("load"), "load", "[force]", "196 mN", where)
     return Record(name, t, f, x, v, v0q, loadq, dict(meta))
