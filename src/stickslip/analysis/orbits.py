@@ -24,12 +24,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
-from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
 
+from ..core import variational as va
 from ..models.parameters import DimensionlessParameters
 from .stability import averaged_amplitude
 
@@ -75,28 +73,45 @@ class PeriodicOrbit:
     residual: float
 
 
-def _flow(
-    params: DimensionlessParameters, s0: float, period: float, rtol: float, dense: bool = False
-) -> Any:
-    law, nu = params.law, params.nu
+def _law_arrays(params: DimensionlessParameters) -> tuple[int, np.ndarray]:
+    return int(params.law.core_id), np.ascontiguousarray(params.law.core_params(), dtype=np.float64)  # type: ignore[attr-defined]
 
-    def rhs(_t: float, y: np.ndarray) -> list[float]:
-        s, w = y[0], y[1]
-        f = float(law.forward(np.array([w]))[0])  # type: ignore[attr-defined]
-        df = float(law.forward(np.array([w]), 1)[0])  # type: ignore[attr-defined]
-        p11, p12, p21, p22 = y[2], y[3], y[4], y[5]
-        return [
-            nu - w,
-            s - f,
-            -p21,
-            -p22,  # Phi' = J Phi, J = [[0, -1], [1, -f'(w)]]
-            p11 - df * p21,
-            p12 - df * p22,
-            df,
-        ]  # integral of f'(w)
 
-    y0 = [s0, nu, 1.0, 0.0, 0.0, 1.0, 0.0]
-    return solve_ivp(rhs, (0.0, period), y0, method="DOP853", rtol=rtol, atol=rtol * 1e-2, dense_output=dense)
+def flow(
+    law_id: int,
+    lp: np.ndarray,
+    nu: float,
+    s0: float,
+    w0: float,
+    period: float,
+    rtol: float,
+    measure: bool = False,
+    max_steps: int = 200_000,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Integrate the slip flow and its variational equations over ``[0, period]``.
+
+    Returns the final state (see :mod:`stickslip.core.variational` for the
+    layout) and the measurements ``extras``.
+
+    Raises
+    ------
+    RuntimeError
+        When the integration fails (step budget, non-finite state).
+
+    """
+    y = np.zeros(va.NVAR)
+    y[0], y[1], y[2], y[5] = s0, w0, 1.0, 1.0
+    kv = np.empty((12, 7))
+    extras = np.zeros(va.NX)
+    va.flow_variational(law_id, lp, nu, y, period, rtol, rtol * 1e-2, max_steps, measure, kv, extras)
+    if extras[va.X_STATUS] != va.VS_OK:
+        why = (
+            "the step budget ran out"
+            if extras[va.X_STATUS] == va.VS_MAX_STEPS
+            else "the state became non-finite"
+        )
+        raise RuntimeError(f"slip flow from (s, w) = ({s0:.6g}, {w0:.6g}) over tau = {period:.6g}: {why}")
+    return y, extras
 
 
 def pure_slip_orbit(
@@ -146,9 +161,9 @@ def pure_slip_orbit(
     s0, period = float(guess[0]), float(guess[1])
     rtol = tol * 1e-2
     residual = math.inf
+    law_id, lp = _law_arrays(params)
     for it in range(1, max_iter + 1):
-        sol = _flow(params, s0, period, rtol)
-        y = sol.y[:, -1]
+        y, _ = flow(law_id, lp, nu, s0, nu, period, rtol)
         g = np.array([y[0] - s0, y[1] - nu])
         residual = float(np.linalg.norm(g))
         if residual < tol:
@@ -162,30 +177,23 @@ def pure_slip_orbit(
             raise RuntimeError(f"shooting diverged at iteration {it} (period {period!r}); try a better guess")
     else:
         raise RuntimeError(f"shooting did not converge in {max_iter} iterations (|G| = {residual:.3g})")
-    sol = _flow(params, s0, period, rtol, dense=True)
-    t = np.linspace(0.0, period, 2001)
-    ys = sol.sol(t)
-    if ys[1].min() <= 0:
+    y, extras = flow(law_id, lp, nu, s0, nu, period, rtol, measure=True)
+    if extras[va.X_W_MIN] <= 0:
         raise RuntimeError(
-            f"the orbit found reaches w = {ys[1].min():.3g} <= 0: it grazes, "
+            f"the orbit found reaches w = {extras[va.X_W_MIN]:.3g} <= 0: it grazes, "
             "so it is not a pure-slip orbit (the motion sticks)"
         )
-    # the minimum of s is where w crosses nu downward: locate it on the dense output
-    i_max = int(np.argmax(ys[1]))
-    i_dn = i_max + int(np.argmax(ys[1][i_max:] < nu))
-    t_min = brentq(lambda tt: float(sol.sol(tt)[1]) - nu, t[i_dn - 1], t[i_dn], xtol=1e-15)
-    s_min = float(sol.sol(t_min)[0])
-    phi = sol.y[2:6, -1].reshape(2, 2)
+    phi = y[2:6].reshape(2, 2)
     mult = np.linalg.eigvals(phi)
     order = np.argsort(np.abs(np.abs(mult) - 1.0))  # the trivial multiplier first
     mult = mult[order]
-    div_mult = math.exp(-float(sol.y[6, -1]))
+    div_mult = math.exp(-float(y[8]))
     return PeriodicOrbit(
         s0=s0,
         period=period,
-        amplitude=float(s0 - s_min),
-        min_velocity=float(ys[1].min()),
-        max_velocity=float(ys[1].max()),
+        amplitude=float(s0 - extras[va.X_S_MIN]),
+        min_velocity=float(extras[va.X_W_MIN]),
+        max_velocity=float(extras[va.X_W_MAX]),
         multipliers=(complex(mult[0]), complex(mult[1])),
         divergence_multiplier=div_mult,
         stable=bool(abs(mult[1]) < 1.0),
