@@ -68,10 +68,34 @@ def reference_cycle(
         def w_extremum(_t: float, y: np.ndarray, d: int = d) -> float:
             return rhs(_t, y, d)[1]
 
-        sol = solve_ivp(
+        def turn(_t: float, y: np.ndarray, d: int = d) -> float:
+            return rhs(_t, y, d)[1]
+
+        turn.terminal = True  # type: ignore[attr-defined]
+        turn.direction = -d  # type: ignore[attr-defined]
+        # A phase starts at rest, where the stop function is zero: integrate first to
+        # the turn of the velocity (which must precede the stop), then to the stop, so
+        # that a weak slip that ends within one step is not mistaken for no slip.
+        part = solve_ivp(
             rhs,
             (t, t + t_phase),
             [s, w],
+            method="DOP853",
+            rtol=rtol,
+            atol=atol,
+            events=[turn, extremum, w_extremum],
+        )
+        if part.status != 1:
+            raise RuntimeError("reference: slip phase did not turn")
+        for ev in np.reshape(part.y_events[1], (-1, 2)):
+            s_values.append(float(ev[0]))
+        w_max = max(w_max, float(np.max(np.reshape(part.y_events[2], (-1, 2))[:, 1], initial=0.0)))
+        t = float(part.t_events[0][0])
+        w_max = max(w_max, float(part.y_events[0][0][1]))
+        sol = solve_ivp(
+            rhs,
+            (t, t + t_phase),
+            part.y_events[0][0],
             method="DOP853",
             rtol=rtol,
             atol=atol,

@@ -3,6 +3,7 @@
 from pathlib import Path
 
 import numpy as np
+import pytest
 from click.testing import CliRunner
 
 import stickslip as S
@@ -35,9 +36,24 @@ def test_backward_slips_counted_in_pure_slip() -> None:
 def test_fixed_beta_holds_at_every_sweep_point(tmp_path: Path) -> None:
     """Bug: with --beta fixed and --load swept, the mass stayed that of the first load."""
     out = tmp_path / "s.nc"
-    res = CliRunner().invoke(main, ["sweep", "--preset", "zv", "--beta", "42 s/m", "--load",
-                                    "100 mN..400 mN", "--num", "3", "--out", str(out), "--no-plot",
-                                    "--quiet"])
+    res = CliRunner().invoke(
+        main,
+        [
+            "sweep",
+            "--preset",
+            "zv",
+            "--beta",
+            "42 s/m",
+            "--load",
+            "100 mN..400 mN",
+            "--num",
+            "3",
+            "--out",
+            str(out),
+            "--no-plot",
+            "--quiet",
+        ],
+    )
     assert res.exit_code == 0, res.output
     from stickslip.analysis.sweep import load_sweep
 
@@ -58,3 +74,19 @@ def test_numpy_integers_are_integers() -> None:
     assert classify([1, 2, 3, 4, 5], [1, 2, 3, 4, 5], min_points=np.int64(4)).verdict == "stick-slip"
     p = S.DimensionlessParameters(nu=0.1, law=S.WeakeningLaw(c=2.0))
     assert S.simulate(p, n_points=np.int64(50)).time.size >= 50
+
+
+def test_backward_slip_that_ends_inside_its_first_step() -> None:
+    """Bug: a stop just past the static threshold (s slightly below -1) starts a backward
+    slip so weak that it ends inside its first step; the stop was missed and the slip ran
+    on into the continued law until the step size collapsed (step-size-too-small for
+    c = 3.8, p = 0.05 and 1.005 < nu < 1.04)."""
+    from reference import reference_cycle
+
+    for nu in (1.006, 1.02):
+        r = S.cycle(S.DimensionlessParameters(nu=nu, law=S.WeakeningLaw(c=3.8, p=0.05)), probe=False)
+        assert r.status == "ok" and r.regime == "stick-slip" and r.backward_slips == 1
+        assert -1e-4 < r.min_velocity < 0
+        ref = reference_cycle("weakening", {"c": 3.8, "p": 0.05}, nu)
+        assert r.amplitude == pytest.approx(ref.amplitude, rel=1e-8)
+        assert r.period == pytest.approx(ref.period, rel=1e-8)

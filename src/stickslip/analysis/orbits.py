@@ -27,11 +27,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core import engine
 from ..core import variational as va
+from ..core.api import run_attractors
+from ..models.friction import DimensionlessLaw
 from ..models.parameters import DimensionlessParameters
 from .stability import averaged_amplitude
 
-__all__ = ["PeriodicOrbit", "pure_slip_orbit"]
+__all__ = ["PeriodicOrbit", "StickSlipOrbit", "pure_slip_orbit", "saltation", "stick_slip_orbit"]
 
 
 @dataclass(frozen=True)
@@ -73,8 +76,9 @@ class PeriodicOrbit:
     residual: float
 
 
-def _law_arrays(params: DimensionlessParameters) -> tuple[int, np.ndarray]:
-    return int(params.law.core_id), np.ascontiguousarray(params.law.core_params(), dtype=np.float64)  # type: ignore[attr-defined]
+def law_arrays(law: DimensionlessLaw) -> tuple[int, np.ndarray]:
+    """Return the compiled core's law id and parameter vector for ``law``."""
+    return int(law.core_id), np.ascontiguousarray(law.core_params(), dtype=np.float64)  # type: ignore[attr-defined]
 
 
 def flow(
@@ -161,7 +165,7 @@ def pure_slip_orbit(
     s0, period = float(guess[0]), float(guess[1])
     rtol = tol * 1e-2
     residual = math.inf
-    law_id, lp = _law_arrays(params)
+    law_id, lp = law_arrays(params.law)
     for it in range(1, max_iter + 1):
         y, _ = flow(law_id, lp, nu, s0, nu, period, rtol)
         g = np.array([y[0] - s0, y[1] - nu])
@@ -199,4 +203,107 @@ def pure_slip_orbit(
         stable=bool(abs(mult[1]) < 1.0),
         iterations=it,
         residual=residual,
+    )
+
+
+@dataclass(frozen=True)
+class StickSlipOrbit:
+    """The stick-slip orbit through breakaway and its monodromy (dimensionless units).
+
+    Attributes
+    ----------
+    nu : float
+        Driving velocity.
+    period, slip_time, stick_time : float
+        Period and its slip and stick parts (units of ``sqrt(m/k)``).
+    stop_force : float
+        Spring force at the stop.
+    monodromy : ndarray, shape (2, 2)
+        ``S_break Phi_stick S_stop Phi_slip``: the linearised return map of a
+        perturbation of the breakaway state, with the saltation matrices of the
+        stop (slip to stick) and of breakaway (stick to slip).
+    multipliers : tuple of complex
+        Its eigenvalues, the trivial one (1) first; the other is 0: the stick
+        phase forgets the velocity, so the orbit is superstable.
+
+    """
+
+    nu: float
+    period: float
+    slip_time: float
+    stick_time: float
+    stop_force: float
+    monodromy: np.ndarray
+    multipliers: tuple[complex, complex]
+
+
+def saltation(f_before: np.ndarray, f_after: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """Return the saltation matrix ``I + (F+ - F-) n^T / (n . F-)`` of a switch.
+
+    ``f_before`` and ``f_after`` are the vector fields on either side at the
+    switching point, ``normal`` the gradient of the switching function.
+    """
+    denom = float(normal @ f_before)
+    if denom == 0.0:
+        raise ValueError("the switching surface is reached tangentially (grazing): no saltation matrix")
+    return np.eye(2) + np.outer(f_after - f_before, normal) / denom
+
+
+def stick_slip_orbit(params: DimensionlessParameters, *, tol: float = 1e-10) -> StickSlipOrbit:
+    """Compute the stick-slip orbit through breakaway and its Floquet multipliers.
+
+    The slip phase from ``(s, w) = (1, 0)`` is integrated with its variational
+    equations up to the stop found by the engine; the stick phase
+    ``s' = nu, w = 0`` has the identity as its Jacobian. At the stop the flow
+    switches from slip ``(nu, s - f(0))`` to stick ``(nu, 0)`` across ``w = 0``;
+    at breakaway from stick to slip ``(nu, 1 - f(0+))`` across ``s = 1``.
+
+    Raises
+    ------
+    RuntimeError
+        When the slip from breakaway does not stop (no stick-slip orbit at this
+        ``nu``) or the cycle contains backward slip (not covered).
+
+    """
+    if not isinstance(params, DimensionlessParameters):
+        raise ValueError(f"params={params!r}: expected DimensionlessParameters")
+
+    law_id, lp = law_arrays(params.law)
+    nu = params.nu
+    o = run_attractors(
+        law_id,
+        lp,
+        [nu],
+        from_breakaway=True,
+        rtol=tol * 1e-2,
+        atol=tol * 1e-4,
+        max_slip_time=1e5,
+        conv_tol=1e-8,
+    )[0]
+    if o[engine.O_REGIME] != engine.RG_STICK_SLIP or o[engine.O_STATUS] != engine.ST_OK:
+        raise RuntimeError(f"no stick-slip orbit at nu={nu!r}: the slip from breakaway does not stop")
+    if o[engine.O_NBACKWARD] > 0:
+        raise RuntimeError(
+            f"the stick-slip cycle at nu={nu!r} has backward slip: its monodromy is not covered"
+        )
+    period = float(o[engine.O_PERIOD])
+    stick = float(o[engine.O_STICK_TIME])
+    slip = period - stick
+    y, _ = flow(law_id, lp, nu, 1.0, 0.0, slip, tol * 1e-2)
+    s_stop = float(y[0])
+    f0 = float(params.law.forward(np.array([0.0]))[0])  # type: ignore[attr-defined]
+    phi_slip = y[2:6].reshape(2, 2)
+    s_stop_m = saltation(np.array([nu, s_stop - f0]), np.array([nu, 0.0]), np.array([0.0, 1.0]))
+    s_break = saltation(np.array([nu, 0.0]), np.array([nu, 1.0 - f0]), np.array([1.0, 0.0]))
+    mono = s_break @ np.eye(2) @ s_stop_m @ phi_slip
+    mult = np.linalg.eigvals(mono)
+    mult = mult[np.argsort(np.abs(mult - 1.0))]
+    return StickSlipOrbit(
+        nu=nu,
+        period=period,
+        slip_time=slip,
+        stick_time=stick,
+        stop_force=s_stop,
+        monodromy=mono,
+        multipliers=(complex(mult[0]), complex(mult[1])),
     )

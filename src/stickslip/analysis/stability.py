@@ -90,8 +90,9 @@ def hopf_points(
     if np.all(g == 0.0):
         return []  # f' vanishes identically (Coulomb): steady sliding is neutral, no Hopf point
     # a root on the grid itself, isolated: the neighbours have opposite signs
-    roots = [float(grid[i]) for i in np.flatnonzero(g == 0.0)
-             if 0 < i < grid.size - 1 and g[i - 1] * g[i + 1] < 0]
+    roots = [
+        float(grid[i]) for i in np.flatnonzero(g == 0.0) if 0 < i < grid.size - 1 and g[i - 1] * g[i + 1] < 0
+    ]
     for i in np.flatnonzero(np.sign(g[:-1]) * np.sign(g[1:]) < 0):
         roots.append(float(brentq(lambda v: _d(law, v, 1), grid[i], grid[i + 1], xtol=1e-14, rtol=1e-14)))
     out = []

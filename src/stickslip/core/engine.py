@@ -361,6 +361,11 @@ def _slip_phase(  # type: ignore[no-untyped-def]
                 x_stop = illinois_sw(law, p0, p1, d, cs, s, cw, w, 1, 0.0, 0.0, w0, 1.0, w1)
             elif x_wext >= 0.0 and d * wext <= 0.0 and d * dw0 < 0.0:
                 x_stop = illinois_sw(law, p0, p1, d, cs, s, cw, w, 1, 0.0, 0.0, w0, x_wext, wext)
+        elif d * w0 == 0.0 and x_wext >= 0.0 and d * wext > 0.0 and d * w1 <= 0.0:
+            # a phase that starts at rest (w = 0) with a weak push (after a stop just
+            # past the static threshold) can end inside its first step: w leaves zero,
+            # turns at x_wext and is back at zero before the step ends
+            x_stop = illinois_sw(law, p0, p1, d, cs, s, cw, w, 1, 0.0, x_wext, wext, 1.0, w1)
         x_end = x_stop if x_stop < 1.0 else 1.0
         # spring-force extrema (w = nu), forward slip only; velocity extrema
         nev = 0

@@ -1,0 +1,238 @@
+"""Two-parameter regime maps and the paper's criterion on trial.
+
+:func:`regime_map` runs :func:`~.regimes.regimes` for each value of one law
+parameter and stores, on a common ``nu`` grid, the set of attractors and what a
+simulation from rest reaches (the stick-slip orbit where it exists, otherwise
+the stable pure-slip orbit, otherwise steady sliding), with its amplitude taken
+from the continued branches (exact near the Hopf point, where transients crawl).
+
+:func:`criterion_trial` then applies the paper's criterion to those amplitudes,
+as an experimenter would: the sign of ``d(amplitude)/d(nu)`` read as
+stick-slip (rising) or pure slip (falling), and compares it with the regime
+actually reached.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ..models.friction import CubicLaw, DimensionlessLaw, WeakeningLaw
+from .regimes import RegimeDiagram, regimes, stable_pure_slip_at
+from .sweep import _show_progress
+
+__all__ = ["MAP_PARAMETERS", "REGIME_CODES", "criterion_table", "criterion_trial", "regime_map"]
+
+#: integer codes of the ``regime`` variable (CF ``flag_values``)
+REGIME_CODES = {"none": -1, "stick-slip": 0, "pure-slip": 1, "steady-sliding": 2, "bistable": 3}
+#: what a simulation from rest reaches (``observed`` variable)
+OBSERVED_CODES = {"stick-slip": 0, "pure-slip": 1, "steady-sliding": 2}
+#: the law parameters a map can run over
+MAP_PARAMETERS = {"weakening": ("c", "p"), "cubic": ("alpha", "gamma")}
+
+
+def _with(law: DimensionlessLaw, name: str, value: float) -> DimensionlessLaw:
+    allowed = MAP_PARAMETERS.get(law.name, ())  # type: ignore[attr-defined]
+    if name not in allowed:
+        raise ValueError(
+            f"param={name!r}: a regime map of the {law.name} law runs over one of {allowed}"  # type: ignore[attr-defined]
+        )
+    return replace(law, **{name: float(value)})  # type: ignore[type-var]
+
+
+def regime_map(
+    law: DimensionlessLaw,
+    param: str,
+    values: Sequence[float] | np.ndarray,
+    nu_min: float,
+    nu_max: float,
+    *,
+    n_nu: int = 201,
+    progress: bool | None = None,
+) -> xr.Dataset:
+    """Compute the regimes over the plane (``param``, ``nu``).
+
+    Parameters
+    ----------
+    law : WeakeningLaw or CubicLaw
+        The law; its other parameters are held fixed.
+    param : str
+        ``c`` or ``p`` (weakening), ``alpha`` or ``gamma`` (cubic).
+    values : sequence of float
+        Values of ``param``.
+    nu_min, nu_max : float
+        Range of ``nu`` (a logarithmic grid when it spans more than a factor 20).
+    n_nu : int, optional
+        Points of the ``nu`` grid.
+    progress : bool, optional
+        Progress bar (None: on a terminal, for long maps).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions ``(param, nu)``; variables ``regime`` (codes in
+        :data:`REGIME_CODES`, named in ``flag_meanings``), ``observed`` (what a
+        simulation from rest reaches), ``amplitude`` (its spring-force range, units
+        of static friction) and, per ``param`` value, the interval ends ``hopf``,
+        ``fold``, ``grazing`` and ``stick_slip_onset`` (NaN when absent).
+
+    """
+    if not isinstance(law, WeakeningLaw | CubicLaw):
+        raise ValueError(f"law={law!r}: a regime map needs the weakening or the cubic law")
+    vals = np.asarray(values, dtype=float)
+    if vals.ndim != 1 or vals.size < 1 or not np.all(np.isfinite(vals)):
+        raise ValueError(f"values={values!r}: expected a 1-d sequence of finite numbers")
+    _with(law, param, float(vals[0]))  # checks the name
+    from tqdm.auto import tqdm
+
+    show = _show_progress(progress) if progress is not None else (_show_progress(None) and vals.size > 4)
+    regime = np.empty((vals.size, n_nu), dtype=np.int8)
+    observed = np.empty((vals.size, n_nu), dtype=np.int8)
+    amplitude = np.empty((vals.size, n_nu))
+    ends = {k: np.full(vals.size, math.nan) for k in ("hopf", "fold", "grazing", "stick_slip_onset")}
+    grid = None
+    for i, v in enumerate(tqdm(vals, desc=f"regimes over {param}", disable=not show)):
+        d = regimes(_with(law, param, float(v)), nu_min, nu_max, n_grid=n_nu)
+        steady = d.branches[0]
+        grid = steady.nu
+        regime[i], observed[i], amplitude[i] = _rows(d)
+        for p in d.points:
+            key = p.kind.replace("-", "_")
+            if key in ends and math.isnan(ends[key][i]):
+                ends[key][i] = p.nu
+    assert grid is not None
+    ds = xr.Dataset(
+        {
+            "regime": (
+                (param, "nu"),
+                regime,
+                {
+                    "long_name": "set of attractors",
+                    "flag_values": list(REGIME_CODES.values()),
+                    "flag_meanings": " ".join(REGIME_CODES),
+                },
+            ),
+            "observed": (
+                (param, "nu"),
+                observed,
+                {
+                    "long_name": "attractor reached from rest",
+                    "flag_values": list(OBSERVED_CODES.values()),
+                    "flag_meanings": " ".join(OBSERVED_CODES),
+                },
+            ),
+            "amplitude": (
+                (param, "nu"),
+                amplitude,
+                {"long_name": "spring-force range of the attractor reached from rest", "units": "mu_s W"},
+            ),
+            **{
+                k: ((param,), a, {"long_name": f"{k.replace('_', ' ')} (dimensionless nu)"})
+                for k, a in ends.items()
+            },
+        },
+        coords={
+            param: (param, vals, {"long_name": f"{law.name} law parameter {param}"}),  # type: ignore[attr-defined]
+            "nu": ("nu", grid, {"long_name": "dimensionless driving velocity beta*v0"}),
+        },
+        attrs={"law": law.name, **{k: float(x) for k, x in vars(law).items() if k != param}},  # type: ignore[attr-defined]
+    )
+    return ds
+
+
+def _rows(d: RegimeDiagram) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    steady = d.branches[0]
+    grid = steady.nu
+    ss = next(b for b in d.branches if b.kind == "stick-slip")
+    regime = np.empty(grid.size, dtype=np.int8)
+    observed = np.empty(grid.size, dtype=np.int8)
+    amplitude = np.empty(grid.size)
+    ss_amp = dict(zip(ss.nu.tolist(), ss.amplitude.tolist(), strict=True))
+    for j, nu in enumerate(grid):
+        regime[j] = REGIME_CODES[d.regime_at(float(nu)).regime]
+        if float(nu) in ss_amp:
+            observed[j], amplitude[j] = OBSERVED_CODES["stick-slip"], ss_amp[float(nu)]
+            continue
+        ps = stable_pure_slip_at(d.branches, float(nu))
+        if ps:
+            observed[j], amplitude[j] = OBSERVED_CODES["pure-slip"], min(ps)
+        else:
+            observed[j], amplitude[j] = OBSERVED_CODES["steady-sliding"], 0.0
+    return regime, observed, amplitude
+
+
+def criterion_trial(ds: xr.Dataset) -> xr.Dataset:
+    """Apply the paper's criterion along ``nu`` and compare with the regime reached.
+
+    At each grid point where an oscillation is reached from rest and its two
+    neighbours reach the same kind of oscillation, the slope of
+    ``log(amplitude)`` against ``log(nu)`` (centred difference) is read as
+    *stick-slip* when positive and *pure slip* when negative.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``ds`` with ``slope`` (d log A / d log nu), ``verdict`` (0 stick-slip,
+        1 pure slip, -1 no verdict) and ``right`` (1 right, 0 wrong, -1 not
+        judged: steady sliding, or a regime change next to the point).
+
+    """
+    obs = ds.observed.values
+    amp = ds.amplitude.values
+    lnu = np.log(ds.nu.values)
+    slope = np.full(amp.shape, math.nan)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        la = np.log(amp)
+        slope[:, 1:-1] = (la[:, 2:] - la[:, :-2]) / (lnu[2:] - lnu[:-2])
+    same = np.zeros(amp.shape, dtype=bool)
+    same[:, 1:-1] = (obs[:, 2:] == obs[:, 1:-1]) & (obs[:, :-2] == obs[:, 1:-1])
+    osc = obs != OBSERVED_CODES["steady-sliding"]
+    judged = same & osc & np.isfinite(slope)
+    verdict = np.where(judged, np.where(slope > 0, 0, 1), -1).astype(np.int8)
+    right = np.where(judged, (verdict == obs).astype(np.int8), -1).astype(np.int8)
+    out = ds.copy()
+    dims = ds.amplitude.dims
+    out["slope"] = (dims, slope, {"long_name": "d log(amplitude) / d log(nu)"})
+    out["verdict"] = (
+        dims,
+        verdict,
+        {
+            "long_name": "criterion verdict",
+            "flag_values": [-1, 0, 1],
+            "flag_meanings": "none stick-slip pure-slip",
+        },
+    )
+    out["right"] = (
+        dims,
+        right,
+        {
+            "long_name": "criterion agrees with the regime",
+            "flag_values": [-1, 0, 1],
+            "flag_meanings": "not-judged wrong right",
+        },
+    )
+    return out
+
+
+def criterion_table(trial: xr.Dataset) -> list[dict[str, Any]]:
+    """Summarise a :func:`criterion_trial`: counts of right and wrong verdicts per regime reached."""
+    rows = []
+    for name, code in (("stick-slip", 0), ("pure-slip", 1)):
+        sel = (trial.observed.values == code) & (trial.right.values >= 0)
+        n = int(sel.sum())
+        n_right = int((trial.right.values[sel] == 1).sum())
+        rows.append(
+            {
+                "regime": name,
+                "judged": n,
+                "right": n_right,
+                "wrong": n - n_right,
+                "fraction_right": (n_right / n) if n else math.nan,
+            }
+        )
+    return rows

@@ -1,0 +1,677 @@
+"""Continuation in the driving velocity: every branch, its stability, and the regimes.
+
+Three kinds of branch exist for a velocity-dependent law (PHYSICS.md §3):
+
+``steady-sliding``
+    ``(s, w) = (f(nu), nu)``, stable exactly where ``f'(nu) > 0``; it changes
+    stability at the Hopf points ``f'(nu_H) = 0`` (:func:`~.stability.hopf_points`).
+``pure-slip``
+    Periodic orbits that never stop. Each is born at a Hopf point and followed
+    by pseudo-arclength continuation in ``(A, T, nu)`` (``A`` = spring-force
+    maximum above ``f(nu)``, ``T`` = period), each point solved by Newton
+    shooting with the compiled variational equations
+    (:mod:`stickslip.core.variational`), so unstable orbits and folds are
+    followed as easily as stable ones. Stability is the nontrivial Floquet
+    multiplier ``exp(-integral of f'(w) over a period)``. A branch ends where
+    its minimum velocity touches zero (*grazing*: the orbit passes through the
+    breakaway point and becomes the stick-slip orbit), where it leaves the range,
+    or where its period blows up.
+``stick-slip``
+    The orbit through breakaway ``(s, w) = (1, 0)``. It exists where the slip
+    from breakaway stops, which the exact non-smooth engine decides. Its
+    monodromy matrix, built with saltation matrices
+    (:func:`~.orbits.stick_slip_orbit`), has multipliers 1 and 0: where it
+    exists it is stable.
+
+The regime at a driving velocity is the set of attractors there: the stable
+steady sliding, the stable pure-slip orbits, the stick-slip orbit.
+``bistable`` marks two or more. Interval ends are located to ``1e-9`` (Hopf,
+grazing of a continued orbit, onset of stick-slip by bisection on the engine)
+or to the continuation's resolution (folds, by a quadratic through the three
+points around the turn).
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .. import defaults
+from ..core import engine
+from ..core import variational as va
+from ..core.api import run_attractors
+from ..models.friction import DimensionlessLaw
+from ..models.units import check_number
+from .orbits import flow, law_arrays
+from .stability import Hopf, hopf_points
+
+__all__ = [
+    "Branch",
+    "Interval",
+    "RegimeDiagram",
+    "SpecialPoint",
+    "continue_pure_slip",
+    "regimes",
+    "stick_slip_branch",
+]
+
+REGIME_NAMES = ("stick-slip", "pure-slip", "bistable", "steady-sliding", "none")
+
+
+@dataclass(frozen=True)
+class Branch:
+    """One branch of steady states or periodic orbits against ``nu`` (dimensionless).
+
+    Attributes
+    ----------
+    kind : str
+        ``steady-sliding``, ``pure-slip`` or ``stick-slip``.
+    nu : ndarray
+        Driving velocities along the branch (in continuation order).
+    amplitude : ndarray
+        ``max s - min s`` (0 for steady sliding), units of static friction.
+    period : ndarray
+        Period (units of ``sqrt(m/k)``); NaN for steady sliding.
+    min_velocity : ndarray
+        Smallest block velocity on the orbit (``nu`` for steady sliding).
+    multiplier : ndarray
+        Nontrivial Floquet multiplier (0 for stick-slip); for steady sliding the
+        largest real part of the eigenvalues.
+    stable : ndarray of bool
+        Stability of each point.
+    end : str
+        Why the branch stops: ``range``, ``grazing``, ``hopf``, ``period`` (blow-up),
+        ``points`` (budget), ``failed`` (Newton could not continue).
+
+    """
+
+    kind: str
+    nu: np.ndarray
+    amplitude: np.ndarray
+    period: np.ndarray
+    min_velocity: np.ndarray
+    multiplier: np.ndarray
+    stable: np.ndarray
+    end: str
+
+    def as_dict(self) -> dict[str, Any]:
+        """Return a JSON-ready dictionary."""
+        return {
+            "kind": self.kind,
+            "end": self.end,
+            "nu": _clean(self.nu),
+            "amplitude": _clean(self.amplitude),
+            "period": _clean(self.period),
+            "min_velocity": _clean(self.min_velocity),
+            "multiplier": _clean(self.multiplier),
+            "stable": [bool(b) for b in self.stable],
+        }
+
+
+@dataclass(frozen=True)
+class SpecialPoint:
+    """A bifurcation on a branch: ``hopf``, ``fold``, ``grazing`` or ``stick-slip-onset``."""
+
+    kind: str
+    nu: float
+    amplitude: float
+    detail: str = ""
+
+
+@dataclass(frozen=True)
+class Interval:
+    """A range of ``nu`` with one set of attractors.
+
+    Attributes
+    ----------
+    regime : str
+        ``stick-slip``, ``pure-slip``, ``steady-sliding``, ``bistable`` (two or
+        more attractors) or ``none``.
+    nu_min, nu_max : float
+        Ends of the interval (dimensionless).
+    attractors : tuple of str
+        The attractors present, e.g. ``("stick-slip", "steady-sliding")``.
+
+    """
+
+    regime: str
+    nu_min: float
+    nu_max: float
+    attractors: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class RegimeDiagram:
+    """Branches, bifurcations and regime intervals of one law over ``[nu_min, nu_max]``."""
+
+    law: DimensionlessLaw
+    nu_min: float
+    nu_max: float
+    hopf: tuple[Hopf, ...]
+    intervals: tuple[Interval, ...]
+    branches: tuple[Branch, ...]
+    points: tuple[SpecialPoint, ...]
+    units: dict[str, str] = field(default_factory=lambda: {"nu": "1", "amplitude": "mu_s W"})
+
+    def regime_at(self, nu: float) -> Interval:
+        """Return the interval containing ``nu``."""
+        for iv in self.intervals:
+            if iv.nu_min <= nu <= iv.nu_max:
+                return iv
+        raise ValueError(f"nu={nu!r}: outside [{self.nu_min}, {self.nu_max}]")
+
+    def as_dict(self) -> dict[str, Any]:
+        """Return the JSON-ready dictionary printed by ``stickslip regimes --json``."""
+        return {
+            "law": {"name": self.law.name, **_law_fields(self.law)},  # type: ignore[attr-defined]
+            "nu_min": self.nu_min,
+            "nu_max": self.nu_max,
+            "hopf": [
+                {"nu": h.nu, "criticality": h.criticality, "l1": h.l1, "stable_side": h.stable_side}
+                for h in self.hopf
+            ],
+            "intervals": [
+                {
+                    "regime": iv.regime,
+                    "nu_min": iv.nu_min,
+                    "nu_max": iv.nu_max,
+                    "attractors": list(iv.attractors),
+                }
+                for iv in self.intervals
+            ],
+            "points": [_clean_scalar_dict(asdict(p)) for p in self.points],
+            "branches": [b.as_dict() for b in self.branches],
+            "units": dict(self.units),
+        }
+
+    def to_json(self, **kwargs: Any) -> str:
+        """Return :meth:`as_dict` as JSON."""
+        return json.dumps(self.as_dict(), **kwargs)
+
+
+def _law_fields(law: Any) -> dict[str, float]:
+    return {k: float(v) for k, v in vars(law).items() if isinstance(v, int | float)}
+
+
+def _clean(a: np.ndarray) -> list[float | None]:
+    return [float(x) if math.isfinite(x) else None for x in np.asarray(a, dtype=float)]
+
+
+def _clean_scalar_dict(d: dict[str, Any]) -> dict[str, Any]:
+    return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in d.items()}
+
+
+# ----------------------------------------------------------------------------- pure slip
+
+
+class _Shooter:
+    """Residual and Jacobian of the periodic-orbit equations in ``x = (A, T, nu)``."""
+
+    def __init__(self, law: DimensionlessLaw, rtol: float) -> None:
+        self.law = law
+        self.law_id, self.lp = law_arrays(law)
+        self.rtol = rtol
+
+    def f(self, nu: float, order: int = 0) -> float:
+        return float(self.law.forward(np.array([nu]), order)[0])  # type: ignore[attr-defined]
+
+    def residual(self, x: np.ndarray, jac: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        a, period, nu = float(x[0]), float(x[1]), float(x[2])
+        s0 = self.f(nu) + a
+        y, _ = flow(self.law_id, self.lp, nu, s0, nu, period, self.rtol)
+        g = np.array([y[0] - s0, y[1] - nu])
+        if not jac:
+            return g, np.empty((2, 3))
+        phi = y[2:6].reshape(2, 2)
+        d0 = np.array([self.f(nu, 1), 1.0])  # d(s0, w0)/d nu
+        j = np.empty((2, 3))
+        j[:, 0] = phi[:, 0] - np.array([1.0, 0.0])
+        j[:, 1] = [nu - y[1], y[0] - self.f(y[1])]
+        j[:, 2] = phi @ d0 + y[6:8] - d0
+        return g, j
+
+    def measure(self, x: np.ndarray) -> dict[str, float]:
+        a, period, nu = float(x[0]), float(x[1]), float(x[2])
+        s0 = self.f(nu) + a
+        y, ex = flow(self.law_id, self.lp, nu, s0, nu, period, self.rtol, measure=True)
+        return {
+            "amplitude": s0 - float(ex[va.X_S_MIN]),
+            "min_velocity": float(ex[va.X_W_MIN]),
+            "multiplier": math.exp(-float(y[8])),
+        }
+
+
+def _newton(
+    fun: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]],
+    x: np.ndarray,
+    tol: float,
+    max_iter: int = 12,
+) -> tuple[np.ndarray, int] | None:
+    """Newton's method on a square system; None when it fails."""
+    for it in range(1, max_iter + 1):
+        try:
+            g, j = fun(x)
+        except RuntimeError:
+            return None
+        if not np.all(np.isfinite(g)):
+            return None
+        try:
+            dx = np.linalg.solve(j, -g)
+        except np.linalg.LinAlgError:
+            return None
+        x = x + dx
+        if np.linalg.norm(g) < tol and np.linalg.norm(dx) < 1e3 * tol:
+            return x, it
+        if not np.all(np.isfinite(x)) or x[1] <= 0:
+            return None
+    return None
+
+
+def _null_vector(j: np.ndarray) -> np.ndarray:
+    t = np.cross(j[0], j[1])
+    return t / np.linalg.norm(t)
+
+
+def continue_pure_slip(
+    law: DimensionlessLaw,
+    hopf: Hopf,
+    nu_min: float,
+    nu_max: float,
+    *,
+    tol: float = 1e-10,
+    max_points: int = 600,
+    ds_max: float | None = None,
+) -> tuple[Branch, list[SpecialPoint]]:
+    """Follow the pure-slip orbits born at ``hopf`` until they graze or leave ``[nu_min, nu_max]``.
+
+    Parameters
+    ----------
+    law : DimensionlessLaw
+        The friction law.
+    hopf : Hopf
+        Where the branch is born (from :func:`~.stability.hopf_points`).
+    nu_min, nu_max : float
+        Range in which to follow the branch.
+    tol : float, optional
+        Newton tolerance on the periodicity residual; the flow is integrated at ``tol / 100``.
+    max_points : int, optional
+        Budget of continuation points.
+    ds_max : float, optional
+        Largest arclength step in ``(A, T, nu)``; default ``0.02 * max(nu_H, 0.1)``.
+
+    Returns
+    -------
+    branch : Branch
+    points : list of SpecialPoint
+        Folds and the grazing point found on the way.
+
+    """
+    sh = _Shooter(law, tol * 1e-2)
+    nu_h = hopf.nu
+    f2, f3 = sh.f(nu_h, 2), sh.f(nu_h, 3)
+    scale = max(nu_h, 0.1)
+    ds_max = 0.02 * scale if ds_max is None else ds_max
+    # First two points at fixed small A (natural continuation in A): nu from averaging,
+    # a^2 = -8 f'(nu)/f'''(nu) ~ -8 f''(nu_H)(nu - nu_H)/f'''(nu_H).
+    xs: list[np.ndarray] = []
+    for a in (0.01 * scale, 0.02 * scale):
+        nu0 = nu_h - a * a * f3 / (8.0 * f2) if f2 != 0 else nu_h
+        x0 = np.array([a, 2.0 * math.pi, nu0])
+
+        def fixed_a(x: np.ndarray, a: float = a) -> tuple[np.ndarray, np.ndarray]:
+            g, j = sh.residual(x)
+            return np.concatenate([g, [x[0] - a]]), np.vstack([j, [1.0, 0.0, 0.0]])
+
+        res = _newton(fixed_a, x0, tol)
+        if res is None:
+            return _empty_branch("failed"), []
+        xs.append(res[0])
+    pts: list[np.ndarray] = list(xs)
+    meas = [sh.measure(x) for x in xs]
+    tangent = _null_vector(sh.residual(xs[-1])[1])
+    if np.dot(tangent, xs[1] - xs[0]) < 0:
+        tangent = -tangent
+    ds = min(ds_max, float(np.linalg.norm(xs[1] - xs[0])))
+    special: list[SpecialPoint] = []
+    end = "points"
+
+    def corrector(xp: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, int] | None:
+        def aug(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            g, j = sh.residual(x)
+            return np.concatenate([g, [float(np.dot(t, x - xp))]]), np.vstack([j, t])
+
+        return _newton(aug, xp, tol)
+
+    while len(pts) < max_points:
+        x = pts[-1]
+        res = corrector(x + ds * tangent, tangent)
+        if res is None or res[0][0] <= 0 or res[0][1] > 200.0 * math.pi:
+            if res is not None and res[0][1] > 200.0 * math.pi:
+                end = "period"
+                break
+            if res is not None and res[0][0] <= 0:
+                end = "hopf"
+                break
+            ds *= 0.5
+            if ds < 1e-9 * scale:
+                end = "failed"
+                break
+            continue
+        xn, its = res
+        m = sh.measure(xn)
+        if not (nu_min <= xn[2] <= nu_max):
+            # land exactly on the end of the range
+            target = nu_max if xn[2] > nu_max else nu_min
+
+            def on_bound(z: np.ndarray, target: float = target) -> tuple[np.ndarray, np.ndarray]:
+                g, j = sh.residual(z)
+                return np.concatenate([g, [z[2] - target]]), np.vstack([j, [0.0, 0.0, 1.0]])
+
+            rb = _newton(on_bound, xn, tol)
+            if rb is not None and m["min_velocity"] > 0:
+                pts.append(rb[0])
+                meas.append(sh.measure(rb[0]))
+            end = "range"
+            if m["min_velocity"] > 0:
+                break
+        if m["min_velocity"] <= 0:
+            xg = _grazing(sh, x, tangent, ds, corrector, tol)
+            if xg is not None:
+                pts.append(xg)
+                mg = sh.measure(xg)
+                meas.append(mg)
+                special.append(SpecialPoint("grazing", float(xg[2]), mg["amplitude"], "min velocity 0"))
+            end = "grazing"
+            break
+        if end == "range":
+            break
+        t_new = _null_vector(sh.residual(xn)[1])
+        if np.dot(t_new, tangent) < 0:
+            t_new = -t_new
+        pts.append(xn)
+        meas.append(m)
+        if t_new[2] * tangent[2] < 0:  # nu turned back: a fold of cycles between the last points
+            special.append(_fold(pts[-3:], meas[-3:]))
+        tangent = t_new
+        ds = min(ds_max, ds * (1.5 if its <= 3 else (1.0 if its <= 5 else 0.5)))
+    xa = np.array(pts)
+    amp = np.array([m["amplitude"] for m in meas])
+    mult = np.array([m["multiplier"] for m in meas])
+    branch = Branch(
+        kind="pure-slip",
+        nu=xa[:, 2],
+        amplitude=amp,
+        period=xa[:, 1],
+        min_velocity=np.array([m["min_velocity"] for m in meas]),
+        multiplier=mult,
+        stable=mult < 1.0,
+        end=end,
+    )
+    return branch, special
+
+
+def _grazing(
+    sh: _Shooter,
+    x: np.ndarray,
+    tangent: np.ndarray,
+    ds: float,
+    corrector: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, int] | None],
+    tol: float,
+) -> np.ndarray | None:
+    """Locate the orbit with minimum velocity 0 between ``x`` and ``x + ds * tangent`` (secant)."""
+    lo, hi = 0.0, ds
+    w_lo = sh.measure(x)["min_velocity"]
+    res = corrector(x + hi * tangent, tangent)
+    if res is None:
+        return None
+    w_hi = sh.measure(res[0])["min_velocity"]
+    best = res[0]
+    for _ in range(60):
+        sig = hi - w_hi * (hi - lo) / (w_hi - w_lo) if w_hi != w_lo else 0.5 * (lo + hi)
+        if not (min(lo, hi) < sig < max(lo, hi)):
+            sig = 0.5 * (lo + hi)
+        r = corrector(x + sig * tangent, tangent)
+        if r is None:
+            return None
+        wv = sh.measure(r[0])["min_velocity"]
+        best = r[0]
+        if abs(wv) < 1e-10 * max(1.0, float(x[2])):
+            return best
+        if wv > 0:
+            lo, w_lo = sig, wv
+        else:
+            hi, w_hi = sig, wv
+    return best
+
+
+def _fold(pts: Sequence[np.ndarray], meas: Sequence[dict[str, float]]) -> SpecialPoint:
+    """Extremum of nu through three points, by a quadratic in the arclength."""
+    p = np.array(pts)
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
+    c = np.polyfit(s, p[:, 2], 2)
+    s_star = -c[1] / (2 * c[0]) if c[0] != 0 else s[1]
+    nu_f = float(np.polyval(c, s_star))
+    amp = np.array([m["amplitude"] for m in meas])
+    a_f = float(np.polyval(np.polyfit(s, amp, 2), s_star))
+    return SpecialPoint("fold", nu_f, a_f, "fold of cycles (saddle-node)")
+
+
+def _empty_branch(end: str) -> Branch:
+    e = np.empty(0)
+    return Branch("pure-slip", e, e, e, e, e, np.empty(0, dtype=bool), end)
+
+
+# ----------------------------------------------------------------------------- stick slip
+
+
+def _stick_slip_rows(law: DimensionlessLaw, nu: np.ndarray) -> np.ndarray:
+    law_id, lp = law_arrays(law)
+    return run_attractors(
+        law_id,
+        lp,
+        nu,
+        from_breakaway=True,
+        rtol=defaults.RTOL,
+        atol=defaults.ATOL,
+        max_slip_time=defaults.MAX_SLIP_TIME,
+        conv_tol=defaults.CONV_TOL,
+    )
+
+
+def _is_stick_slip(rows: np.ndarray) -> np.ndarray:
+    return (rows[:, engine.O_REGIME] == engine.RG_STICK_SLIP) & (rows[:, engine.O_STATUS] == engine.ST_OK)
+
+
+def stick_slip_branch(
+    law: DimensionlessLaw, nu: np.ndarray, *, refine: bool = True
+) -> tuple[Branch, list[SpecialPoint]]:
+    """Return the stick-slip orbit through breakaway where it exists, on the grid ``nu``.
+
+    Where existence changes between grid points, its end is located by bisection
+    on the engine (to ``1e-9`` relative) and added to the branch and to the points.
+    """
+    nu = np.asarray(nu, dtype=float)
+    rows = _stick_slip_rows(law, nu)
+    ok = _is_stick_slip(rows)
+    special: list[SpecialPoint] = []
+    extra_nu: list[float] = []
+    if refine:
+        for i in np.flatnonzero(ok[:-1] != ok[1:]):
+            lo, hi = float(nu[i]), float(nu[i + 1])
+            ok_lo = bool(ok[i])
+            while hi - lo > 1e-9 * hi:
+                mid = 0.5 * (lo + hi)
+                if bool(_is_stick_slip(_stick_slip_rows(law, np.array([mid])))[0]) == ok_lo:
+                    lo = mid
+                else:
+                    hi = mid
+            edge = lo if ok_lo else hi
+            extra_nu.append(edge)
+    if extra_nu:
+        nu = np.concatenate([nu, extra_nu])
+        rows = np.vstack([rows, _stick_slip_rows(law, np.array(extra_nu))])
+        order = np.argsort(nu)
+        nu, rows = nu[order], rows[order]
+        ok = _is_stick_slip(rows)
+        for e in extra_nu:
+            j = int(np.searchsorted(nu, e))
+            special.append(
+                SpecialPoint(
+                    "stick-slip-onset", e, float(rows[j, engine.O_AMPLITUDE]), "slip from breakaway stops"
+                )
+            )
+    sel = ok
+    branch = Branch(
+        kind="stick-slip",
+        nu=nu[sel],
+        amplitude=rows[sel, engine.O_AMPLITUDE],
+        period=rows[sel, engine.O_PERIOD],
+        min_velocity=rows[sel, engine.O_WMIN],
+        multiplier=np.zeros(int(sel.sum())),
+        stable=np.ones(int(sel.sum()), dtype=bool),
+        end="range",
+    )
+    return branch, special
+
+
+# ----------------------------------------------------------------------------- regimes
+
+
+def _grid(nu_min: float, nu_max: float, n: int) -> np.ndarray:
+    if nu_max / nu_min > 20.0:
+        return np.geomspace(nu_min, nu_max, n)
+    return np.linspace(nu_min, nu_max, n)
+
+
+def regimes(
+    law: DimensionlessLaw,
+    nu_min: float,
+    nu_max: float,
+    *,
+    n_grid: int = 201,
+    tol: float = 1e-10,
+) -> RegimeDiagram:
+    """Compute every branch over ``[nu_min, nu_max]`` and the regime intervals.
+
+    Parameters
+    ----------
+    law : DimensionlessLaw
+        The friction law (dimensionless).
+    nu_min, nu_max : float
+        Range of the dimensionless driving velocity, ``0 < nu_min < nu_max``.
+    n_grid : int, optional
+        Grid for the steady-sliding and stick-slip branches (the pure-slip
+        branches choose their own steps).
+    tol : float, optional
+        Shooting tolerance.
+
+    Returns
+    -------
+    RegimeDiagram
+
+    Raises
+    ------
+    ValueError
+        For a non-positive or reversed range or too small a grid.
+
+    Examples
+    --------
+    >>> from stickslip import CubicLaw
+    >>> from stickslip.analysis.regimes import regimes
+    >>> d = regimes(CubicLaw(alpha=0.5, gamma=1 / 6), 0.5, 1.5)
+    >>> [iv.regime for iv in d.intervals]
+    ['stick-slip', 'pure-slip', 'steady-sliding']
+
+    """
+    lo = check_number(nu_min, "nu_min")
+    hi = check_number(nu_max, "nu_max")
+    if hi <= lo:
+        raise ValueError(f"nu_max={nu_max!r}: expected a value above nu_min={nu_min!r}")
+    if not (isinstance(n_grid, int) and n_grid >= 5):
+        raise ValueError(f"n_grid={n_grid!r}: expected an integer of at least 5")
+    # Hopf points in a wider window: a branch born just outside the range may enter it
+    h_all = hopf_points(law, max(lo / 10.0, 1e-6), min(hi * 10.0, 1e6))
+    hopf_in = tuple(h for h in h_all if lo <= h.nu <= hi)
+    grid = _grid(lo, hi, n_grid)
+
+    fp = np.asarray(law.forward(grid, 1), dtype=float)  # type: ignore[attr-defined]
+    steady = Branch(
+        kind="steady-sliding",
+        nu=grid,
+        amplitude=np.zeros_like(grid),
+        period=np.full_like(grid, math.nan),
+        min_velocity=grid.copy(),
+        multiplier=np.array([max(z.real for z in _eig(g)) for g in fp]),
+        stable=fp > 0,
+        end="range",
+    )
+    branches = [steady]
+    points: list[SpecialPoint] = [SpecialPoint("hopf", h.nu, 0.0, h.criticality) for h in hopf_in]
+    for h in h_all:
+        if h.criticality == "degenerate":
+            continue
+        b, sp = continue_pure_slip(law, h, min(lo, h.nu), max(hi, h.nu), tol=tol)
+        if b.nu.size:
+            branches.append(b)
+            points.extend(p for p in sp if lo <= p.nu <= hi)
+    ss, sp = stick_slip_branch(law, grid)
+    branches.append(ss)
+    points.extend(sp)
+
+    # interval ends: range, Hopf points, folds, grazing, stick-slip onset
+    cuts = sorted({lo, hi, *(p.nu for p in points if lo < p.nu < hi)})
+    cuts = [c for i, c in enumerate(cuts) if i == 0 or c - cuts[i - 1] > 1e-9 * c]
+    intervals: list[Interval] = []
+    for c0, c1 in itertools.pairwise(cuts):
+        mid = 0.5 * (c0 + c1) if c1 / c0 < 20 else math.sqrt(c0 * c1)
+        att = _attractors_at(law, mid, branches)
+        name = "bistable" if len(att) > 1 else (att[0] if att else "none")
+        if intervals and intervals[-1].attractors == att:
+            intervals[-1] = Interval(name, intervals[-1].nu_min, c1, att)
+        else:
+            intervals.append(Interval(name, c0, c1, att))
+    return RegimeDiagram(
+        law=law,
+        nu_min=lo,
+        nu_max=hi,
+        hopf=hopf_in,
+        intervals=tuple(intervals),
+        branches=tuple(branches),
+        points=tuple(sorted(points, key=lambda p: p.nu)),
+    )
+
+
+def _eig(fprime: float) -> tuple[complex, complex]:
+    root = complex(fprime * fprime - 4.0) ** 0.5
+    return ((-fprime + root) / 2, (-fprime - root) / 2)
+
+
+def stable_pure_slip_at(branches: Sequence[Branch], nu: float) -> list[float]:
+    """Amplitudes of the stable pure-slip orbits at ``nu``, interpolated along the branches."""
+    amps = []
+    for b in branches:
+        if b.kind != "pure-slip" or b.nu.size < 2:
+            continue
+        for i in range(b.nu.size - 1):
+            n0, n1 = b.nu[i], b.nu[i + 1]
+            if min(n0, n1) <= nu <= max(n0, n1) and b.stable[i] and b.stable[i + 1] and n0 != n1:
+                amps.append(
+                    float(b.amplitude[i] + (nu - n0) / (n1 - n0) * (b.amplitude[i + 1] - b.amplitude[i]))
+                )
+    return amps
+
+
+def _attractors_at(law: DimensionlessLaw, nu: float, branches: Sequence[Branch]) -> tuple[str, ...]:
+    att: list[str] = []
+    if bool(_is_stick_slip(_stick_slip_rows(law, np.array([nu])))[0]):
+        att.append("stick-slip")
+    att.extend("pure-slip" for _ in stable_pure_slip_at(branches, nu))
+    if float(law.forward(np.array([nu]), 1)[0]) > 0:  # type: ignore[attr-defined]
+        att.append("steady-sliding")
+    return tuple(att)
