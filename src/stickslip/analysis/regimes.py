@@ -47,21 +47,26 @@ from ..core import engine
 from ..core import variational as va
 from ..core.api import run_attractors
 from ..models.friction import DimensionlessLaw
+from ..models.parameters import DimensionlessParameters
 from ..models.units import check_number
-from .orbits import flow, law_arrays
+from .orbits import PeriodicOrbit, flow, law_arrays, pure_slip_orbit
 from .stability import Hopf, hopf_points
 
 __all__ = [
     "Branch",
+    "Confirmation",
     "Interval",
     "RegimeDiagram",
     "SpecialPoint",
+    "confirm",
     "continue_pure_slip",
+    "pure_slip_orbits_at",
     "regimes",
+    "stable_pure_slip_at",
     "stick_slip_branch",
 ]
 
-REGIME_NAMES = ("stick-slip", "pure-slip", "bistable", "steady-sliding", "none")
+REGIME_NAMES = ("stick-slip", "pure-slip", "bistable", "steady-sliding", "none", "unknown")
 
 
 @dataclass(frozen=True)
@@ -80,6 +85,8 @@ class Branch:
         Period (units of ``sqrt(m/k)``); NaN for steady sliding.
     min_velocity : ndarray
         Smallest block velocity on the orbit (``nu`` for steady sliding).
+    max_force : ndarray
+        Largest spring force on the orbit (``f(nu)`` for steady sliding).
     multiplier : ndarray
         Nontrivial Floquet multiplier (0 for stick-slip); for steady sliding the
         largest real part of the eigenvalues.
@@ -96,6 +103,7 @@ class Branch:
     amplitude: np.ndarray
     period: np.ndarray
     min_velocity: np.ndarray
+    max_force: np.ndarray
     multiplier: np.ndarray
     stable: np.ndarray
     end: str
@@ -109,6 +117,7 @@ class Branch:
             "amplitude": _clean(self.amplitude),
             "period": _clean(self.period),
             "min_velocity": _clean(self.min_velocity),
+            "max_force": _clean(self.max_force),
             "multiplier": _clean(self.multiplier),
             "stable": [bool(b) for b in self.stable],
         }
@@ -132,7 +141,8 @@ class Interval:
     ----------
     regime : str
         ``stick-slip``, ``pure-slip``, ``steady-sliding``, ``bistable`` (two or
-        more attractors) or ``none``.
+        more attractors), ``none`` (no attractor: possible only for a law with
+        neutral steady sliding) or ``unknown`` (the engine failed there).
     nu_min, nu_max : float
         Ends of the interval (dimensionless).
     attractors : tuple of str
@@ -409,6 +419,7 @@ def continue_pure_slip(
         amplitude=amp,
         period=xa[:, 1],
         min_velocity=np.array([m["min_velocity"] for m in meas]),
+        max_force=np.array([sh.f(float(x[2])) + float(x[0]) for x in pts]),
         multiplier=mult,
         stable=mult < 1.0,
         end=end,
@@ -464,7 +475,7 @@ def _fold(pts: Sequence[np.ndarray], meas: Sequence[dict[str, float]]) -> Specia
 
 def _empty_branch(end: str) -> Branch:
     e = np.empty(0)
-    return Branch("pure-slip", e, e, e, e, e, np.empty(0, dtype=bool), end)
+    return Branch("pure-slip", e, e, e, e, e, e, np.empty(0, dtype=bool), end)
 
 
 # ----------------------------------------------------------------------------- stick slip
@@ -533,6 +544,7 @@ def stick_slip_branch(
         amplitude=rows[sel, engine.O_AMPLITUDE],
         period=rows[sel, engine.O_PERIOD],
         min_velocity=rows[sel, engine.O_WMIN],
+        max_force=rows[sel, engine.O_SMAX],
         multiplier=np.zeros(int(sel.sum())),
         stable=np.ones(int(sel.sum()), dtype=bool),
         end="range",
@@ -607,6 +619,7 @@ def regimes(
         amplitude=np.zeros_like(grid),
         period=np.full_like(grid, math.nan),
         min_velocity=grid.copy(),
+        max_force=np.asarray(law.forward(grid), dtype=float),  # type: ignore[attr-defined]
         multiplier=np.array([max(z.real for z in _eig(g)) for g in fp]),
         stable=fp > 0,
         end="range",
@@ -631,7 +644,10 @@ def regimes(
     for c0, c1 in itertools.pairwise(cuts):
         mid = 0.5 * (c0 + c1) if c1 / c0 < 20 else math.sqrt(c0 * c1)
         att = _attractors_at(law, mid, branches)
-        name = "bistable" if len(att) > 1 else (att[0] if att else "none")
+        if "unresolved" in att:
+            name = "unknown"
+        else:
+            name = "bistable" if len(att) > 1 else (att[0] if att else "none")
         if intervals and intervals[-1].attractors == att:
             intervals[-1] = Interval(name, intervals[-1].nu_min, c1, att)
         else:
@@ -654,24 +670,139 @@ def _eig(fprime: float) -> tuple[complex, complex]:
 
 def stable_pure_slip_at(branches: Sequence[Branch], nu: float) -> list[float]:
     """Amplitudes of the stable pure-slip orbits at ``nu``, interpolated along the branches."""
-    amps = []
+    return [o[0] for o in _orbits_at(branches, nu, stable_only=True)]
+
+
+def _orbits_at(branches: Sequence[Branch], nu: float, *, stable_only: bool) -> list[tuple[float, ...]]:
+    """``(amplitude, max_force, period)`` of the pure-slip orbits at ``nu``, interpolated linearly."""
+    found = []
     for b in branches:
         if b.kind != "pure-slip" or b.nu.size < 2:
             continue
         for i in range(b.nu.size - 1):
             n0, n1 = b.nu[i], b.nu[i + 1]
-            if min(n0, n1) <= nu <= max(n0, n1) and b.stable[i] and b.stable[i + 1] and n0 != n1:
-                amps.append(
-                    float(b.amplitude[i] + (nu - n0) / (n1 - n0) * (b.amplitude[i + 1] - b.amplitude[i]))
-                )
-    return amps
+            if not (min(n0, n1) <= nu <= max(n0, n1)) or n0 == n1:
+                continue
+            if stable_only and not (b.stable[i] and b.stable[i + 1]):
+                continue
+            r = (nu - n0) / (n1 - n0)
+            found.append(
+                tuple(float(a[i] + r * (a[i + 1] - a[i])) for a in (b.amplitude, b.max_force, b.period))
+            )
+    return found
+
+
+def pure_slip_orbits_at(
+    diagram: RegimeDiagram, nu: float, *, stable_only: bool = False
+) -> list[PeriodicOrbit]:
+    """Solve, by shooting, every pure-slip orbit of ``diagram`` at ``nu`` (stable ones only on request).
+
+    The continued branches give the guesses, so unstable orbits are found too.
+    """
+    params = DimensionlessParameters(nu=nu, law=diagram.law)
+    out = []
+    for _amp, s0, period in _orbits_at(diagram.branches, nu, stable_only=stable_only):
+        try:
+            out.append(pure_slip_orbit(params, guess=(s0, period)))
+        except RuntimeError:
+            continue
+    return out
 
 
 def _attractors_at(law: DimensionlessLaw, nu: float, branches: Sequence[Branch]) -> tuple[str, ...]:
     att: list[str] = []
-    if bool(_is_stick_slip(_stick_slip_rows(law, np.array([nu])))[0]):
+    row = _stick_slip_rows(law, np.array([nu]))
+    if bool(_is_stick_slip(row)[0]):
         att.append("stick-slip")
+    elif row[0, engine.O_STATUS] != engine.ST_OK:
+        att.append("unresolved")  # the engine could not follow the slip from breakaway
     att.extend("pure-slip" for _ in stable_pure_slip_at(branches, nu))
     if float(law.forward(np.array([nu]), 1)[0]) > 0:  # type: ignore[attr-defined]
         att.append("steady-sliding")
     return tuple(att)
+
+
+@dataclass(frozen=True)
+class Confirmation:
+    """Direct simulations of one interval, from several starts.
+
+    Attributes
+    ----------
+    interval : Interval
+        The interval checked.
+    nu : float
+        Where it was checked (its midpoint, geometric for wide intervals).
+    expected : tuple of str
+        Attractors the continuation predicts there.
+    found : tuple of str
+        Distinct attractors the engine reached (sorted).
+    pure_slip_amplitude_error : float
+        Largest relative difference between a pure-slip attractor reached and the
+        continued stable orbit (NaN when none).
+    agree : bool
+        The same set of attractors, and the pure-slip amplitudes within ``1e-5``.
+
+    """
+
+    interval: Interval
+    nu: float
+    expected: tuple[str, ...]
+    found: tuple[str, ...]
+    pure_slip_amplitude_error: float
+    agree: bool
+
+
+def confirm(diagram: RegimeDiagram) -> list[Confirmation]:
+    """Check every interval of ``diagram`` by direct simulation from several initial states.
+
+    Starts: rest (breakaway), a push of ``1e-3`` off steady sliding, each
+    continued pure-slip orbit at that ``nu`` (stable or not) scaled by 0.9 and
+    1.1 (inside and outside it), and a large push (spring force ``f(nu) + 2``).
+    Each is followed by the exact engine until it sticks periodically, converges
+    to a pure-slip cycle or settles on steady sliding.
+    """
+    law = diagram.law
+    law_id, lp = law_arrays(law)
+    out = []
+    for iv in diagram.intervals:
+        nu = 0.5 * (iv.nu_min + iv.nu_max) if iv.nu_max / iv.nu_min < 20 else math.sqrt(iv.nu_min * iv.nu_max)
+        f_nu = float(law.forward(np.array([nu]))[0])  # type: ignore[attr-defined]
+        amps = [o.amplitude for o in pure_slip_orbits_at(diagram, nu)]
+        pushes = [1e-3, 2.0] + [k * a / 2 for a in amps for k in (0.9, 1.1)]
+        s0 = np.array([f_nu + p for p in pushes])
+        rows = [
+            *_stick_slip_rows(law, np.array([nu])),
+            *run_attractors(
+                law_id,
+                lp,
+                np.full(s0.size, nu),
+                s0,
+                np.full(s0.size, nu),
+                from_breakaway=False,
+                rtol=defaults.RTOL,
+                atol=defaults.ATOL,
+                max_slip_time=defaults.MAX_SLIP_TIME,
+                conv_tol=1e-10,
+            ),
+        ]
+        names = {
+            engine.RG_STICK_SLIP: "stick-slip",
+            engine.RG_PURE_SLIP: "pure-slip",
+            engine.RG_STEADY: "steady-sliding",
+        }
+        found: set[str] = set()
+        err = math.nan
+        stable_amps = [o.amplitude for o in pure_slip_orbits_at(diagram, nu, stable_only=True)]
+        for r in rows:
+            if r[engine.O_STATUS] != engine.ST_OK or int(r[engine.O_REGIME]) not in names:
+                found.add("unresolved")
+                continue
+            kind = names[int(r[engine.O_REGIME])]
+            found.add(kind)
+            if kind == "pure-slip" and stable_amps:
+                e = min(abs(r[engine.O_AMPLITUDE] - a) / a for a in stable_amps)
+                err = e if math.isnan(err) else max(err, e)
+        expected = tuple(sorted(set(iv.attractors)))
+        agree = tuple(sorted(found)) == expected and not (err > 1e-5)
+        out.append(Confirmation(iv, nu, expected, tuple(sorted(found)), err, agree))
+    return out
