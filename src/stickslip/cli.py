@@ -817,3 +817,144 @@ def classify(file: str, as_json: bool, confidence: float, min_points: int) -> No
 
 if __name__ == "__main__":  # pragma: no cover
     sys.exit(main())
+
+
+@main.command()
+@model_options
+@click.option("--nu-min", type=float, default=0.01, show_default=True, help="Lower end of the nu range.")
+@click.option("--nu-max", type=float, default=3.0, show_default=True, help="Upper end of the nu range.")
+@click.option("--n", "n_grid", type=int, default=201, show_default=True, help="Grid points along nu.")
+@click.option("--json", "as_json", is_flag=True, help="Print hopf, intervals, points and branches as JSON.")
+@click.option(
+    "--check", is_flag=True, help="Confirm every interval by direct simulation from several starts."
+)
+@click.option(
+    "--map",
+    "map_spec",
+    default=None,
+    metavar="NAME=A..B",
+    help="Also a two-parameter regime map over a law parameter, e.g. 'p=0.05..1.5' (weakening: c, p; "
+    "cubic: alpha, gamma), with the criterion on trial.",
+)
+@click.option("--map-n", type=int, default=25, show_default=True, help="Values of the --map parameter.")
+@click.option(
+    "--out",
+    "out_dir",
+    type=click.Path(file_okay=False),
+    default=None,
+    help="Write regimes.json, bifurcation.png/.svg (and regime_map.nc, regime_map.png, criterion_map.png "
+    "with --map) to this folder.",
+)
+@_handle_errors
+def regimes(
+    nu_min: float,
+    nu_max: float,
+    n_grid: int,
+    as_json: bool,
+    check: bool,
+    map_spec: str | None,
+    map_n: int,
+    out_dir: str | None,
+    **opts: Any,
+) -> None:
+    """Find every branch (steady sliding, pure slip, stick-slip) over a range of nu and the regimes.
+
+    Hopf points and their criticality, pure-slip orbits continued by shooting
+    (stable and unstable), folds, grazing, the onset of stick-slip, and the
+    intervals where each attractor exists (bistable where two coexist). The law
+    is given as for 'stickslip cycle', without --nu; a physical set-up gives its
+    law in dimensionless form (beta from --mass or --beta) and the intervals also
+    in v0.
+    """
+    from .analysis.regimes import confirm
+    from .analysis.regimes import regimes as compute_regimes
+
+    if opts.get("nu") is not None:
+        raise click.UsageError("--nu: 'regimes' scans nu; give --nu-min and --nu-max instead")
+    dim_law_given = any(opts.get(k) is not None for k in ("c", "p", "alpha", "gamma", "kinetic"))
+    if dim_law_given:
+        opts["nu"] = 1.0  # placeholder: only the law is used
+    elif opts.get("v0") is None:
+        opts["v0"] = "1 m/s"  # placeholder: only the law and beta are used
+    params = build_parameters(opts)
+    beta = None
+    if isinstance(params, PhysicalParameters):
+        beta = params.beta.to("s/m").magnitude
+        law = params.dimensionless().law
+    else:
+        law = params.law
+    d = compute_regimes(law, nu_min, nu_max, n_grid=n_grid)
+    result = d.as_dict()
+    if beta is not None:
+        result["beta_s_per_m"] = beta
+        for iv in result["intervals"]:
+            iv["v0_min_m_per_s"] = iv["nu_min"] / beta
+            iv["v0_max_m_per_s"] = iv["nu_max"] / beta
+    checks = confirm(d) if check else []
+    if check:
+        result["check"] = [
+            {
+                "regime": c.interval.regime,
+                "nu": c.nu,
+                "expected": list(c.expected),
+                "found": list(c.found),
+                "pure_slip_amplitude_error": None
+                if c.pure_slip_amplitude_error != c.pure_slip_amplitude_error
+                else c.pure_slip_amplitude_error,
+                "agree": c.agree,
+            }
+            for c in checks
+        ]
+    trial = None
+    if map_spec is not None:
+        from .analysis.regime_map import criterion_table, criterion_trial, regime_map
+
+        name, sep, rng = map_spec.partition("=")
+        if not sep:
+            raise click.UsageError(f"--map={map_spec!r}: expected NAME=A..B, e.g. 'p=0.05..1.5'")
+        try:
+            values = parse_axis(name.strip(), rng.strip(), map_n, False)
+            values = [float(v) for v in values]
+        except ValueError as exc:
+            raise click.UsageError(f"--map: {exc}") from None
+        ds = regime_map(law, name.strip(), values, nu_min, nu_max, n_nu=n_grid)
+        trial = criterion_trial(ds)
+        result["criterion"] = criterion_table(trial)
+    if out_dir is not None:
+        from .plots.figures import save_figure
+        from .plots.regimes import plot_bifurcation, plot_criterion_map, plot_regime_map
+
+        os.makedirs(out_dir, exist_ok=True)
+        with open(os.path.join(out_dir, "regimes.json"), "w") as fh:
+            json.dump(result, fh, indent=2)
+        save_figure(plot_bifurcation(d), os.path.join(out_dir, "bifurcation"))
+        if trial is not None:
+            trial.to_netcdf(os.path.join(out_dir, "regime_map.nc"))
+            save_figure(plot_regime_map(trial), os.path.join(out_dir, "regime_map"))
+            save_figure(plot_criterion_map(trial), os.path.join(out_dir, "criterion_map"))
+    if as_json:
+        click.echo(json.dumps(result, indent=2))
+    else:
+        for h in d.hopf:
+            click.echo(f"Hopf point      nu = {h.nu:.10g}  {h.criticality} (l1 = {h.l1:.4g})")
+        for p in d.points:
+            if p.kind != "hopf":
+                click.echo(f"{p.kind:<15} nu = {p.nu:.10g}  amplitude {p.amplitude:.6g}")
+        for iv in d.intervals:
+            v0 = f"   v0 {iv.nu_min / beta:.4g} .. {iv.nu_max / beta:.4g} m/s" if beta else ""
+            att = " + ".join(iv.attractors) if iv.regime == "bistable" else ""
+            click.echo(f"{iv.regime:<15} nu {iv.nu_min:.8g} .. {iv.nu_max:.8g}{v0}  {att}".rstrip())
+        for c in checks:
+            mark = "confirmed" if c.agree else "NOT CONFIRMED"
+            click.echo(
+                f"check at nu = {c.nu:.6g}: expected {', '.join(c.expected)}; "
+                f"simulations reached {', '.join(c.found)}: {mark}"
+            )
+        if trial is not None:
+            for row in result["criterion"]:
+                click.echo(f"criterion on {row['regime']}: right at {row['right']} of {row['judged']} points")
+        if out_dir is not None:
+            click.echo(f"wrote {out_dir}/regimes.json and figures")
+    if checks and not all(c.agree for c in checks):
+        click.echo("stickslip: some intervals were not confirmed by direct simulation", err=True)
+        raise SystemExit(1)

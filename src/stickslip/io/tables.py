@@ -68,8 +68,9 @@ def check_file(path: str | os.PathLike[str], max_bytes: int) -> str:
     if size == 0:
         raise ValueError(f"{p}: the file is empty")
     if size > max_bytes:
-        raise ValueError(f"{p}: {size / 1e6:.0f} MB is larger than the {max_bytes / 1e6:.0f} MB limit; "
-                         "split it")
+        raise ValueError(
+            f"{p}: {size / 1e6:.0f} MB is larger than the {max_bytes / 1e6:.0f} MB limit; split it"
+        )
     return p
 
 

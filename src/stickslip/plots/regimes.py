@@ -1,0 +1,163 @@
+"""Bifurcation diagrams, regime maps and the criterion map."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.colors import BoundaryNorm, ListedColormap
+from matplotlib.patches import Patch
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from ..analysis.regimes import RegimeDiagram
+
+__all__ = ["REGIME_COLORS", "plot_bifurcation", "plot_criterion_map", "plot_regime_map"]
+
+#: background colour of each regime (colour-blind safe, light)
+REGIME_COLORS = {
+    "stick-slip": "#fdd49e",
+    "pure-slip": "#c6dbef",
+    "bistable": "#d9d9d9",
+    "steady-sliding": "#e5f5e0",
+    "none": "#ffffff",
+    "unknown": "#fcbba1",
+}
+_BRANCH_COLORS = {"steady-sliding": "C2", "pure-slip": "C0", "stick-slip": "C3"}
+
+
+def _segments(ax: Axes, x: np.ndarray, y: np.ndarray, stable: np.ndarray, color: str, label: str) -> None:
+    """Draw a branch, solid where stable and dashed where not."""
+    start = 0
+    labelled = False
+    for i in range(1, x.size + 1):
+        if i == x.size or stable[i] != stable[start]:
+            end = min(i + 1, x.size)  # overlap one point so the pieces join
+            ls = "-" if stable[start] else "--"
+            lab = None
+            if not labelled:
+                lab, labelled = label, True
+            ax.plot(x[start:end], y[start:end], ls, color=color, lw=1.6, label=lab)
+            start = i
+
+
+def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None) -> Figure:
+    """Plot amplitude against ``nu``: branches (stable solid, unstable dashed), regimes shaded.
+
+    Parameters
+    ----------
+    diagram : RegimeDiagram
+        From :func:`stickslip.analysis.regimes.regimes`.
+    log : bool, optional
+        Logarithmic ``nu`` axis; default when the range spans more than a factor 20.
+
+    """
+    fig, ax = plt.subplots(figsize=(7.6, 4.2), constrained_layout=True)
+    for iv in diagram.intervals:
+        ax.axvspan(iv.nu_min, iv.nu_max, color=REGIME_COLORS.get(iv.regime, "#ffffff"), lw=0)
+    for b in diagram.branches:
+        if b.nu.size == 0:
+            continue
+        _segments(ax, b.nu, b.amplitude, b.stable, _BRANCH_COLORS[b.kind], b.kind)
+    markers = {
+        "hopf": ("o", "k"),
+        "fold": ("s", "C1"),
+        "grazing": ("v", "C4"),
+        "stick-slip-onset": ("x", "C3"),
+    }
+    seen = set()
+    for p in diagram.points:
+        m, c = markers.get(p.kind, ("+", "k"))
+        ax.plot(
+            [p.nu],
+            [p.amplitude],
+            m,
+            color=c,
+            ms=6,
+            mfc="none" if m in "os" else c,
+            label=None if p.kind in seen else p.kind,
+            zorder=5,
+        )
+        seen.add(p.kind)
+    if log if log is not None else diagram.nu_max / diagram.nu_min > 20:
+        ax.set_xscale("log")
+    ax.set_xlim(diagram.nu_min, diagram.nu_max)
+    top = max((float(np.nanmax(b.amplitude)) for b in diagram.branches if b.nu.size), default=1.0)
+    ax.set_ylim(-0.03 * top, 1.08 * top)
+    ax.set_xlabel(r"dimensionless driving velocity $\nu = \beta v_0$")
+    ax.set_ylabel(r"amplitude of the spring force [$\mu_s W$]")
+    law = diagram.law
+    pars = ", ".join(f"{k} = {v:g}" for k, v in vars(law).items() if isinstance(v, int | float))
+    ax.set_title(f"{law.name} law ({pars})", fontsize=10)  # type: ignore[attr-defined]
+    handles, labels = ax.get_legend_handles_labels()
+    present = dict.fromkeys(iv.regime for iv in diagram.intervals)
+    handles += [Patch(color=REGIME_COLORS[r]) for r in present]
+    labels += [f"regime: {r}" for r in present]
+    ax.legend(handles, labels, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    return fig
+
+
+def _map_axes(ds: Any, variable: str, codes: dict[str, int], colors: dict[str, str], title: str) -> Figure:
+    param = next(d for d in ds[variable].dims if d != "nu")
+    names = list(codes)
+    values = [codes[n] for n in names]
+    order = np.argsort(values)
+    names = [names[i] for i in order]
+    values = [values[i] for i in order]
+    cmap = ListedColormap([colors[n] for n in names])
+    bounds = [v - 0.5 for v in values] + [values[-1] + 0.5]
+    norm = BoundaryNorm(bounds, cmap.N)
+    fig, ax = plt.subplots(figsize=(7.6, 4.4), constrained_layout=True)
+    ax.pcolormesh(
+        ds.nu.values, ds[param].values, ds[variable].values, cmap=cmap, norm=norm, shading="nearest"
+    )
+    styles = {
+        "hopf": ("k", "-"),
+        "grazing": ("C4", "--"),
+        "stick_slip_onset": ("C3", ":"),
+        "fold": ("C1", "-."),
+    }
+    for key, (c, ls) in styles.items():
+        if key in ds and np.any(np.isfinite(ds[key].values)):
+            ax.plot(ds[key].values, ds[param].values, ls, color=c, lw=1.4, label=key.replace("_", " "))
+    nu = ds.nu.values
+    if nu[-1] / nu[0] > 20:
+        ax.set_xscale("log")
+    ax.set_xlim(nu[0], nu[-1])
+    ax.set_xlabel(r"dimensionless driving velocity $\nu = \beta v_0$")
+    ax.set_ylabel(f"{ds.attrs.get('law', '')} law parameter {param}")
+    ax.set_title(title, fontsize=10)
+    present = [n for n in names if np.any(ds[variable].values == codes[n])]
+    handles, labels = ax.get_legend_handles_labels()
+    handles += [Patch(color=colors[n]) for n in present]
+    labels += present
+    ax.legend(handles, labels, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    return fig
+
+
+def plot_regime_map(ds: Any) -> Figure:
+    """Plot the regimes over (``nu``, law parameter).
+
+    ``ds`` comes from :func:`~stickslip.analysis.regime_map.regime_map`.
+    """
+    from ..analysis.regime_map import REGIME_CODES
+
+    fixed = ", ".join(f"{k} = {v:g}" for k, v in ds.attrs.items() if isinstance(v, float))
+    return _map_axes(ds, "regime", {**REGIME_CODES}, REGIME_COLORS, f"regimes ({fixed})")
+
+
+def plot_criterion_map(trial: Any) -> Figure:
+    """Plot where the amplitude criterion is right or wrong.
+
+    ``trial`` comes from :func:`~stickslip.analysis.regime_map.criterion_trial`.
+    """
+    codes = {"not judged": -1, "wrong": 0, "right": 1}
+    colors = {"not judged": "#f0f0f0", "wrong": "#d7301f", "right": "#74c476"}
+    fixed = ", ".join(f"{k} = {v:g}" for k, v in trial.attrs.items() if isinstance(v, float))
+    return _map_axes(trial, "right", codes, colors, f"sign of dA/dv0 against the regime reached ({fixed})")

@@ -1,0 +1,294 @@
+"""Branches, bifurcations and regimes: continuation, saltation, averaging, the criterion on trial."""
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+from click.testing import CliRunner
+from scipy.integrate import solve_ivp
+
+from stickslip import CoulombLaw, CubicLaw, DimensionlessParameters, WeakeningLaw
+from stickslip.analysis.averaging import averaging_table, thomsen_fidlin
+from stickslip.analysis.orbits import flow, law_arrays, pure_slip_orbit, saltation, stick_slip_orbit
+from stickslip.analysis.regime_map import criterion_table, criterion_trial, regime_map
+from stickslip.analysis.regimes import _fold, confirm, pure_slip_orbits_at, regimes
+from stickslip.cli import main
+
+CUBIC = CubicLaw(alpha=0.5, gamma=0.5 / 3)  # supercritical Hopf at nu = 1
+F2 = WeakeningLaw(c=3.8, p=0.5)  # subcritical Hopf at nu = 0.4623
+
+
+@pytest.fixture(scope="module")
+def cubic_diagram():
+    return regimes(CUBIC, 0.5, 1.5)
+
+
+@pytest.fixture(scope="module")
+def f2_diagram():
+    return regimes(F2, 0.1, 1.5)
+
+
+@pytest.mark.parametrize(("law", "nu", "s0"), [(CUBIC, 0.97, 1.3), (F2, 0.55, 0.8), (F2, 0.3, 0.75)])
+def test_compiled_variational_flow_matches_scipy(law, nu: float, s0: float) -> None:
+    """Phi, d/dnu and the divergence integral against an independent solve_ivp integration."""
+    period = 3.0
+
+    def rhs(_t: float, y: np.ndarray) -> list[float]:
+        s, w = y[0], y[1]
+        f = float(law.forward(np.array([w]))[0])
+        df = float(law.forward(np.array([w]), 1)[0])
+        p = y[2:6].reshape(2, 2)
+        j = np.array([[0.0, -1.0], [1.0, -df]])
+        dz = j @ y[6:8] + np.array([1.0, 0.0])
+        return [nu - w, s - f, *(j @ p).ravel(), *dz, df]
+
+    y0 = [s0, nu, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]
+    sol = solve_ivp(rhs, (0, period), y0, method="DOP853", rtol=1e-13, atol=1e-15)
+    ref = sol.y[:, -1]
+    law_id, lp = law_arrays(law)
+    y, _ = flow(law_id, lp, nu, s0, nu, period, 1e-12)
+    assert sol.y[1].min() > 0  # the comparison stays in forward slip
+    np.testing.assert_allclose(y, ref, rtol=1e-9, atol=1e-11)
+
+
+def test_cubic_regimes(cubic_diagram) -> None:
+    d = cubic_diagram
+    assert [iv.regime for iv in d.intervals] == ["stick-slip", "pure-slip", "steady-sliding"]
+    (h,) = d.hopf
+    assert h.nu == pytest.approx(1.0, abs=1e-12) and h.criticality == "supercritical"
+    assert d.intervals[1].nu_max == pytest.approx(1.0, abs=1e-12)
+    graze = [p.nu for p in d.points if p.kind == "grazing"]
+    onset = [p.nu for p in d.points if p.kind == "stick-slip-onset"]
+    # two independent computations of one point: the continued orbit touching w = 0
+    # (shooting) and the slip from breakaway ceasing to stop (the non-smooth engine)
+    assert graze[0] == pytest.approx(onset[0], rel=1e-8)
+    ps = next(b for b in d.branches if b.kind == "pure-slip")
+    assert ps.end == "grazing" and ps.stable.all() and np.all(ps.multiplier < 1)
+    assert ps.min_velocity[-1] == pytest.approx(0.0, abs=1e-9)
+
+
+def test_subcritical_weakening_regimes(f2_diagram) -> None:
+    d = f2_diagram
+    assert [iv.regime for iv in d.intervals] == ["stick-slip", "bistable", "steady-sliding"]
+    (h,) = d.hopf
+    assert h.criticality == "subcritical"
+    # f'(nu_H) = 0: -c/(1 + c nu)^2 + p = 0
+    assert h.nu == pytest.approx((math.sqrt(3.8 / 0.5) - 1) / 3.8, rel=1e-12)
+    bi = d.intervals[1]
+    assert bi.attractors == ("stick-slip", "steady-sliding")
+    assert bi.nu_min == pytest.approx(h.nu, rel=1e-12)
+    ps = next(b for b in d.branches if b.kind == "pure-slip")
+    assert not ps.stable.any() and np.all(ps.multiplier > 1)  # the unstable cycle of a subcritical Hopf
+    # the unstable cycle grows with nu until it grazes: that ends the bistable interval
+    assert np.all(np.diff(ps.nu) > 0)
+    assert bi.nu_max == pytest.approx(ps.nu[-1], rel=1e-8)
+
+
+@pytest.mark.parametrize("which", ["cubic", "f2"])
+def test_intervals_confirmed_by_simulation(which: str, cubic_diagram, f2_diagram) -> None:
+    d = cubic_diagram if which == "cubic" else f2_diagram
+    checks = confirm(d)
+    assert len(checks) == len(d.intervals)
+    for c in checks:
+        assert c.agree, c
+    if which == "f2":  # both attractors reached in the bistable interval
+        assert checks[1].found == ("steady-sliding", "stick-slip")
+    else:  # the stable pure-slip cycle reached from other starts is the continued one
+        assert checks[1].pure_slip_amplitude_error < 1e-6
+
+
+def test_unstable_orbit_separates_the_basins(f2_diagram) -> None:
+    """Inside the unstable cycle motion decays to steady sliding; outside it sticks."""
+    from stickslip import simulate
+
+    nu = 0.55
+    (o,) = pure_slip_orbits_at(f2_diagram, nu)
+    assert o.multipliers[1].real > 1 and not o.stable
+    assert abs(o.multipliers[0] - 1) < 1e-8
+    p = DimensionlessParameters(nu=nu, law=F2)
+    f_nu = float(F2.forward(np.array([nu]))[0])
+    inner = simulate(p, duration=300, n_points=3001, initial=(f_nu + 0.97 * (o.s0 - f_nu), nu))
+    outer = simulate(p, duration=300, n_points=3001, initial=(f_nu + 1.03 * (o.s0 - f_nu), nu))
+    assert np.ptp(inner.spring_force[-500:]) < 1e-3
+    assert np.any(outer.velocity == 0.0)  # it sticks
+
+
+@pytest.mark.parametrize(
+    ("law", "nu"), [(WeakeningLaw(c=3.8), 0.1), (F2, 0.3), (CUBIC, 0.8), (CoulombLaw(kinetic=0.5), 0.3)]
+)
+def test_stick_slip_multipliers(law, nu: float) -> None:
+    """Saltation at the stop kills the velocity direction: multipliers 1 (trivial) and 0."""
+    o = stick_slip_orbit(DimensionlessParameters(nu=nu, law=law))
+    assert abs(o.multipliers[0] - 1) < 1e-8
+    assert abs(o.multipliers[1]) < 1e-12
+
+
+def test_saltation_matrix() -> None:
+    # Coulomb breakaway: the stick field (nu, 0) jumps to (nu, 1 - k) across s = 1
+    nu, k = 0.3, 0.5
+    s = saltation(np.array([nu, 0.0]), np.array([nu, 1 - k]), np.array([1.0, 0.0]))
+    np.testing.assert_allclose(s, [[1, 0], [(1 - k) / nu, 1]])
+    # it maps the field before onto the field after
+    np.testing.assert_allclose(s @ [nu, 0.0], [nu, 1 - k])
+    with pytest.raises(ValueError, match="tangentially"):
+        saltation(np.array([0.0, 1.0]), np.array([1.0, 1.0]), np.array([1.0, 0.0]))
+
+
+def test_no_stick_slip_orbit_is_reported() -> None:
+    with pytest.raises(RuntimeError, match="does not stop"):
+        stick_slip_orbit(DimensionlessParameters(nu=1.2, law=CUBIC))
+
+
+def test_fold_location() -> None:
+    """A fold of cycles between three continuation points is the vertex of nu(arclength)."""
+    pts = [np.array([a, 6.28, 1.0 - (a - 0.5) ** 2]) for a in (0.4, 0.52, 0.6)]
+    f = _fold(pts, [{"amplitude": 2 * p[0]} for p in pts])
+    assert f.kind == "fold"
+    assert f.nu == pytest.approx(1.0, abs=1e-4)
+    assert f.amplitude == pytest.approx(1.0, abs=1e-2)
+
+
+def test_thomsen_fidlin_formulas() -> None:
+    tf = thomsen_fidlin(CUBIC)
+    assert tf.nu_hopf == pytest.approx(1.0)
+    assert tf.nu_border == pytest.approx(math.sqrt(0.8))
+    assert tf.amplitude(tf.nu_border) == pytest.approx(2 * tf.nu_border)  # a = nu at the border
+    assert math.isnan(tf.amplitude(1.1))
+    with pytest.raises(ValueError, match="cubic"):
+        thomsen_fidlin(F2)  # type: ignore[arg-type]
+
+
+def test_averaging_error_shrinks_with_the_nonlinearity() -> None:
+    """First-order averaging is exact for the Hopf point and second-order accurate
+    (error ~ eps^2, as for the van der Pol amplitude) for the pure-slip amplitude and border."""
+    rows = averaging_table((0.5, 0.25, 0.125))
+    for r in rows:
+        assert r.nu_hopf == pytest.approx(r.nu_hopf_formula, rel=1e-12)
+    for attr in ("border_error", "amplitude_error"):
+        errs = np.array([getattr(r, attr) for r in rows])
+        order = np.polyfit(np.log([0.5, 0.25, 0.125]), np.log(errs), 1)[0]
+        assert 1.8 < order < 2.2, (attr, errs)
+
+
+def test_regime_map_and_criterion(tmp_path: Path) -> None:
+    ds = regime_map(CUBIC, "gamma", [0.1, 0.5 / 3, 0.3], 0.3, 2.0, n_nu=61, progress=False)
+    # the Hopf line is f'(nu) = 0: nu = sqrt(alpha / (3 gamma))
+    np.testing.assert_allclose(ds.hopf.values, np.sqrt(0.5 / (3 * ds.gamma.values)), rtol=1e-10)
+    assert set(np.unique(ds.regime.values)) <= {0, 1, 2}
+    trial = criterion_trial(ds)
+    table = criterion_table(trial)
+    assert [r["regime"] for r in table] == ["stick-slip", "pure-slip"]
+    assert all(r["judged"] > 0 for r in table)
+    # for this law the criterion holds wherever it is judged
+    assert all(r["wrong"] == 0 for r in table)
+    # and it is judged from real slopes: positive on stick-slip, negative on pure slip
+    sl = trial.slope.values
+    assert np.all(sl[(trial.observed.values == 0) & (trial.right.values == 1)] > 0)
+    assert np.all(sl[(trial.observed.values == 1) & (trial.right.values == 1)] < 0)
+    trial.to_netcdf(tmp_path / "m.nc")
+    back = xr.load_dataset(tmp_path / "m.nc")
+    np.testing.assert_array_equal(back.regime.values, ds.regime.values)
+
+
+def test_regimes_bad_input() -> None:
+    with pytest.raises(ValueError, match="nu_max"):
+        regimes(CUBIC, 1.0, 0.5)
+    with pytest.raises(ValueError, match="nu_min"):
+        regimes(CUBIC, -1.0, 0.5)
+    with pytest.raises(ValueError, match="n_grid"):
+        regimes(CUBIC, 0.5, 1.0, n_grid=2)
+    with pytest.raises(ValueError, match="param='c'"):
+        regime_map(CUBIC, "c", [1.0], 0.5, 1.0)
+    with pytest.raises(ValueError, match="weakening or the cubic"):
+        regime_map(CoulombLaw(kinetic=0.5), "kinetic", [0.5], 0.5, 1.0)  # type: ignore[arg-type]
+
+
+def run(*args: str):
+    return CliRunner().invoke(main, list(args))
+
+
+def test_cli_regimes_json(tmp_path: Path) -> None:
+    res = run(
+        "regimes",
+        "--c",
+        "3.8",
+        "--p",
+        "0.5",
+        "--nu-min",
+        "0.1",
+        "--nu-max",
+        "1.5",
+        "--json",
+        "--check",
+        "--out",
+        str(tmp_path),
+    )
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.output)
+    assert d["hopf"][0]["criticality"] == "subcritical"
+    assert d["hopf"][0]["nu"] == pytest.approx(0.46231835537, rel=1e-9)
+    assert [iv["regime"] for iv in d["intervals"]] == ["stick-slip", "bistable", "steady-sliding"]
+    assert all(set(iv) >= {"regime", "nu_min", "nu_max"} for iv in d["intervals"])
+    assert {b["kind"] for b in d["branches"]} == {"steady-sliding", "pure-slip", "stick-slip"}
+    assert all(c["agree"] for c in d["check"])
+    assert (tmp_path / "bifurcation.png").stat().st_size > 10_000
+    assert json.loads((tmp_path / "regimes.json").read_text())["intervals"] == d["intervals"]
+
+
+def test_cli_regimes_physical_and_map(tmp_path: Path) -> None:
+    res = run(
+        "regimes",
+        "--preset",
+        "zv",
+        "--b",
+        "100 s/m",
+        "--nu-min",
+        "0.01",
+        "--nu-max",
+        "1",
+        "--map",
+        "p=1..3",
+        "--map-n",
+        "3",
+        "--n",
+        "41",
+        "--out",
+        str(tmp_path),
+    )
+    assert res.exit_code == 0, res.output
+    assert "Hopf point" in res.output and "m/s" in res.output
+    d = json.loads((tmp_path / "regimes.json").read_text())
+    assert d["beta_s_per_m"] == pytest.approx(42.0)
+    iv = d["intervals"][0]
+    assert iv["v0_max_m_per_s"] == pytest.approx(iv["nu_max"] / 42.0)
+    assert len(d["criterion"]) == 2
+    for name in ("regime_map.nc", "regime_map.png", "criterion_map.png"):
+        assert (tmp_path / name).exists()
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--c", "3.8", "--nu", "0.5"], "--nu-min and --nu-max"),
+        (["--c", "3.8", "--nu-min", "2", "--nu-max", "1"], "nu_max"),
+        (["--c", "3.8", "--nu-min", "0", "--nu-max", "1"], "nu_min"),
+        (["--c", "3.8", "--map", "p"], "NAME=A..B"),
+        (["--c", "3.8", "--map", "alpha=1..2"], "param='alpha'"),
+        (["--c", "3.8", "--map", "p=a..b"], "p="),
+        (["--law", "cubic", "--alpha", "0.5"], "--gamma"),
+    ],
+)
+def test_cli_regimes_bad_input(args: list[str], message: str) -> None:
+    res = run("regimes", *args)
+    assert res.exit_code == 2 or res.exit_code == 1, res.output
+    assert message in res.output
+    assert "Traceback" not in res.output
+
+
+def test_pure_slip_orbit_from_branch_guess_matches_direct(cubic_diagram) -> None:
+    (o,) = pure_slip_orbits_at(cubic_diagram, 0.97)
+    direct = pure_slip_orbit(DimensionlessParameters(nu=0.97, law=CUBIC))
+    assert o.amplitude == pytest.approx(direct.amplitude, rel=1e-8)
