@@ -29,9 +29,9 @@ from .sweep import _show_progress
 __all__ = ["MAP_PARAMETERS", "REGIME_CODES", "criterion_table", "criterion_trial", "regime_map"]
 
 #: integer codes of the ``regime`` variable (CF ``flag_values``)
-REGIME_CODES = {"none": -1, "stick-slip": 0, "pure-slip": 1, "steady-sliding": 2, "bistable": 3}
+REGIME_CODES = {"none": -1, "stick-slip": 0, "pure-slip": 1, "steady-sliding": 2, "bistable": 3, "unknown": 4}
 #: what a simulation from rest reaches (``observed`` variable)
-OBSERVED_CODES = {"stick-slip": 0, "pure-slip": 1, "steady-sliding": 2}
+OBSERVED_CODES = {"stick-slip": 0, "pure-slip": 1, "steady-sliding": 2, "slip-reversal": 3, "unknown": 4}
 #: the law parameters a map can run over
 MAP_PARAMETERS = {"weakening": ("c", "p"), "cubic": ("alpha", "gamma")}
 
@@ -146,23 +146,33 @@ def regime_map(
 
 
 def _rows(d: RegimeDiagram) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    steady = d.branches[0]
-    grid = steady.nu
-    ss = next(b for b in d.branches if b.kind == "stick-slip")
+    from ..core import engine
+    from .regimes import _stick_slip_rows
+
+    grid = d.branches[0].nu
+    rows = _stick_slip_rows(d.law, grid)
     regime = np.empty(grid.size, dtype=np.int8)
     observed = np.empty(grid.size, dtype=np.int8)
-    amplitude = np.empty(grid.size)
-    ss_amp = dict(zip(ss.nu.tolist(), ss.amplitude.tolist(), strict=True))
+    amplitude = np.full(grid.size, math.nan)
     for j, nu in enumerate(grid):
         regime[j] = REGIME_CODES[d.regime_at(float(nu)).regime]
-        if float(nu) in ss_amp:
-            observed[j], amplitude[j] = OBSERVED_CODES["stick-slip"], ss_amp[float(nu)]
-            continue
-        ps = stable_pure_slip_at(d.branches, float(nu))
-        if ps:
-            observed[j], amplitude[j] = OBSERVED_CODES["pure-slip"], min(ps)
+        r = rows[j]
+        if r[engine.O_STATUS] != engine.ST_OK:
+            observed[j] = OBSERVED_CODES["unknown"]
+        elif r[engine.O_REGIME] == engine.RG_STICK_SLIP:
+            observed[j], amplitude[j] = OBSERVED_CODES["stick-slip"], r[engine.O_AMPLITUDE]
+        elif r[engine.O_REGIME] == engine.RG_PURE_SLIP and r[engine.O_NBACKWARD] > 0:
+            observed[j], amplitude[j] = OBSERVED_CODES["slip-reversal"], r[engine.O_AMPLITUDE]
         else:
-            observed[j], amplitude[j] = OBSERVED_CODES["steady-sliding"], 0.0
+            # pure slip or steady sliding: the continued orbit, exact even where the
+            # transient from rest would crawl (near the Hopf point)
+            ps = stable_pure_slip_at(d.branches, float(nu))
+            if ps:
+                observed[j], amplitude[j] = OBSERVED_CODES["pure-slip"], min(ps)
+            elif r[engine.O_REGIME] == engine.RG_PURE_SLIP:
+                observed[j], amplitude[j] = OBSERVED_CODES["pure-slip"], r[engine.O_AMPLITUDE]
+            else:
+                observed[j], amplitude[j] = OBSERVED_CODES["steady-sliding"], 0.0
     return regime, observed, amplitude
 
 
@@ -192,9 +202,11 @@ def criterion_trial(ds: xr.Dataset) -> xr.Dataset:
     same = np.zeros(amp.shape, dtype=bool)
     same[:, 1:-1] = (obs[:, 2:] == obs[:, 1:-1]) & (obs[:, :-2] == obs[:, 1:-1])
     osc = obs != OBSERVED_CODES["steady-sliding"]
+    osc &= obs != OBSERVED_CODES["unknown"]
     judged = same & osc & np.isfinite(slope)
     verdict = np.where(judged, np.where(slope > 0, 0, 1), -1).astype(np.int8)
-    right = np.where(judged, (verdict == obs).astype(np.int8), -1).astype(np.int8)
+    truth = np.where(obs == OBSERVED_CODES["slip-reversal"], OBSERVED_CODES["pure-slip"], obs)  # no stick
+    right = np.where(judged, (verdict == truth).astype(np.int8), -1).astype(np.int8)
     out = ds.copy()
     dims = ds.amplitude.dims
     out["slope"] = (dims, slope, {"long_name": "d log(amplitude) / d log(nu)"})
@@ -220,9 +232,13 @@ def criterion_trial(ds: xr.Dataset) -> xr.Dataset:
 
 
 def criterion_table(trial: xr.Dataset) -> list[dict[str, Any]]:
-    """Summarise a :func:`criterion_trial`: counts of right and wrong verdicts per regime reached."""
+    """Summarise a :func:`criterion_trial`: counts of right and wrong verdicts per regime reached.
+
+    For ``slip-reversal`` (never sticks, velocity changes sign) *right* means the
+    criterion said "no stick" (amplitude falling).
+    """
     rows = []
-    for name, code in (("stick-slip", 0), ("pure-slip", 1)):
+    for name, code in (("stick-slip", 0), ("pure-slip", 1), ("slip-reversal", 3)):
         sel = (trial.observed.values == code) & (trial.right.values >= 0)
         n = int(sel.sum())
         n_right = int((trial.right.values[sel] == 1).sum())

@@ -147,6 +147,9 @@ class Interval:
         Ends of the interval (dimensionless).
     attractors : tuple of str
         The attractors present, e.g. ``("stick-slip", "steady-sliding")``.
+        ``slip-reversal`` is an oscillation that never sticks but whose velocity
+        changes sign (backward slip without a stop), found by the engine from
+        rest; alone, its interval's regime is ``pure-slip`` (no stick phase).
 
     """
 
@@ -646,8 +649,12 @@ def regimes(
         att = _attractors_at(law, mid, branches)
         if "unresolved" in att:
             name = "unknown"
+        elif len(att) > 1:
+            name = "bistable"
+        elif att:
+            name = "pure-slip" if att[0] == "slip-reversal" else att[0]  # it never sticks
         else:
-            name = "bistable" if len(att) > 1 else (att[0] if att else "none")
+            name = "none"
         if intervals and intervals[-1].attractors == att:
             intervals[-1] = Interval(name, intervals[-1].nu_min, c1, att)
         else:
@@ -711,12 +718,20 @@ def pure_slip_orbits_at(
 
 def _attractors_at(law: DimensionlessLaw, nu: float, branches: Sequence[Branch]) -> tuple[str, ...]:
     att: list[str] = []
-    row = _stick_slip_rows(law, np.array([nu]))
-    if bool(_is_stick_slip(row)[0]):
-        att.append("stick-slip")
-    elif row[0, engine.O_STATUS] != engine.ST_OK:
+    row = _stick_slip_rows(law, np.array([nu]))[0]
+    stable_ps = stable_pure_slip_at(branches, nu)
+    if row[engine.O_STATUS] != engine.ST_OK:
         att.append("unresolved")  # the engine could not follow the slip from breakaway
-    att.extend("pure-slip" for _ in stable_pure_slip_at(branches, nu))
+    elif row[engine.O_REGIME] == engine.RG_STICK_SLIP:
+        att.append("stick-slip")
+    elif row[engine.O_REGIME] == engine.RG_PURE_SLIP:
+        if row[engine.O_NBACKWARD] > 0:
+            # never sticks, but the velocity changes sign: a non-smooth oscillation that
+            # the smooth continuation (w > 0) does not follow
+            att.append("slip-reversal")
+        elif not any(abs(a - row[engine.O_AMPLITUDE]) <= 1e-4 * a for a in stable_ps):
+            att.append("pure-slip")  # reached from rest but not on a branch born at a Hopf point
+    att.extend("pure-slip" for _ in stable_ps)
     if float(law.forward(np.array([nu]), 1)[0]) > 0:  # type: ignore[attr-defined]
         att.append("steady-sliding")
     return tuple(att)

@@ -9,6 +9,8 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 
+import xarray as xr
+
 from ..analysis.sweep import load_sweep, save_sweep
 from ..plots.figures import save_figure
 from .compute import PaperConfig, compute_paper
@@ -55,5 +57,19 @@ def reproduce(
     files: dict[str, list[str]] = {}
     for name, fig in make_figures(data).items():
         files[name] = save_figure(fig, os.path.join(out, name), formats=("png", "svg"))
-    md, html_path = write_report(data, out, {k: v[0] for k, v in files.items()})
+    from ..plots.regimes import plot_criterion_map, plot_regime_map
+    from .trial import run_trials
+
+    trials = {}
+    for key, tr in run_trials(quick=quick, progress=progress).items():
+        path = os.path.join(out, f"criterion_{key}.nc")
+        tr.to_netcdf(path)
+        trials[key] = xr.load_dataset(path)
+        files[f"regimes_{key}"] = save_figure(
+            plot_regime_map(trials[key]), os.path.join(out, f"regimes_{key}")
+        )
+        files[f"criterion_{key}"] = save_figure(
+            plot_criterion_map(trials[key]), os.path.join(out, f"criterion_{key}")
+        )
+    md, html_path = write_report(data, out, {k: v[0] for k, v in files.items()}, trials)
     return ReproduceResult(nc, files, md, html_path, claims(data))

@@ -424,9 +424,16 @@ def _html(blocks: list[_Block]) -> str:
     )
 
 
-def write_report(ds: xr.Dataset, out_dir: str, figure_files: dict[str, str]) -> tuple[str, str]:
+def write_report(
+    ds: xr.Dataset,
+    out_dir: str,
+    figure_files: dict[str, str],
+    trials: dict[str, xr.Dataset] | None = None,
+) -> tuple[str, str]:
     """Write ``report.md`` and ``report.html`` into ``out_dir``; return their paths."""
     blocks = _blocks(ds, figure_files)
+    if trials:
+        blocks += _trial_blocks(trials, figure_files)
     md_path = os.path.join(out_dir, "report.md")
     html_path = os.path.join(out_dir, "report.html")
     with open(md_path, "w", encoding="utf-8") as fh:
@@ -434,3 +441,72 @@ def write_report(ds: xr.Dataset, out_dir: str, figure_files: dict[str, str]) -> 
     with open(html_path, "w", encoding="utf-8") as fh:
         fh.write(_html(blocks))
     return md_path, html_path
+
+
+def _trial_blocks(trials: dict[str, xr.Dataset], figure_files: dict[str, str]) -> list[_Block]:
+    """Return the report section on the criterion: table, reasons read off the data, maps."""
+    from .trial import trial_rows
+
+    blocks: list[_Block] = [
+        _Heading(2, "The criterion on trial"),
+        _Para(
+            "For each law, a grid of one parameter and of nu: the attractor reached from rest "
+            "(the stick-slip orbit where the slip from breakaway stops, otherwise the stable "
+            "pure-slip orbit continued from the Hopf point, otherwise steady sliding) and its "
+            "amplitude; the criterion reads the sign of d log(amplitude)/d log(nu) (centred "
+            "differences; points next to a change of regime are not judged) as stick-slip "
+            "(rising) or pure slip (falling). 'slip-reversal' is an oscillation that never "
+            "sticks but whose velocity changes sign (backward slip without a stop): the "
+            "criterion is right there if it says 'no stick'. Data: criterion_*.nc."
+        ),
+        _Table(("map", "regime reached", "points judged", "right", "wrong"), tuple(trial_rows(trials))),
+    ]
+    reasons = []
+    for tr in trials.values():
+        param = next(d for d in tr.right.dims if d != "nu")
+        wrong = tr.right.values == 0
+        obs = tr.observed.values
+        ss_wrong = wrong & (obs == 0)
+        rev_wrong = wrong & (obs == 3)
+        title = str(tr.attrs["title"])
+        if ss_wrong.any():
+            rows = np.flatnonzero(ss_wrong.any(axis=1))
+            vals = tr[param].values[rows]
+            # where, within each row's stick-slip range, the wrong points sit (0 = bottom, 1 = top)
+            pos = []
+            for i in rows:
+                nu_ss = tr.nu.values[obs[i] == 0]
+                for nu in tr.nu.values[ss_wrong[i]]:
+                    pos.append(
+                        (np.log(nu) - np.log(nu_ss.min())) / max(np.log(nu_ss.max() / nu_ss.min()), 1e-300)
+                    )
+            reasons.append(
+                f"{title}: stick-slip misread as pure slip at {int(ss_wrong.sum())} points, for "
+                f"{param} from {vals.min():.3g} to {vals.max():.3g}, in the top part of the stick-slip "
+                f"range (median position {np.median(pos):.2f} of its log-width). There the stick-slip "
+                "cycle is close to the grazing pure-slip orbit it turns into at the border, and its "
+                "amplitude follows that orbit's, which falls with nu: the amplitude peaks inside the "
+                "stick-slip range."
+            )
+        if rev_wrong.any():
+            nus = tr.nu.values[np.flatnonzero(rev_wrong.any(axis=0))]
+            slopes = tr.slope.values[rev_wrong]
+            reasons.append(
+                f"{title}: {int(rev_wrong.sum())} point(s) with slip reversal (nu from {nus.min():.3g} to "
+                f"{nus.max():.3g}) read as stick-slip: the block never sticks, yet the amplitude grows "
+                f"with nu (d log A / d log nu from {slopes.min():.2f} to {slopes.max():.2f}). The "
+                "criterion assumes the only non-sticking oscillation is the small pure-slip cycle "
+                "near a Hopf point."
+            )
+        if not wrong.any():
+            reasons.append(f"{title}: the criterion is right wherever it is judged.")
+    blocks.append(_Bullets(tuple(reasons)))
+    for key, tr in trials.items():
+        for kind, what in (
+            ("regimes", "regimes"),
+            ("criterion", "where the criterion is right (green) or wrong (red)"),
+        ):
+            name = f"{kind}_{key}"
+            if name in figure_files:
+                blocks.append(_Figure(figure_files[name], f"{tr.attrs['title']}: {what}."))
+    return blocks

@@ -1,0 +1,65 @@
+"""The paper's criterion on trial: regime maps of F1, F2 and the cubic law, and the verdicts.
+
+Each map runs :func:`stickslip.analysis.regime_map.regime_map` over one law
+parameter and :func:`~stickslip.analysis.regime_map.criterion_trial` over ``nu``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+
+from ..analysis.regime_map import criterion_table, criterion_trial, regime_map
+from ..models.friction import CubicLaw, DimensionlessLaw, WeakeningLaw
+
+__all__ = ["TRIAL_MAPS", "TrialMap", "run_trials"]
+
+
+@dataclass(frozen=True)
+class TrialMap:
+    """One map of the trial: a law, the parameter varied over ``values`` and the ``nu`` range."""
+
+    key: str
+    title: str
+    law: DimensionlessLaw
+    param: str
+    values: tuple[float, ...]
+    nu_min: float
+    nu_max: float
+
+
+TRIAL_MAPS = (
+    TrialMap("f1_c", "F1 (p = 0), over c", WeakeningLaw(c=3.8), "c",
+             tuple(np.geomspace(0.3, 30.0, 16)), 1e-3, 10.0),
+    TrialMap("f2_p", "F2 (c = 3.8), over p", WeakeningLaw(c=3.8, p=0.5), "p",
+             tuple(np.linspace(0.0, 2.5, 16)), 1e-3, 10.0),
+    TrialMap("cubic_alpha", "Thomsen-Fidlin cubic law (gamma = 1/6), over alpha",
+             CubicLaw(alpha=0.5, gamma=1 / 6), "alpha", tuple(np.linspace(0.1, 1.2, 16)), 0.01, 5.0),
+)  # fmt: skip
+
+
+def run_trials(*, quick: bool = False, progress: bool | None = False) -> dict[str, xr.Dataset]:
+    """Compute every map of :data:`TRIAL_MAPS` with the criterion's verdicts."""
+    out = {}
+    for m in TRIAL_MAPS:
+        values = m.values[::5] if quick else m.values
+        ds = regime_map(m.law, m.param, values, m.nu_min, m.nu_max, n_nu=41 if quick else 161,
+                        progress=progress)  # fmt: skip
+        tr = criterion_trial(ds)
+        tr.attrs["title"] = m.title
+        out[m.key] = tr
+    return out
+
+
+def trial_rows(trials: dict[str, xr.Dataset]) -> list[tuple[str, ...]]:
+    """Rows ``(map, regime reached, judged, right, wrong)`` for the report."""
+    rows: list[tuple[str, ...]] = []
+    for tr in trials.values():
+        for r in criterion_table(tr):
+            if r["judged"]:
+                rows.append(
+                    (str(tr.attrs["title"]), r["regime"], str(r["judged"]), str(r["right"]), str(r["wrong"]))
+                )
+    return rows
