@@ -30,8 +30,23 @@ def test_every_file_is_written_and_not_empty(quick_run: Path) -> None:
     html = (quick_run / "report.html").read_text()
     for name in FIGURES:
         assert f"{name}.png" in md
-    assert html.count("data:image/png;base64,") == len(FIGURES)
+    from stickslip.paper.trial import TRIAL_MAPS
+
+    assert html.count("data:image/png;base64,") == len(FIGURES) + 2 * len(TRIAL_MAPS)
     assert "<img" in html and 'src="fig' not in html  # self-contained
+
+
+def test_criterion_trial_in_the_report(quick_run: Path) -> None:
+    from stickslip.paper.trial import TRIAL_MAPS
+
+    md = (quick_run / "report.md").read_text()
+    assert "## The criterion on trial" in md
+    for m in TRIAL_MAPS:
+        tr = xr.load_dataset(quick_run / f"criterion_{m.key}.nc")
+        assert set(tr.right.dims) == {m.param, "nu"}
+        judged = int((tr.right.values >= 0).sum())
+        assert judged > 0
+        assert m.title in md
 
 
 def test_figures_are_drawn_from_the_netcdf_data(quick_run: Path) -> None:
