@@ -12,9 +12,14 @@ def test_readme_python_blocks_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatc
     blocks = re.findall(r"```python\n(.*?)```", README.read_text(), flags=re.S)
     assert blocks
     monkeypatch.chdir(tmp_path)
+    spaces = []
     for block in blocks:
         namespace: dict = {}
         exec(compile(block, "README.md", "exec"), namespace)
-    r = namespace["r"]
+        spaces.append(namespace)
+    r = spaces[0]["r"]
+    diagram = spaces[1]["diagram"]
+    assert [iv.regime for iv in diagram.intervals] == ["stick-slip", "bistable", "steady-sliding"]
+    assert [round(iv.nu_max, 4) for iv in diagram.intervals[:2]] == [0.4623, 0.6696]  # as the README says
     assert r.regime == "stick-slip"
     assert (tmp_path / "trajectory.csv").exists()
