@@ -180,8 +180,8 @@ def test_regime_map_and_criterion(tmp_path: Path) -> None:
     assert set(np.unique(ds.regime.values)) <= {0, 1, 2}
     trial = criterion_trial(ds)
     table = criterion_table(trial)
-    assert [r["regime"] for r in table] == ["stick-slip", "pure-slip"]
-    assert all(r["judged"] > 0 for r in table)
+    assert [r["regime"] for r in table] == ["stick-slip", "pure-slip", "slip-reversal"]
+    assert all(r["judged"] > 0 for r in table[:2])
     # for this law the criterion holds wherever it is judged
     assert all(r["wrong"] == 0 for r in table)
     # and it is judged from real slopes: positive on stick-slip, negative on pure slip
@@ -264,7 +264,7 @@ def test_cli_regimes_physical_and_map(tmp_path: Path) -> None:
     assert d["beta_s_per_m"] == pytest.approx(42.0)
     iv = d["intervals"][0]
     assert iv["v0_max_m_per_s"] == pytest.approx(iv["nu_max"] / 42.0)
-    assert len(d["criterion"]) == 2
+    assert [r["regime"] for r in d["criterion"]] == ["stick-slip", "pure-slip", "slip-reversal"]
     for name in ("regime_map.nc", "regime_map.png", "criterion_map.png"):
         assert (tmp_path / name).exists()
 
@@ -292,3 +292,14 @@ def test_pure_slip_orbit_from_branch_guess_matches_direct(cubic_diagram) -> None
     (o,) = pure_slip_orbits_at(cubic_diagram, 0.97)
     direct = pure_slip_orbit(DimensionlessParameters(nu=0.97, law=CUBIC))
     assert o.amplitude == pytest.approx(direct.amplitude, rel=1e-8)
+
+
+def test_slip_reversal_is_an_attractor_of_its_own() -> None:
+    """F1 at large nu: the block never sticks but its velocity changes sign every cycle."""
+    d = regimes(WeakeningLaw(c=3.8), 1.0, 9.0, n_grid=41)
+    assert [iv.regime for iv in d.intervals] == ["stick-slip", "pure-slip"]
+    assert d.intervals[1].attractors == ("slip-reversal",)
+    # the same boundary as the engine's onset of stick-slip from breakaway
+    onset = [p.nu for p in d.points if p.kind == "stick-slip-onset"]
+    assert d.intervals[0].nu_max == pytest.approx(onset[0], rel=1e-12)
+    assert all(c.agree for c in confirm(d))

@@ -813,6 +813,8 @@ def confirm(diagram: RegimeDiagram) -> list[Confirmation]:
                 found.add("unresolved")
                 continue
             kind = names[int(r[engine.O_REGIME])]
+            if kind == "pure-slip" and r[engine.O_NBACKWARD] > 0:
+                kind = "slip-reversal"
             found.add(kind)
             if kind == "pure-slip" and stable_amps:
                 e = min(abs(r[engine.O_AMPLITUDE] - a) / a for a in stable_amps)
