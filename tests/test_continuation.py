@@ -303,3 +303,14 @@ def test_slip_reversal_is_an_attractor_of_its_own() -> None:
     onset = [p.nu for p in d.points if p.kind == "stick-slip-onset"]
     assert d.intervals[0].nu_max == pytest.approx(onset[0], rel=1e-12)
     assert all(c.agree for c in confirm(d))
+
+
+def test_cubic_law_warns_where_friction_turns_negative() -> None:
+    import warnings
+
+    with pytest.warns(UserWarning, match="turns negative"):
+        CubicLaw(alpha=1.2, gamma=1 / 6)  # alpha**3 = 1.73 > 27 gamma / 4 = 1.125
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        CubicLaw(alpha=1.0, gamma=1 / 6)  # 1.0 < 1.125: positive everywhere
+        CubicLaw(alpha=0.5, gamma=1 / 6)

@@ -17,6 +17,7 @@ Every law is odd in the velocity (friction opposes motion) and set-valued at
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 from typing import Any, ClassVar, Protocol, runtime_checkable
 
@@ -191,6 +192,16 @@ class CubicLaw(_LawMixin):
     def __post_init__(self) -> None:
         object.__setattr__(self, "alpha", check_number(self.alpha, "alpha"))
         object.__setattr__(self, "gamma", check_number(self.gamma, "gamma"))
+        w_min = math.sqrt(self.alpha / (3.0 * self.gamma))
+        f_min = 1.0 - 2.0 * self.alpha * w_min / 3.0
+        if f_min < 0.0:
+            warnings.warn(
+                f"CubicLaw(alpha={self.alpha!r}, gamma={self.gamma!r}): the friction turns negative "
+                f"(minimum {f_min:.3g} at w = {w_min:.3g}; it stays positive for "
+                "alpha**3 < 27 gamma / 4): it drives the block there",
+                UserWarning,
+                stacklevel=3,
+            )
 
     def forward(self, w: npt.NDArray[np.float64], order: int = 0) -> npt.NDArray[np.float64]:
         """Return the ``order``-th derivative of ``1 - alpha w + gamma w**3``."""
