@@ -866,6 +866,7 @@ def regimes(
     law in dimensionless form (beta from --mass or --beta) and the intervals also
     in v0.
     """
+    from .analysis.cycle import _json_clean as json_clean
     from .analysis.regimes import confirm
     from .analysis.regimes import regimes as compute_regimes
 
@@ -898,9 +899,7 @@ def regimes(
                 "nu": c.nu,
                 "expected": list(c.expected),
                 "found": list(c.found),
-                "pure_slip_amplitude_error": None
-                if c.pure_slip_amplitude_error != c.pure_slip_amplitude_error
-                else c.pure_slip_amplitude_error,
+                "pure_slip_amplitude_error": c.pure_slip_amplitude_error,
                 "agree": c.agree,
             }
             for c in checks
@@ -920,6 +919,7 @@ def regimes(
         ds = regime_map(law, name.strip(), values, nu_min, nu_max, n_nu=n_grid)
         trial = criterion_trial(ds)
         result["criterion"] = criterion_table(trial)
+    result = json_clean(result)  # NaN (no pure-slip attractor, no criterion verdict) -> null
     if out_dir is not None:
         from .plots.figures import save_figure
         from .plots.regimes import plot_bifurcation, plot_criterion_map, plot_regime_map

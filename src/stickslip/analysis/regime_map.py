@@ -147,10 +147,9 @@ def regime_map(
 
 def _rows(d: RegimeDiagram) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     from ..core import engine
-    from .regimes import _stick_slip_rows
 
     grid = d.branches[0].nu
-    rows = _stick_slip_rows(d.law, grid)
+    rows = d.rest  # the engine from rest on this grid, run once by regimes()
     regime = np.empty(grid.size, dtype=np.int8)
     observed = np.empty(grid.size, dtype=np.int8)
     amplitude = np.full(grid.size, math.nan)

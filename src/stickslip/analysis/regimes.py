@@ -49,6 +49,7 @@ from ..core.api import run_attractors
 from ..models.friction import DimensionlessLaw
 from ..models.parameters import DimensionlessParameters
 from ..models.units import check_number
+from .cycle import _json_clean as json_clean
 from .orbits import PeriodicOrbit, flow, law_arrays, pure_slip_orbit
 from .stability import Hopf, hopf_points
 
@@ -113,12 +114,12 @@ class Branch:
         return {
             "kind": self.kind,
             "end": self.end,
-            "nu": _clean(self.nu),
-            "amplitude": _clean(self.amplitude),
-            "period": _clean(self.period),
-            "min_velocity": _clean(self.min_velocity),
-            "max_force": _clean(self.max_force),
-            "multiplier": _clean(self.multiplier),
+            "nu": json_clean(self.nu.tolist()),
+            "amplitude": json_clean(self.amplitude.tolist()),
+            "period": json_clean(self.period.tolist()),
+            "min_velocity": json_clean(self.min_velocity.tolist()),
+            "max_force": json_clean(self.max_force.tolist()),
+            "multiplier": json_clean(self.multiplier.tolist()),
             "stable": [bool(b) for b in self.stable],
         }
 
@@ -170,6 +171,8 @@ class RegimeDiagram:
     intervals: tuple[Interval, ...]
     branches: tuple[Branch, ...]
     points: tuple[SpecialPoint, ...]
+    #: the engine's output (layout ``O_*``) from breakaway at each ``nu`` of the steady-sliding branch
+    rest: np.ndarray = field(default_factory=lambda: np.empty((0, engine.NOUT)), repr=False)
     units: dict[str, str] = field(default_factory=lambda: {"nu": "1", "amplitude": "mu_s W"})
 
     def regime_at(self, nu: float) -> Interval:
@@ -198,7 +201,7 @@ class RegimeDiagram:
                 }
                 for iv in self.intervals
             ],
-            "points": [_clean_scalar_dict(asdict(p)) for p in self.points],
+            "points": [json_clean(asdict(p)) for p in self.points],
             "branches": [b.as_dict() for b in self.branches],
             "units": dict(self.units),
         }
@@ -210,14 +213,6 @@ class RegimeDiagram:
 
 def _law_fields(law: Any) -> dict[str, float]:
     return {k: float(v) for k, v in vars(law).items() if isinstance(v, int | float)}
-
-
-def _clean(a: np.ndarray) -> list[float | None]:
-    return [float(x) if math.isfinite(x) else None for x in np.asarray(a, dtype=float)]
-
-
-def _clean_scalar_dict(d: dict[str, Any]) -> dict[str, Any]:
-    return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in d.items()}
 
 
 # ----------------------------------------------------------------------------- pure slip
@@ -234,30 +229,35 @@ class _Shooter:
     def f(self, nu: float, order: int = 0) -> float:
         return float(self.law.forward(np.array([nu]), order)[0])  # type: ignore[attr-defined]
 
-    def residual(self, x: np.ndarray, jac: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    def residual(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Return ``G(x)`` and its 2 x 3 Jacobian."""
+        g, j, _ = self.evaluate(x, measure=False)
+        return g, j
+
+    def measure(self, x: np.ndarray) -> dict[str, float]:
+        """Return amplitude, minimum velocity and nontrivial multiplier of the orbit at ``x``."""
+        return self.evaluate(x, measure=True)[2]
+
+    def evaluate(self, x: np.ndarray, *, measure: bool) -> tuple[np.ndarray, np.ndarray, dict[str, float]]:
+        """One integration: residual, Jacobian and (with ``measure``) the orbit's measurements."""
         a, period, nu = float(x[0]), float(x[1]), float(x[2])
         s0 = self.f(nu) + a
-        y, _ = flow(self.law_id, self.lp, nu, s0, nu, period, self.rtol)
+        y, ex = flow(self.law_id, self.lp, nu, s0, nu, period, self.rtol, measure=measure)
         g = np.array([y[0] - s0, y[1] - nu])
-        if not jac:
-            return g, np.empty((2, 3))
         phi = y[2:6].reshape(2, 2)
         d0 = np.array([self.f(nu, 1), 1.0])  # d(s0, w0)/d nu
         j = np.empty((2, 3))
         j[:, 0] = phi[:, 0] - np.array([1.0, 0.0])
         j[:, 1] = [nu - y[1], y[0] - self.f(y[1])]
         j[:, 2] = phi @ d0 + y[6:8] - d0
-        return g, j
-
-    def measure(self, x: np.ndarray) -> dict[str, float]:
-        a, period, nu = float(x[0]), float(x[1]), float(x[2])
-        s0 = self.f(nu) + a
-        y, ex = flow(self.law_id, self.lp, nu, s0, nu, period, self.rtol, measure=True)
-        return {
-            "amplitude": s0 - float(ex[va.X_S_MIN]),
-            "min_velocity": float(ex[va.X_W_MIN]),
-            "multiplier": math.exp(-float(y[8])),
-        }
+        meas = {}
+        if measure:
+            meas = {
+                "amplitude": s0 - float(ex[va.X_S_MIN]),
+                "min_velocity": float(ex[va.X_W_MIN]),
+                "multiplier": math.exp(-float(y[8])),
+            }
+        return g, j, meas
 
 
 def _newton(
@@ -346,8 +346,10 @@ def continue_pure_slip(
             return _empty_branch("failed"), []
         xs.append(res[0])
     pts: list[np.ndarray] = list(xs)
-    meas = [sh.measure(x) for x in xs]
-    tangent = _null_vector(sh.residual(xs[-1])[1])
+    meas = [sh.measure(xs[0])]
+    _, j_last, m_last = sh.evaluate(xs[1], measure=True)
+    meas.append(m_last)
+    tangent = _null_vector(j_last)
     if np.dot(tangent, xs[1] - xs[0]) < 0:
         tangent = -tangent
     ds = min(ds_max, float(np.linalg.norm(xs[1] - xs[0])))
@@ -377,7 +379,7 @@ def continue_pure_slip(
                 break
             continue
         xn, its = res
-        m = sh.measure(xn)
+        _, j_n, m = sh.evaluate(xn, measure=True)
         if not (nu_min <= xn[2] <= nu_max):
             # land exactly on the end of the range
             target = nu_max if xn[2] > nu_max else nu_min
@@ -404,7 +406,7 @@ def continue_pure_slip(
             break
         if end == "range":
             break
-        t_new = _null_vector(sh.residual(xn)[1])
+        t_new = _null_vector(j_n)
         if np.dot(t_new, tangent) < 0:
             t_new = -t_new
         pts.append(xn)
@@ -503,15 +505,17 @@ def _is_stick_slip(rows: np.ndarray) -> np.ndarray:
 
 
 def stick_slip_branch(
-    law: DimensionlessLaw, nu: np.ndarray, *, refine: bool = True
+    law: DimensionlessLaw, nu: np.ndarray, *, refine: bool = True, rows: np.ndarray | None = None
 ) -> tuple[Branch, list[SpecialPoint]]:
     """Return the stick-slip orbit through breakaway where it exists, on the grid ``nu``.
 
     Where existence changes between grid points, its end is located by bisection
     on the engine (to ``1e-9`` relative) and added to the branch and to the points.
+    ``rows``, the engine's output from breakaway at ``nu``, is computed when not given.
     """
     nu = np.asarray(nu, dtype=float)
-    rows = _stick_slip_rows(law, nu)
+    if rows is None:
+        rows = _stick_slip_rows(law, nu)
     ok = _is_stick_slip(rows)
     special: list[SpecialPoint] = []
     extra_nu: list[float] = []
@@ -556,6 +560,11 @@ def stick_slip_branch(
 
 
 # ----------------------------------------------------------------------------- regimes
+
+
+def _midpoint(lo: float, hi: float) -> float:
+    """Middle of ``[lo, hi]``, geometric when it spans more than a factor 20 (as :func:`_grid`)."""
+    return 0.5 * (lo + hi) if hi / lo < 20 else math.sqrt(lo * hi)
 
 
 def _grid(nu_min: float, nu_max: float, n: int) -> np.ndarray:
@@ -636,7 +645,8 @@ def regimes(
         if b.nu.size:
             branches.append(b)
             points.extend(p for p in sp if lo <= p.nu <= hi)
-    ss, sp = stick_slip_branch(law, grid)
+    rest = _stick_slip_rows(law, grid)
+    ss, sp = stick_slip_branch(law, grid, rows=rest)
     branches.append(ss)
     points.extend(sp)
 
@@ -645,7 +655,7 @@ def regimes(
     cuts = [c for i, c in enumerate(cuts) if i == 0 or c - cuts[i - 1] > 1e-9 * c]
     intervals: list[Interval] = []
     for c0, c1 in itertools.pairwise(cuts):
-        mid = 0.5 * (c0 + c1) if c1 / c0 < 20 else math.sqrt(c0 * c1)
+        mid = _midpoint(c0, c1)
         att = _attractors_at(law, mid, branches)
         if "unresolved" in att:
             name = "unknown"
@@ -667,6 +677,7 @@ def regimes(
         intervals=tuple(intervals),
         branches=tuple(branches),
         points=tuple(sorted(points, key=lambda p: p.nu)),
+        rest=rest,
     )
 
 
@@ -780,7 +791,7 @@ def confirm(diagram: RegimeDiagram) -> list[Confirmation]:
     law_id, lp = law_arrays(law)
     out = []
     for iv in diagram.intervals:
-        nu = 0.5 * (iv.nu_min + iv.nu_max) if iv.nu_max / iv.nu_min < 20 else math.sqrt(iv.nu_min * iv.nu_max)
+        nu = _midpoint(iv.nu_min, iv.nu_max)
         f_nu = float(law.forward(np.array([nu]))[0])  # type: ignore[attr-defined]
         amps = [o.amplitude for o in pure_slip_orbits_at(diagram, nu)]
         pushes = [1e-3, 2.0] + [k * a / 2 for a in amps for k in (0.9, 1.1)]
