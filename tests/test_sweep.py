@@ -17,6 +17,7 @@ from stickslip import (
     f2,
     zv_parameters,
 )
+from stickslip.analysis.orbits import pure_slip_orbit
 from stickslip.analysis.sweep import load_sweep, save_sweep, sweep
 
 
@@ -83,16 +84,30 @@ def test_netcdf_round_trip(tmp_path: Path) -> None:
 
 
 def test_failed_point_leaves_the_others_intact() -> None:
-    """Near the Hopf point the transient to pure slip does not converge in the time allowed."""
+    """A slip budget shorter than one oscillation near the Hopf point: that point fails, not the others."""
     base = DimensionlessParameters(nu=0.5, law=CubicLaw(alpha=0.5, gamma=0.5 / 3))
     nus = [0.3, 0.99999, 0.5]
-    ds = sweep(base, {"nu": nus}, max_slip_time=300.0, progress=False)
+    ds = sweep(base, {"nu": nus}, max_slip_time=6.0, progress=False)  # stick-slip slips last ~5
     assert list(ds.status.values) == ["ok", "not-converged", "ok"]
     assert ds.regime.values[1] == "unknown"
     assert np.isnan(ds.amplitude.values[1])
+    assert np.isnan(ds.multiplier.values[1])
     for i in (0, 2):
-        r = cycle(DimensionlessParameters(nu=nus[i], law=base.law), probe=False, max_slip_time=300.0)
+        r = cycle(DimensionlessParameters(nu=nus[i], law=base.law), probe=False, max_slip_time=6.0)
         assert float(ds.amplitude[i]) == r.amplitude
+
+
+def test_unfinished_transients_next_to_a_hopf_point_are_resolved() -> None:
+    """Before a supercritical Hopf point an unfinished transient is polished into its orbit; just
+    past it, where no orbit exists and steady sliding is stable, it is decaying onto steady sliding."""
+    base = DimensionlessParameters(nu=0.5, law=CubicLaw(alpha=0.5, gamma=0.5 / 3))
+    ds = sweep(base, {"nu": [0.99999, 1.00001]}, max_slip_time=300.0, progress=False)
+    assert list(ds.status.values) == ["ok", "ok"]
+    assert list(ds.regime.values) == ["pure-slip", "steady-sliding"]
+    orbit = pure_slip_orbit(DimensionlessParameters(nu=0.99999, law=base.law))
+    assert float(ds.amplitude[0]) == pytest.approx(orbit.amplitude, rel=1e-8)
+    assert float(ds.multiplier[0]) == pytest.approx(abs(orbit.multipliers[1]), rel=1e-6)
+    assert float(ds.amplitude[1]) == 0.0
 
 
 def test_progress_bar(capsys: pytest.CaptureFixture[str]) -> None:

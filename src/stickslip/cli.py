@@ -332,8 +332,9 @@ def _fail_unless_ok(status: str) -> None:
     """Exit with status 1 (after the output) when the computation did not finish."""
     if status != "ok":
         hint = {
-            "not-converged": "the transient did not settle within max_slip_time (near a Hopf "
-            "point a periodic-orbit solver is the right tool)",
+            "not-converged": "the oscillation could not be pinned down to the promised 1e-8: the "
+            "transient did not settle and could not be solved as a periodic orbit to that accuracy "
+            "(within about 1e-5 of a Hopf point the orbit's multiplier tends to 1)",
             "too-many-steps": "the slip phase needs more steps than allowed: the law is very "
             "stiff at these parameters",
         }.get(status, "")
@@ -938,8 +939,10 @@ def regimes(
         for h in d.hopf:
             click.echo(f"Hopf point      nu = {h.nu:.10g}  {h.criticality} (l1 = {h.l1:.4g})")
         for p in d.points:
-            if p.kind != "hopf":
-                click.echo(f"{p.kind:<15} nu = {p.nu:.10g}  amplitude {p.amplitude:.6g}")
+            if p.kind == "hopf":
+                continue
+            what = f"amplitude {p.amplitude:.6g}" if np.isfinite(p.amplitude) else p.detail
+            click.echo(f"{p.kind:<15} nu = {p.nu:.10g}  {what}")
         for iv in d.intervals:
             v0 = f"   v0 {iv.nu_min / beta:.4g} .. {iv.nu_max / beta:.4g} m/s" if beta else ""
             att = " + ".join(iv.attractors) if iv.regime == "bistable" else ""

@@ -18,3 +18,6 @@ CONV_TOL = 1e-8
 MAX_STEPS = 2_000_000
 #: perturbation of steady sliding (units of static friction) used to probe its basin
 STEADY_PERTURBATION = 1e-3
+#: relative accuracy promised for the measures of a steady oscillation (amplitude, period); a
+#: non-sticking orbit whose estimated error is larger is reported as not converged
+ORBIT_RTOL = 1e-8

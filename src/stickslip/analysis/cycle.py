@@ -31,6 +31,7 @@ from ..models.parameters import (
     as_dimensionless,
 )
 from ..models.units import Q_, check_number
+from .attractors import OrbitKey, orbit_key, polish_rows, same_orbit
 
 __all__ = ["Attractor", "CycleResult", "cycle", "validate_tolerances"]
 
@@ -105,6 +106,10 @@ class Attractor:
         Where it was reached from: ``rest`` or ``near steady sliding``.
     status : str
         ``ok`` or the reason the search did not converge.
+    multiplier : float
+        Nontrivial Floquet multiplier of the orbit: 0 for stick-slip, between -1
+        and 1 for a polished pure-slip or slip-reversal orbit, NaN for steady
+        sliding and where unknown.
 
     """
 
@@ -113,6 +118,7 @@ class Attractor:
     period: float
     start: str
     status: str
+    multiplier: float = math.nan
 
 
 @dataclass(frozen=True)
@@ -149,7 +155,13 @@ class CycleResult:
     transient_time : float
         Time from rest until the measured cycle starts (time).
     status : str
-        ``ok``, or why the attractor could not be pinned down.
+        ``ok``, or why the attractor could not be pinned down: ``not-converged``
+        when a non-sticking transient could not be polished into a periodic orbit
+        (its values are then the transient's, not within the tolerance).
+    multiplier : float
+        Nontrivial Floquet multiplier of the attractor reached from rest (see
+        :class:`Attractor`); its distance from 1 is the rate at which
+        transients approach it.
     attractors : tuple of Attractor
         Distinct attractors reached from rest and from near steady sliding.
     multistable : bool
@@ -176,6 +188,7 @@ class CycleResult:
     friction_work: float
     transient_time: float
     status: str
+    multiplier: float
     attractors: tuple[Attractor, ...]
     multistable: bool
     steady_sliding_stable: bool
@@ -284,19 +297,29 @@ def cycle(
         rows.append(run([fnu + defaults.STEADY_PERTURBATION], [nu], from_breakaway=False)[0])
         starts.append("near steady sliding")
 
+    # polish every non-sticking attractor into its periodic orbit (exact near a Hopf point,
+    # where the transient crawls); measure the work integrals on the polished orbit
+    polished, mult = polish_rows(
+        law, np.full(len(rows), nu), np.vstack(rows), rerun=True, rtol=rtol, atol=atol
+    )
     conv = _converter(scales)
-    attractors = [_attractor(o, start, conv) for o, start in zip(rows, starts, strict=True)]
+    keyed = [
+        (_attractor(o, start, conv, m), orbit_key(o))
+        for o, start, m in zip(polished, starts, mult, strict=True)
+    ]
     if len(rows) > 1:
         # a probe that never left the neighbourhood of steady sliding (amplitude still about
         # twice the push) found no attractor: steady sliding is (nearly) neutral there
         push = conv("force", 2.0 * defaults.STEADY_PERTURBATION)
-        if abs(attractors[1].amplitude - push) <= 0.1 * push:
-            attractors.pop(1)
+        if abs(keyed[1][0].amplitude - push) <= 0.1 * push:
+            keyed.pop(1)
     if steady_stable:
-        attractors.append(Attractor("steady-sliding", 0.0, math.nan, "linear stability", "ok"))
-    distinct = _distinct(attractors)
+        keyed.append(
+            (Attractor("steady-sliding", 0.0, math.nan, "linear stability", "ok"), OrbitKey("steady-sliding"))
+        )
+    distinct = _distinct(keyed)
 
-    o = out0
+    o = polished[0]
     period = o[engine.O_PERIOD]
     regime = REGIMES[int(o[engine.O_REGIME])]
     stick_time = o[engine.O_STICK_TIME]
@@ -322,6 +345,7 @@ def cycle(
         friction_work=conv("energy", o[engine.O_FRICTION_WORK]),
         transient_time=conv("time", o[engine.O_TRANSIENT]),
         status=STATUSES[int(o[engine.O_STATUS])],
+        multiplier=float(mult[0]),
         attractors=tuple(distinct),
         multistable=len(distinct) > 1,
         steady_sliding_stable=steady_stable,
@@ -342,27 +366,23 @@ def _converter(scales: Scales | None) -> Any:
     return lambda kind, x: float(x) * float(factor[kind])
 
 
-def _attractor(o: np.ndarray, start: str, conv: Any) -> Attractor:
+def _attractor(o: np.ndarray, start: str, conv: Any, multiplier: float) -> Attractor:
     return Attractor(
         regime=REGIMES[int(o[engine.O_REGIME])],
         amplitude=conv("force", o[engine.O_AMPLITUDE]),
         period=conv("time", o[engine.O_PERIOD]),
         start=start,
         status=STATUSES[int(o[engine.O_STATUS])],
+        multiplier=float(multiplier),
     )
 
 
-def _distinct(attractors: list[Attractor], rel: float = 1e-5) -> list[Attractor]:
-    """Drop attractors that repeat an earlier one (same regime, same amplitude)."""
-    kept: list[Attractor] = []
-    for a in attractors:
-        if a.regime == "unknown" or a.status != "ok":
+def _distinct(keyed: list[tuple[Attractor, OrbitKey | None]]) -> list[Attractor]:
+    """Keep the attractors that were pinned down, one per distinct orbit."""
+    kept: list[tuple[Attractor, OrbitKey]] = []
+    for a, key in keyed:
+        if key is None or a.status != "ok":
             continue
-        same = any(
-            k.regime == a.regime
-            and abs(k.amplitude - a.amplitude) <= rel * max(abs(k.amplitude), abs(a.amplitude), 1e-300)
-            for k in kept
-        )
-        if not same:
-            kept.append(a)
-    return kept
+        if not any(same_orbit(key, k) for _, k in kept):
+            kept.append((a, key))
+    return [a for a, _ in kept]

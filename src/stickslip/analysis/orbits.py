@@ -29,12 +29,23 @@ import numpy as np
 
 from ..core import engine
 from ..core import variational as va
-from ..core.api import run_attractors
+from ..core.api import run_attractors, run_shooting, run_trajectory
 from ..models.friction import DimensionlessLaw
 from ..models.parameters import DimensionlessParameters
 from .stability import averaged_amplitude
 
-__all__ = ["PeriodicOrbit", "StickSlipOrbit", "pure_slip_orbit", "saltation", "stick_slip_orbit"]
+__all__ = [
+    "PeriodicOrbit",
+    "ReturnMapOrbit",
+    "StickSlipOrbit",
+    "next_force_maximum",
+    "orbit_from_shot",
+    "pure_slip_orbit",
+    "return_map_orbit",
+    "return_map_orbit_core",
+    "saltation",
+    "stick_slip_orbit",
+]
 
 
 @dataclass(frozen=True)
@@ -162,48 +173,160 @@ def pure_slip_orbit(
                 "give guess=(s0, period), e.g. from stickslip.cycle"
             )
         guess = (f_nu + a, 2.0 * math.pi)
-    s0, period = float(guess[0]), float(guess[1])
-    rtol = tol * 1e-2
-    residual = math.inf
-    law_id, lp = law_arrays(params.law)
-    for it in range(1, max_iter + 1):
-        y, _ = flow(law_id, lp, nu, s0, nu, period, rtol)
-        g = np.array([y[0] - s0, y[1] - nu])
-        residual = float(np.linalg.norm(g))
-        if residual < tol:
-            break
-        phi = y[2:6].reshape(2, 2)
-        fT = np.array([nu - y[1], y[0] - float(law.forward(np.array([y[1]]))[0])])  # type: ignore[attr-defined]
-        jac = np.column_stack([phi[:, 0] - np.array([1.0, 0.0]), fT])
-        ds0, dT = np.linalg.solve(jac, -g)
-        s0, period = s0 + ds0, period + dT
-        if not (math.isfinite(s0) and math.isfinite(period) and period > 0):
-            raise RuntimeError(f"shooting diverged at iteration {it} (period {period!r}); try a better guess")
-    else:
-        raise RuntimeError(f"shooting did not converge in {max_iter} iterations (|G| = {residual:.3g})")
-    y, extras = flow(law_id, lp, nu, s0, nu, period, rtol, measure=True)
-    if extras[va.X_W_MIN] <= 0:
+    return _shot(law, nu, float(guess[0]), float(guess[1]), tol, max_iter)
+
+
+_SHOOT_FAILURES = {
+    va.SHOOT_NO_CONVERGENCE: "shooting did not converge in {it} iterations (|G| = {res:.3g})",
+    va.SHOOT_DIVERGED: "shooting diverged at iteration {it}; try a better guess",
+    va.SHOOT_FLOW_FAILED: "the slip flow failed during shooting (step budget or a non-finite state)",
+    va.SHOOT_TRIVIAL: "shooting fell onto steady sliding (zero amplitude): no oscillation near the guess",
+}
+
+
+def _shot(
+    law: DimensionlessLaw, nu: float, s0: float, period: float, tol: float, max_iter: int
+) -> PeriodicOrbit:
+    """Run the compiled shooting once and turn its output into a :class:`PeriodicOrbit`."""
+    law_id, lp = law_arrays(law)
+    o = run_shooting(law_id, lp, [nu], [s0], [period], tol=tol, max_iter=max_iter)[0]
+    status = int(o[va.SH_STATUS])
+    if status == va.SHOOT_GRAZES:
         raise RuntimeError(
-            f"the orbit found reaches w = {extras[va.X_W_MIN]:.3g} <= 0: it grazes, "
+            f"the orbit found reaches w = {o[va.SH_W_MIN]:.3g} <= 0: it grazes, "
             "so it is not a pure-slip orbit (the motion sticks)"
         )
-    phi = y[2:6].reshape(2, 2)
+    if status != va.SHOOT_OK:
+        raise RuntimeError(_SHOOT_FAILURES[status].format(it=int(o[va.SH_ITER]), res=o[va.SH_RESIDUAL]))
+    return orbit_from_shot(o)
+
+
+def orbit_from_shot(o: np.ndarray) -> PeriodicOrbit:
+    """Return the :class:`PeriodicOrbit` of a successful row of :func:`~stickslip.core.api.run_shooting`."""
+    phi = o[va.SH_PHI : va.SH_PHI + 4].reshape(2, 2)
     mult = np.linalg.eigvals(phi)
-    order = np.argsort(np.abs(np.abs(mult) - 1.0))  # the trivial multiplier first
-    mult = mult[order]
-    div_mult = math.exp(-float(y[8]))
+    mult = mult[np.argsort(np.abs(np.abs(mult) - 1.0))]  # the trivial multiplier first
     return PeriodicOrbit(
-        s0=s0,
-        period=period,
-        amplitude=float(s0 - extras[va.X_S_MIN]),
-        min_velocity=float(extras[va.X_W_MIN]),
-        max_velocity=float(extras[va.X_W_MAX]),
+        s0=float(o[va.SH_S0]),
+        period=float(o[va.SH_PERIOD]),
+        amplitude=float(o[va.SH_AMPLITUDE]),
+        min_velocity=float(o[va.SH_W_MIN]),
+        max_velocity=float(o[va.SH_W_MAX]),
         multipliers=(complex(mult[0]), complex(mult[1])),
-        divergence_multiplier=div_mult,
+        divergence_multiplier=float(o[va.SH_DIV_MULT]),
         stable=bool(abs(mult[1]) < 1.0),
-        iterations=it,
-        residual=residual,
+        iterations=int(o[va.SH_ITER]),
+        residual=float(o[va.SH_RESIDUAL]),
     )
+
+
+def next_force_maximum(
+    law_id: int, lp: np.ndarray, nu: float, s0: float, t_guess: float, *, rtol: float, atol: float
+) -> tuple[float, float]:
+    """Return ``(s, t)`` at the next spring-force maximum after leaving ``(s0, w = nu)`` (exact engine).
+
+    This is the Poincaré return map on the section ``w = nu`` (crossed upward, where
+    ``s`` is largest); the non-smooth engine handles stops and slip reversals on the way.
+    """
+    t_end = 2.5 * t_guess
+    for _ in range(8):
+        _, _, ev, status = run_trajectory(law_id, lp, nu, s0, nu, [t_end], rtol=rtol, atol=atol)
+        if status != engine.ST_OK:
+            raise RuntimeError(f"return map from s = {s0:.6g}: the integration failed (status {status})")
+        if np.any(ev[:, 1] == engine.EV_STICK):
+            raise RuntimeError(f"return map from s = {s0:.6g}: the motion sticks (not a non-sticking orbit)")
+        hit = ev[(ev[:, 1] == engine.EV_SMAX) & (ev[:, 0] > 0.0)]
+        if hit.size:
+            return float(hit[0, 2]), float(hit[0, 0])
+        t_end *= 2.0
+    raise RuntimeError(f"return map from s = {s0:.6g}: no spring-force maximum within tau = {t_end:.3g}")
+
+
+@dataclass(frozen=True)
+class ReturnMapOrbit:
+    """A non-sticking orbit found as a fixed point of the return map on ``w = nu`` (dimensionless).
+
+    Attributes
+    ----------
+    s0 : float
+        Spring-force maximum (where ``w`` crosses ``nu`` upward).
+    period : float
+        Return time.
+    multiplier : float
+        Derivative of the return map at the fixed point: the nontrivial Floquet
+        multiplier (central difference).
+    residual : float
+        ``|P(s0) - s0|``.
+
+    """
+
+    s0: float
+    period: float
+    multiplier: float
+    residual: float
+
+
+def return_map_orbit(
+    law: DimensionlessLaw,
+    nu: float,
+    guess: tuple[float, float],
+    *,
+    tol: float = 1e-10,
+    max_iter: int = 40,
+) -> ReturnMapOrbit:
+    """Find a non-sticking periodic orbit (pure slip or slip reversal) as a fixed point of the return map.
+
+    The return map ``P`` takes the spring force at one upward crossing of ``w = nu``
+    to the next, computed by the exact non-smooth engine (so backward slip and
+    its velocity reversals are handled). Secant iterations solve ``P(s) = s``.
+
+    Raises
+    ------
+    RuntimeError
+        When the iteration does not converge or the motion sticks.
+
+    """
+    law_id, lp = law_arrays(law)
+    return return_map_orbit_core(law_id, lp, nu, guess, tol=tol, max_iter=max_iter)
+
+
+def return_map_orbit_core(
+    law_id: int,
+    lp: np.ndarray,
+    nu: float,
+    guess: tuple[float, float],
+    *,
+    tol: float = 1e-10,
+    max_iter: int = 40,
+) -> ReturnMapOrbit:
+    """:func:`return_map_orbit` for a law given by its compiled id and parameter vector."""
+    rtol, atol = tol * 1e-2, tol * 1e-4
+
+    def g(s: float) -> tuple[float, float]:
+        s1, t1 = next_force_maximum(law_id, lp, nu, s, guess[1], rtol=rtol, atol=atol)
+        return s1 - s, t1
+
+    scale = max(1.0, abs(guess[0]))
+    x0 = float(guess[0])
+    x1 = x0 + 1e-6 * scale
+    g0, _ = g(x0)
+    g1, t1 = g(x1)
+    for _ in range(max_iter):
+        if abs(g1) < tol * scale:
+            break
+        if g1 == g0:
+            raise RuntimeError("return map: the secant iteration stalled")
+        x0, x1, g0 = x1, x1 - g1 * (x1 - x0) / (g1 - g0), g1
+        g1, t1 = g(x1)
+    else:
+        raise RuntimeError(
+            f"return map: no fixed point within {max_iter} iterations (|P(s) - s| = {abs(g1):.3g})"
+        )
+    h = 1e-5 * scale
+    gp, _ = g(x1 + h)
+    gm, _ = g(x1 - h)
+    mult = 1.0 + (gp - gm) / (2.0 * h)
+    return ReturnMapOrbit(s0=x1, period=t1, multiplier=mult, residual=abs(g1))
 
 
 @dataclass(frozen=True)

@@ -3,8 +3,9 @@
 :func:`regime_map` runs :func:`~.regimes.regimes` for each value of one law
 parameter and stores, on a common ``nu`` grid, the set of attractors and what a
 simulation from rest reaches (the stick-slip orbit where it exists, otherwise
-the stable pure-slip orbit, otherwise steady sliding), with its amplitude taken
-from the continued branches (exact near the Hopf point, where transients crawl).
+the stable pure-slip orbit, otherwise steady sliding), with its amplitude from
+the periodic orbit solved at that ``nu`` (exact near the Hopf point, where
+transients crawl).
 
 :func:`criterion_trial` then applies the paper's criterion to those amplitudes,
 as an experimenter would: the sign of ``d(amplitude)/d(nu)`` read as
@@ -23,7 +24,7 @@ import numpy as np
 import xarray as xr
 
 from ..models.friction import CubicLaw, DimensionlessLaw, WeakeningLaw
-from .regimes import RegimeDiagram, regimes, stable_pure_slip_at
+from .regimes import RegimeDiagram, pure_slip_orbits_at, regimes
 from .sweep import _show_progress
 
 __all__ = ["MAP_PARAMETERS", "REGIME_CODES", "criterion_table", "criterion_trial", "regime_map"]
@@ -149,29 +150,30 @@ def _rows(d: RegimeDiagram) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     from ..core import engine
 
     grid = d.branches[0].nu
-    rows = d.rest  # the engine from rest on this grid, run once by regimes()
+    rows = d.rest  # the engine from rest on this grid, run once (and polished) by regimes()
     regime = np.empty(grid.size, dtype=np.int8)
     observed = np.empty(grid.size, dtype=np.int8)
     amplitude = np.full(grid.size, math.nan)
     for j, nu in enumerate(grid):
         regime[j] = REGIME_CODES[d.regime_at(float(nu)).regime]
         r = rows[j]
-        if r[engine.O_STATUS] != engine.ST_OK:
-            observed[j] = OBSERVED_CODES["unknown"]
-        elif r[engine.O_REGIME] == engine.RG_STICK_SLIP:
+        reg = r[engine.O_REGIME]
+        if r[engine.O_STATUS] == engine.ST_OK and reg == engine.RG_STICK_SLIP:
             observed[j], amplitude[j] = OBSERVED_CODES["stick-slip"], r[engine.O_AMPLITUDE]
-        elif r[engine.O_REGIME] == engine.RG_PURE_SLIP and r[engine.O_NBACKWARD] > 0:
-            observed[j], amplitude[j] = OBSERVED_CODES["slip-reversal"], r[engine.O_AMPLITUDE]
+        elif r[engine.O_STATUS] == engine.ST_OK and reg == engine.RG_PURE_SLIP:
+            # polished into its periodic orbit: exact even where the transient crawls
+            kind = "slip-reversal" if r[engine.O_NBACKWARD] > 0 else "pure-slip"
+            observed[j], amplitude[j] = OBSERVED_CODES[kind], r[engine.O_AMPLITUDE]
         else:
-            # pure slip or steady sliding: the continued orbit, exact even where the
-            # transient from rest would crawl (near the Hopf point)
-            ps = stable_pure_slip_at(d.branches, float(nu))
+            # steady sliding reached, or a transient not pinned down: a stable pure-slip
+            # orbit of the continued branches, solved at this nu, if there is one
+            ps = pure_slip_orbits_at(d, float(nu), stable_only=True)
             if ps:
-                observed[j], amplitude[j] = OBSERVED_CODES["pure-slip"], min(ps)
-            elif r[engine.O_REGIME] == engine.RG_PURE_SLIP:
-                observed[j], amplitude[j] = OBSERVED_CODES["pure-slip"], r[engine.O_AMPLITUDE]
-            else:
+                observed[j], amplitude[j] = OBSERVED_CODES["pure-slip"], min(o.amplitude for o in ps)
+            elif r[engine.O_STATUS] == engine.ST_OK and reg == engine.RG_STEADY:
                 observed[j], amplitude[j] = OBSERVED_CODES["steady-sliding"], 0.0
+            else:
+                observed[j] = OBSERVED_CODES["unknown"]
     return regime, observed, amplitude
 
 

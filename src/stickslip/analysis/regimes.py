@@ -36,6 +36,7 @@ from __future__ import annotations
 import itertools
 import json
 import math
+from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
@@ -49,6 +50,7 @@ from ..core.api import run_attractors
 from ..models.friction import DimensionlessLaw
 from ..models.parameters import DimensionlessParameters
 from ..models.units import check_number
+from .attractors import OrbitKey, distinct, orbit_key, polish_rows, same_orbit
 from .cycle import _json_clean as json_clean
 from .orbits import PeriodicOrbit, flow, law_arrays, pure_slip_orbit
 from .stability import Hopf, hopf_points
@@ -171,8 +173,12 @@ class RegimeDiagram:
     intervals: tuple[Interval, ...]
     branches: tuple[Branch, ...]
     points: tuple[SpecialPoint, ...]
-    #: the engine's output (layout ``O_*``) from breakaway at each ``nu`` of the steady-sliding branch
+    #: the engine's output (layout ``O_*``) from breakaway at each ``nu`` of the steady-sliding branch,
+    #: non-sticking attractors polished into their orbits
     rest: np.ndarray = field(default_factory=lambda: np.empty((0, engine.NOUT)), repr=False)
+    #: the engine's output from the probes (:data:`PROBE_PUSHES`) at each grid ``nu``, polished,
+    #: shape ``(n_grid, len(PROBE_PUSHES), NOUT)``
+    probes: np.ndarray = field(default_factory=lambda: np.empty((0, 0, engine.NOUT)), repr=False)
     units: dict[str, str] = field(default_factory=lambda: {"nu": "1", "amplitude": "mu_s W"})
 
     def regime_at(self, nu: float) -> Interval:
@@ -645,18 +651,31 @@ def regimes(
         if b.nu.size:
             branches.append(b)
             points.extend(p for p in sp if lo <= p.nu <= hi)
-    rest = _stick_slip_rows(law, grid)
+    rest, _ = polish_rows(law, grid, _stick_slip_rows(law, grid))
     ss, sp = stick_slip_branch(law, grid, rows=rest)
     branches.append(ss)
     points.extend(sp)
 
-    # interval ends: range, Hopf points, folds, grazing, stick-slip onset
+    # Attractor sets on the grid. A change between neighbouring grid points that no located
+    # bifurcation explains (an attractor not connected to a branch, e.g. slip reversal
+    # coexisting with stick-slip) is located by bisection on the probes.
+    probes = _probe_rows(law, grid, PROBE_PUSHES)
+    sets = _attractor_sets(law, grid, branches, rest, probes)
+    known = sorted(p.nu for p in points)
+    for j in range(grid.size - 1):
+        g0, g1 = float(grid[j]), float(grid[j + 1])
+        if sets[j] == sets[j + 1] or any(g0 <= k <= g1 for k in known):
+            continue
+        points.append(_locate_boundary(law, branches, g0, g1, sets[j], sets[j + 1]))
+
+    # interval ends: range, Hopf points, folds, grazing, stick-slip onset, attractor boundaries;
+    # ends closer than CUT_RTOL are one point computed two ways (grazing and onset)
     cuts = sorted({lo, hi, *(p.nu for p in points if lo < p.nu < hi)})
-    cuts = [c for i, c in enumerate(cuts) if i == 0 or c - cuts[i - 1] > 1e-9 * c]
+    cuts = [c for i, c in enumerate(cuts) if i == 0 or c - cuts[i - 1] > CUT_RTOL * c]
+    cuts[-1] = hi
     intervals: list[Interval] = []
     for c0, c1 in itertools.pairwise(cuts):
-        mid = _midpoint(c0, c1)
-        att = _attractors_at(law, mid, branches)
+        att = _attractor_sets(law, np.array([_midpoint(c0, c1)]), branches)[0]
         if "unresolved" in att:
             name = "unknown"
         elif len(att) > 1:
@@ -678,6 +697,7 @@ def regimes(
         branches=tuple(branches),
         points=tuple(sorted(points, key=lambda p: p.nu)),
         rest=rest,
+        probes=probes,
     )
 
 
@@ -687,7 +707,11 @@ def _eig(fprime: float) -> tuple[complex, complex]:
 
 
 def stable_pure_slip_at(branches: Sequence[Branch], nu: float) -> list[float]:
-    """Amplitudes of the stable pure-slip orbits at ``nu``, interpolated along the branches."""
+    """Amplitudes of the stable pure-slip orbits at ``nu``, interpolated along the branches.
+
+    Linear interpolation between continuation points: good for plotting, not for
+    telling orbits apart (use :func:`pure_slip_orbits_at`, which solves them).
+    """
     return [o[0] for o in _orbits_at(branches, nu, stable_only=True)]
 
 
@@ -701,7 +725,7 @@ def _orbits_at(branches: Sequence[Branch], nu: float, *, stable_only: bool) -> l
             n0, n1 = b.nu[i], b.nu[i + 1]
             if not (min(n0, n1) <= nu <= max(n0, n1)) or n0 == n1:
                 continue
-            if stable_only and not (b.stable[i] and b.stable[i + 1]):
+            if stable_only and not (b.stable[i] or b.stable[i + 1]):
                 continue
             r = (nu - n0) / (n1 - n0)
             found.append(
@@ -711,41 +735,160 @@ def _orbits_at(branches: Sequence[Branch], nu: float, *, stable_only: bool) -> l
 
 
 def pure_slip_orbits_at(
-    diagram: RegimeDiagram, nu: float, *, stable_only: bool = False
+    diagram: RegimeDiagram | tuple[DimensionlessLaw, Sequence[Branch]],
+    nu: float,
+    *,
+    stable_only: bool = False,
 ) -> list[PeriodicOrbit]:
     """Solve, by shooting, every pure-slip orbit of ``diagram`` at ``nu`` (stable ones only on request).
 
-    The continued branches give the guesses, so unstable orbits are found too.
+    The continued branches give the guesses, so unstable orbits are found too;
+    each orbit is solved at this very ``nu``, and one orbit reached from two
+    branch segments is returned once. ``diagram`` may also be ``(law, branches)``.
     """
-    params = DimensionlessParameters(nu=nu, law=diagram.law)
-    out = []
-    for _amp, s0, period in _orbits_at(diagram.branches, nu, stable_only=stable_only):
+    law, branches = (diagram.law, diagram.branches) if isinstance(diagram, RegimeDiagram) else diagram
+    params = DimensionlessParameters(nu=nu, law=law)
+    out: list[PeriodicOrbit] = []
+    for _amp, s0, period in _orbits_at(branches, nu, stable_only=stable_only):
         try:
-            out.append(pure_slip_orbit(params, guess=(s0, period)))
+            o = pure_slip_orbit(params, guess=(s0, period))
         except RuntimeError:
             continue
+        if stable_only and not o.stable:
+            continue
+        key = OrbitKey("pure-slip", o.s0, o.period)
+        if not any(same_orbit(key, OrbitKey("pure-slip", q.s0, q.period)) for q in out):
+            out.append(o)
     return out
 
 
-def _attractors_at(law: DimensionlessLaw, nu: float, branches: Sequence[Branch]) -> tuple[str, ...]:
-    att: list[str] = []
-    row = _stick_slip_rows(law, np.array([nu]))[0]
-    stable_ps = stable_pure_slip_at(branches, nu)
-    if row[engine.O_STATUS] != engine.ST_OK:
-        att.append("unresolved")  # the engine could not follow the slip from breakaway
-    elif row[engine.O_REGIME] == engine.RG_STICK_SLIP:
-        att.append("stick-slip")
-    elif row[engine.O_REGIME] == engine.RG_PURE_SLIP:
-        if row[engine.O_NBACKWARD] > 0:
-            # never sticks, but the velocity changes sign: a non-smooth oscillation that
-            # the smooth continuation (w > 0) does not follow
-            att.append("slip-reversal")
-        elif not any(abs(a - row[engine.O_AMPLITUDE]) <= 1e-4 * a for a in stable_ps):
-            att.append("pure-slip")  # reached from rest but not on a branch born at a Hopf point
-    att.extend("pure-slip" for _ in stable_ps)
-    if float(law.forward(np.array([nu]), 1)[0]) > 0:  # type: ignore[attr-defined]
-        att.append("steady-sliding")
-    return tuple(att)
+def identify(law: DimensionlessLaw, nu: float, rows: np.ndarray) -> list[OrbitKey | None]:
+    """Polish the attractors in engine rows at ``nu``; return their keys (None where unresolved)."""
+    polished, _ = polish_rows(law, np.full(rows.shape[0], nu), rows)
+    return [orbit_key(r) for r in polished]
+
+
+#: spring force above steady sliding of the probes that look for attractors besides the one
+#: reached from rest: near steady sliding, and a large push
+PROBE_PUSHES = (1e-3, 2.0)
+#: interval ends closer than this (relative) are one point
+CUT_RTOL = 1e-7
+
+
+def _probe_rows(law: DimensionlessLaw, nu: np.ndarray, pushes: Sequence[float]) -> np.ndarray:
+    """Engine rows from ``(f(nu) + push, nu)`` for each push, polished.
+
+    The shape is ``(len(nu), len(pushes), NOUT)``.
+    """
+    law_id, lp = law_arrays(law)
+    f_nu = np.asarray(law.forward(nu), dtype=float)  # type: ignore[attr-defined]
+    nus = np.repeat(nu, len(pushes))
+    s0 = (f_nu[:, None] + np.asarray(pushes, dtype=float)[None, :]).ravel()
+    rows = run_attractors(
+        law_id,
+        lp,
+        nus,
+        s0,
+        nus,
+        from_breakaway=False,
+        rtol=defaults.RTOL,
+        atol=defaults.ATOL,
+        max_slip_time=defaults.MAX_SLIP_TIME,
+        conv_tol=defaults.CONV_TOL,
+    )
+    polished, _ = polish_rows(law, nus, rows)
+    return polished.reshape(nu.size, len(pushes), engine.NOUT)
+
+
+def _attractor_sets(
+    law: DimensionlessLaw,
+    nu: np.ndarray,
+    branches: Sequence[Branch],
+    rest: np.ndarray | None = None,
+    probes: np.ndarray | None = None,
+) -> list[tuple[str, ...]]:
+    """Names of the distinct attractors at each ``nu`` (one entry per distinct orbit), in a fixed order.
+
+    The engine from rest and from the :data:`PROBE_PUSHES` (every non-sticking
+    attractor polished into its orbit), every stable pure-slip orbit of the
+    continued branches solved at this ``nu``, and steady sliding where it is
+    stable; an attractor found twice counts once. The set is ``("unresolved",)``
+    where the motion from rest could not be followed; a probe that did not
+    settle is left out (it shows nothing). ``rest`` and ``probes`` are the
+    polished rows from breakaway and from the probes at ``nu`` when already computed.
+    """
+    if rest is None:
+        rest, _ = polish_rows(law, nu, _stick_slip_rows(law, nu))
+    if probes is None:
+        probes = _probe_rows(law, nu, PROBE_PUSHES)
+    fp = np.asarray(law.forward(nu, 1), dtype=float)  # type: ignore[attr-defined]
+    out: list[tuple[str, ...]] = []
+    for j, v in enumerate(nu):
+        key = orbit_key(rest[j])
+        if key is None:
+            out.append(("unresolved",))  # the engine could not follow (or polish) the motion from rest
+            continue
+        # a probe that did not settle (near a Hopf point it crawls) tells nothing; the probe next
+        # to steady sliding is asked only where steady sliding is unstable
+        found = [key]
+        for push, r in zip(PROBE_PUSHES, probes[j], strict=True):
+            k = orbit_key(r)
+            if k is not None and (push >= 1.0 or fp[j] < 0):
+                found.append(k)
+        found += [
+            OrbitKey("pure-slip", o.s0, o.period)
+            for o in pure_slip_orbits_at((law, branches), float(v), stable_only=True)
+        ]
+        if fp[j] > 0:
+            found.append(OrbitKey("steady-sliding"))
+        out.append(_names(distinct(found)))
+    return out
+
+
+def _locate_boundary(
+    law: DimensionlessLaw,
+    branches: Sequence[Branch],
+    lo: float,
+    hi: float,
+    set_lo: tuple[str, ...],
+    set_hi: tuple[str, ...],
+) -> SpecialPoint:
+    """Bisect ``[lo, hi]`` for where the attractor set changes from ``set_lo`` to ``set_hi``.
+
+    Right at such a boundary (a fold of cycles, say) transients crawl and the
+    motion from rest may not settle: the bisection then stops, and the detail
+    says how well the point is located.
+    """
+    crawl = False
+    while hi - lo > 1e-9 * hi:
+        mid = 0.5 * (lo + hi)
+        s_mid = _attractor_sets(law, np.array([mid]), branches)[0]
+        if s_mid == set_lo:
+            lo = mid
+        elif s_mid == set_hi:
+            hi = mid
+        elif s_mid == ("unresolved",):
+            crawl = True
+            break
+        else:  # a third set in between: keep the side that still differs from set_lo
+            hi, set_hi = mid, s_mid
+    gone = sorted((Counter(set_lo) - Counter(set_hi)).elements()) or ["-"]
+    new = sorted((Counter(set_hi) - Counter(set_lo)).elements()) or ["-"]
+    where = f"; located to +-{0.5 * (hi - lo):.2g} (transients crawl there)" if crawl else ""
+    return SpecialPoint(
+        "attractor-boundary",
+        0.5 * (lo + hi),
+        math.nan,
+        f"attractors {' + '.join(set_lo)} below, {' + '.join(set_hi)} above "
+        f"(lost: {', '.join(gone)}; gained: {', '.join(new)}){where}",
+    )
+
+
+_ORDER = ("stick-slip", "slip-reversal", "pure-slip", "steady-sliding", "unresolved")
+
+
+def _names(keys: Sequence[OrbitKey]) -> tuple[str, ...]:
+    return tuple(sorted((k.kind for k in keys), key=_ORDER.index))
 
 
 @dataclass(frozen=True)
@@ -759,14 +902,19 @@ class Confirmation:
     nu : float
         Where it was checked (its midpoint, geometric for wide intervals).
     expected : tuple of str
-        Attractors the continuation predicts there.
+        Attractors the continuation predicts there, one entry per distinct orbit, sorted.
     found : tuple of str
-        Distinct attractors the engine reached (sorted).
+        Distinct attractors the engine reached, one entry per distinct orbit
+        (each non-sticking one polished into its periodic orbit first), sorted.
     pure_slip_amplitude_error : float
         Largest relative difference between a pure-slip attractor reached and the
-        continued stable orbit (NaN when none).
+        continued stable orbit solved at ``nu`` (NaN when none).
     agree : bool
-        The same set of attractors, and the pure-slip amplitudes within ``1e-5``.
+        As many distinct attractors of each kind as expected, and the pure-slip
+        amplitudes within ``1e-6``.
+    inconclusive : int
+        Starts (other than rest) whose motion did not settle within the time
+        allowed (near a Hopf point transients crawl): they count for nothing.
 
     """
 
@@ -776,16 +924,19 @@ class Confirmation:
     found: tuple[str, ...]
     pure_slip_amplitude_error: float
     agree: bool
+    inconclusive: int = 0
 
 
 def confirm(diagram: RegimeDiagram) -> list[Confirmation]:
     """Check every interval of ``diagram`` by direct simulation from several initial states.
 
-    Starts: rest (breakaway), a push of ``1e-3`` off steady sliding, each
-    continued pure-slip orbit at that ``nu`` (stable or not) scaled by 0.9 and
-    1.1 (inside and outside it), and a large push (spring force ``f(nu) + 2``).
+    Starts: rest (breakaway), pushes of ``1e-3``, ``0.3``, ``2`` and ``6`` off
+    steady sliding (spring force ``f(nu) + push``), and each continued pure-slip
+    orbit at that ``nu`` (stable or not) scaled by 0.9 and 1.1 (inside and
+    outside it).
     Each is followed by the exact engine until it sticks periodically, converges
-    to a pure-slip cycle or settles on steady sliding.
+    to an oscillation or settles on steady sliding; each oscillation reached is
+    polished into its periodic orbit, and the distinct orbits are counted.
     """
     law = diagram.law
     law_id, lp = law_arrays(law)
@@ -794,43 +945,38 @@ def confirm(diagram: RegimeDiagram) -> list[Confirmation]:
         nu = _midpoint(iv.nu_min, iv.nu_max)
         f_nu = float(law.forward(np.array([nu]))[0])  # type: ignore[attr-defined]
         amps = [o.amplitude for o in pure_slip_orbits_at(diagram, nu)]
-        pushes = [1e-3, 2.0] + [k * a / 2 for a in amps for k in (0.9, 1.1)]
+        pushes = [1e-3, 0.3, 2.0, 6.0] + [k * a / 2 for a in amps for k in (0.9, 1.1)]
         s0 = np.array([f_nu + p for p in pushes])
-        rows = [
-            *_stick_slip_rows(law, np.array([nu])),
-            *run_attractors(
-                law_id,
-                lp,
-                np.full(s0.size, nu),
-                s0,
-                np.full(s0.size, nu),
-                from_breakaway=False,
-                rtol=defaults.RTOL,
-                atol=defaults.ATOL,
-                max_slip_time=defaults.MAX_SLIP_TIME,
-                conv_tol=1e-10,
-            ),
-        ]
-        names = {
-            engine.RG_STICK_SLIP: "stick-slip",
-            engine.RG_PURE_SLIP: "pure-slip",
-            engine.RG_STEADY: "steady-sliding",
-        }
-        found: set[str] = set()
+        rows = np.vstack(
+            [
+                _stick_slip_rows(law, np.array([nu])),
+                run_attractors(
+                    law_id,
+                    lp,
+                    np.full(s0.size, nu),
+                    s0,
+                    np.full(s0.size, nu),
+                    from_breakaway=False,
+                    rtol=defaults.RTOL,
+                    atol=defaults.ATOL,
+                    max_slip_time=defaults.MAX_SLIP_TIME,
+                    conv_tol=1e-10,
+                ),
+            ]
+        )
+        polished, _ = polish_rows(law, np.full(rows.shape[0], nu), rows)
+        keys = [orbit_key(r) for r in polished]
+        found_keys = distinct([k for k in keys if k is not None])
+        # the motion from rest must be resolved; another start that did not settle is inconclusive
+        found = tuple(sorted([k.kind for k in found_keys] + (["unresolved"] if keys[0] is None else [])))
+        inconclusive = sum(k is None for k in keys[1:])
+        stable = pure_slip_orbits_at(diagram, nu, stable_only=True)
         err = math.nan
-        stable_amps = [o.amplitude for o in pure_slip_orbits_at(diagram, nu, stable_only=True)]
-        for r in rows:
-            if r[engine.O_STATUS] != engine.ST_OK or int(r[engine.O_REGIME]) not in names:
-                found.add("unresolved")
-                continue
-            kind = names[int(r[engine.O_REGIME])]
-            if kind == "pure-slip" and r[engine.O_NBACKWARD] > 0:
-                kind = "slip-reversal"
-            found.add(kind)
-            if kind == "pure-slip" and stable_amps:
-                e = min(abs(r[engine.O_AMPLITUDE] - a) / a for a in stable_amps)
+        for r, k in zip(polished, keys, strict=True):
+            if k is not None and k.kind == "pure-slip" and stable:
+                e = min(abs(r[engine.O_AMPLITUDE] - o.amplitude) / o.amplitude for o in stable)
                 err = e if math.isnan(err) else max(err, e)
-        expected = tuple(sorted(set(iv.attractors)))
-        agree = tuple(sorted(found)) == expected and not (err > 1e-5)
-        out.append(Confirmation(iv, nu, expected, tuple(sorted(found)), err, agree))
+        expected = tuple(sorted(iv.attractors))
+        agree = found == expected and not (err > 1e-6)
+        out.append(Confirmation(iv, nu, expected, found, err, agree, inconclusive))
     return out

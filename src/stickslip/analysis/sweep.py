@@ -33,6 +33,7 @@ from ..core.api import run_attractors
 from ..models.friction import CoulombLaw, CubicLaw, WeakeningLaw
 from ..models.parameters import DimensionlessParameters, PhysicalParameters, dimensionless_from_si
 from ..models.units import parse_quantity
+from .attractors import polish_rows
 from .cycle import DIMENSIONLESS_UNITS, REGIMES, STATUSES, validate_tolerances
 
 __all__ = ["load_sweep", "save_sweep", "sweep", "sweepable"]
@@ -167,8 +168,11 @@ def sweep(
         One dimension per swept parameter (coordinates with ``units`` in their
         attributes); variables ``amplitude``, ``period``, ``stick_fraction``,
         ``stick_time``, ``slip_distance``, ``peak_velocity``, ``regime``,
-        ``status``, ``steady_sliding_stable``, ``nu`` and the law's dimensionless
-        parameters. Each point equals :func:`stickslip.cycle` with ``probe=False``.
+        ``status``, ``multiplier`` (the nontrivial Floquet multiplier),
+        ``steady_sliding_stable``, ``nu`` and the law's dimensionless parameters.
+        Each point equals :func:`stickslip.cycle` with ``probe=False``: pure-slip
+        and slip-reversal attractors are polished into their periodic orbits, and
+        a point whose transient could not be polished is ``not-converged``.
 
     """
     rtol, atol = validate_tolerances(rtol, atol)
@@ -224,8 +228,8 @@ def sweep(
     for j, key in enumerate(DIMENSIONLESS_LAW[law_name]):
         lp[:, j] = law_nd[key]
 
-    out = _run_chunks(core_id, lp, nu, rtol, atol, max_slip_time, conv_tol, progress)
-    return _dataset(base, coords, shape, out, nu, law_nd, scales, rtol, atol)
+    out, mult = _run_chunks(core_id, lp, nu, rtol, atol, max_slip_time, conv_tol, progress)
+    return _dataset(base, coords, shape, out, mult, nu, law_nd, scales, rtol, atol)
 
 
 def _si(q: pint.Quantity, unit: str) -> float:
@@ -298,9 +302,10 @@ def _run_chunks(
     max_slip_time: float,
     conv_tol: float,
     progress: bool | None,
-) -> FloatArray:
+) -> tuple[FloatArray, FloatArray]:
     n = nu.shape[0]
     out = np.empty((n, engine.NOUT))
+    mult = np.empty(n)
     chunk = max(256, min(20_000, n // 50 + 1))
     bounds = [*range(0, n, chunk), n]
     show = _show_progress(progress)
@@ -313,7 +318,7 @@ def _run_chunks(
             total=n, unit="pt", desc="sweep", delay=0.0 if progress else 0.5, file=sys.stderr, leave=False
         )
     for lo, hi in pairs:
-        out[lo:hi] = run_attractors(
+        rows = run_attractors(
             core_id,
             lp[lo:hi],
             nu[lo:hi],
@@ -323,11 +328,12 @@ def _run_chunks(
             max_slip_time=max_slip_time,
             conv_tol=conv_tol,
         )
+        out[lo:hi], mult[lo:hi] = polish_rows((np.full(hi - lo, core_id), lp[lo:hi]), nu[lo:hi], rows)
         if bar is not None:
             bar.update(hi - lo)
     if bar is not None:
         bar.close()
-    return out
+    return out, mult
 
 
 def _dataset(
@@ -335,6 +341,7 @@ def _dataset(
     coords: dict[str, tuple[FloatArray, str, str]],
     shape: tuple[int, ...],
     out: FloatArray,
+    mult: FloatArray,
     nu: FloatArray,
     law_nd: dict[str, FloatArray],
     scales: dict[str, FloatArray] | None,
@@ -375,6 +382,14 @@ def _dataset(
             REGIMES[int(c)] if s == engine.ST_OK else "unknown"
             for c, s in zip(regime_code, status_code, strict=True)
         ]
+    )
+    data["multiplier"] = (
+        dims,
+        np.where(status_code != engine.ST_OK, np.nan, mult).reshape(shape),
+        {
+            "units": "1",
+            "long_name": "nontrivial Floquet multiplier of the attractor (0 stick-slip, NaN steady sliding)",
+        },
     )
     data["regime"] = (
         dims,

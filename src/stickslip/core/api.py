@@ -10,12 +10,12 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
-from . import engine
+from . import engine, variational
 from .laws import LAW_COULOMB, N_LAW_PARAMS
 
 FloatArray = npt.NDArray[np.float64]
 
-__all__ = ["run_attractors", "run_trajectory"]
+__all__ = ["run_attractors", "run_shooting", "run_trajectory"]
 
 
 def run_attractors(
@@ -152,3 +152,44 @@ def run_trajectory(
         if evn[0] <= cap:
             return y, mode, ev[: evn[0]].copy(), int(status)
         cap = int(evn[0])
+
+
+def run_shooting(
+    law: npt.ArrayLike,
+    lp: npt.ArrayLike,
+    nu: npt.ArrayLike,
+    s0: npt.ArrayLike,
+    period: npt.ArrayLike,
+    *,
+    tol: float,
+    max_iter: int = 30,
+    max_steps: int = 200_000,
+) -> FloatArray:
+    """Solve for pure-slip periodic orbits by Newton shooting from guesses, in parallel.
+
+    Parameters
+    ----------
+    law, lp, nu : array_like
+        As in :func:`run_attractors`.
+    s0, period : array_like, shape (n,)
+        Guesses: the spring-force maximum (where ``w`` crosses ``nu`` upward) and the period.
+    tol : float
+        Tolerance on the periodicity residual; the flow is integrated at ``tol / 100``.
+    max_iter, max_steps : int, optional
+        Newton iterations and integration steps allowed.
+
+    Returns
+    -------
+    ndarray, shape (n, NSH)
+        Layout ``SH_*`` of :mod:`stickslip.core.variational`.
+
+    """
+    nu_a = np.array(np.atleast_1d(np.asarray(nu, dtype=np.float64)), order="C")
+    n = nu_a.shape[0]
+    law_a = _broadcast("law", np.asarray(law, dtype=np.int64), (n,))
+    lp_a = _broadcast("lp", np.asarray(lp, dtype=np.float64), (n, N_LAW_PARAMS))
+    s0_a = _broadcast("s0", np.asarray(s0, dtype=np.float64), (n,))
+    t_a = _broadcast("period", np.asarray(period, dtype=np.float64), (n,))
+    out = np.empty((n, variational.NSH))
+    variational.shoot_batch(law_a, lp_a, nu_a, s0_a, t_a, float(tol), int(max_iter), int(max_steps), out)
+    return out

@@ -131,7 +131,8 @@ O_W = 15
 O_T = 16
 O_NSTEP = 17
 O_NREJECT = 18
-NOUT = 19
+O_DFNU = 19  # f'(nu): steady sliding is linearly stable where it is positive
+NOUT = 20
 
 _ZERO7 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
@@ -649,6 +650,7 @@ def attractor_ws(  # type: ignore[no-untyped-def]
         out[O_STATUS] = ST_TOO_MANY_PHASES
     out[O_NSTEP] = trk[T_NSTEP]
     out[O_NREJECT] = trk[T_NREJ]
+    out[O_DFNU] = trk[T_DFNU]
 
 
 @njit(parallel=True, cache=True)

@@ -21,7 +21,8 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+import numpy as np
+from numba import njit, prange
 
 from ._dop853_tableau import A, B
 from ._dop853_unrolled import dense_sw, step_sw
@@ -155,3 +156,146 @@ def flow_variational(law, lp, nu, y, T, rtol, atol, max_steps, measure, KV, extr
             fac = min(MAX_FACTOR, max(MIN_FACTOR, SAFETY * err ** (-1.0 / 8.0)))
         h *= fac
     extras[X_STEPS] = n
+
+
+# ----------------------------------------------------------------------------- shooting
+
+# output layout of :func:`shoot`
+SH_STATUS = 0
+SH_S0 = 1  # spring force where the orbit crosses w = nu upward (its maximum)
+SH_PERIOD = 2
+SH_AMPLITUDE = 3
+SH_W_MIN = 4
+SH_W_MAX = 5
+SH_DIV_MULT = 6  # exp(-integral of f'(w)): the nontrivial Floquet multiplier
+SH_PHI = 7  # monodromy matrix, row-major, 4 entries
+SH_ITER = 11
+SH_RESIDUAL = 12
+SH_ERR_S0 = 13  # estimated error of s0 (from the change under a tighter integration)
+SH_ERR_PERIOD = 14  # ... of the period
+NSH = 15
+# shooting statuses
+SHOOT_OK = 0
+SHOOT_NO_CONVERGENCE = 1
+SHOOT_DIVERGED = 2
+SHOOT_FLOW_FAILED = 3
+SHOOT_GRAZES = 4  # the orbit found reaches w <= 0: not a pure-slip orbit
+SHOOT_TRIVIAL = 5  # Newton fell onto steady sliding (zero amplitude)
+
+_TRIVIAL_AMPLITUDE = 1e-7
+_REFINE = 1.0 / 16.0  # the error estimate integrates at this fraction of the tolerance
+
+
+@njit(cache=True)
+def _start(y, s0, nu):  # type: ignore[no-untyped-def]
+    for i in range(NVAR):
+        y[i] = 0.0
+    y[0] = s0
+    y[1] = nu
+    y[2] = 1.0
+    y[5] = 1.0
+
+
+@njit(cache=True)
+def _newton_step(law, lp, nu, s0, period, rtol, max_steps, y, kv, extras):  # type: ignore[no-untyped-def]
+    """Integrate one period from ``(s0, nu)``; return ``(ok, residual, ds0, dT)`` of one Newton step."""
+    _start(y, s0, nu)
+    flow_variational(law, lp, nu, y, period, rtol, rtol * 1e-2, max_steps, False, kv, extras)
+    if extras[X_STATUS] != VS_OK:
+        return False, math.nan, math.nan, math.nan
+    g0 = y[0] - s0
+    g1 = y[1] - nu
+    a = y[2] - 1.0
+    c = y[4]
+    f0 = nu - y[1]
+    f1 = slip_accel(law, lp[0], lp[1], 1.0, y[0], y[1])
+    det = a * f1 - f0 * c
+    if det == 0.0 or not math.isfinite(det):
+        return False, math.sqrt(g0 * g0 + g1 * g1), math.nan, math.nan
+    return True, math.sqrt(g0 * g0 + g1 * g1), (-g0 * f1 + f0 * g1) / det, (-a * g1 + c * g0) / det
+
+
+@njit(cache=True)
+def shoot(law, lp, nu, s0, period, tol, max_iter, max_steps, out):  # type: ignore[no-untyped-def]
+    """Solve for the pure-slip orbit through ``(s0, w = nu)`` by Newton shooting from a guess.
+
+    The unknowns are ``s0`` (the spring-force maximum, where ``w`` crosses ``nu``
+    upward) and the period ``T``; the residual is ``phi_T(s0, nu) - (s0, nu)`` and
+    its Jacobian ``[Phi e_s - e_s, F(phi_T)]`` comes from the variational
+    equations. The flow is integrated at ``tol / 100``; Newton stops when its
+    correction is below ``tol`` (relative). The fixed-point problem is
+    ill-conditioned near a Hopf point (its error is the integration error over
+    ``1 - multiplier``), so one more Newton step integrated 16 times more
+    tightly is taken, and its size gives the error estimate ``SH_ERR_*`` (the
+    integration error being proportional to the tolerance). A last
+    pass measures the orbit on the dense output. Results go to ``out`` (layout
+    ``SH_*``).
+    """
+    y = np.empty(NVAR)
+    kv = np.empty((12, 7))
+    extras = np.empty(NX)
+    rtol = tol * 1e-2
+    for i in range(NSH):
+        out[i] = math.nan
+    out[SH_STATUS] = SHOOT_NO_CONVERGENCE
+    f_nu = s0 - slip_accel(law, lp[0], lp[1], 1.0, s0, nu)  # f(nu)
+    residual = math.inf
+    it = 0
+    converged = False
+    while it < max_iter:
+        it += 1
+        if not (math.isfinite(s0) and math.isfinite(period) and period > 0.0):
+            out[SH_STATUS] = SHOOT_DIVERGED
+            break
+        if abs(s0 - f_nu) < _TRIVIAL_AMPLITUDE:
+            out[SH_STATUS] = SHOOT_TRIVIAL
+            break
+        ok, residual, ds, dt = _newton_step(law, lp, nu, s0, period, rtol, max_steps, y, kv, extras)
+        if not ok:
+            out[SH_STATUS] = SHOOT_FLOW_FAILED if extras[X_STATUS] != VS_OK else SHOOT_DIVERGED
+            break
+        s0 += ds
+        period += dt
+        if abs(ds) <= tol * max(1.0, abs(s0)) and abs(dt) <= tol * max(1.0, abs(period)):
+            converged = True
+            break
+    out[SH_ITER] = it
+    out[SH_RESIDUAL] = residual
+    if not converged:
+        return
+    fine = rtol * _REFINE
+    ok, residual, ds, dt = _newton_step(law, lp, nu, s0, period, fine, max_steps, y, kv, extras)
+    if not ok:
+        out[SH_STATUS] = SHOOT_FLOW_FAILED
+        return
+    s0 += ds
+    period += dt
+    out[SH_RESIDUAL] = residual
+    # the integration error is proportional to the tolerance: the step from the coarse to
+    # the fine solution is (1 - _REFINE) of the coarse error, the fine error _REFINE of it
+    out[SH_ERR_S0] = abs(ds) * _REFINE / (1.0 - _REFINE)
+    out[SH_ERR_PERIOD] = abs(dt) * _REFINE / (1.0 - _REFINE)
+    if abs(s0 - f_nu) < _TRIVIAL_AMPLITUDE:
+        out[SH_STATUS] = SHOOT_TRIVIAL
+        return
+    _start(y, s0, nu)
+    flow_variational(law, lp, nu, y, period, fine, fine * 1e-2, max_steps, True, kv, extras)
+    if extras[X_STATUS] != VS_OK:
+        out[SH_STATUS] = SHOOT_FLOW_FAILED
+        return
+    out[SH_S0] = s0
+    out[SH_PERIOD] = period
+    out[SH_AMPLITUDE] = s0 - extras[X_S_MIN]
+    out[SH_W_MIN] = extras[X_W_MIN]
+    out[SH_W_MAX] = extras[X_W_MAX]
+    out[SH_DIV_MULT] = math.exp(-y[8])
+    for i in range(4):
+        out[SH_PHI + i] = y[2 + i]
+    out[SH_STATUS] = SHOOT_GRAZES if extras[X_W_MIN] <= 0.0 else SHOOT_OK
+
+
+@njit(parallel=True, cache=True)
+def shoot_batch(law, lp, nu, s0, period, tol, max_iter, max_steps, out):  # type: ignore[no-untyped-def]
+    """Run :func:`shoot` for every row (``law``, ``lp``, ``nu``, ``s0``, ``period`` per row), in parallel."""
+    for i in prange(nu.shape[0]):
+        shoot(law[i], lp[i], nu[i], s0[i], period[i], tol, max_iter, max_steps, out[i])

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 from typing import TYPE_CHECKING, Any
 
 import matplotlib
@@ -11,6 +12,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.patches import Patch
+
+from .style import plain_log_ticks
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -61,8 +64,20 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None) -> Figu
     fig, ax = plt.subplots(figsize=(7.6, 4.2), constrained_layout=True)
     for iv in diagram.intervals:
         ax.axvspan(iv.nu_min, iv.nu_max, color=REGIME_COLORS.get(iv.regime, "#ffffff"), lw=0)
+    grid = diagram.branches[0].nu
     for b in diagram.branches:
         if b.nu.size == 0:
+            continue
+        if b.kind == "stick-slip":
+            # the orbit through breakaway exists on pieces of the range: no line across a gap
+            inside = np.searchsorted(grid, b.nu[1:], side="left") - np.searchsorted(
+                grid, b.nu[:-1], side="right"
+            )
+            cuts = np.flatnonzero(inside > 0) + 1
+            for k, (i0, i1) in enumerate(itertools.pairwise([0, *cuts, b.nu.size])):
+                sel = slice(i0, i1)
+                label = b.kind if k == 0 else "_nolegend_"
+                _segments(ax, b.nu[sel], b.amplitude[sel], b.stable[sel], _BRANCH_COLORS[b.kind], label)
             continue
         _segments(ax, b.nu, b.amplitude, b.stable, _BRANCH_COLORS[b.kind], b.kind)
     markers = {
@@ -71,8 +86,37 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None) -> Figu
         "grazing": ("v", "C4"),
         "stick-slip-onset": ("x", "C3"),
     }
+    # slip-reversal orbits (never sticking, velocity changing sign): not continued, shown where
+    # the engine reached them, from rest or from a probe
+    from ..core import engine
+
+    grid = diagram.branches[0].nu
+    found = [diagram.rest, *(diagram.probes[:, k] for k in range(diagram.probes.shape[1]))]
+    rev_amp: list[float] = []
+    for rows in found:
+        if rows.shape[0] != grid.size:
+            continue
+        rev = (
+            (rows[:, engine.O_STATUS] == engine.ST_OK)
+            & (rows[:, engine.O_REGIME] == engine.RG_PURE_SLIP)
+            & (rows[:, engine.O_NBACKWARD] > 0)
+        )
+        if rev.any():
+            ax.plot(
+                grid[rev],
+                rows[rev, engine.O_AMPLITUDE],
+                ".",
+                color="C5",
+                ms=3,
+                label=None if rev_amp else "slip reversal (engine)",
+            )
+            rev_amp.append(float(np.max(rows[rev, engine.O_AMPLITUDE])))
     seen = set()
     for p in diagram.points:
+        if not np.isfinite(p.amplitude):  # a boundary of an attractor that no branch follows
+            ax.axvline(p.nu, color="0.3", ls=":", lw=1.0, label=None if p.kind in seen else p.kind, zorder=4)
+            seen.add(p.kind)
+            continue
         m, c = markers.get(p.kind, ("+", "k"))
         ax.plot(
             [p.nu],
@@ -87,8 +131,9 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None) -> Figu
         seen.add(p.kind)
     if log if log is not None else diagram.nu_max / diagram.nu_min > 20:
         ax.set_xscale("log")
+        plain_log_ticks(ax.xaxis)
     ax.set_xlim(diagram.nu_min, diagram.nu_max)
-    top = max((float(np.nanmax(b.amplitude)) for b in diagram.branches if b.nu.size), default=1.0)
+    top = max([float(np.nanmax(b.amplitude)) for b in diagram.branches if b.nu.size] + rev_amp, default=1.0)
     ax.set_ylim(-0.03 * top, 1.08 * top)
     ax.set_xlabel(r"dimensionless driving velocity $\nu = \beta v_0$")
     ax.set_ylabel(r"amplitude of the spring force [$\mu_s W$]")

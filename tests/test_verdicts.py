@@ -1,0 +1,184 @@
+"""Every verdict right: attractors counted by their orbits, steady cycles exact near a Hopf point."""
+
+import json
+import math
+import warnings
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.integrate import solve_ivp
+from scipy.optimize import root
+
+from stickslip import CubicLaw, DimensionlessParameters, WeakeningLaw, cycle
+from stickslip.analysis.regimes import confirm, regimes
+from stickslip.analysis.sweep import sweep
+from stickslip.cli import main
+
+# --------------------------------------------------------------------------- phantom attractors
+
+
+@pytest.mark.parametrize(("alpha", "gamma"), [(0.03, 0.5), (0.04, 0.2), (0.05, 1.0)])
+def test_one_pure_slip_interval_up_to_the_hopf_point(alpha: float, gamma: float) -> None:
+    """Regression: an engine-found pure-slip attractor matched to a linearly interpolated branch
+    with a fixed tolerance counted one orbit twice ('bistable', ['pure-slip', 'pure-slip'])."""
+    res = CliRunner().invoke(
+        main,
+        [
+            *("regimes", "--law", "cubic", "--alpha", str(alpha), "--gamma", str(gamma)),
+            *("--nu-min", "0.01", "--nu-max", "3", "--json", "--check"),
+        ],
+    )
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.output)
+    regimes_found = [iv["regime"] for iv in d["intervals"]]
+    assert regimes_found == ["stick-slip", "pure-slip", "steady-sliding"]
+    assert "bistable" not in regimes_found
+    (hopf,) = d["hopf"]
+    assert hopf["nu"] == pytest.approx(math.sqrt(alpha / (3 * gamma)), rel=1e-12)
+    assert d["intervals"][1]["nu_max"] == pytest.approx(hopf["nu"], rel=1e-12)
+    assert d["intervals"][1]["attractors"] == ["pure-slip"]
+    assert all(c["agree"] and c["found"] == c["expected"] for c in d["check"])
+
+
+def _check_law(law, nu_min: float, nu_max: float) -> None:
+    d = regimes(law, nu_min, nu_max, n_grid=61)
+    checks = confirm(d)
+    for c in checks:
+        assert c.agree, (law, c)
+        assert c.found == c.expected
+    # the label says how many distinct attractors there are
+    for iv in d.intervals:
+        assert (iv.regime == "bistable") == (len(iv.attractors) > 1), iv
+
+
+@settings(max_examples=30)
+@given(
+    gamma=st.floats(0.02, 3.0),
+    ratio=st.floats(0.02, 1.4),
+)
+def test_random_cubic_laws_confirmed_by_simulation(gamma: float, ratio: float) -> None:
+    """Random cubic laws, including alpha**3 > 27 gamma / 4 where friction turns negative
+    (slip reversal coexists with stick-slip there): every interval's distinct attractors are
+    those that direct simulations from several starts reach."""
+    alpha = ratio * (27.0 * gamma / 4.0) ** (1.0 / 3.0)  # ratio > 1: negative friction somewhere
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        law = CubicLaw(alpha=alpha, gamma=gamma)
+    nu_h = math.sqrt(alpha / (3.0 * gamma))
+    _check_law(law, nu_h / 10.0, 3.0 * nu_h)
+
+
+@settings(max_examples=30)
+@given(c=st.floats(0.3, 40.0), p_over_c=st.sampled_from([0.0]) | st.floats(0.005, 0.9))
+def test_random_weakening_laws_confirmed_by_simulation(c: float, p_over_c: float) -> None:
+    """Random weakening laws (F1 with p = 0, F2 with p > 0): subcritical Hopf points, bistability,
+    slip reversal at large nu."""
+    law = WeakeningLaw(c=c, p=p_over_c * c)
+    if p_over_c == 0.0:
+        _check_law(law, 0.01, 8.0)
+    else:
+        nu_h = (math.sqrt(1.0 / p_over_c) - 1.0) / c
+        _check_law(law, nu_h / 10.0, 3.0 * nu_h)
+
+
+def test_coexisting_slip_reversal_is_found_and_located() -> None:
+    """With negative cubic friction a slip-reversal orbit coexists with stick-slip: the diagram
+    finds it from a push, not only from rest, and locates where it stops coexisting."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        law = CubicLaw(alpha=0.8235369798017035, gamma=0.04601251002566534)
+    d = regimes(law, 0.12, 2.5)
+    first = d.intervals[0]
+    assert first.regime == "bistable"
+    assert first.attractors == ("stick-slip", "slip-reversal")
+    assert all(c.agree for c in confirm(d))
+
+
+# --------------------------------------------------------------------------- exact cycles near Hopf
+
+CUBIC = CubicLaw(alpha=0.5, gamma=0.5 / 3)  # supercritical Hopf at nu = 1
+
+
+def scipy_shooting(nu: float, alpha: float, gamma: float) -> tuple[float, float]:
+    """Pure-slip orbit of the cubic law by plain SciPy: solve_ivp + root on (s0, T); amplitude
+    from the event w = nu crossed downward (the minimum of s). Shares no code with stickslip."""
+
+    def f(w: float) -> float:
+        return 1.0 - alpha * w + gamma * w**3
+
+    def rhs(_t: float, y: np.ndarray) -> list[float]:
+        return [nu - y[1], y[0] - f(y[1])]
+
+    def residual(x: np.ndarray) -> np.ndarray:
+        s0, period = x
+        sol = solve_ivp(rhs, (0.0, period), [s0, nu], method="DOP853", rtol=1e-13, atol=1e-15)
+        return np.array([sol.y[0, -1] - s0, sol.y[1, -1] - nu])
+
+    a2 = 4.0 * (alpha - 3.0 * gamma * nu * nu) / (3.0 * gamma)  # averaging guess
+    sol = root(residual, [f(nu) + math.sqrt(a2), 2.0 * math.pi], method="hybr", options={"xtol": 1e-14})
+    s0, period = sol.x
+    assert np.linalg.norm(residual(sol.x)) < 1e-12, sol.message  # hybr may only say xtol is too small
+
+    def down(_t: float, y: np.ndarray) -> float:
+        return y[1] - nu
+
+    down.direction = -1  # type: ignore[attr-defined]
+    run = solve_ivp(rhs, (0.0, period), [s0, nu], method="DOP853", rtol=1e-13, atol=1e-15, events=down)
+    s_min = float(run.y_events[0][0][0])
+    return s0 - s_min, period
+
+
+@pytest.mark.parametrize("fraction", [0.98, 0.995, 0.999])
+def test_cycle_near_a_supercritical_hopf_point_is_the_periodic_orbit(fraction: float) -> None:
+    """Regression: the transient stopped while the Floquet multiplier (0.994 at 0.999 nu_H) still
+    carried it, 6e-7 off the orbit with status 'ok'. Now polished by shooting: within 1e-8."""
+    nu = fraction * 1.0
+    amp, period = scipy_shooting(nu, CUBIC.alpha, CUBIC.gamma)
+    r = cycle(DimensionlessParameters(nu=nu, law=CUBIC))
+    assert r.regime == "pure-slip" and r.status == "ok"
+    assert r.amplitude == pytest.approx(amp, rel=1e-8)
+    assert r.period == pytest.approx(period, rel=1e-8)
+    # the nontrivial Floquet multiplier: near 1 - 2 pi * 2 |f'(nu)| / 2 ... strictly inside (0, 1)
+    assert 0.0 < r.multiplier < 1.0
+    assert r.attractors[0].multiplier == r.multiplier
+    # the work integrals are measured on the polished orbit: the energy balance closes
+    assert r.drive_work == pytest.approx(r.friction_work, rel=1e-9)
+    # the same in a sweep
+    ds = sweep(DimensionlessParameters(nu=nu, law=CUBIC), {"nu": [nu]}, progress=False)
+    assert float(ds.amplitude[0]) == pytest.approx(amp, rel=1e-8)
+    assert float(ds.period[0]) == pytest.approx(period, rel=1e-8)
+    assert float(ds.multiplier[0]) == pytest.approx(r.multiplier, rel=1e-9)
+
+
+def test_multiplier_follows_the_linear_rate_near_the_hopf_point() -> None:
+    """Close to a Hopf point the orbit's multiplier is exp(-2 pi |f'(nu)|) to leading order
+    (averaging: da/dt = -(f'/2) a - ..., twice the linear rate on the cycle)."""
+    nu = 0.999
+    fprime = -CUBIC.alpha + 3 * CUBIC.gamma * nu**2
+    r = cycle(DimensionlessParameters(nu=nu, law=CUBIC))
+    assert r.multiplier == pytest.approx(math.exp(-2 * math.pi * abs(fprime)), rel=2e-3)
+
+
+def test_too_close_to_the_hopf_point_is_not_converged_not_wrong() -> None:
+    """At 1e-6 from the Hopf point the orbit's multiplier is 1 - 6e-6: the transient has not
+    settled and the orbit cannot be solved to 1e-8 either. The status says so (exit code 1)."""
+    r = cycle(DimensionlessParameters(nu=1.0 - 1e-6, law=CUBIC))
+    assert r.status == "not-converged"
+    assert math.isnan(r.multiplier)
+    assert r.attractors == ()
+    res = CliRunner().invoke(
+        main, ["cycle", "--law", "cubic", "--alpha", "0.5", "--gamma", str(0.5 / 3), "--nu", "0.999999"]
+    )
+    assert res.exit_code == 1
+    assert "not-converged" in res.output
+    ok = CliRunner().invoke(
+        main,
+        ["cycle", "--law", "cubic", "--alpha", "0.5", "--gamma", str(0.5 / 3), "--nu", "0.999", "--json"],
+    )
+    assert ok.exit_code == 0, ok.output
+    d = json.loads(ok.output)
+    assert d["status"] == "ok"
+    assert 0.99 < d["multiplier"] < 1.0
