@@ -97,3 +97,22 @@ def test_batch_equals_single_calls() -> None:
         )
         assert batch[i, engine.O_AMPLITUDE] == r.amplitude
         assert batch[i, engine.O_PERIOD] == r.period
+
+
+def test_small_mass_f2_amplitude_falls_with_v0() -> None:
+    """The reproduction report says F2 (b = 100 s/m) at m = 1 g is stick-slip with an amplitude
+    that falls with v0: the independent SciPy reference says the same."""
+    import stickslip as S
+
+    amps = []
+    for v in ("5 um/s", "1000 um/s"):
+        p = S.PhysicalParameters(
+            mass="1 g", stiffness="62 N/m", load="196 mN", v0=v, law=S.f2(0.46, "160 s/m", "100 s/m")
+        )
+        d = p.dimensionless()
+        ref = reference_cycle("weakening", {"c": d.law.c, "p": d.law.p}, d.nu)
+        assert S.cycle(p, probe=False).amplitude / p.scales.force.to("N").magnitude == pytest.approx(
+            ref.amplitude, rel=1e-8
+        )
+        amps.append(ref.amplitude)
+    assert amps[1] < amps[0]

@@ -394,10 +394,17 @@ def simulate(
             title = f"v0 = {params.v0:~P}, beta = {params.beta.to('s/m').magnitude:.3g} s/m"
         paths = save_figure(plot_spring_force(traj, title=title), os.path.join(out_dir, "spring_force"))
         click.echo("wrote " + ", ".join(paths))
-    f = traj.spring_force
-    unit = traj.units["force"]
+    from .analysis.cycle import cycle as compute_cycle
+
     n_stops = sum(1 for k in traj.event_kind if k == "stick")
-    click.echo(f"spring force from {f.min():.6g} to {f.max():.6g} [{unit}], {n_stops} stick phases")
+    click.echo(f"{n_stops} stick phases simulated")
+    # the steady oscillation, solved (not read off samples): polished into its periodic orbit
+    res = compute_cycle(params, rtol=opts["rtol"], atol=opts["atol"], probe=False)
+    u = res.units
+    click.echo(
+        f"steady cycle: {res.regime}, amplitude {res.amplitude:.10g} [{u['force']}], "
+        f"period {res.period:.10g} [{u['time']}], Floquet multiplier {res.multiplier:.6g} ({res.status})"
+    )
 
 
 @main.command()

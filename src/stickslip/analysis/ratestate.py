@@ -183,13 +183,31 @@ def simulate_rate_state(
     runaway.terminal = True  # type: ignore[attr-defined]
     runaway.direction = 1  # type: ignore[attr-defined]
 
+    # extrema located by the solver's root finding on its dense output, not read off samples:
+    # the spring force peaks where v crosses v_lp upward (its rate kw (v_lp - v) turns negative);
+    # with inertia the slider's velocity peaks where the spring force falls below friction
+    def spring_peak(_t: float, yy: FloatArray, v_lp: float) -> float:
+        if params.inertial:
+            return float(yy[1]) - v_lp
+        if v_lp <= 0.0:
+            return -1.0  # a hold: the slider only creeps, the spring only unloads
+        return (yy[0] - params.mu0 - params.b * yy[1]) / params.a - math.log(v_lp / vr)
+
+    spring_peak.direction = 1  # type: ignore[attr-defined]
+
+    def velocity_peak(_t: float, yy: FloatArray, _v_lp: float) -> float:
+        return float(yy[0]) - core.inertial_friction(yy[1], yy[2], p)
+
+    velocity_peak.direction = -1  # type: ignore[attr-defined]
+
     times: list[FloatArray] = []
     states: list[FloatArray] = []
     vlp: list[FloatArray] = []
+    peaks: dict[str, list[tuple[float, FloatArray]]] = {"spring": [], "velocity": []}
     t0 = 0.0
     for k, (dur, v_lp) in enumerate(hist):
         t_eval = np.linspace(t0, t0 + dur, n_points)
-        events = None if params.inertial else runaway
+        events = [spring_peak, velocity_peak] if params.inertial else [spring_peak, runaway]
         try:
             sol = solve_ivp(
                 fun,
@@ -214,9 +232,13 @@ def simulate_rate_state(
                 f"segment {k}: the solution overflowed ({exc}); the slider "
                 "accelerates without bound (unstable, quasi-static)"
             ) from None
+        for name, i_ev in (("spring", 0), ("velocity", 1)) if params.inertial else (("spring", 0),):
+            peaks[name] += [
+                (float(te), ye) for te, ye in zip(sol.t_events[i_ev], sol.y_events[i_ev], strict=True)
+            ]
         if sol.status == 1:
             raise RuntimeError(
-                f"segment {k} (v_lp = {v_lp:g} m/s): at t = {sol.t_events[0][0]:.6g} s the slip "
+                f"segment {k} (v_lp = {v_lp:g} m/s): at t = {sol.t_events[1][0]:.6g} s the slip "
                 f"velocity passed {v_cap:.3g} m/s and was still rising: the quasi-static slider "
                 "accelerates without bound (an instability: below the critical stiffness, or with "
                 "the slip law after a large perturbation). Give the slider a mass to follow the "
@@ -233,7 +255,54 @@ def simulate_rate_state(
         vlp.append(np.full(sol.t[keep].size, v_lp))
         y = sol.y[:, -1].copy()
         t0 += dur
-    return _dataset(params, np.concatenate(times), np.concatenate(states, axis=1), np.concatenate(vlp), hist)
+    ds = _dataset(params, np.concatenate(times), np.concatenate(states, axis=1), np.concatenate(vlp), hist)
+    return _with_peaks(ds, params, peaks)
+
+
+def _with_peaks(
+    ds: xr.Dataset, params: RateStateParameters, peaks: dict[str, list[tuple[float, FloatArray]]]
+) -> xr.Dataset:
+    """Add the located extrema: spring-force peaks and, with inertia, slip-velocity peaks."""
+    p = params.core_params()
+    sp = peaks["spring"]
+    ds["spring_peak_time"] = (
+        "spring_peak",
+        np.array([t for t, _ in sp]),
+        {"units": "s", "long_name": "time of a spring-force maximum (event on the dense output)"},
+    )
+    ds["spring_peak_friction"] = (
+        "spring_peak",
+        np.array([float(y[0]) for _, y in sp]),
+        {"units": "1", "long_name": "spring force / W at its maximum (the friction, quasi-statically)"},
+    )
+    vr = float(p[3])
+    v_at = [
+        float(y[1]) if params.inertial else vr * math.exp((y[0] - params.mu0 - params.b * y[1]) / params.a)
+        for _, y in sp
+    ]
+    ds["spring_peak_velocity"] = (
+        "spring_peak",
+        np.array(v_at),
+        {"units": "m/s", "long_name": "slip velocity at the spring-force maximum (= load-point velocity)"},
+    )
+    if params.inertial:
+        vp = peaks["velocity"]
+        ds["velocity_peak_time"] = (
+            "velocity_peak",
+            np.array([t for t, _ in vp]),
+            {"units": "s", "long_name": "time of a slip-velocity maximum (event on the dense output)"},
+        )
+        ds["velocity_peak"] = (
+            "velocity_peak",
+            np.array([float(y[1]) for _, y in vp]),
+            {"units": "m/s", "long_name": "slip velocity at its maximum"},
+        )
+        ds["velocity_peak_friction"] = (
+            "velocity_peak",
+            np.array([core.inertial_friction(float(y[1]), float(y[2]), p) for _, y in vp]),
+            {"units": "1", "long_name": "friction at the slip-velocity maximum"},
+        )
+    return ds
 
 
 def _dataset(
@@ -350,12 +419,17 @@ def slide_hold_slide(
     t = ds.time.values
     bounds = np.concatenate([[0.0], np.cumsum([_history([h])[0][0] for h in hist])])
     mu = ds.friction.values
+    t_peak = ds.spring_peak_time.values
+    mu_peak = ds.spring_peak_friction.values
     peaks = []
     for j in range(len(hold_s)):
-        before = mu[np.searchsorted(t, bounds[2 * j + 1]) - 1]
+        # steady friction just before the hold: the segment's last sample, at its very end
+        before = mu[np.searchsorted(t, bounds[2 * j + 1], side="right") - 1]
         lo, hi = bounds[2 * j + 2], bounds[2 * j + 3]
-        sel = (t >= lo) & (t <= hi)
-        peaks.append(float(mu[sel].max() - before))
+        sel = (t_peak > lo) & (t_peak <= hi)
+        if not sel.any():
+            raise RuntimeError(f"hold {j}: no friction peak on reloading within the slide")
+        peaks.append(float(mu_peak[np.flatnonzero(sel)[0]] - before))
     ds["hold_time"] = ("hold", np.array(hold_s), {"units": "s", "long_name": "hold time"})
     ds["peak_friction_change"] = (
         "hold",

@@ -202,12 +202,15 @@ def _inertia(n_mass: int, n_points: int) -> xr.Dataset:
         runaway = "no runaway within the simulated time"
     except RuntimeError as exc:
         runaway = str(exc)
-    v = ds.slip_velocity.values
-    tt = ds.time.values
-    peaks = [i for i in range(1, v.size - 1) if v[i] > v[i - 1] and v[i] >= v[i + 1] and v[i] > 10 * v0]
-    cycle_peak = float(v[peaks[-1]]) if peaks else math.nan
-    cycle_period = float(np.mean(np.diff(tt[peaks[-4:]]))) if len(peaks) >= 4 else math.nan
-    peak_change = float(abs(v[peaks[-1]] - v[peaks[-2]]) / v[peaks[-1]]) if len(peaks) >= 2 else math.nan
+    # the slip-velocity maxima, located as events on the solver's dense output (not samples)
+    vp = ds.velocity_peak.values
+    tp = ds.velocity_peak_time.values
+    big = vp > 10 * v0  # the slip events, not the small wiggles of the stick phase
+    vp, tp = vp[big], tp[big]
+    peaks = list(range(vp.size))
+    cycle_peak = float(vp[-1]) if vp.size else math.nan
+    cycle_period = float(np.mean(np.diff(tp[-4:]))) if vp.size >= 4 else math.nan
+    peak_change = float(abs(vp[-1] - vp[-2]) / vp[-1]) if vp.size >= 2 else math.nan
     return xr.Dataset(
         {
             "inertia_kc_ratio": (

@@ -7,6 +7,7 @@ prefixed by the figure they belong to (``fig1_``, ``fig2_``, ``fig3_``,
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass
 
@@ -14,9 +15,12 @@ import numpy as np
 import xarray as xr
 from scipy.optimize import brentq
 
+from ..analysis.regimes import regimes
 from ..analysis.sweep import sweep
-from ..analysis.trajectory import simulate
-from ..models.friction import f1
+from ..analysis.trajectory import Trajectory, simulate
+from ..core import engine
+from ..core.api import run_attractors
+from ..models.friction import CubicLaw, WeakeningLaw, f1
 from ..models.parameters import PhysicalParameters, zv_parameters
 from ..models.units import Q_
 
@@ -118,7 +122,9 @@ def compute_paper(
         ``fig2_*``: amplitude and period against v0 for b = 0 and 100 s/m;
         ``fig3_*``: amplitude against v0 for a = 250 s/m and beta = 42, 158, 418 s/m;
         ``load_*``: amplitude and period against the normal load;
-        ``mass_*``: amplitude against v0 for masses from 0.1 g to 1 kg.
+        ``mass_*``: amplitude against v0 for masses from 0.1 g to 1 kg, for b = 0 and 100 s/m;
+        attributes: the regime intervals of F1, F2 and the cubic law (``regimes_*``, JSON) and
+        the spread of amplitude / (mu0 W) over loads at fixed beta (``scale_check_spread``).
 
     """
     cfg = config or PaperConfig()
@@ -144,6 +150,7 @@ def compute_paper(
         coords={"fig1_time": ("fig1_time", traj.time, {"units": "s", "long_name": "time"})},
         attrs={},
     )
+    fig1 = xr.merge([fig1, _fig1_zoom(traj)])
     fig2 = _prefixed(sweep(zv, {"b": ["0 s/m", "100 s/m"], "v0": v0}, progress=progress), "fig2", keep)
     fig3_raw = sweep(_fig3_base(), {"beta": list(FIG3_BETAS), "v0": v0}, progress=progress)
     fig3 = _prefixed(fig3_raw, "fig3", keep)
@@ -154,7 +161,16 @@ def compute_paper(
     loads = Q_(np.geomspace(*LOADS, cfg.n_load), "mN")
     load = _prefixed(sweep(zv, {"v0": list(LOAD_V0), "load": loads}, progress=progress), "load", keep)
     load = load.rename({"load_load": "load_W"})
-    mass = _prefixed(sweep(zv, {"mass": list(MASSES), "v0": v0}, progress=progress), "mass", keep)
+    mass = _prefixed(
+        sweep(zv, {"b": ["0 s/m", "100 s/m"], "mass": list(MASSES), "v0": v0}, progress=progress),
+        "mass",
+        keep,
+    )
+    fig2["fig2_friction_range"] = (
+        ("fig2_b", "fig2_v0"),
+        _friction_range(fig2["fig2_b"].values, fig2["fig2_v0"].values),
+        {"units": "N", "long_name": "range of the friction force over one steady cycle"},
+    )
 
     ds = xr.merge([fig1, fig2, fig3, load, mass], combine_attrs="override")
     ds.attrs = {
@@ -166,6 +182,8 @@ def compute_paper(
         "fig3_beta_for_doubling": _beta_for_slope(math.log10(2.0), max(cfg.n_v0, 12)),
         "beta_from_1kg": _beta_from_mass(1.0),
         "mass_for_beta_42": float(zv.mass.to("kg").magnitude),
+        "scale_check_spread": _scale_check(),
+        **{f"regimes_{key}": json.dumps(seq) for key, seq in regime_sequences().items()},
     }
     if appendix:
         from .appendix import compute_appendix
@@ -175,6 +193,105 @@ def compute_paper(
         ds = xr.merge([ds, app], combine_attrs="override")
         ds.attrs = attrs
     return ds
+
+
+def _fig1_zoom(traj: Trajectory) -> xr.Dataset:
+    """One slip of Fig. 1 sampled densely (1 ms) with the stick around it, for the inset."""
+    starts = traj.event_time[np.array([k == "breakaway" for k in traj.event_kind])]
+    stops = traj.event_time[np.array([k == "stick" for k in traj.event_kind])]
+    t_b = float(starts[1]) if starts.size > 1 else float(starts[0])
+    t_s = float(stops[stops > t_b][0])
+    margin = t_s - t_b
+    dt = 1e-3
+    n = int((t_s + margin) / dt) + 1
+    zoom = simulate(zv_parameters(FIG1_V0), duration=f"{(n - 1) * dt} s", n_points=n)
+    keep = zoom.time >= t_b - margin
+    return xr.Dataset(
+        {
+            "fig1_zoom_spring_force": (
+                "fig1_zoom_time",
+                zoom.spring_force[keep],
+                {"units": "N", "long_name": "spring force"},
+            ),
+            "fig1_zoom_phase": (
+                "fig1_zoom_time",
+                zoom.phase[keep].astype(np.int8),
+                {"long_name": "phase", "flag_values": "0 1 -1", "flag_meanings": "stick slip backward-slip"},
+            ),
+        },
+        coords={"fig1_zoom_time": ("fig1_zoom_time", zoom.time[keep], {"units": "s", "long_name": "time"})},
+    )
+
+
+def _friction_range(b_values: np.ndarray, v0_um_s: np.ndarray) -> np.ndarray:
+    """Range of the friction force (N) over the steady zv cycle, for each b (s/m) and v0 (um/s).
+
+    While the block sticks, friction balances the spring (from the stop force up to the static
+    threshold); while it slips, it is f(w) for w from 0 to the peak velocity. Extremes from the
+    engine's events (stop force, peak velocity) and the law's own minimum, never from samples.
+    """
+    out = np.empty((b_values.size, v0_um_s.size))
+    for i, b in enumerate(b_values):
+        for j, v in enumerate(v0_um_s):
+            params = zv_parameters(Q_(float(v), "um/s"), b=Q_(float(b), "s/m"))
+            d = params.dimensionless()
+            law = d.law
+            row = run_attractors(
+                law.core_id,
+                law.core_params(),
+                [d.nu],
+                from_breakaway=True,
+                rtol=1e-10,
+                atol=1e-12,
+                max_slip_time=1e5,
+                conv_tol=1e-8,
+            )[0]
+            w_max = float(row[engine.O_WMAX])
+            slip_w = [w_max]
+            if law.p > 0 and law.c > law.p:
+                w_star = (math.sqrt(law.c / law.p) - 1.0) / law.c  # f'(w*) = 0: the law's minimum
+                if w_star < w_max:
+                    slip_w.append(w_star)
+            f_slip = law.forward(np.array(slip_w))
+            hi = max(1.0, float(f_slip.max()))
+            lo = min(float(row[engine.O_SSTOP]), float(f_slip.min()))
+            out[i, j] = (hi - lo) * params.scales.force.to("N").magnitude
+    return out
+
+
+def _scale_check() -> float:
+    """Largest relative spread of amplitude / (mu0 W) over loads at fixed beta (the paper's scaling)."""
+    ds = sweep(
+        _fig3_base(),
+        {
+            "beta": ["158 s/m"],
+            "load": ["50 mN", "196 mN", "500 mN"],
+            "v0": ["5 um/s", "100 um/s", "1000 um/s"],
+        },
+        progress=False,
+    )
+    au = ds.amplitude.values[0] / (0.46 * ds["load"].values[:, None] * 1e-3)  # load in mN
+    return float(np.max(np.ptp(au, axis=0) / np.mean(au, axis=0)))
+
+
+#: the laws whose regimes the report sets against the paper's "three regimes, one after another"
+REGIME_LAWS = {
+    "f1": WeakeningLaw(c=160.0 / 42.0),
+    "f2": WeakeningLaw(c=160.0 / 42.0, p=100.0 / 42.0),
+    "cubic": CubicLaw(alpha=0.5, gamma=0.5 / 3.0),
+}
+
+
+def regime_sequences() -> dict[str, list[dict[str, object]]]:
+    """Return the regime intervals of F1, F2 (zv set-up, beta = 42 s/m) and the cubic law, nu in 1e-3..10."""
+    out = {}
+    for key, law in REGIME_LAWS.items():
+        d = regimes(law, 1e-3, 10.0, n_grid=121)
+        out[key] = [
+            {"regime": iv.regime, "nu_min": iv.nu_min, "nu_max": iv.nu_max, "attractors": list(iv.attractors)}
+            for iv in d.intervals
+        ]
+    return out
 
 
 def _beta_from_mass(m_kg: float) -> float:

@@ -5,34 +5,56 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import matplotlib
-import matplotlib.ticker
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
+
+from ..plots.figures import draw_phases
+from ..plots.style import plain_log_ticks, pretty_units
 
 __all__ = ["FIGURES", "make_figures"]
 
 
 def _v0_axis(ax: plt.Axes, ds: xr.Dataset, coord: str) -> None:
     ax.set_xscale("log")
-    ax.set_xlabel(f"driving velocity $v_0$ [{ds[coord].attrs.get('units', '')}]")
+    ax.set_xlabel(f"driving velocity $v_0$ [{pretty_units(ds[coord].attrs.get('units', ''))}]")
 
 
 def fig1_spring_force(ds: xr.Dataset) -> Figure:
-    """Fig. 1: spring force against time, zv set-up."""
-    fig, ax = plt.subplots(figsize=(6.4, 3.6), layout="constrained")
+    """Fig. 1: spring force against time, zv set-up; slip phases marked, one magnified beside it."""
+    zoom = "fig1_zoom_time" in ds
+    fig, axes = plt.subplots(
+        1,
+        2 if zoom else 1,
+        figsize=(9.0 if zoom else 6.4, 3.8),
+        layout="constrained",
+        width_ratios=[3, 1.1] if zoom else None,
+        squeeze=False,
+    )
+    ax = axes[0, 0]
     t = ds["fig1_time"].values
     f = ds["fig1_spring_force"].values * 1e3
-    ax.plot(t, f, color="C0", lw=1.2)
-    stick = ds["fig1_phase"].values == 0
-    ax.fill_between(t, f.min(), f.max(), where=stick, color="0.9", step="mid", lw=0, zorder=0, label="stick")
+    draw_phases(ax, t, f, ds["fig1_phase"].values)
     ax.set_xlim(t[0], t[-1])
     ax.set_xlabel("time [s]")
     ax.set_ylabel("spring force [mN]")
-    ax.set_title(f"Fig. 1: zv set-up, F1, $v_0$ = {ds.attrs.get('fig1_v0', '')}", fontsize=10)
-    ax.legend(loc="lower right", frameon=False)
+    ax.set_title(pretty_units(f"Fig. 1: zv set-up, F1, $v_0$ = {ds.attrs.get('fig1_v0', '')}"), fontsize=10)
+    ax.legend(loc="lower right", fontsize=8, framealpha=0.9)
+    if zoom:
+        tz = ds["fig1_zoom_time"].values
+        fz = ds["fig1_zoom_spring_force"].values * 1e3
+        phase = ds["fig1_zoom_phase"].values
+        t0 = float(tz[phase != 0][0])
+        duration = float(tz[phase != 0][-1]) - t0
+        right = axes[0, 1]
+        draw_phases(right, tz - t0, fz, phase)
+        right.set_xlim(tz[0] - t0, tz[-1] - t0)
+        right.set_ylim(ax.get_ylim())
+        right.set_xlabel("time from breakaway [s]")
+        right.set_title(f"one slip, magnified ({1e3 * duration:.0f} ms)", fontsize=10)
     return fig
 
 
@@ -87,15 +109,14 @@ def load_dependence(ds: xr.Dataset) -> Figure:
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.0), layout="constrained")
     w = ds["load_W"].values
     for j, v in enumerate(ds["load_v0"].values):
-        label = f"$v_0$ = {v:g} {ds['load_v0'].attrs.get('units', '')}"
+        label = pretty_units(f"$v_0$ = {v:g} {ds['load_v0'].attrs.get('units', '')}")
         axes[0].plot(w, ds["load_amplitude"].values[j] * 1e3, lw=1.8, label=label)
         axes[1].plot(w, ds["load_period"].values[j], lw=1.8, label=label)
     for ax, ylabel in zip(axes, ("amplitude [mN]", "period [s]"), strict=True):
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel(f"normal load W [{ds['load_W'].attrs.get('units', '')}]")
-        ax.xaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
-        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.set_xlabel(pretty_units(f"normal load W [{ds['load_W'].attrs.get('units', '')}]"))
+        plain_log_ticks(ax.xaxis)
         ax.set_ylabel(ylabel)
         ax.legend(frameon=False, fontsize=8)
     fig.suptitle("Dependence on the normal load (zv set-up otherwise)", fontsize=10)
@@ -103,18 +124,39 @@ def load_dependence(ds: xr.Dataset) -> Figure:
 
 
 def mass_dependence(ds: xr.Dataset) -> Figure:
-    """Amplitude against v0 for masses from 0.1 g to 1 kg, relative to its value at 5 um/s."""
-    fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
+    """Relative change of the amplitude against v0 for masses from 0.1 g to 1 kg, one panel per law.
+
+    The change ``A(v0)/A(v0_min) - 1`` spans six orders of magnitude and changes sign (F2 at
+    small masses): its magnitude is drawn on a logarithmic axis, solid where the amplitude
+    rises and dashed where it falls.
+    """
     v = ds["mass_v0"].values
     unit = ds["mass_mass"].attrs.get("units", "")
-    for i, m in enumerate(ds["mass_mass"].values):
-        a = ds["mass_amplitude"].values[i]
-        ax.plot(v, a / a[0], lw=1.8, label=f"m = {m:g} {unit}")
-    _v0_axis(ax, ds, "mass_v0")
-    ax.set_yscale("log")
-    ax.set_ylabel(r"amplitude / amplitude at the lowest $v_0$")
-    ax.set_title("Dependence on the mass (zv set-up otherwise)", fontsize=10)
-    ax.legend(frameon=False, fontsize=8)
+    amp = ds["mass_amplitude"].values  # (b, mass, v0)
+    b_values = ds["mass_b"].values
+    fig, axes = plt.subplots(1, len(b_values), figsize=(11, 4.2), sharey=True, layout="constrained")
+    for ax, i in zip(np.atleast_1d(axes), range(len(b_values)), strict=True):
+        for j, m in enumerate(ds["mass_mass"].values):
+            change = amp[i, j, 1:] / amp[i, j, 0] - 1.0
+            falling = np.median(change) < 0
+            ax.plot(
+                v[1:],
+                np.abs(change),
+                ls="--" if falling else "-",
+                color=f"C{j}",
+                lw=1.8,
+                label=f"m = {m:g} {unit}" + (" (falls)" if falling else ""),
+            )
+        ax.set_yscale("log")
+        _v0_axis(ax, ds, "mass_v0")
+        b = float(b_values[i])
+        ax.set_title("F1 (b = 0)" if b == 0 else f"F2 (b = {b:g} s/m)", fontsize=10)
+        ax.legend(frameon=False, fontsize=8, loc="lower right")
+    lowest = pretty_units(f"{v[0]:g} {ds['mass_v0'].attrs.get('units', '')}")
+    np.atleast_1d(axes)[0].set_ylabel(f"|amplitude / amplitude at {lowest} - 1|")
+    fig.suptitle(
+        "Dependence on the mass (zv set-up otherwise): solid rises with $v_0$, dashed falls", fontsize=10
+    )
     return fig
 
 
@@ -171,7 +213,8 @@ def appendix_inertia(ds: xr.Dataset) -> Figure:
 FIGURES: dict[str, tuple[Callable[[xr.Dataset], Figure], str]] = {
     "fig1_spring_force": (
         fig1_spring_force,
-        "Fig. 1: spring force against time, zv set-up (F1, beta = 42 s/m, 10 um/s); stick phases shaded.",
+        "Fig. 1: spring force against time, zv set-up (F1, beta = 42 s/m, 10 um/s); slip phases in "
+        "red, one of them magnified in the inset.",
     ),
     "fig2_amplitude_v0": (
         fig2_amplitude_v0,
@@ -189,7 +232,8 @@ FIGURES: dict[str, tuple[Callable[[xr.Dataset], Figure], str]] = {
     ),
     "mass_dependence": (
         mass_dependence,
-        "Relative amplitude against driving velocity for masses from 0.1 g to 1 kg.",
+        "Relative change of the amplitude against driving velocity for masses from 0.1 g to 1 kg, "
+        "F1 and F2 (b = 100 s/m); dashed where the amplitude falls with v0.",
     ),
 }
 

@@ -12,6 +12,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from .style import plain_log_ticks, pretty_units
+
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
@@ -20,8 +22,24 @@ if TYPE_CHECKING:
 __all__ = ["plot_spring_force", "save_figure"]
 
 
+def draw_phases(ax: Any, t: np.ndarray, f: np.ndarray, phase: np.ndarray) -> None:
+    """Draw a spring-force record with its slip phases marked (stick in blue, slip in red).
+
+    Stick phases usually fill almost the whole period, so shading them tells nothing; the
+    slip phases, short and steep, are drawn thicker in their own colour instead.
+    """
+    ax.plot(t, f, color="C0", lw=1.2, label="stick (block at rest)")
+    slip = phase != 0
+    if slip.any():
+        # a slip run with the samples just before and after it, so that it joins the ramps
+        near = slip | np.roll(slip, 1) | np.roll(slip, -1)
+        near[0] = slip[0]
+        near[-1] = slip[-1]
+        ax.plot(t, np.where(near, f, np.nan), color="C3", lw=2.4, label="slip (block moving)")
+
+
 def plot_spring_force(traj: Trajectory, *, title: str | None = None) -> Figure:
-    """Plot the spring force against time, with stick phases shaded.
+    """Plot the spring force against time, slip phases marked.
 
     Parameters
     ----------
@@ -37,26 +55,18 @@ def plot_spring_force(traj: Trajectory, *, title: str | None = None) -> Figure:
     """
     fig, ax = plt.subplots(figsize=(6.4, 3.6), layout="constrained")
     if traj.physical:
-        ax.plot(traj.time, traj.spring_force * 1e3, color="C0", lw=1.2)
+        draw_phases(ax, traj.time, traj.spring_force * 1e3, traj.phase)
         ax.set_xlabel("time [s]")
         ax.set_ylabel("spring force [mN]")
-        scale = 1e3
     else:
-        ax.plot(traj.time, traj.spring_force, color="C0", lw=1.2)
+        draw_phases(ax, traj.time, traj.spring_force, traj.phase)
         ax.set_xlabel(r"time $\tau$ [$\sqrt{m/k}$]")
         ax.set_ylabel(r"spring force $s$ [$\mu_s W$]")
-        scale = 1.0
-    stick = traj.phase == 0
-    if stick.any():
-        lo = float(np.min(traj.spring_force)) * scale
-        hi = float(np.max(traj.spring_force)) * scale
-        ax.fill_between(
-            traj.time, lo, hi, where=stick, color="0.85", step="mid", lw=0, label="stick", zorder=0
-        )
-        ax.legend(loc="lower right", frameon=False)
+    if (traj.phase == 0).any():
+        ax.legend(loc="lower right", fontsize=8, framealpha=0.9)
     ax.set_xlim(traj.time[0], traj.time[-1])
     if title:
-        ax.set_title(title)
+        ax.set_title(pretty_units(title))
     return fig
 
 
@@ -96,13 +106,18 @@ def plot_sweep(ds: Any, *, log: bool = False) -> Figure:
     )
     for ax, var in zip(axes, ("amplitude", "period"), strict=True):
         for value, part in series:
-            label = None if value is None else f"{dims[1]} = {value:g} {sub[dims[1]].attrs.get('units', '')}"
+            label = (
+                None
+                if value is None
+                else pretty_units(f"{dims[1]} = {value:g} {sub[dims[1]].attrs.get('units', '')}")
+            )
             ax.plot(part[x].values, part[var].values, marker="o", ms=3, lw=1.2, label=label)
-        ax.set_xlabel(f"{x} [{ds[x].attrs.get('units', '1')}]")
-        ax.set_ylabel(f"{var} [{ds[var].attrs.get('units', '1')}]")
+        ax.set_xlabel(pretty_units(f"{x} [{ds[x].attrs.get('units', '1')}]"))
+        ax.set_ylabel(pretty_units(f"{var} [{ds[var].attrs.get('units', '1')}]"))
         if log:
             ax.set_xscale("log")
             ax.set_yscale("log")
+            plain_log_ticks(ax.xaxis)
         if len(dims) > 1:
             ax.legend(frameon=False, fontsize=8)
     if sel:
@@ -153,7 +168,8 @@ def plot_records(table: Any) -> dict[str, Figure]:
                 x[order] * scale, y[order] * yscale, yerr=e[order] * yscale, fmt="o-", ms=4, capsize=2
             )
             ax.set_xscale("log")
-            ax.set_xlabel(f"{label} [{unit}]")
+            plain_log_ticks(ax.xaxis)
+            ax.set_xlabel(f"{label} [{pretty_units(unit)}]")
             ax.set_ylabel(ylabel)
         figs[f"records_vs_{'v0' if key.startswith('v0') else 'load'}"] = fig
     return figs

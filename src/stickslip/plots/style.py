@@ -6,7 +6,7 @@ from typing import Any
 
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
-__all__ = ["plain_log_ticks"]
+__all__ = ["plain_log_ticks", "pretty_units"]
 
 
 def plain_log_ticks(axis: Any) -> None:
@@ -18,3 +18,10 @@ def plain_log_ticks(axis: Any) -> None:
     axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
     axis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
     axis.set_minor_formatter(NullFormatter())
+
+
+def pretty_units(text: str) -> str:
+    """Write units compactly, micro as the Greek letter: ``'10 um / s'`` -> ``'10 µm/s'``."""
+    import re
+
+    return re.sub(r"(?<![A-Za-z])u(?=(m|N|s)\b)", "\u00b5", text).replace(" / ", "/")
