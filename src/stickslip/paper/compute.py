@@ -20,7 +20,7 @@ from ..analysis.sweep import sweep
 from ..analysis.trajectory import Trajectory, simulate
 from ..core import engine
 from ..core.api import run_attractors
-from ..models.friction import CubicLaw, WeakeningLaw, f1
+from ..models.friction import CubicLaw, DimensionlessLaw, WeakeningLaw, f1
 from ..models.parameters import PhysicalParameters, zv_parameters
 from ..models.units import Q_
 
@@ -236,6 +236,7 @@ def _friction_range(b_values: np.ndarray, v0_um_s: np.ndarray) -> np.ndarray:
             params = zv_parameters(Q_(float(v), "um/s"), b=Q_(float(b), "s/m"))
             d = params.dimensionless()
             law = d.law
+            assert isinstance(law, WeakeningLaw)
             row = run_attractors(
                 law.core_id,
                 law.core_params(),
@@ -275,7 +276,7 @@ def _scale_check() -> float:
 
 
 #: the laws whose regimes the report sets against the paper's "three regimes, one after another"
-REGIME_LAWS = {
+REGIME_LAWS: dict[str, DimensionlessLaw] = {
     "f1": WeakeningLaw(c=160.0 / 42.0),
     "f2": WeakeningLaw(c=160.0 / 42.0, p=100.0 / 42.0),
     "cubic": CubicLaw(alpha=0.5, gamma=0.5 / 3.0),
