@@ -148,3 +148,57 @@ def coulomb_cycle(nu: float, fk: float) -> dict[str, float]:
         # friction does fk times the slip distance, which is nu times the period
         "friction_work": fk * nu * (t_slip + stick),
     }
+
+
+def reference_record(
+    *,
+    mu0: float,
+    a: float,
+    b: float,
+    k: float,
+    m: float,
+    load: float,
+    v0: float,
+    periods: float,
+    rate: float,
+    noise: float,
+    seed: int,
+    phase: float = 0.3,
+) -> tuple[np.ndarray, np.ndarray]:
+    """A steady stick-slip force record in SI units, made the plain SciPy way.
+
+    The zv-type law ``mu0 W [1/(1 + a v) + b v]``: the dimensionless form is worked out here
+    by hand (not by stickslip), one steady cycle comes from :func:`reference_cycle`, its slip
+    phase is integrated again by ``solve_ivp`` with dense output, and the cycle is repeated
+    and sampled at ``rate`` (Hz), starting ``phase`` of a period after a breakaway, with
+    white Gaussian noise of standard deviation ``noise`` (N).
+
+    Returns
+    -------
+    time : ndarray
+        Sample times (s), from 0.
+    force : ndarray
+        Spring force (N).
+
+    """
+    force_unit = mu0 * load
+    beta = math.sqrt(k * m) / force_unit
+    nu, c, p = beta * v0, a / beta, b / beta
+    time_unit = math.sqrt(m / k)
+    cyc = reference_cycle("weakening", {"c": c, "p": p}, nu)
+    if cyc.n_backward:
+        raise ValueError("reference_record: the cycle has backward slip, not covered")
+    t_slip = cyc.period - cyc.stick_time
+
+    def rhs(_t: float, y: np.ndarray) -> list[float]:
+        return [nu - y[1], y[0] - forward_branch("weakening", {"c": c, "p": p}, y[1])]
+
+    slip = solve_ivp(
+        rhs, (0.0, t_slip), [1.0, 0.0], method="DOP853", rtol=1e-12, atol=1e-14, dense_output=True
+    )
+    n = int(periods * cyc.period * time_unit * rate) + 1
+    t = np.arange(n) / rate
+    tau = np.mod(t / time_unit + phase * cyc.period, cyc.period)
+    s = np.where(tau < t_slip, slip.sol(np.minimum(tau, t_slip))[0], cyc.s_stop + nu * (tau - t_slip))
+    rng = np.random.default_rng(seed)
+    return t, force_unit * s + noise * rng.standard_normal(n)

@@ -6,6 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from reference import reference_record
 
 import stickslip as S
 from stickslip.analysis.fitting import fit_record
@@ -28,17 +29,17 @@ def record(seed: int, rate: str = "1 kHz", cycles: int = 22):
     )
 
 
-def test_recovery_in_most_trials() -> None:
-    """6 noisy records (1 mN noise, 1 kHz): every parameter within 2 sigma in at least 5 of 6."""
-    within = {k: 0 for k in TRUTH}
-    for seed in range(6):
+def test_recovery_on_engine_records() -> None:
+    """3 noisy records made by the engine itself (1 mN noise, 1 kHz): every parameter within
+    3 sigma and 1%, errors below 5% (the independent records are tested below)."""
+    for seed in range(3):
         f = fit_record(record(seed))
         assert not f.warnings
+        assert 0.95 < f.reduced_chi2 < 1.05
         for k in TRUTH:
-            if abs(f.values[k] - TRUTH[k]) <= 2 * f.errors[k]:
-                within[k] += 1
+            assert abs(f.values[k] - TRUTH[k]) <= 3 * f.errors[k], (k, f.values[k], f.errors[k])
+            assert abs(f.values[k] / TRUTH[k] - 1) < 0.01
             assert f.errors[k] < 0.05 * TRUTH[k]
-    assert all(n >= 5 for n in within.values()), within
 
 
 def test_unresolved_drop_makes_the_mass_unidentifiable() -> None:
@@ -82,12 +83,113 @@ def test_fit_cli(tmp_path: Path) -> None:
 
 
 def test_fit_b_warns_that_a_and_b_are_not_separable() -> None:
-    """From one F2 record only a combination of a and b is determined: the fit must say so."""
+    """From the features of one F2 record only a combination of a and b is determined: the fit
+    must say so (the waveform fit separates them: test_f2_record_with_b_fitted)."""
     p = S.zv_parameters("100 um/s", b="100 s/m")
     true = S.cycle(p, probe=False)
     rec = synthetic_record(
         p, duration=f"{30 * true.period} s", rate="1 kHz", noise="0.05 mN", start=f"{true.transient_time} s"
     )
-    f = fit_record(rec, fit_b=True)
+    f = fit_record(rec, fit_b=True, method="features")
     assert "b" in f.names
-    assert any("a and b are correlated" in w for w in f.warnings), f.warnings
+    assert any("a and b are correlated" in w and "only a combination" in w for w in f.warnings), f.warnings
+
+
+# --------------------------------------------------------------------------- independent records
+
+M_ZV = float(P.mass.to("kg").magnitude)
+
+
+def independent_record(seed: int, *, b: float = 0.0, noise: float = 1e-3, periods: int = 60):
+    """Periods of the zv set-up at 100 um/s, 1 kHz, from the SciPy generator in reference.py."""
+    from stickslip.io.records import Record
+
+    t, f = reference_record(
+        mu0=0.46,
+        a=160.0,
+        b=b,
+        k=62.0,
+        m=M_ZV,
+        load=0.196,
+        v0=1e-4,
+        periods=60,
+        rate=1000.0,
+        noise=noise,
+        seed=seed,
+    )
+    return Record(f"independent-{seed}", t, f, None, None, S.Q_(100, "um/s"), S.Q_(196, "mN"), {})
+
+
+def test_fit_recovers_the_truth_on_independent_records() -> None:
+    """Regression: on these records the feature fit had reduced chi2 4.5-17, a trough biased by
+    5 of its errors and `a` low every time. The waveform fit, over 8 records (32 estimates):
+    every estimate within 2% and within 3 errors, at least 28 of 32 within 2 errors (2 sigma
+    covers 95%), pulls centred with unit spread, reduced chi2 near 1, no warning."""
+    pulls = {k: [] for k in TRUTH}
+    for seed in range(8):
+        f = fit_record(independent_record(seed))
+        assert f.method == "waveform"
+        assert 0.97 < f.reduced_chi2 < 1.03
+        assert f.noise == pytest.approx(1e-3, rel=0.03)
+        assert not f.warnings
+        assert f.summary.n_cycles >= 55
+        for k, truth in TRUTH.items():
+            assert abs(f.values[k] / truth - 1) < 0.02
+            pulls[k].append((f.values[k] - truth) / f.errors[k])
+    z = np.array(list(pulls.values())).ravel()
+    assert np.all(np.abs(z) < 3), pulls
+    assert np.sum(np.abs(z) <= 2) >= 28, pulls
+    assert abs(z.mean()) < 0.5 and 0.5 < z.std() < 1.5, pulls
+
+
+def test_fit_json_reports_reduced_chi2(tmp_path: Path) -> None:
+    rec = independent_record(5, periods=15)
+    path = tmp_path / "independent.csv"
+    with open(path, "w") as fh:
+        fh.write("# v0 = 100 um/s\n# load = 196 mN\ntime [s],force [mN]\n")
+        np.savetxt(fh, np.c_[rec.time, rec.force * 1e3], delimiter=",", fmt="%.12g")
+    res = CliRunner().invoke(main, ["fit", str(path), "--out", str(tmp_path / "out"), "--json"])
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.output)
+    assert 0.97 < d["reduced_chi2"] < 1.03
+    assert d["method"] == "waveform"
+    assert d["noise"]["unit"] == "N"
+    for k, truth in TRUTH.items():
+        p = d["parameters"][k]
+        assert abs(p["value"] - truth) <= 2 * p["error"], (k, p)
+    assert (tmp_path / "out" / "fit_overlay.png").stat().st_size > 5000
+
+
+def test_a_record_the_model_does_not_describe_is_flagged_by_its_chi2() -> None:
+    """A machine vibration (3 mN at 0.37 Hz) on top of the stick-slip: no parameter set of the
+    model produces it, and the reduced chi-square says so. (An F2 record fitted with F1 is not
+    such a case: at one velocity F1 with a smaller `a` reproduces it, chi2 = 1.00.)"""
+    rec = independent_record(0, periods=15)
+    shaken = type(rec)(
+        rec.name,
+        rec.time,
+        rec.force + 3e-3 * np.sin(2 * np.pi * 0.37 * rec.time),
+        None,
+        None,
+        rec.v0,
+        rec.load,
+        {},
+    )
+    f = fit_record(shaken)
+    assert f.reduced_chi2 > 2.0
+    assert any(w.startswith("reduced chi-square") for w in f.warnings), f.warnings
+
+
+def test_f2_record_with_b_fitted() -> None:
+    g = fit_record(independent_record(0, b=100.0, noise=0.2e-3, periods=15), fit_b=True)
+    assert g.reduced_chi2 < 1.1
+    assert abs(g.values["b"] - 100.0) <= 3 * g.errors["b"]
+    assert abs(g.values["a"] - 160.0) <= 3 * g.errors["a"]
+
+
+def test_feature_fit_still_available() -> None:
+    f = fit_record(independent_record(1), method="features")
+    assert f.method == "features" and f.samples == 5
+    assert np.isfinite(f.reduced_chi2)
+    with pytest.raises(ValueError, match="method"):
+        fit_record(independent_record(1), method="spline")

@@ -42,7 +42,8 @@ def tup(prefix, n):
 def unpack(prefix, name, n, indent=4):
     """Name the tuple items the dense stages use (zero coefficients are dropped)."""
     used = [
-        j for j in range(n)
+        j
+        for j in range(n)
         if any(T.A[st, j] != 0.0 for st in range(NS + 1, NX)) or any(T.D[:, j] != 0.0) or j in (0, NS)
     ]
     return [" " * indent + f"{prefix}{j} = {name}[{j}]" for j in used]

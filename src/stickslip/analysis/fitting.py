@@ -1,22 +1,33 @@
 """Fitting the spring-block model to a measured stick-slip record.
 
-The fit is on **cycle features**, not on the force time series: the peak force,
-the trough force, the period, the slope of the stick ramp and the drop (fall)
-time, each the median over the record's cycles with its standard error. Why:
-a stick-slip record is mostly ramp, so a pointwise least-squares fit of the
-time series is dominated by the stick phases and by the alignment of the drops
-(a small period error shifts every later drop, and the residual surface is
-full of local minima); the features carry the same information about the
-parameters, directly: the peak is the static friction ``mu0 W``, the ramp's
-slope is ``k v0`` exactly, the drop time sets ``sqrt(m/k)``, and the trough
-and the period set the weakening ``a``.
+Two stages.
 
-Parameters: ``mu0``, ``a``, ``k``, ``m`` (and ``b`` on request), in log space
-(all positive), by :func:`scipy.optimize.least_squares`; uncertainties and
-correlations from the Jacobian at the optimum (residuals weighted by the
-features' standard errors, the covariance scaled by the reduced chi-square when
-it exceeds 1). A parameter whose relative uncertainty exceeds 50%, or two whose
-correlation exceeds 0.99 in magnitude, are reported as not identifiable.
+1. **Cycle features** give a robust start: the peak force, the trough force, the
+   period, the slope of the stick ramp and the drop (fall) time, each the median
+   over the record's cycles with its standard error. The peak is the static
+   friction ``mu0 W``, the ramp's slope is ``k v0`` exactly, the drop time sets
+   ``sqrt(m/k)``, the period and the trough set the weakening ``a``. A fit on
+   features alone cannot say whether the model fits: the trough is nearly the
+   ramp slope times the period, so four parameters meet four independent numbers,
+   and its chi-square measures the bias of the extraction (peaks and troughs picked
+   from noisy samples), not the fit.
+2. **The force waveform**: the model's steady cycle, repeated with the period it
+   predicts, against every sample of a window of whole cycles (up to
+   :data:`MAX_WAVEFORM_SAMPLES`), by :func:`scipy.optimize.least_squares` over
+   ``mu0, a, k, m`` (and ``b``) in log space and the time of the first breakaway.
+   Residuals are weighted by the record's noise, estimated from the spread of
+   successive differences (robust to the drops), so the reduced chi-square is
+   about 1 when the model describes the record, and larger when it does not (it is
+   reported, and a warning given above 2). Uncertainties and correlations come from
+   the Jacobian at the optimum, scaled by the reduced chi-square when it exceeds 1.
+   The waveform fit assumes a periodic record: cycle-to-cycle jitter of a real
+   experiment shows up as a reduced chi-square above 1, and ``method="features"``
+   is then the more robust estimate.
+
+A parameter whose relative uncertainty exceeds 50%, or two whose correlation
+exceeds 0.99 in magnitude while one of them is uncertain by more than 10%, are
+reported as not identifiable; a pair correlated beyond 0.9999 gets a warning that
+their errors move together.
 """
 
 from __future__ import annotations
@@ -35,7 +46,7 @@ from ..io.records import Record
 from ..models.friction import PhysicalWeakeningLaw
 from ..models.parameters import PhysicalParameters
 from ..models.units import Q_
-from .records import RecordSummary, measure_record
+from .records import CycleTable, RecordSummary, measure_record
 
 __all__ = ["FitResult", "fit_record"]
 
@@ -66,6 +77,24 @@ class FitResult:
         The fitted set-up.
     summary : RecordSummary
         The record's measurement.
+    reduced_chi2 : float
+        Sum of squared weighted residuals over the degrees of freedom, for the
+        waveform (samples against the model, weighted by the record's noise) or for
+        the features (``method="features"``).
+    method : str
+        ``waveform`` or ``features``.
+    noise : float
+        Standard deviation of the record's noise (N), estimated from the data.
+    samples : int
+        Samples (waveform) or features the final fit used.
+    breakaway_time : float
+        Time of a breakaway of the fitted model (s), on the record's clock: fitted with
+        the waveform, from the first peak with the features.
+    drift : float
+        Linear drift of the record's force (N/s): fitted with the waveform, from the
+        peaks with the features.
+    drift_origin : float
+        Time (s) at which the drift term is zero.
 
     """
 
@@ -77,7 +106,23 @@ class FitResult:
     warnings: tuple[str, ...]
     parameters: PhysicalParameters
     summary: RecordSummary
-    chi2_reduced: float = field(default=math.nan)
+    reduced_chi2: float = field(default=math.nan)
+    method: str = "waveform"
+    noise: float = field(default=math.nan)
+    samples: int = 0
+    breakaway_time: float = 0.0
+    drift: float = 0.0
+    drift_origin: float = 0.0
+
+    def model_force(self, t: Any) -> FloatArray:
+        """Return the fitted model's force (N) at times ``t`` (s), drift included, overlaying the record."""
+        t = np.asarray(t, dtype=float)
+        theta = np.log([self.values[n] for n in self.names])
+        v0 = float(self.parameters.v0.to("m/s").magnitude)
+        load = float(self.parameters.load.to("N").magnitude)
+        return model_waveform(theta, self.names, self.breakaway_time, t, v0, load) + self.drift * (
+            t - self.drift_origin
+        )
 
     def as_dict(self) -> dict[str, Any]:
         """Return a JSON-ready dictionary with units."""
@@ -94,8 +139,16 @@ class FitResult:
                 k: {"measured": v[0], "error": v[1], "model": v[2]} for k, v in self.features.items()
             },
             "warnings": list(self.warnings),
-            "chi2_reduced": self.chi2_reduced,
-            "fit_on": "cycle features: " + ", ".join(FEATURES),
+            "reduced_chi2": self.reduced_chi2,
+            "method": self.method,
+            "noise": {"value": self.noise, "unit": "N"},
+            "samples": self.samples,
+            "fit_on": (
+                f"force waveform ({self.samples} samples), started from a fit on cycle features: "
+                if self.method == "waveform"
+                else "cycle features: "
+            )
+            + ", ".join(FEATURES),
         }
 
 
@@ -116,11 +169,25 @@ def _fall_time_model(c: float, p: float, nu: float, t_slip: float, time_scale: f
     return float(max(tb - ta, 0.0) * time_scale)
 
 
+def _values(theta: FloatArray, names: tuple[str, ...]) -> dict[str, float]:
+    """Return the physical parameters (SI) from the fit's log-coordinates ``names``.
+
+    With ``b`` fitted, the coordinate is ``d = a - b`` instead of ``a``: near breakaway
+    F2 is ``f(w) = 1 - (c - p) w + ...``, so a record pins down ``a - b`` far better than
+    ``a`` and ``b`` apart, and in ``(a, b)`` the cost is a long curved valley.
+    """
+    vals = {"b": 0.0}
+    vals.update({n: math.exp(x) for n, x in zip(names, theta, strict=True)})
+    if "d" in vals:
+        vals["a"] = vals.pop("d") + vals["b"]
+    return vals
+
+
 def _model_features(
     theta: FloatArray, names: tuple[str, ...], fixed: dict[str, float], v0: float, load: float
 ) -> FloatArray:
     vals = dict(fixed)
-    vals.update({n: math.exp(x) for n, x in zip(names, theta, strict=True)})
+    vals.update(_values(theta, names))
     mu0, a, b, k, m = vals["mu0"], vals["a"], vals.get("b", 0.0), vals["k"], vals["m"]
     force = mu0 * load
     beta = math.sqrt(k * m) / force
@@ -144,7 +211,20 @@ def _model_features(
     )
 
 
-def fit_record(record: Record, *, fit_b: bool = False, guess: dict[str, float] | None = None) -> FitResult:
+#: largest number of samples the waveform fit uses (a window of whole cycles)
+MAX_WAVEFORM_SAMPLES = 200_000
+#: reduced chi-square above which the fit warns that the model does not describe the record
+CHI2_WARN = 2.0
+METHODS = ("waveform", "features")
+
+
+def fit_record(
+    record: Record,
+    *,
+    fit_b: bool = False,
+    guess: dict[str, float] | None = None,
+    method: str = "waveform",
+) -> FitResult:
     """Fit ``mu0``, ``a``, ``k``, ``m`` (and ``b``) of the paper's model to a stick-slip record.
 
     Parameters
@@ -155,15 +235,26 @@ def fit_record(record: Record, *, fit_b: bool = False, guess: dict[str, float] |
         Also fit the strengthening rate ``b`` of F2 (default: F1, ``b = 0``).
     guess : dict, optional
         Starting values (SI), by parameter name; default from the features.
+    method : {"waveform", "features"}, optional
+        Fit the force waveform, starting from a fit on cycle features (default), or
+        stop at the features (robust to cycle-to-cycle jitter, but its chi-square
+        does not measure the fit; see the module docstring).
+
+    Returns
+    -------
+    FitResult
 
     Raises
     ------
     ValueError
-        Without ``v0`` or load, or when the record is not stick-slip-like.
+        Without ``v0`` or load, for an unknown method, or when the record is not
+        stick-slip-like.
     RuntimeError
         When the fit does not converge.
 
     """
+    if method not in METHODS:
+        raise ValueError(f"method={method!r}: expected one of {METHODS}")
     if record.v0 is None or record.load is None:
         raise ValueError(
             f"{record.name}: fitting needs the driving velocity and the normal load "
@@ -172,8 +263,105 @@ def fit_record(record: Record, *, fit_b: bool = False, guess: dict[str, float] |
     table, summary = measure_record(record)
     v0 = float(record.v0.to("m/s").magnitude)
     load = float(record.load.to("N").magnitude)
+    names = ("mu0", "a", "k", "m", "b") if fit_b else ("mu0", "a", "k", "m")
+    coords = ("mu0", "d", "k", "m", "b") if fit_b else names  # see _values
+    theta, jac, chi2, data_a, err_a = _fit_features(record, table, summary, coords, v0, load, guess)
+    cov = np.linalg.pinv(jac.T @ jac)
+    noise = _noise(record.force)
+    samples = len(FEATURES)
+    drift, drift_origin = float(summary.drift), float(record.time[0])
+    if method == "waveform":
+        theta, cov, chi2, samples, breakaway, drift, drift_origin = _fit_waveform(
+            record, table, summary, coords, theta, v0, load, noise
+        )
+    else:
+        chi2 = chi2 / max(1, len(FEATURES) - len(names))
+        breakaway = _first_breakaway(theta, coords, v0, load, float(table.peak_time[0]))
+    vals = _values(theta, coords)
+    values = {x: float(vals[x]) for x in names}
+    # covariance of the log-parameters from that of the coordinates: log a = log(d + b)
+    to_log = np.eye(len(names))
+    if fit_b:
+        ia, ib = names.index("a"), names.index("b")
+        to_log[ia, ia] = (values["a"] - values["b"]) / values["a"]
+        to_log[ia, ib] = values["b"] / values["a"]
+    cov_log = to_log @ cov @ to_log.T * max(1.0, chi2)
+    theta = np.log([values[x] for x in names])
+    rel = np.sqrt(np.clip(np.diag(cov_log), 0, None))
+    errors = {x: values[x] * float(r) for x, r in zip(names, rel, strict=True)}
+    d = np.sqrt(np.clip(np.diag(cov_log), 1e-300, None))
+    corr = cov_log / np.outer(d, d)
+    warnings = []
+    if chi2 > CHI2_WARN:
+        warnings.append(
+            f"reduced chi-square {chi2:.2f} > {CHI2_WARN:g}: the model does not describe the record "
+            f"to within its noise ({1e3 * noise:.3g} mN); errors scaled up by its square root"
+        )
+    for x, r in zip(names, rel, strict=True):
+        if r > 0.5:
+            warnings.append(
+                f"{x} is not identifiable from this record (relative uncertainty "
+                f"{r:.0%}); the record does not constrain it"
+            )
+    for i in range(len(names)):
+        for j in range(i + 1, len(names)):
+            # strongly correlated errors are fine while each parameter is well determined (a and
+            # m of a well-sampled record: 0.997, each to 0.1%); a pair is not identifiable when it
+            # is also poorly determined one by one; nearly perfectly correlated, say so
+            if abs(corr[i, j]) > 0.99 and max(rel[i], rel[j]) > 0.1:
+                warnings.append(
+                    f"{names[i]} and {names[j]} are correlated ({corr[i, j]:+.3f}): "
+                    "only a combination of them is determined"
+                )
+            elif abs(corr[i, j]) > 0.9999:
+                warnings.append(
+                    f"{names[i]} and {names[j]} are correlated ({corr[i, j]:+.5f}): each is determined "
+                    f"(to {100 * rel[i]:.2g}% and {100 * rel[j]:.2g}%), but their errors move together; "
+                    "propagate them with the correlation matrix"
+                )
+    model = _model_features(theta, names, {"b": 0.0}, v0, load)
+    feats = {k: (float(data_a[i]), float(err_a[i]), float(model[i])) for i, k in enumerate(FEATURES)}
+    params = PhysicalParameters(
+        mass=Q_(values["m"], "kg"),
+        stiffness=Q_(values["k"], "N/m"),
+        load=record.load,
+        v0=record.v0,
+        law=PhysicalWeakeningLaw(
+            mu0=values["mu0"], a=Q_(values["a"], "s/m"), b=Q_(values.get("b", 0.0), "s/m")
+        ),
+    )
+    return FitResult(
+        values,
+        errors,
+        corr,
+        names,
+        feats,
+        tuple(warnings),
+        params,
+        summary,
+        chi2,
+        method,
+        noise,
+        samples,
+        breakaway,
+        drift,
+        drift_origin,
+    )
+
+
+def _fit_features(
+    record: Record,
+    table: CycleTable,
+    summary: RecordSummary,
+    names: tuple[str, ...],
+    v0: float,
+    load: float,
+    guess: dict[str, float] | None,
+) -> tuple[FloatArray, FloatArray, float, FloatArray, FloatArray]:
+    """Fit on cycle features; return log-parameters, Jacobian, chi-square, features and their errors."""
     n = summary.n_cycles
     data, err = [], []
+    dt = float(np.median(np.diff(record.time)))
     for key, arr in (
         ("peak_force", table.peak_force),
         ("trough_force", table.trough_force),
@@ -183,17 +371,16 @@ def fit_record(record: Record, *, fit_b: bool = False, guess: dict[str, float] |
     ):
         med = float(np.median(arr))
         se = 1.2533 * float(np.std(arr, ddof=1)) / math.sqrt(n) if n > 1 else math.nan
-        dt = float(np.median(np.diff(record.time)))
         floor = {"period": dt / math.sqrt(n), "drop_time": dt / math.sqrt(n)}.get(key, 0.0)
         data.append(med)
         err.append(max(se, floor, 1e-6 * abs(med)))
     data_a, err_a = np.array(data), np.array(err)
-    names = ("mu0", "a", "k", "m", "b") if fit_b else ("mu0", "a", "k", "m")
     k0 = summary.rise_slope / v0
     mu0_0 = summary.peak_force / load
     m0 = k0 * (summary.drop_time / (0.6 * math.pi)) ** 2
     start = {"mu0": mu0_0, "a": 100.0, "k": k0, "m": max(m0, 1e-9), "b": 10.0}
     start.update(guess or {})
+    start["d"] = start["a"] - start["b"]
     if not all(math.isfinite(start[x]) and start[x] > 0 for x in names):
         raise ValueError(f"{record.name}: cannot start the fit from the features {start}")
 
@@ -207,6 +394,7 @@ def fit_record(record: Record, *, fit_b: bool = False, guess: dict[str, float] |
         s0 = dict(start)
         if guess is None or "a" not in guess:
             s0["a"] = a_start
+            s0["d"] = a_start - s0["b"]
         theta0 = np.log([s0[x] for x in names])
         res = least_squares(residuals, theta0, method="trf", x_scale=1.0, diff_step=1e-6, max_nfev=400)
         if best is None or res.cost < best.cost:
@@ -214,38 +402,251 @@ def fit_record(record: Record, *, fit_b: bool = False, guess: dict[str, float] |
     assert best is not None
     if not best.success:
         raise RuntimeError(f"{record.name}: the fit did not converge ({best.message})")
-    dof = max(1, len(FEATURES) - len(names))
-    chi2 = 2.0 * best.cost / dof
-    jac = best.jac
-    cov_log = np.linalg.pinv(jac.T @ jac) * max(1.0, chi2)
-    values = {x: float(math.exp(v)) for x, v in zip(names, best.x, strict=True)}
-    rel = np.sqrt(np.clip(np.diag(cov_log), 0, None))
-    errors = {x: values[x] * float(r) for x, r in zip(names, rel, strict=True)}
-    d = np.sqrt(np.clip(np.diag(cov_log), 1e-300, None))
-    corr = cov_log / np.outer(d, d)
-    warnings = []
-    for x, r in zip(names, rel, strict=True):
-        if r > 0.5:
-            warnings.append(
-                f"{x} is not identifiable from these features (relative uncertainty "
-                f"{r:.0%}); the record does not constrain it"
-            )
-    for i in range(len(names)):
-        for j in range(i + 1, len(names)):
-            if abs(corr[i, j]) > 0.99:
-                warnings.append(
-                    f"{names[i]} and {names[j]} are correlated ({corr[i, j]:+.3f}): "
-                    "only a combination of them is determined"
-                )
-    model = _model_features(best.x, names, {"b": 0.0}, v0, load)
-    feats = {k: (float(data_a[i]), float(err_a[i]), float(model[i])) for i, k in enumerate(FEATURES)}
-    params = PhysicalParameters(
-        mass=Q_(values["m"], "kg"),
-        stiffness=Q_(values["k"], "N/m"),
-        load=record.load,
-        v0=record.v0,
-        law=PhysicalWeakeningLaw(
-            mu0=values["mu0"], a=Q_(values["a"], "s/m"), b=Q_(values.get("b", 0.0), "s/m")
-        ),
+    return best.x, best.jac, 2.0 * best.cost, data_a, err_a
+
+
+def _noise(force: FloatArray) -> float:
+    """Return the standard deviation of white noise on a record, from its second differences.
+
+    The second differences of a ramp vanish and the slips are short: the median absolute
+    deviation of ``f[i+1] - 2 f[i] + f[i-1]`` is the noise's times ``sqrt(6)``. (First
+    differences would also carry the curvature of the slip phases.)
+    """
+    d = np.diff(force, 2)
+    return float(1.4826 * np.median(np.abs(d - np.median(d))) / math.sqrt(6.0))
+
+
+def _physical(theta: FloatArray, names: tuple[str, ...], v0: float, load: float) -> dict[str, float]:
+    vals = _values(theta, names)
+    force = vals["mu0"] * load
+    beta = math.sqrt(vals["k"] * vals["m"]) / force
+    return {
+        "force": force,
+        "nu": beta * v0,
+        "c": vals["a"] / beta,
+        "p": vals["b"] / beta,
+        "time": math.sqrt(vals["m"] / vals["k"]),
+    }
+
+
+def model_waveform(
+    theta: FloatArray, names: tuple[str, ...], t0: float, t: FloatArray, v0: float, load: float
+) -> FloatArray:
+    """Return the spring force (N) of the model's steady cycle at times ``t``, breakaway at ``t0``.
+
+    ``theta`` are the log-parameters ``names`` (``mu0, a, k, m`` and ``b``). The stick phase
+    is the exact ramp ``s_stop + nu (tau - t_slip)``; the slip phase from breakaway
+    ``(1, 0)`` is sampled on the engine's dense output. NaN where the model does not stick.
+    """
+    ph = _physical(theta, names, v0, load)
+    nu, c, p = ph["nu"], ph["c"], ph["p"]
+    row = run_attractors(
+        0, [c, p, 0.0], [nu], from_breakaway=True, rtol=1e-10, atol=1e-12, max_slip_time=1e4, conv_tol=1e-8
+    )[0]
+    if row[engine.O_REGIME] != engine.RG_STICK_SLIP or row[engine.O_STATUS] != engine.ST_OK:
+        return np.full(t.shape, np.nan)
+    period = float(row[engine.O_PERIOD])
+    t_slip = period - float(row[engine.O_STICK_TIME])
+    tau = np.mod((t - t0) / ph["time"], period)
+    s = float(row[engine.O_SSTOP]) + nu * (tau - t_slip)
+    slip = tau < t_slip
+    if slip.any():
+        idx = np.flatnonzero(slip)
+        order = np.argsort(tau[idx], kind="stable")
+        y, _, _, status = run_trajectory(
+            0, [c, p, 0.0], nu, 1.0, 0.0, tau[idx[order]], rtol=1e-10, atol=1e-12
+        )
+        if status != engine.ST_OK:
+            return np.full(t.shape, np.nan)
+        s[idx[order]] = y[:, 0]
+    return ph["force"] * s
+
+
+def _fit_waveform(
+    record: Record,
+    table: CycleTable,
+    summary: RecordSummary,
+    names: tuple[str, ...],
+    theta0: FloatArray,
+    v0: float,
+    load: float,
+    noise: float,
+) -> tuple[FloatArray, FloatArray, float, int, float, float, float]:
+    """Fit the force waveform over a window of whole cycles.
+
+    Returns the log-parameters, their covariance (nuisance parameters marginalised, not
+    scaled by the chi-square), the reduced chi-square, the samples used, a breakaway
+    time, the drift (N/s) and the time at which the drift term is zero.
+    """
+    t = record.time
+    f = record.force
+    # a window of whole cycles, from one peak to a later one, at most MAX_WAVEFORM_SAMPLES long
+    peaks = np.searchsorted(t, table.peak_time)
+    last = int(np.searchsorted(peaks, peaks[0] + MAX_WAVEFORM_SAMPLES, side="right")) - 1
+    i0, i1 = int(peaks[0]), int(peaks[max(1, last)]) if len(peaks) > 1 else len(t)
+    if i1 - i0 < 20:
+        i0, i1 = 0, len(t)
+    tw, fw = t[i0:i1], f[i0:i1]
+    if not noise > 0:
+        raise ValueError(f"{record.name}: the record has no measurable noise; cannot weight a waveform fit")
+    # first breakaway: where the model's first peak falls on the data's first peak
+    ph = _physical(theta0, names, v0, load)
+    row = run_attractors(
+        0,
+        [ph["c"], ph["p"], 0.0],
+        [ph["nu"]],
+        from_breakaway=True,
+        rtol=1e-10,
+        atol=1e-12,
+        max_slip_time=1e4,
+        conv_tol=1e-8,
+    )[0]
+    tau_peak = _time_of_max(ph, row)
+    # the phase is anchored at the peak in the middle of the window: every drop sits at
+    # t_ref + j T, and with j centred the phase and the period are not correlated (as a
+    # regression centres its abscissa); anchored at the first drop they are, and the cost
+    # becomes a long curved valley that the optimisers crawl along
+    inside = table.peak_time[(table.peak_time >= tw[0]) & (table.peak_time <= tw[-1])]
+    t_peak = float(inside[len(inside) // 2]) if inside.size else float(table.peak_time[0])
+    t_ref = t_peak - tau_peak * ph["time"]
+    scale_t = max(float(summary.drop_time), 5.0 * float(np.median(np.diff(tw))))
+    t_mid = 0.5 * (tw[0] + tw[-1])
+    # the drift of the force (a sensor's, say) is a parameter too: estimated from a few noisy
+    # peaks and subtracted beforehand, it would bias the others; in units of noise per window
+    span = max(tw[-1] - tw[0], 1e-300)
+    drift_unit = noise / span
+
+    def residuals(x: FloatArray) -> FloatArray:
+        model = model_waveform(x[:-2], names, t_ref + x[-2] * scale_t, tw, v0, load)
+        r = (fw - model - x[-1] * drift_unit * (tw - t_mid)) / noise
+        return np.where(np.isfinite(r), r, 1e3)
+
+    x0 = np.concatenate([theta0, [0.0, summary.drift / drift_unit]])
+    # align the phase first (the parameters from the features are close; the drop's time is not)
+    offsets = np.linspace(-2.0, 2.0, 21)
+    costs = [float(np.sum(residuals(np.concatenate([theta0, [o, x0[-1]]])) ** 2)) for o in offsets]
+    x0[-2] = offsets[int(np.argmin(costs))]
+    x, jac, cost = _minimise(residuals, x0, record.name)
+    dof = max(1, tw.size - x.size)
+    chi2 = cost / dof
+    # the parameters' covariance with the nuisance parameters (phase, drift) marginalised:
+    # the inverse of the full normal matrix, restricted to the parameters
+    full = np.linalg.pinv(jac.T @ jac)
+    n_p = len(names)
+    cov = np.asarray(full[:n_p, :n_p], dtype=float)
+    drift = float(x[-1] * drift_unit)
+
+    return x[:n_p], cov, chi2, int(tw.size), t_ref + float(x[-2]) * scale_t, drift, float(t_mid)
+
+
+def _jacobian(fun: Any, x: FloatArray, n: int, step: float = 1e-6) -> FloatArray:
+    """Central-difference Jacobian of ``fun`` (``n`` residuals) at ``x``.
+
+    Forward differences are not enough here: near the minimum the gradient's
+    components are large and nearly cancel along the Newton step (the cost is very
+    stiff in the peak force and the period), and their O(h) error flips its sign.
+    """
+    jac = np.empty((n, x.size))
+    for i in range(x.size):
+        h = step * max(1.0, abs(x[i]))
+        e = np.zeros_like(x)
+        e[i] = h
+        jac[:, i] = (fun(x + e) - fun(x - e)) / (2.0 * h)
+    return jac
+
+
+def _minimise(fun: Any, x0: FloatArray, name: str) -> tuple[FloatArray, FloatArray, float]:
+    """Minimise ``sum(fun(x)**2)``: Levenberg-Marquardt, then a quasi-Newton check of the minimum.
+
+    The Jacobian is by central differences: near the minimum the gradient's components
+    are large and nearly cancel along the step (the cost is very stiff in the peak force
+    and the period), and forward differences make the methods stop early. With noise on
+    every sample the residuals do not vanish at the minimum, and the curvature that
+    Gauss-Newton leaves out (sum of residual times second derivative) is not small along
+    the poorly determined combination of parameters; BFGS updates of the Gauss-Newton
+    matrix pick it up where Levenberg-Marquardt stops short. Stops when the predicted or
+    the achieved decrease of the cost is below 1e-4 (a ten-thousandth of the change that
+    moves a parameter by one standard error), or when five steps gain less than 0.5
+    together (a flat direction).
+
+    Returns the minimiser, the Jacobian of the residuals there and the cost.
+    """
+    n = fun(x0).size
+    res = least_squares(
+        fun, x0, jac=lambda z: _jacobian(fun, z, n), method="lm", x_scale="jac", max_nfev=1000
     )
-    return FitResult(values, errors, corr, names, feats, tuple(warnings), params, summary, chi2)
+    x = res.x
+    r = fun(x)
+    jac = _jacobian(fun, x, r.size)
+    g = 2.0 * jac.T @ r
+    hess = 2.0 * jac.T @ jac
+    cost = float(r @ r)
+    history = [cost]
+    for _ in range(200):
+        # a flat direction (a parameter the record does not determine) is crawled along forever,
+        # each step gaining a few hundredths: five steps together gaining less than 0.5 (the
+        # points are within a standard error of each other) end the search
+        if len(history) > 5 and history[-6] - history[-1] < 0.5:
+            break
+        try:
+            step = -np.linalg.solve(hess, g)
+        except np.linalg.LinAlgError:
+            step = -np.linalg.lstsq(hess, g, rcond=None)[0]
+        decrement = float(-g @ step)
+        if decrement < 1e-4:
+            break
+        t = 1.0
+        while True:
+            x_new = x + t * step
+            r_new = fun(x_new)
+            cost_new = float(r_new @ r_new)
+            if cost_new <= cost - 1e-4 * t * decrement or t < 1e-6:
+                break
+            t *= 0.5
+        if cost_new > cost - 1e-4:
+            # no descent along the step (at the minimum to the precision of the model), or a
+            # flat direction (a parameter the record does not determine: the warnings say so)
+            if cost_new < cost:
+                x, r, cost = x_new, r_new, cost_new
+                jac = _jacobian(fun, x, r.size)
+            break
+        jac_new = _jacobian(fun, x_new, r_new.size)
+        g_new = 2.0 * jac_new.T @ r_new
+        sv, yv = x_new - x, g_new - g
+        if sv @ yv > 0:
+            hs = hess @ sv
+            hess = hess - np.outer(hs, hs) / (sv @ hs) + np.outer(yv, yv) / (sv @ yv)
+        x, r, jac, g, cost = x_new, r_new, jac_new, g_new, cost_new
+        history.append(cost)
+    else:
+        raise RuntimeError(f"{name}: the waveform fit did not converge in 200 quasi-Newton steps")
+    return x, jac, cost
+
+
+def _first_breakaway(
+    theta: FloatArray, names: tuple[str, ...], v0: float, load: float, t_peak: float
+) -> float:
+    """Breakaway time (s) that puts the model's force maximum on a measured peak at ``t_peak``."""
+    ph = _physical(theta, names, v0, load)
+    row = run_attractors(
+        0,
+        [ph["c"], ph["p"], 0.0],
+        [ph["nu"]],
+        from_breakaway=True,
+        rtol=1e-10,
+        atol=1e-12,
+        max_slip_time=1e4,
+        conv_tol=1e-8,
+    )[0]
+    return t_peak - _time_of_max(ph, row) * ph["time"]
+
+
+def _time_of_max(ph: dict[str, float], row: np.ndarray) -> float:
+    """Dimensionless time from breakaway to the spring-force maximum (w = nu, on the dense output)."""
+    t_slip = float(row[engine.O_PERIOD] - row[engine.O_STICK_TIME])
+    tau = np.linspace(0.0, t_slip, 2001)
+    _, _, ev, _ = run_trajectory(
+        0, [ph["c"], ph["p"], 0.0], ph["nu"], 1.0, 0.0, tau[-1:], rtol=1e-10, atol=1e-12
+    )
+    hit = ev[ev[:, 1] == engine.EV_SMAX]
+    return float(hit[0, 0]) if hit.size else 0.0

@@ -175,13 +175,56 @@ def plot_records(table: Any) -> dict[str, Figure]:
     return figs
 
 
-def plot_fit_overlay(record: Any, fitted_force: Any, fitted_time: Any, *, cycles: int = 3) -> Figure:
-    """Overlay a measured record and the fitted model over the first cycles."""
-    fig, ax = plt.subplots(figsize=(7.0, 3.8), layout="constrained")
-    ax.plot(record.time, record.force * 1e3, color="0.6", lw=0.8, label="measured")
-    ax.plot(fitted_time, fitted_force * 1e3, color="C3", lw=1.3, label="fitted model")
-    ax.set_xlabel("time [s]")
+def plot_fit_overlay(record: Any, fit: Any, *, cycles: int = 3, max_points: int = 20_000) -> Figure:
+    """Overlay a record and the fitted model over a few cycles, with the residuals underneath.
+
+    Parameters
+    ----------
+    record : Record
+        The measured record.
+    fit : FitResult
+        From :func:`stickslip.analysis.fitting.fit_record`; its ``model_force`` gives the
+        model on the record's clock.
+    cycles : int, optional
+        Cycles shown, from the middle of the record.
+    max_points : int, optional
+        Samples drawn at most (decimated beyond).
+
+    """
+    t = record.time
+    period = float(fit.summary.period)
+    mid = 0.5 * (t[0] + t[-1])
+    lo = max(t[0], mid - 0.5 * cycles * period)
+    sel = (t >= lo) & (t <= lo + cycles * period)
+    idx = np.flatnonzero(sel)
+    if idx.size > max_points:
+        idx = idx[:: int(np.ceil(idx.size / max_points))]
+    tt, ff = t[idx], record.force[idx]
+    model = fit.model_force(tt)
+    fig, (ax, ax_r) = plt.subplots(
+        2, 1, figsize=(7.2, 5.0), sharex=True, height_ratios=[3, 1.3], layout="constrained"
+    )
+    ax.plot(tt, ff * 1e3, color="0.6", lw=0.7, label="measured")
+    ax.plot(tt, model * 1e3, color="C3", lw=1.3, label="fitted model")
     ax.set_ylabel("force [mN]")
-    ax.legend(frameon=False)
-    ax.set_title(f"{record.name}: data and fitted model", fontsize=10)
+    ax.legend(frameon=False, fontsize=8, loc="lower right")
+    chi2 = getattr(fit, "reduced_chi2", float("nan"))
+    ax.set_title(
+        f"{record.name}: data and fitted model ({fit.method} fit, reduced chi2 = {chi2:.2f})", fontsize=10
+    )
+    resid = (ff - model) * 1e3
+    ax_r.plot(tt, resid, color="0.6", lw=0.4)
+    # a running mean shows a systematic misfit that the noise hides
+    width = max(1, resid.size // 200)
+    ax_r.plot(
+        tt, np.convolve(resid, np.ones(width) / width, mode="same"), color="C3", lw=1.0, label="running mean"
+    )
+    noise = getattr(fit, "noise", float("nan"))
+    if np.isfinite(noise):
+        for sign in (-1, 1):
+            ax_r.axhline(sign * noise * 1e3, color="C0", ls=":", lw=1.0, label="noise" if sign > 0 else None)
+    ax_r.legend(frameon=False, fontsize=7, loc="upper right", ncols=2)
+    ax_r.axhline(0.0, color="0.5", lw=0.6)
+    ax_r.set_ylabel("residual [mN]")
+    ax_r.set_xlabel("time [s]")
     return fig
