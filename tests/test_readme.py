@@ -22,4 +22,5 @@ def test_readme_python_blocks_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatc
     assert [iv.regime for iv in diagram.intervals] == ["stick-slip", "bistable", "steady-sliding"]
     assert [round(iv.nu_max, 4) for iv in diagram.intervals[:2]] == [0.4623, 0.6696]  # as the README says
     assert r.regime == "stick-slip"
+    assert round(spaces[0]["ss"].cycle(spaces[0]["d"]).multiplier, 3) == 0.824  # as the README says
     assert (tmp_path / "trajectory.csv").exists()
