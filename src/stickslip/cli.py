@@ -8,6 +8,7 @@ paper's zv set-up (``--preset zv``, each option overridable).
 
 from __future__ import annotations
 
+import errno
 import functools
 import json
 import os
@@ -19,6 +20,7 @@ import click
 import numpy as np
 
 from . import defaults
+from .io.errors import DataError
 from .models.friction import (
     CoulombLaw,
     CubicLaw,
@@ -272,19 +274,48 @@ def _law_fields(law: Any) -> dict[str, Any]:
     return {f.name: getattr(law, f.name) for f in dataclasses.fields(law)}
 
 
+class _DataProblem(click.ClickException):
+    """A file or record that cannot be used: one ``Error:`` line, no usage text, exit code 2."""
+
+    exit_code = 2
+
+
+def _os_message(exc: OSError) -> str:
+    where = exc.filename or ""
+    what = exc.strerror or str(exc)
+    if exc.errno == errno.ENOSPC:
+        what += " (the previous file, if any, is untouched)"
+    return f"{where}: {what}" if where else what
+
+
 def _handle_errors(func: Callable[..., Any]) -> Callable[..., Any]:
     @functools.wraps(func)
     def wrapper(*args: Any, **kwargs: Any) -> Any:
         try:
             return func(*args, **kwargs)
+        except DataError as exc:  # a file or record: the options were fine, the data were not
+            raise _DataProblem(str(exc)) from None
         except ValueError as exc:
             raise click.UsageError(f"invalid value: {exc}") from None
         except RuntimeError as exc:  # a computation that failed (not a user mistake)
             raise click.ClickException(str(exc)) from None
-        except OSError as exc:  # an output path that cannot be written
-            raise click.ClickException(f"cannot write {exc.filename or ''}: {exc.strerror or exc}") from None
+        except OSError as exc:  # a file that cannot be read or written: name it
+            raise click.ClickException(_os_message(exc)) from None
 
     return wrapper
+
+
+def _figure_names(stem: str) -> dict[str, str]:
+    return {f"{stem}.png": "figure", f"{stem}.svg": "figure"}
+
+
+def overwrite_option(func: Callable[..., Any]) -> Any:
+    """Add ``--overwrite``: replace existing outputs that stickslip did not write."""
+    return click.option(
+        "--overwrite",
+        is_flag=True,
+        help="Replace existing output files even if stickslip did not write them.",
+    )(func)
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -362,9 +393,16 @@ def _fail_unless_ok(status: str) -> None:
 )
 @out_dir_option("Output folder for trajectory.csv and spring_force.png/.svg.")
 @click.option("--no-plot", is_flag=True, help="Write the CSV only.")
+@overwrite_option
 @_handle_errors
 def simulate(
-    duration: str | None, cycles: float, points: int, out_dir: str, no_plot: bool, **opts: Any
+    duration: str | None,
+    cycles: float,
+    points: int,
+    out_dir: str,
+    no_plot: bool,
+    overwrite: bool,
+    **opts: Any,
 ) -> None:
     """Simulate the motion; write a CSV time series and plot spring force against time.
 
@@ -381,19 +419,22 @@ def simulate(
             raise click.UsageError(
                 f"invalid value: duration={duration!r}: expected a number for dimensionless input"
             ) from None
-    traj = run(params, duration=dur, cycles=cycles, n_points=points, rtol=opts["rtol"], atol=opts["atol"])
-    os.makedirs(out_dir, exist_ok=True)
-    csv_path = os.path.join(out_dir, "trajectory.csv")
-    traj.to_csv(csv_path)
-    click.echo(f"wrote {csv_path} ({traj.time.size} samples)")
-    if not no_plot:
-        from .plots.figures import plot_spring_force, save_figure
+    from .io.output import OutputFolder
 
-        title = None
-        if isinstance(params, PhysicalParameters):
-            title = f"v0 = {params.v0:~P}, beta = {params.beta.to('s/m').magnitude:.3g} s/m"
-        paths = save_figure(plot_spring_force(traj, title=title), os.path.join(out_dir, "spring_force"))
-        click.echo("wrote " + ", ".join(paths))
+    with OutputFolder(out_dir, "simulate", overwrite=overwrite) as out:
+        out.expect({"trajectory.csv": "trajectory"} | ({} if no_plot else _figure_names("spring_force")))
+        traj = run(params, duration=dur, cycles=cycles, n_points=points, rtol=opts["rtol"], atol=opts["atol"])
+        written = [traj.to_csv("trajectory.csv", out=out)]
+        if not no_plot:
+            from .plots.figures import plot_spring_force, save_figure
+
+            title = None
+            if isinstance(params, PhysicalParameters):
+                title = f"v0 = {params.v0:~P}, beta = {params.beta.to('s/m').magnitude:.3g} s/m"
+            written += save_figure(plot_spring_force(traj, title=title), "spring_force", out=out)
+    click.echo(f"wrote {written[0]} ({traj.time.size} samples)")
+    if len(written) > 1:
+        click.echo("wrote " + ", ".join(written[1:]))
     from .analysis.cycle import cycle as compute_cycle
 
     n_stops = sum(1 for k in traj.event_kind if k == "stick")
@@ -410,8 +451,9 @@ def simulate(
 @main.command()
 @out_dir_option("Output folder.")
 @click.option("--quick", is_flag=True, help="A reduced version (fewer points per curve), for tests.")
+@overwrite_option
 @_handle_errors
-def reproduce(out_dir: str, quick: bool) -> None:
+def reproduce(out_dir: str, quick: bool, overwrite: bool) -> None:
     """Reproduce the paper: Figs. 1-3, parameter dependences, the criterion, a report.
 
     Writes reproduce.nc (every curve), each figure as PNG and SVG, report.md and a
@@ -422,7 +464,7 @@ def reproduce(out_dir: str, quick: bool) -> None:
     from .paper import reproduce as run
 
     t0 = time.perf_counter()
-    res = run(out_dir, quick=quick)
+    res = run(out_dir, quick=quick, overwrite=overwrite)
     click.echo(f"wrote {res.netcdf}")
     for paths in res.figures.values():
         click.echo(f"wrote {', '.join(paths)}")
@@ -503,6 +545,7 @@ def dulac(a: float | None, b: float | None, kappa: float | None, as_json: bool) 
 @click.option("--holds", default=None, help="Slide-hold-slide test: hold times, e.g. '1 s,10 s,100 s'.")
 @click.option("--v-slide", "v_slide", default=None, help="Slide velocity of the slide-hold-slide test.")
 @out_dir_option("Output folder for ratestate.nc and ratestate.png/.svg.")
+@overwrite_option
 @_handle_errors
 def ratestate(
     a: float,
@@ -520,6 +563,7 @@ def ratestate(
     holds: str | None,
     v_slide: str | None,
     out_dir: str,
+    overwrite: bool,
 ) -> None:
     """Run a rate-and-state laboratory protocol: velocity steps or slide-hold-slide.
 
@@ -554,9 +598,11 @@ def ratestate(
         ds = slide_hold_slide(
             params, v_slide, [h.strip() for h in holds.split(",")], displacement=displacement
         )
-    path = os.path.join(out_dir, "ratestate.nc")
-    save_sweep(ds, path)
-    paths = save_figure(plot_rate_state(ds), os.path.join(out_dir, "ratestate"))
+    from .io.output import OutputFolder
+
+    with OutputFolder(out_dir, "ratestate", overwrite=overwrite) as out:
+        path = save_sweep(ds, "ratestate.nc", kind="ratestate", out=out)
+        paths = save_figure(plot_rate_state(ds), "ratestate", out=out)
     click.echo(f"wrote {path}, {', '.join(paths)}")
     click.echo(f"friction from {float(ds.friction.min()):.6g} to {float(ds.friction.max()):.6g}")
     if "peak_friction_change" in ds:
@@ -568,8 +614,10 @@ def ratestate(
 @click.argument("source", type=click.Path(exists=False))
 @out_dir_option("Output folder: summary.csv and figures.")
 @click.option("--json", "as_json", is_flag=True, help="Print the verdict and summary as JSON.")
+@click.option("--no-plot", is_flag=True, help="Write summary.csv only.")
+@overwrite_option
 @_handle_errors
-def analyze(source: str, out_dir: str, as_json: bool) -> None:
+def analyze(source: str, out_dir: str, as_json: bool, no_plot: bool, overwrite: bool) -> None:
     """Measure a folder of force-time records (or one long table) and apply the criterion.
 
     SOURCE is a folder of CSV/TSV records (with index.csv giving 'file', 'v0 [unit]',
@@ -578,17 +626,22 @@ def analyze(source: str, out_dir: str, as_json: bool) -> None:
     period against driving velocity and load.
     """
     from .analysis.records import analyze_records
+    from .io.output import OutputFolder
     from .io.records import read_records
     from .plots.figures import plot_records, save_figure
 
-    records = read_records(source)
-    table, verdict = analyze_records(records)
-    os.makedirs(out_dir, exist_ok=True)
-    path = os.path.join(out_dir, "summary.csv")
-    table.to_csv(path, index=False, float_format="%.10g")
-    written = [path]
-    for name, fig in plot_records(table).items():
-        written += save_figure(fig, os.path.join(out_dir, name))
+    with OutputFolder(out_dir, "analyze", overwrite=overwrite) as out:
+        out.expect({"summary.csv": "records-summary"})
+        records = read_records(source)
+        table, verdict = analyze_records(records)
+        written = [
+            out.write(
+                "summary.csv", "records-summary", lambda p: table.to_csv(p, index=False, float_format="%.10g")
+            )
+        ]
+        if not no_plot:
+            for name, fig in plot_records(table).items():
+                written += save_figure(fig, name, out=out)
     if as_json:
         click.echo(
             json.dumps(
@@ -624,6 +677,7 @@ def analyze(source: str, out_dir: str, as_json: bool) -> None:
 @out_dir_option("Output folder: fit.json, fit.csv, fit_overlay.png/.svg.")
 @click.option("--no-plot", is_flag=True, help="Do not draw the overlay figure.")
 @click.option("--json", "as_json", is_flag=True, help="Print the fit as JSON.")
+@overwrite_option
 @_handle_errors
 def fit(
     record_file: str,
@@ -634,6 +688,7 @@ def fit(
     out_dir: str,
     no_plot: bool,
     as_json: bool,
+    overwrite: bool,
 ) -> None:
     """Fit mu0, a, k and the mass (and b) of the paper's model to a stick-slip record.
 
@@ -643,23 +698,28 @@ def fit(
     slope, drop time). Uncertainties, correlations and identifiability warnings.
     """
     from .analysis.fitting import fit_record
+    from .io.output import OutputFolder, json_writer, text_writer
     from .io.records import read_record
 
-    rec = read_record(record_file, v0=v0, load=load)
-    res = fit_record(rec, fit_b=fit_b, method=method)
-    os.makedirs(out_dir, exist_ok=True)
-    d = res.as_dict()
-    with open(os.path.join(out_dir, "fit.json"), "w") as fh:
-        json.dump(d, fh, indent=2)
-    with open(os.path.join(out_dir, "fit.csv"), "w") as fh:
-        fh.write("parameter,value,error,unit\n")
-        for name, v in d["parameters"].items():
-            fh.write(f"{name},{v['value']!r},{v['error']!r},{v['unit']}\n")
-    paths = [os.path.join(out_dir, "fit.json"), os.path.join(out_dir, "fit.csv")]
-    if not no_plot:
-        from .plots.figures import plot_fit_overlay, save_figure
+    with OutputFolder(out_dir, "fit", overwrite=overwrite) as out:
+        out.expect(
+            {"fit.json": "fit", "fit.csv": "fit-parameters"}
+            | ({} if no_plot else _figure_names("fit_overlay"))
+        )
+        rec = read_record(record_file, v0=v0, load=load)
+        res = fit_record(rec, fit_b=fit_b, method=method)
+        d = res.as_dict()
+        rows = "".join(
+            f"{name},{v['value']!r},{v['error']!r},{v['unit']}\n" for name, v in d["parameters"].items()
+        )
+        paths = [
+            out.write("fit.json", "fit", json_writer(d, "fit")),
+            out.write("fit.csv", "fit-parameters", text_writer("parameter,value,error,unit\n" + rows)),
+        ]
+        if not no_plot:
+            from .plots.figures import plot_fit_overlay, save_figure
 
-        paths += save_figure(plot_fit_overlay(rec, res), os.path.join(out_dir, "fit_overlay"))
+            paths += save_figure(plot_fit_overlay(rec, res), "fit_overlay", out=out)
     if as_json:
         click.echo(json.dumps(d, indent=2))
         return
@@ -676,6 +736,12 @@ def fit(
 
 NUMBER_KEYS = {"nu", "c", "p", "alpha", "gamma", "kinetic", "mu0", "mu_s", "mu_k"}
 VALUE_KEYS = NUMBER_KEYS | {*SETUP, "beta", "a", "b", "k1", "k3"}
+
+
+def _plot_sweep(ds: Any, log: bool) -> Any:
+    from .plots.figures import plot_sweep
+
+    return plot_sweep(ds, log=log)
 
 
 def parse_axis(name: str, text: str, num: int, log: bool) -> Any:
@@ -752,8 +818,11 @@ def _dimension_of(name: str) -> str:
 )
 @click.option("--no-plot", is_flag=True, help="Write the NetCDF file only.")
 @click.option("--quiet", is_flag=True, help="No progress bar.")
+@overwrite_option
 @_handle_errors
-def sweep(num: int, log_spacing: bool, out_path: str, no_plot: bool, quiet: bool, **opts: Any) -> None:
+def sweep(
+    num: int, log_spacing: bool, out_path: str, no_plot: bool, quiet: bool, overwrite: bool, **opts: Any
+) -> None:
     """Sweep parameters over ranges ('A..B') or lists ('A,B,C'); write NetCDF and a plot.
 
     Any value option can be swept; the others are fixed as in 'stickslip cycle'.
@@ -761,6 +830,7 @@ def sweep(num: int, log_spacing: bool, out_path: str, no_plot: bool, quiet: bool
     """
     from .analysis.sweep import save_sweep
     from .analysis.sweep import sweep as run_sweep
+    from .plots.figures import save_figure
 
     axes: dict[str, Any] = {}
     fixed = dict(opts)
@@ -781,14 +851,20 @@ def sweep(num: int, log_spacing: bool, out_path: str, no_plot: bool, quiet: bool
     fixed["rtol"] = _to_float("rtol", opts["rtol"])
     fixed["atol"] = _to_float("atol", opts["atol"])
     params = build_parameters(fixed)
-    ds = run_sweep(params, axes, rtol=fixed["rtol"], atol=fixed["atol"], progress=False if quiet else None)
-    save_sweep(ds, out_path)
-    click.echo(f"wrote {out_path} ({ds.amplitude.size} points, dimensions {dict(ds.sizes)})")
-    if not no_plot:
-        from .plots.figures import plot_sweep, save_figure
+    from .io.output import OutputFolder
 
-        stem = os.path.splitext(out_path)[0]
-        paths = save_figure(plot_sweep(ds, log=log_spacing), stem)
+    folder, name = os.path.split(out_path)
+    stem = os.path.splitext(name)[0]
+    with OutputFolder(folder or ".", f"sweep {stem}", overwrite=overwrite) as out:
+        # the outputs are checked before the (possibly long) sweep starts
+        out.expect({name: "sweep"} | ({} if no_plot else _figure_names(stem)))
+        ds = run_sweep(
+            params, axes, rtol=fixed["rtol"], atol=fixed["atol"], progress=False if quiet else None
+        )
+        written = save_sweep(ds, name, out=out)
+        paths = [] if no_plot else save_figure(_plot_sweep(ds, log_spacing), stem, out=out)
+    click.echo(f"wrote {written} ({ds.amplitude.size} points, dimensions {dict(ds.sizes)})")
+    if paths:
         click.echo("wrote " + ", ".join(paths))
     counts = {str(k): int(v) for k, v in zip(*np.unique(ds.regime.values, return_counts=True), strict=True)}
     click.echo(f"regimes: {counts}")
@@ -857,6 +933,7 @@ if __name__ == "__main__":  # pragma: no cover
     help="Write regimes.json, bifurcation.png/.svg (and regime_map.nc, regime_map.png, criterion_map.png "
     "with --map) to this folder.",
 )
+@overwrite_option
 @_handle_errors
 def regimes(
     nu_min: float,
@@ -867,6 +944,7 @@ def regimes(
     map_spec: str | None,
     map_n: int,
     out_dir: str | None,
+    overwrite: bool,
     **opts: Any,
 ) -> None:
     """Find every branch (steady sliding, pure slip, stick-slip) over a range of nu and the regimes.
@@ -933,17 +1011,18 @@ def regimes(
         result["criterion"] = criterion_table(trial)
     result = json_clean(result)  # NaN (no pure-slip attractor, no criterion verdict) -> null
     if out_dir is not None:
+        from .analysis.sweep import save_sweep
+        from .io.output import OutputFolder, json_writer
         from .plots.figures import save_figure
         from .plots.regimes import plot_bifurcation, plot_criterion_map, plot_regime_map
 
-        os.makedirs(out_dir, exist_ok=True)
-        with open(os.path.join(out_dir, "regimes.json"), "w") as fh:
-            json.dump(result, fh, indent=2)
-        save_figure(plot_bifurcation(d), os.path.join(out_dir, "bifurcation"))
-        if trial is not None:
-            trial.to_netcdf(os.path.join(out_dir, "regime_map.nc"))
-            save_figure(plot_regime_map(trial), os.path.join(out_dir, "regime_map"))
-            save_figure(plot_criterion_map(trial), os.path.join(out_dir, "criterion_map"))
+        with OutputFolder(out_dir, "regimes", overwrite=overwrite) as out:
+            out.write("regimes.json", "regimes", json_writer(result, "regimes"))
+            save_figure(plot_bifurcation(d), "bifurcation", out=out)
+            if trial is not None:
+                save_sweep(trial, "regime_map.nc", kind="regime-map", out=out)
+                save_figure(plot_regime_map(trial), "regime_map", out=out)
+                save_figure(plot_criterion_map(trial), "criterion_map", out=out)
     if as_json:
         click.echo(json.dumps(result, indent=2))
     else:

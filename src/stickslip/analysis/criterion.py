@@ -25,6 +25,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy import stats
 
+from ..io.errors import DataError
 from ..io.tables import read_table
 from ..models.units import ureg
 
@@ -282,11 +283,9 @@ def classify_file(
     cols = read_table(p, ["velocity", "amplitude"], ["amplitude_err"])
     vel, amp = cols["velocity"], cols["amplitude"]
     if vel.unit is not None and not (1 * vel.unit).check("[length] / [time]"):
-        raise ValueError(
-            f"{p}: column 'velocity' has unit [{vel.unit:~}], expected a velocity such as [um/s]"
-        )
+        raise DataError(f"{p}: column 'velocity' has unit [{vel.unit:~}], expected a velocity such as [um/s]")
     if amp.unit is not None and (1 * amp.unit).check("[length] / [time]"):
-        raise ValueError(
+        raise DataError(
             f"{p}: column 'amplitude' has unit [{amp.unit:~}], a velocity: "
             "expected a force, a length or [a.u.]"
         )
@@ -295,21 +294,21 @@ def classify_file(
         e = cols["amplitude_err"]
         if e.unit is not None and amp.unit is not None:
             if (1 * e.unit).dimensionality != (1 * amp.unit).dimensionality:
-                raise ValueError(
+                raise DataError(
                     f"{p}: amplitude_err [{e.unit:~}] and amplitude [{amp.unit:~}] have inconsistent units"
                 )
             err = ureg.Quantity(e.values, e.unit).to(amp.unit).magnitude
         elif (e.unit is None) != (amp.unit is None):
-            raise ValueError(f"{p}: give units for both amplitude and amplitude_err, or for neither")
+            raise DataError(f"{p}: give units for both amplitude and amplitude_err, or for neither")
         else:
             err = e.values
     if np.any(vel.values <= 0):
         i = int(np.argmax(vel.values <= 0))
-        raise ValueError(
+        raise DataError(
             f"{p}: data row {i + 1}: velocity {float(vel.values[i])!r} is not positive "
             "(driving velocities must be positive)"
         )
     if np.any(amp.values <= 0):
         i = int(np.argmax(amp.values <= 0))
-        raise ValueError(f"{p}: data row {i + 1}: amplitude {float(amp.values[i])!r} is not positive")
+        raise DataError(f"{p}: data row {i + 1}: amplitude {float(amp.values[i])!r} is not positive")
     return classify(vel.values, amp.values, err, confidence=confidence, min_points=min_points)

@@ -42,6 +42,7 @@ from scipy.optimize import least_squares
 
 from ..core import engine
 from ..core.api import run_attractors, run_trajectory
+from ..io.errors import DataError
 from ..io.records import Record
 from ..models.friction import PhysicalWeakeningLaw
 from ..models.parameters import PhysicalParameters
@@ -256,7 +257,7 @@ def fit_record(
     if method not in METHODS:
         raise ValueError(f"method={method!r}: expected one of {METHODS}")
     if record.v0 is None or record.load is None:
-        raise ValueError(
+        raise DataError(
             f"{record.name}: fitting needs the driving velocity and the normal load "
             "(give '# v0 = ...' and '# load = ...' header lines or --v0/--load)"
         )
@@ -382,7 +383,7 @@ def _fit_features(
     start.update(guess or {})
     start["d"] = start["a"] - start["b"]
     if not all(math.isfinite(start[x]) and start[x] > 0 for x in names):
-        raise ValueError(f"{record.name}: cannot start the fit from the features {start}")
+        raise DataError(f"{record.name}: cannot start the fit from the features {start}")
 
     def residuals(theta: FloatArray) -> FloatArray:
         model = _model_features(theta, names, {"b": 0.0}, v0, load)
@@ -488,7 +489,7 @@ def _fit_waveform(
         i0, i1 = 0, len(t)
     tw, fw = t[i0:i1], f[i0:i1]
     if not noise > 0:
-        raise ValueError(f"{record.name}: the record has no measurable noise; cannot weight a waveform fit")
+        raise DataError(f"{record.name}: the record has no measurable noise; cannot weight a waveform fit")
     # first breakaway: where the model's first peak falls on the data's first peak
     ph = _physical(theta0, names, v0, load)
     row = run_attractors(

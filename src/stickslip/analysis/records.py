@@ -30,6 +30,7 @@ import numpy.typing as npt
 from scipy.ndimage import uniform_filter1d
 from scipy.signal import find_peaks
 
+from ..io.errors import DataError
 from ..io.records import Record
 
 __all__ = ["CycleTable", "RecordSummary", "measure_record"]
@@ -143,17 +144,17 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
     t, f = record.time, record.force
     n = f.size
     if n < 20:
-        raise ValueError(f"{record.name}: {n} samples are too few to find cycles")
+        raise DataError(f"{record.name}: {n} samples are too few to find cycles")
     period = _dominant_period(t, f)
     if not math.isfinite(period):
-        raise ValueError(f"{record.name}: no oscillation found (fewer than 2.5 cycles?)")
+        raise DataError(f"{record.name}: no oscillation found (fewer than 2.5 cycles?)")
     dt = (t[-1] - t[0]) / (n - 1)
     per_n = max(4, round(period / dt))
     # light smoothing to locate extrema (values are taken from the raw data below)
     smooth = uniform_filter1d(f, size=max(1, per_n // 100), mode="nearest")
     span = float(np.percentile(smooth, 99) - np.percentile(smooth, 1))
     if span <= 0:
-        raise ValueError(f"{record.name}: the force does not vary")
+        raise DataError(f"{record.name}: the force does not vary")
     pk, _ = find_peaks(smooth, distance=max(1, per_n // 2), prominence=0.3 * span)
     tr, _ = find_peaks(-smooth, distance=max(1, per_n // 2), prominence=0.3 * span)
     # snap to the raw extremum next to the smoothed one (the smoothing blurs the corner)
@@ -186,7 +187,7 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
             (t[p], peak_v, trough_v, period_c, period_c - drop, drop, _stick(record, p, nxt), slope)
         )
     if len(cycles) < min_cycles:
-        raise ValueError(
+        raise DataError(
             f"{record.name}: found {len(cycles)} complete cycles, need at least "
             f"{min_cycles} (is the record long enough, or the oscillation too noisy?)"
         )

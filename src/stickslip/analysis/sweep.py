@@ -30,6 +30,7 @@ import xarray as xr
 from .. import __version__, defaults
 from ..core import engine
 from ..core.api import run_attractors
+from ..io.output import OutputFolder, emit, netcdf_writer
 from ..models.friction import CoulombLaw, CubicLaw, WeakeningLaw
 from ..models.parameters import DimensionlessParameters, PhysicalParameters, dimensionless_from_si
 from ..models.units import parse_quantity
@@ -444,12 +445,21 @@ def _steady_stable(law_name: str, nu: FloatArray, nd: dict[str, FloatArray]) -> 
     return np.asarray(d > 0.0)
 
 
-def save_sweep(ds: xr.Dataset, path: str | os.PathLike[str]) -> None:
-    """Write a sweep to NetCDF (netCDF4 format)."""
-    folder = os.path.dirname(os.fspath(path))
-    if folder:
-        os.makedirs(folder, exist_ok=True)
-    ds.to_netcdf(path, engine="netcdf4")
+def save_sweep(
+    ds: xr.Dataset,
+    path: str | os.PathLike[str],
+    *,
+    kind: str = "sweep",
+    out: OutputFolder | None = None,
+    overwrite: bool = False,
+) -> str:
+    """Write a dataset to NetCDF (netCDF4 format), atomically; return the path.
+
+    The file is marked as stickslip's output of ``kind`` (attribute ``stickslip_output``);
+    an existing file that is not stickslip's output of that kind is kept unless
+    ``overwrite``. ``out`` stages it with the other files of a run (``path`` a name in it).
+    """
+    return emit(os.fspath(path), kind, netcdf_writer(ds, kind), out=out, overwrite=overwrite)
 
 
 def load_sweep(path: str | os.PathLike[str]) -> xr.Dataset:
@@ -464,6 +474,9 @@ def load_sweep(path: str | os.PathLike[str]) -> xr.Dataset:
     if not os.path.exists(path):
         raise ValueError(f"path={os.fspath(path)!r}: no such file")
     try:
-        return xr.load_dataset(path, engine="netcdf4")
+        ds = xr.load_dataset(path, engine="netcdf4")
     except Exception as exc:  # netCDF4 raises OSError/RuntimeError/ValueError variously
         raise ValueError(f"path={os.fspath(path)!r} is not a readable NetCDF file ({exc})") from None
+    for key in ("stickslip_output", "stickslip_generator"):  # the file's marks, not the data's
+        ds.attrs.pop(key, None)
+    return ds

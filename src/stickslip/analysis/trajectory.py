@@ -87,11 +87,15 @@ class Trajectory:
             "phase": np.array([PHASE_NAMES[int(p)] for p in self.phase]),
         }
 
-    def to_csv(self, path: Any) -> None:
-        """Write the trajectory to a CSV file with units in the header."""
+    def to_csv(self, path: Any, *, out: Any = None, overwrite: bool = False) -> str:
+        """Write the trajectory to a CSV file with units in the header (atomically); return its path.
+
+        ``out`` stages it in an :class:`~stickslip.io.output.OutputFolder` (``path`` a name in it);
+        an existing file stickslip did not write is kept unless ``overwrite``.
+        """
         from ..io.csv import write_columns
 
-        write_columns(path, self.columns())
+        return write_columns(path, self.columns(), kind="trajectory", out=out, overwrite=overwrite)
 
 
 def simulate(

@@ -9,36 +9,57 @@ from typing import Any
 
 import numpy as np
 
+from .output import OutputFolder, emit
+
 __all__ = ["write_columns"]
 
 
-def write_columns(path: str | os.PathLike[str], columns: Mapping[str, Any]) -> None:
-    """Write equal-length columns to ``path`` as CSV; floats to full precision.
+def write_columns(
+    path: str | os.PathLike[str],
+    columns: Mapping[str, Any],
+    *,
+    kind: str = "trajectory",
+    out: OutputFolder | None = None,
+    overwrite: bool = False,
+) -> str:
+    """Write equal-length columns to ``path`` as CSV (atomically); floats to full precision.
 
     Parameters
     ----------
     path : str or path-like
-        Output file; parent folders are created.
+        Output file (a name inside ``out`` when given); parent folders are created.
     columns : Mapping[str, array_like]
         Header (for instance ``"time [s]"``) to values.
+    kind : str, optional
+        What the file is, for :func:`~stickslip.io.output.check_target`.
+    out : OutputFolder, optional
+        Stage the file with the other files of a run.
+    overwrite : bool, optional
+        Replace an existing file that stickslip did not write.
+
+    Returns
+    -------
+    str
+        The path written.
 
     Raises
     ------
     ValueError
-        If the columns differ in length.
+        If the columns differ in length, or the path names a foreign file.
 
     """
     arrays = {k: np.asarray(v) for k, v in columns.items()}
     lengths = {len(v) for v in arrays.values()}
     if len(lengths) > 1:
         raise ValueError(f"columns have different lengths: { {k: len(v) for k, v in arrays.items()} }")
-    folder = os.path.dirname(os.fspath(path))
-    if folder:
-        os.makedirs(folder, exist_ok=True)
     cols = [
         [repr(float(x)) for x in v] if v.dtype.kind == "f" else [str(x) for x in v] for v in arrays.values()
     ]
-    with open(path, "w", newline="") as fh:
-        writer = csv.writer(fh)
-        writer.writerow(list(arrays))
-        writer.writerows(zip(*cols, strict=True))
+
+    def write(p: str) -> None:
+        with open(p, "w", newline="") as fh:
+            writer = csv.writer(fh)
+            writer.writerow(list(arrays))
+            writer.writerows(zip(*cols, strict=True))
+
+    return emit(os.fspath(path), kind, write, out=out, overwrite=overwrite)

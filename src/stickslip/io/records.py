@@ -27,6 +27,7 @@ import pandas as pd
 import pint
 
 from ..models.units import parse_quantity, ureg
+from .errors import DataError
 from .tables import check_file, parse_header
 
 __all__ = ["Record", "read_record", "read_records"]
@@ -73,10 +74,10 @@ def _si(
     values: FloatArray, unit: pint.Unit | None, name: str, dimension: str, si: str, where: str
 ) -> FloatArray:
     if unit is None:
-        raise ValueError(f"{where}: column {name!r} has no unit; write e.g. '{name} [{si}]'")
+        raise DataError(f"{where}: column {name!r} has no unit; write e.g. '{name} [{si}]'")
     q = ureg.Quantity(1.0, unit)
     if not q.check(dimension):
-        raise ValueError(f"{where}: column {name!r} has unit [{unit:~}], expected {dimension} (e.g. [{si}])")
+        raise DataError(f"{where}: column {name!r} has unit [{unit:~}], expected {dimension} (e.g. [{si}])")
     return values * float(q.to(si).magnitude)
 
 
@@ -86,13 +87,13 @@ def _check_numeric(df: pd.DataFrame, col: str, where: str) -> FloatArray:
     bad = np.isnan(v) & ~s.isna().to_numpy()
     if bad.any():
         i = int(np.argmax(bad))
-        raise ValueError(f"{where}: row {i + 2}, column {col!r}: {s.iloc[i]!r} is not a number")
+        raise DataError(f"{where}: row {i + 2}, column {col!r}: {s.iloc[i]!r} is not a number")
     nan = np.isnan(v)
     if nan.any():
         starts = np.flatnonzero(nan & ~np.concatenate([[False], nan[:-1]]))
         ends = np.flatnonzero(nan & ~np.concatenate([nan[1:], [False]]))
         longest = int(np.argmax(ends - starts))
-        raise ValueError(
+        raise DataError(
             f"{where}: column {col!r} has {int(nan.sum())} missing/NaN values in {starts.size} "
             f"run(s), the longest {int(ends[longest] - starts[longest] + 1)} samples at rows "
             f"{starts[longest] + 2}-{ends[longest] + 2}; fill or cut them before analysis"
@@ -110,7 +111,7 @@ def _parse_text(text: str, where: str) -> tuple[pd.DataFrame, dict[str, pint.Uni
             meta[m.group(1).strip().lower().replace(" ", "_")] = m.group(2)
         i += 1
     if i >= len(lines):
-        raise ValueError(f"{where}: no header row and no data")
+        raise DataError(f"{where}: no header row and no data")
     header_line = lines[i]
     sep = (
         "\t"
@@ -122,10 +123,10 @@ def _parse_text(text: str, where: str) -> tuple[pd.DataFrame, dict[str, pint.Uni
     names = [p[0] for p in parsed]
     dup = {n for n in names if names.count(n) > 1}
     if dup:
-        raise ValueError(f"{where}: column {sorted(dup)[0]!r} appears more than once")
+        raise DataError(f"{where}: column {sorted(dup)[0]!r} appears more than once")
     body = "\n".join(lines[i + 1 :])
     if not body.strip():
-        raise ValueError(f"{where}: the file has a header but no data rows")
+        raise DataError(f"{where}: the file has a header but no data rows")
     try:
         df = pd.read_csv(
             io.StringIO(body),
@@ -139,7 +140,7 @@ def _parse_text(text: str, where: str) -> tuple[pd.DataFrame, dict[str, pint.Uni
             na_filter=True,
         )
     except pd.errors.ParserError as exc:
-        raise ValueError(f"{where}: malformed rows ({exc})") from None
+        raise DataError(f"{where}: malformed rows ({exc})") from None
     return df, dict(zip(names, [p[1] for p in parsed], strict=True)), meta
 
 
@@ -153,23 +154,23 @@ def _record_from_frame(
     load: Any = None,
 ) -> Record:
     if "time" not in df.columns:
-        raise ValueError(
+        raise DataError(
             f"{where}: missing column 'time' (found {list(df.columns)}); expected 'time [s]' and 'force [N]'"
         )
     force_col = next((c for c in FORCE_NAMES if c in df.columns), None)
     if force_col is None:
-        raise ValueError(
+        raise DataError(
             f"{where}: missing a force column ('force', 'spring_force' or "
             f"'friction_force'; found {list(df.columns)})"
         )
     if len(df) < 3:
-        raise ValueError(f"{where}: only {len(df)} samples; a record needs many cycles")
+        raise DataError(f"{where}: only {len(df)} samples; a record needs many cycles")
     t = _si(_check_numeric(df, "time", where), units["time"], "time", "[time]", "s", where)
     f = _si(_check_numeric(df, force_col, where), units[force_col], force_col, "[force]", "N", where)
     dt = np.diff(t)
     if np.any(dt <= 0):
         i = int(np.argmax(dt <= 0))
-        raise ValueError(
+        raise DataError(
             f"{where}: time is not strictly increasing at rows {i + 2}-{i + 3} "
             f"({t[i]!r} s then {t[i + 1]!r} s)"
         )
@@ -192,7 +193,7 @@ def _quantity(value: Any, name: str, dimension: str, example: str, where: str) -
     try:
         return parse_quantity(value, name, dimension, example)
     except ValueError as exc:
-        raise ValueError(f"{where}: {exc}") from None
+        raise DataError(f"{where}: {exc}") from None
 
 
 def read_record(path: str | os.PathLike[str], *, v0: Any = None, load: Any = None) -> Record:
@@ -238,24 +239,24 @@ def read_records(path: str | os.PathLike[str]) -> list[Record]:
         if os.path.isfile(index):
             df, units, _ = _parse_text(open(index, encoding="utf-8-sig").read(), index)
             if "file" not in df.columns:
-                raise ValueError(f"{index}: missing column 'file'")
+                raise DataError(f"{index}: missing column 'file'")
             out = []
             for _, row in df.iterrows():
                 f = os.path.join(p, str(row["file"]).strip())
                 if not os.path.isfile(f):
-                    raise ValueError(f"{index}: names {row['file']!r}, which is not in {p}")
+                    raise DataError(f"{index}: names {row['file']!r}, which is not in {p}")
                 v0 = _with_unit(row.get("v0"), units.get("v0"))
                 load = _with_unit(row.get("load"), units.get("load"))
                 out.append(read_record(f, v0=v0, load=load))
             return out
         files = sorted(f for f in os.listdir(p) if f.lower().endswith((".csv", ".tsv", ".txt")))
         if not files:
-            raise ValueError(f"{p}: no .csv, .tsv or .txt records in the folder")
+            raise DataError(f"{p}: no .csv, .tsv or .txt records in the folder")
         return [read_record(os.path.join(p, f)) for f in files]
     if not os.path.isfile(p):
-        raise ValueError(f"{p}: no such file or folder")
+        raise DataError(f"{p}: no such file or folder")
     if os.path.getsize(p) == 0:
-        raise ValueError(f"{p}: the file is empty")
+        raise DataError(f"{p}: the file is empty")
     df, units, meta = _parse_text(open(p, encoding="utf-8-sig").read(), p)
     if "record" not in df.columns:
         return [_record_from_frame(df, units, meta, os.path.basename(p), p)]
@@ -281,5 +282,5 @@ def _constant(df: pd.DataFrame, col: str, units: Mapping[str, pint.Unit | None],
         return None
     vals = pd.to_numeric(df[col], errors="coerce").to_numpy(dtype=float)
     if np.any(np.isnan(vals)) or np.ptp(vals) != 0:
-        raise ValueError(f"{where}: column {col!r} must hold one number per record")
+        raise DataError(f"{where}: column {col!r} must hold one number per record")
     return _with_unit(float(vals[0]), units.get(col))

@@ -14,6 +14,7 @@ import numpy.typing as npt
 import pint
 
 from ..models.units import ureg
+from .errors import DataError
 
 __all__ = ["Column", "check_file", "parse_header", "read_table"]
 
@@ -34,7 +35,7 @@ def parse_header(cell: str, path: str) -> tuple[str, pint.Unit | None]:
     """Split ``"velocity [um/s]"`` into ``("velocity", unit)``; raise ValueError if malformed."""
     m = _HEADER.match(cell)
     if not m or not m.group(1):
-        raise ValueError(f"{path}: header cell {cell!r} is not of the form 'name [unit]'")
+        raise DataError(f"{path}: header cell {cell!r} is not of the form 'name [unit]'")
     name = m.group(1).strip().lower()
     unit_text = m.group(2)
     if unit_text is None or unit_text.strip() == "":
@@ -45,7 +46,7 @@ def parse_header(cell: str, path: str) -> tuple[str, pint.Unit | None]:
     try:
         unit = ureg.Unit(text)
     except Exception:
-        raise ValueError(
+        raise DataError(
             f"{path}: column {name!r} has unknown unit [{text}] (pint does not know it; "
             "write e.g. [um/s], [mN], [a.u.])"
         ) from None
@@ -63,12 +64,12 @@ def check_file(path: str | os.PathLike[str], max_bytes: int) -> str:
     """
     p = os.fspath(path)
     if not os.path.isfile(p):
-        raise ValueError(f"{p}: no such file")
+        raise DataError(f"{p}: no such file")
     size = os.path.getsize(p)
     if size == 0:
-        raise ValueError(f"{p}: the file is empty")
+        raise DataError(f"{p}: the file is empty")
     if size > max_bytes:
-        raise ValueError(
+        raise DataError(
             f"{p}: {size / 1e6:.0f} MB is larger than the {max_bytes / 1e6:.0f} MB limit; split it"
         )
     return p
@@ -107,7 +108,7 @@ def read_table(
     with open(p, newline="", encoding="utf-8-sig") as fh:
         numbered = [(i + 1, ln) for i, ln in enumerate(fh) if ln.strip() and not ln.lstrip().startswith("#")]
     if not numbered:
-        raise ValueError(f"{p}: the file has no header and no data")
+        raise DataError(f"{p}: the file has no header and no data")
     first = numbered[0][1]
     delimiter = max(("\t", ";", ","), key=first.count) if any(c in first for c in "\t;,") else ","
     rows = list(csv.reader([ln for _, ln in numbered], delimiter=delimiter))
@@ -118,16 +119,16 @@ def read_table(
     names = [h[0] for h in header]
     dup = {n for n in names if names.count(n) > 1}
     if dup:
-        raise ValueError(f"{p}: column {sorted(dup)[0]!r} appears more than once")
+        raise DataError(f"{p}: column {sorted(dup)[0]!r} appears more than once")
     missing = [r for r in required if r not in names]
     if missing:
-        raise ValueError(
+        raise DataError(
             f"{p}: missing column {missing[0]!r} (found {names}); expected a header such as "
             + ", ".join(f"{r} [unit]" for r in required)
         )
     data = rows[1:]
     if not data:
-        raise ValueError(f"{p}: the file has a header but no data rows")
+        raise DataError(f"{p}: the file has a header but no data rows")
     out: dict[str, Column] = {}
     for name in [*required, *[o for o in optional if o in names]]:
         j = names.index(name)
@@ -135,14 +136,14 @@ def read_table(
         for i, row in enumerate(data):
             where = f"{p}: line {line_no[i + 1]}"
             if len(row) != len(names):
-                raise ValueError(f"{where} has {len(row)} cells, the header has {len(names)}")
+                raise DataError(f"{where} has {len(row)} cells, the header has {len(names)}")
             cell = row[j].strip()
             try:
                 x = float(cell)
             except ValueError:
-                raise ValueError(f"{where}, column {name!r}: {cell!r} is not a number") from None
+                raise DataError(f"{where}, column {name!r}: {cell!r} is not a number") from None
             if math.isnan(x):
-                raise ValueError(f"{where}, column {name!r} is NaN")
+                raise DataError(f"{where}, column {name!r} is NaN")
             vals[i] = x
         out[name] = Column(name, vals, header[j][1])
     return out

@@ -9,12 +9,11 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 
-import xarray as xr
-
 from ..analysis.sweep import load_sweep, save_sweep
+from ..io.output import OutputFolder
 from ..plots.figures import save_figure
 from .compute import PaperConfig, compute_paper
-from .figures import make_figures
+from .figures import FIGURES, make_figures
 from .report import Claim, claims, write_report
 
 __all__ = ["Claim", "PaperConfig", "ReproduceResult", "claims", "compute_paper", "reproduce"]
@@ -32,11 +31,18 @@ class ReproduceResult:
 
 
 def reproduce(
-    out_dir: str | os.PathLike[str], *, quick: bool = False, progress: bool | None = False
+    out_dir: str | os.PathLike[str],
+    *,
+    quick: bool = False,
+    progress: bool | None = False,
+    overwrite: bool = False,
 ) -> ReproduceResult:
     """Compute every curve of the paper, write the data, the figures and the report.
 
-    The figures are drawn from the data as read back from ``reproduce.nc``.
+    The figures are drawn from the data as read back from ``reproduce.nc``. The
+    files are staged and published together when all are written
+    (:class:`~stickslip.io.output.OutputFolder`): an interrupted run leaves the
+    previous complete set.
 
     Parameters
     ----------
@@ -46,30 +52,36 @@ def reproduce(
         Fewer points per curve (for tests).
     progress : bool, optional
         Progress bars on the sweeps.
+    overwrite : bool, optional
+        Replace files in ``out_dir`` that stickslip did not write (otherwise an error).
 
     """
-    out = os.fspath(out_dir)
-    os.makedirs(out, exist_ok=True)
-    ds = compute_paper(PaperConfig.quick() if quick else PaperConfig(), progress=progress)
-    nc = os.path.join(out, "reproduce.nc")
-    save_sweep(ds, nc)
-    data = load_sweep(nc)
-    files: dict[str, list[str]] = {}
-    for name, fig in make_figures(data).items():
-        files[name] = save_figure(fig, os.path.join(out, name), formats=("png", "svg"))
     from ..plots.regimes import plot_criterion_map, plot_regime_map
-    from .trial import run_trials
+    from .trial import TRIAL_MAPS, run_trials
 
-    trials = {}
-    for key, tr in run_trials(quick=quick, progress=progress).items():
-        path = os.path.join(out, f"criterion_{key}.nc")
-        tr.to_netcdf(path)
-        trials[key] = xr.load_dataset(path)
-        files[f"regimes_{key}"] = save_figure(
-            plot_regime_map(trials[key]), os.path.join(out, f"regimes_{key}")
+    with OutputFolder(out_dir, "reproduce", overwrite=overwrite) as out:
+        # every target checked before the computation starts
+        out.expect(
+            {
+                "reproduce.nc": "reproduce",
+                "report.md": "report",
+                "report.html": "report",
+                **{f"{name}.{ext}": "figure" for name in FIGURES for ext in ("png", "svg")},
+                **{f"criterion_{m.key}.nc": "criterion-trial" for m in TRIAL_MAPS},
+            }
         )
-        files[f"criterion_{key}"] = save_figure(
-            plot_criterion_map(trials[key]), os.path.join(out, f"criterion_{key}")
-        )
-    md, html_path = write_report(data, out, {k: v[0] for k, v in files.items()}, trials)
+        ds = compute_paper(PaperConfig.quick() if quick else PaperConfig(), progress=progress)
+        nc = save_sweep(ds, "reproduce.nc", kind="reproduce", out=out)
+        data = load_sweep(out.staged_path("reproduce.nc"))
+        files: dict[str, list[str]] = {}
+        for name, fig in make_figures(data).items():
+            files[name] = save_figure(fig, name, formats=("png", "svg"), out=out)
+        trials = {}
+        for key, tr in run_trials(quick=quick, progress=progress).items():
+            save_sweep(tr, f"criterion_{key}.nc", kind="criterion-trial", out=out)
+            trials[key] = load_sweep(out.staged_path(f"criterion_{key}.nc"))
+            for kind, plot in (("regimes", plot_regime_map), ("criterion", plot_criterion_map)):
+                files[f"{kind}_{key}"] = save_figure(plot(trials[key]), f"{kind}_{key}", out=out)
+        staged_png = {k: out.staged_path(os.path.basename(v[0])) for k, v in files.items()}
+        md, html_path = write_report(data, out, staged_png, trials)
     return ReproduceResult(nc, files, md, html_path, claims(data))

@@ -18,6 +18,7 @@ import numpy as np
 import xarray as xr
 
 from ..analysis.criterion import classify
+from ..io.output import OutputFolder, generator, text_writer
 from .compute import measured_trends
 from .figures import FIGURES
 
@@ -586,20 +587,22 @@ def _html(blocks: list[_Block]) -> str:
 
 def write_report(
     ds: xr.Dataset,
-    out_dir: str,
+    out: OutputFolder,
     figure_files: dict[str, str],
     trials: dict[str, xr.Dataset] | None = None,
 ) -> tuple[str, str]:
-    """Write ``report.md`` and ``report.html`` into ``out_dir``; return their paths."""
+    """Write ``report.md`` and ``report.html`` into the run's output folder; return their paths.
+
+    ``figure_files`` maps a figure's name to a readable PNG (embedded in the HTML,
+    linked by its file name from the Markdown).
+    """
     blocks = _blocks(ds, figure_files)
     if trials:
         blocks += _trial_blocks(trials, figure_files)
-    md_path = os.path.join(out_dir, "report.md")
-    html_path = os.path.join(out_dir, "report.html")
-    with open(md_path, "w", encoding="utf-8") as fh:
-        fh.write(_md(blocks))
-    with open(html_path, "w", encoding="utf-8") as fh:
-        fh.write(_html(blocks))
+    marker = f"<!-- {generator('report')} -->\n"
+    md_path = out.write("report.md", "report", text_writer(marker + _md(blocks)))
+    page = _html(blocks).replace("<html", marker + "<html", 1)
+    html_path = out.write("report.html", "report", text_writer(page))
     return md_path, html_path
 
 

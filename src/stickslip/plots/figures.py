@@ -12,6 +12,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from ..io.output import OutputFolder, emit, generator
 from .style import plain_log_ticks, pretty_units
 
 if TYPE_CHECKING:
@@ -71,19 +72,33 @@ def plot_spring_force(traj: Trajectory, *, title: str | None = None) -> Figure:
 
 
 def save_figure(
-    fig: Figure, stem: str | os.PathLike[str], formats: Sequence[str] = ("png", "svg")
+    fig: Figure,
+    stem: str | os.PathLike[str],
+    formats: Sequence[str] = ("png", "svg"),
+    *,
+    out: OutputFolder | None = None,
+    overwrite: bool = False,
 ) -> list[str]:
-    """Save ``fig`` as ``stem.png`` and ``stem.svg`` (or the given formats); return the paths."""
+    """Save ``fig`` as ``stem.png`` and ``stem.svg`` (or the given formats); return the paths.
+
+    Each file is written atomically and marked as stickslip's (PNG ``Software``,
+    SVG ``Creator``); an existing file that is not a stickslip figure is kept unless
+    ``overwrite``. With ``out`` (an :class:`~stickslip.io.output.OutputFolder`)
+    ``stem`` is a name inside it and the files are staged with the run's others.
+    """
     stem = os.fspath(stem)
-    folder = os.path.dirname(stem)
-    if folder:
-        os.makedirs(folder, exist_ok=True)
+    mark = generator("figure")
     paths = []
-    for fmt in formats:
-        path = f"{stem}.{fmt}"
-        fig.savefig(path, dpi=200)
-        paths.append(path)
-    plt.close(fig)
+    try:
+        for fmt in formats:
+            key = {"png": "Software", "svg": "Creator", "pdf": "Creator"}.get(fmt)
+
+            def write(path: str, fmt: str = fmt, key: str | None = key) -> None:
+                fig.savefig(path, dpi=200, format=fmt, metadata={key: mark} if key else None)
+
+            paths.append(emit(f"{stem}.{fmt}", "figure", write, out=out, overwrite=overwrite))
+    finally:
+        plt.close(fig)
     return paths
 
 
