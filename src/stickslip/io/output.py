@@ -186,7 +186,8 @@ def atomic_write(
     name = os.path.basename(p)
     try:
         os.makedirs(folder, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{name}.", suffix=".part" + os.path.splitext(name)[1], dir=folder)
+        prefix = f".{name}.{os.getpid()}."
+        fd, tmp = tempfile.mkstemp(prefix=prefix, suffix=".part" + os.path.splitext(name)[1], dir=folder)
     except OSError as exc:
         raise OSError(exc.errno, f"cannot write ({exc.strerror or exc})", p) from None
     os.close(fd)
@@ -194,6 +195,7 @@ def atomic_write(
         write(tmp)
         _fsync(tmp)
         os.replace(tmp, p)
+        _clean_stale_parts(folder, name)
     except OSError as exc:
         _remove(tmp)
         raise OSError(exc.errno, f"cannot write ({exc.strerror or exc})", p) from None
@@ -346,6 +348,17 @@ def _update_manifest(folder: str, command: str, entry: Mapping[str, Any]) -> Non
             fh.write(text)
 
     atomic_write(path, write, kind="manifest", overwrite=True)  # checked when the run began
+
+
+def _clean_stale_parts(folder: str, name: str) -> None:
+    """Remove temporary files of ``name`` left by writers that were killed (their process is gone)."""
+    prefix = f".{name}."
+    with contextlib.suppress(OSError):
+        for entry in os.listdir(folder):
+            if entry.startswith(prefix) and ".part" in entry:
+                pid_text = entry[len(prefix) :].split(".", 1)[0]
+                if pid_text.isdigit() and not _alive(int(pid_text)):
+                    _remove(os.path.join(folder, entry))
 
 
 def _clean_stale_staging(folder: str) -> None:

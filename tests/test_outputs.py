@@ -1,0 +1,163 @@
+"""Nothing lost: atomic files, staged folders, no foreign file overwritten (issue 11)."""
+
+from __future__ import annotations
+
+import json
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from stickslip.analysis.sweep import load_sweep
+from stickslip.cli import main
+from stickslip.io.output import MANIFEST, ForeignFileError, OutputFolder, atomic_write, own_kind
+
+SWEEP = ["sweep", "--nu", "0.01..0.1", "--c", "3.8", "--num", "5", "--quiet"]
+
+
+def _run(args: list[str]) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "stickslip.cli", *args], capture_output=True, text=True, timeout=300
+    )
+
+
+def test_kill_during_a_write_leaves_the_previous_file(tmp_path: Path) -> None:
+    """A process killed (SIGKILL) in the middle of writing: the old file is intact, no debris
+    but the temporary file, which is never the target."""
+    target = tmp_path / "data.csv"
+    target.write_text("time [s],position [m]\n0,1\n")  # stickslip's trajectory header: replaceable
+    before = target.read_bytes()
+    script = textwrap.dedent(
+        f"""
+        import os, signal
+        from stickslip.io.output import atomic_write
+
+        def write(path):
+            with open(path, "w") as fh:
+                fh.write("time [s],position [m]\\n" + "1,2\\n" * 100000)
+                fh.flush()
+                os.kill(os.getpid(), signal.SIGKILL)  # dies half way, the file still open
+
+        atomic_write({str(target)!r}, write, kind="trajectory")
+        """
+    )
+    proc = subprocess.run([sys.executable, "-c", script], capture_output=True, timeout=60)
+    assert proc.returncode == -signal.SIGKILL
+    assert target.read_bytes() == before
+    debris = [p.name for p in tmp_path.iterdir() if p.name != "data.csv"]
+    assert len(debris) == 1 and debris[0].startswith(".data.csv.") and ".part" in debris[0]
+    # the next write replaces the file and removes the dead writer's temporary file
+    atomic_write(target, lambda p: Path(p).write_text("time [s],position [m]\n2,3\n"), kind="trajectory")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["data.csv"]
+
+
+@pytest.mark.parametrize("delay", [0.2, 1.0, 2.5])
+def test_sigkill_of_a_sweep_never_leaves_a_partial_file(tmp_path: Path, delay: float) -> None:
+    """Regression: a SIGKILL while `sweep` wrote left a 0-byte sweep.nc where a good file stood.
+    Killed at any moment, the file is the old complete sweep or the new one."""
+    out = tmp_path / "sweep.nc"
+    first = _run([*SWEEP, "--out", str(out), "--no-plot"])
+    assert first.returncode == 0, first.stderr
+    old = load_sweep(out)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "stickslip.cli", *SWEEP[:3], "0.01..0.2", *SWEEP[4:], "--out", str(out)],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    time.sleep(delay)
+    proc.kill()
+    proc.wait(timeout=30)
+    now = load_sweep(out)  # complete and readable, whichever it is
+    assert now.amplitude.size == old.amplitude.size
+    assert float(now.nu.max()) in (0.1, 0.2)
+
+
+def test_foreign_file_is_not_overwritten(tmp_path: Path) -> None:
+    """Regression: `sweep --out afile.txt` silently turned a text file into NetCDF."""
+    target = tmp_path / "afile.txt"
+    target.write_text("my notes\n")
+    res = CliRunner().invoke(main, [*SWEEP, "--out", str(target), "--no-plot"])
+    assert res.exit_code == 2
+    assert target.read_text() == "my notes\n"
+    lines = res.output.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("Error: ") and "--overwrite" in lines[0]
+    assert str(target) in lines[0]
+    res = CliRunner().invoke(main, [*SWEEP, "--out", str(target), "--no-plot", "--overwrite"])
+    assert res.exit_code == 0, res.output
+    assert own_kind(target) == "sweep"
+
+
+def test_own_outputs_are_replaced_without_asking(tmp_path: Path) -> None:
+    for _ in range(2):
+        res = CliRunner().invoke(main, ["simulate", "--nu", "0.1", "--c", "3", "--out", str(tmp_path)])
+        assert res.exit_code == 0, res.output
+    assert own_kind(tmp_path / "trajectory.csv") == "trajectory"
+    assert own_kind(tmp_path / "spring_force.png") == "figure"
+    assert own_kind(tmp_path / "spring_force.svg") == "figure"
+    manifest = json.loads((tmp_path / MANIFEST).read_text())
+    files = manifest["runs"]["simulate"]["files"]
+    assert set(files) == {"trajectory.csv", "spring_force.png", "spring_force.svg"}
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".stickslip-staging")]
+
+
+def test_a_foreign_file_in_an_output_folder_stops_the_run_before_anything_is_written(tmp_path: Path) -> None:
+    (tmp_path / "trajectory.csv").write_text("a colleague's table\n")
+    res = CliRunner().invoke(main, ["simulate", "--nu", "0.1", "--c", "3", "--out", str(tmp_path)])
+    assert res.exit_code == 2
+    assert (tmp_path / "trajectory.csv").read_text() == "a colleague's table\n"
+    assert not (tmp_path / "spring_force.png").exists()
+
+
+def test_a_failed_run_publishes_nothing(tmp_path: Path) -> None:
+    """Files of one run appear together or not at all: an error half way leaves the folder as it was."""
+    (tmp_path / "a.json").write_text(json.dumps({"generator": "stickslip 0.1.0 (x)", "v": 1}))
+    with pytest.raises(RuntimeError), OutputFolder(tmp_path, "test") as out:
+        out.write("a.json", "x", lambda p: Path(p).write_text('{"generator": "stickslip 0.1.0 (x)", "v": 2}'))
+        out.write("b.json", "x", lambda p: Path(p).write_text("{}"))
+        raise RuntimeError("killed half way")
+    assert json.loads((tmp_path / "a.json").read_text())["v"] == 1
+    assert not (tmp_path / "b.json").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.json"]
+
+
+def test_stale_staging_of_a_dead_run_is_removed(tmp_path: Path) -> None:
+    stale = tmp_path / ".stickslip-staging-999999999-abc"
+    stale.mkdir()
+    (stale / "half.nc").write_bytes(b"CDF")
+    with OutputFolder(tmp_path, "test") as out:
+        out.write("x.json", "x", lambda p: Path(p).write_text('{"generator": "stickslip 0.1.0 (x)"}'))
+    assert not stale.exists()
+
+
+def test_disk_errors_name_the_file_and_keep_the_old_one(tmp_path: Path) -> None:
+    target = tmp_path / "x.csv"
+    target.write_text("time [s],position [m]\n")
+
+    def full(path: str) -> None:
+        with open(path, "w") as fh:
+            fh.write("time [s]")
+        raise OSError(28, "No space left on device", path)
+
+    with pytest.raises(OSError) as info:
+        atomic_write(target, full, kind="trajectory")
+    assert info.value.filename == str(target)
+    assert "No space left" in str(info.value)
+    assert target.read_text() == "time [s],position [m]\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["x.csv"]
+
+
+def test_foreign_file_error_is_a_value_error() -> None:
+    assert issubclass(ForeignFileError, ValueError)
+
+
+def test_an_unwritable_output_folder_is_one_line(tmp_path: Path) -> None:
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    res = CliRunner().invoke(main, ["simulate", "--nu", "0.1", "--c", "3", "--out", str(blocker / "sub")])
+    assert res.exit_code == 1
+    assert res.output.count("\n") == 1 and str(blocker / "sub") in res.output and "cannot write" in res.output
