@@ -112,7 +112,7 @@ def independent_record(seed: int, *, b: float = 0.0, noise: float = 1e-3, period
         m=M_ZV,
         load=0.196,
         v0=1e-4,
-        periods=60,
+        periods=periods,
         rate=1000.0,
         noise=noise,
         seed=seed,

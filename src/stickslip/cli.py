@@ -654,6 +654,9 @@ def analyze(source: str, out_dir: str, as_json: bool, no_plot: bool, overwrite: 
         )
         return
     click.echo("wrote " + ", ".join(written))
+    for name, note in zip(table["name"], table["warning"], strict=True):
+        if isinstance(note, str) and note:
+            click.echo(f"warning: {name}: {note}")
     cols = ["name", "n_cycles", "v0 [m/s]", "load [N]", "amplitude [N]", "period [s]", "stick_fraction"]
     click.echo(table[cols].to_string(index=False, float_format=lambda x: f"{x:.4g}"))
     if verdict is None:
@@ -724,7 +727,10 @@ def fit(
         click.echo(json.dumps(d, indent=2))
         return
     for name, v in d["parameters"].items():
-        click.echo(f"{name:4s} = {v['value']:.6g} +- {v['error']:.2g} {v['unit']}")
+        if v.get("at_bound"):
+            click.echo(f"{name:4s} = 0 (at its bound; < {v['upper_limit_95']:.3g} {v['unit']} at 95%)")
+        else:
+            click.echo(f"{name:4s} = {v['value']:.6g} +- {v['error']:.2g} {v['unit']}")
     click.echo(
         f"reduced chi2 = {res.reduced_chi2:.3f} ({res.method} fit, {res.samples} "
         f"{'samples' if res.method == 'waveform' else 'features'}, noise {1e3 * res.noise:.3g} mN)"

@@ -32,6 +32,7 @@ their errors move together.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -47,7 +48,7 @@ from ..io.records import Record
 from ..models.friction import PhysicalWeakeningLaw
 from ..models.parameters import PhysicalParameters
 from ..models.units import Q_
-from .records import CycleTable, RecordSummary, measure_record
+from .records import CycleTable, RecordSummary, measure_record, noise_level
 
 __all__ = ["FitResult", "fit_record"]
 
@@ -96,6 +97,9 @@ class FitResult:
         peaks with the features.
     drift_origin : float
         Time (s) at which the drift term is zero.
+    upper_limits : dict
+        Parameters at their bound (``b = 0``): one-sided 95% upper limit (SI) instead of an
+        error (the error is NaN, ``null`` in JSON).
 
     """
 
@@ -114,6 +118,7 @@ class FitResult:
     breakaway_time: float = 0.0
     drift: float = 0.0
     drift_origin: float = 0.0
+    upper_limits: dict[str, float] = field(default_factory=dict)
 
     def model_force(self, t: Any) -> FloatArray:
         """Return the fitted model's force (N) at times ``t`` (s), drift included, overlaying the record."""
@@ -129,11 +134,23 @@ class FitResult:
         """Return a JSON-ready dictionary with units."""
         return {
             "parameters": {
-                n: {"value": self.values[n], "error": self.errors[n], "unit": UNITS[n] or "1"}
+                n: {
+                    "value": self.values[n],
+                    "error": None if math.isnan(self.errors[n]) else self.errors[n],
+                    "unit": UNITS[n] or "1",
+                    **(
+                        {"upper_limit_95": self.upper_limits[n], "at_bound": True}
+                        if n in self.upper_limits
+                        else {}
+                    ),
+                }
                 for n in self.names
             },
             "correlation": {
-                a: {b: float(self.correlation[i, j]) for j, b in enumerate(self.names)}
+                a: {
+                    b: None if math.isnan(self.correlation[i, j]) else float(self.correlation[i, j])
+                    for j, b in enumerate(self.names)
+                }
                 for i, a in enumerate(self.names)
             },
             "features": {
@@ -170,15 +187,16 @@ def _fall_time_model(c: float, p: float, nu: float, t_slip: float, time_scale: f
     return float(max(tb - ta, 0.0) * time_scale)
 
 
-def _values(theta: FloatArray, names: tuple[str, ...]) -> dict[str, float]:
+def _values(theta: FloatArray, names: tuple[str, ...], fixed_b: float = 0.0) -> dict[str, float]:
     """Return the physical parameters (SI) from the fit's log-coordinates ``names``.
 
     With ``b`` fitted, the coordinate is ``d = a - b`` instead of ``a``: near breakaway
     F2 is ``f(w) = 1 - (c - p) w + ...``, so a record pins down ``a - b`` far better than
     ``a`` and ``b`` apart, and in ``(a, b)`` the cost is a long curved valley.
     """
-    vals = {"b": 0.0}
-    vals.update({n: math.exp(x) for n, x in zip(names, theta, strict=True)})
+    vals = {"b": fixed_b}
+    # an optimiser's wild trial step must not overflow: exp(700) is absurd enough to fail the model
+    vals.update({n: math.exp(min(float(x), 700.0)) for n, x in zip(names, theta, strict=True)})
     if "d" in vals:
         vals["a"] = vals.pop("d") + vals["b"]
     return vals
@@ -188,7 +206,7 @@ def _model_features(
     theta: FloatArray, names: tuple[str, ...], fixed: dict[str, float], v0: float, load: float
 ) -> FloatArray:
     vals = dict(fixed)
-    vals.update(_values(theta, names))
+    vals.update(_values(theta, names, fixed.get("b", 0.0)))
     mu0, a, b, k, m = vals["mu0"], vals["a"], vals.get("b", 0.0), vals["k"], vals["m"]
     force = mu0 * load
     beta = math.sqrt(k * m) / force
@@ -212,6 +230,11 @@ def _model_features(
     )
 
 
+#: b below this fraction of a is at its bound b = 0 (F1)
+B_AT_BOUND = 1e-4
+#: rise of the chi-square that bounds a parameter at a bound from above at 95% (one-sided: the
+#: 90% quantile of chi-square with one degree of freedom)
+DCHI2_95_ONE_SIDED = 2.706
 #: largest number of samples the waveform fit uses (a window of whole cycles)
 MAX_WAVEFORM_SAMPLES = 200_000
 #: reduced chi-square above which the fit warns that the model does not describe the record
@@ -268,17 +291,21 @@ def fit_record(
     coords = ("mu0", "d", "k", "m", "b") if fit_b else names  # see _values
     theta, jac, chi2, data_a, err_a = _fit_features(record, table, summary, coords, v0, load, guess)
     cov = np.linalg.pinv(jac.T @ jac)
-    noise = _noise(record.force)
+    noise = noise_level(record.force)
     samples = len(FEATURES)
     drift, drift_origin = float(summary.drift), float(record.time[0])
     if method == "waveform":
-        theta, cov, chi2, samples, breakaway, drift, drift_origin = _fit_waveform(
+        theta, cov, chi2, samples, breakaway, drift, drift_origin, _ = _fit_waveform(
             record, table, summary, coords, theta, v0, load, noise
         )
     else:
         chi2 = chi2 / max(1, len(FEATURES) - len(names))
         breakaway = _first_breakaway(theta, coords, v0, load, float(table.peak_time[0]))
     vals = _values(theta, coords)
+    if fit_b and vals["b"] < B_AT_BOUND * vals["a"]:
+        # b ran to its bound 0 (in log coordinates it runs away towards -infinity with an error
+        # shrinking with it): refit without it and give b an upper limit instead of an error
+        return _with_b_at_bound(record, guess, method, vals)
     values = {x: float(vals[x]) for x in names}
     # covariance of the log-parameters from that of the coordinates: log a = log(d + b)
     to_log = np.eye(len(names))
@@ -350,6 +377,58 @@ def fit_record(
     )
 
 
+def _with_b_at_bound(
+    record: Record, guess: dict[str, float] | None, method: str, at_bound: dict[str, float]
+) -> FitResult:
+    """Refit without ``b`` (F1) and report ``b = 0`` with a one-sided 95% upper limit.
+
+    The limit is where the profile of the chi-square (every other parameter refitted with
+    ``b`` held fixed) has risen by 2.71 (times the reduced chi-square when it exceeds 1)
+    above its value at ``b = 0``: one-sided 95% for a parameter bounded below. The
+    linearised (Fisher) error understates it: ``b`` moves the stick time, and with it every
+    later drop, far from linearly.
+    """
+    f1 = fit_record(record, fit_b=False, guess=guess, method=method)
+    v0 = float(record.v0.to("m/s").magnitude)  # type: ignore[union-attr]
+    load = float(record.load.to("N").magnitude)  # type: ignore[union-attr]
+    theta = np.log([f1.values[n] for n in f1.names])
+    table, summary = measure_record(record)
+    scale = max(1.0, f1.reduced_chi2)
+
+    def profile(b: float) -> float:
+        if method == "waveform":
+            return _fit_waveform(record, table, summary, f1.names, theta, v0, load, f1.noise, fixed_b=b)[-1]
+        _, _, cost, _, _ = _fit_features(record, table, summary, f1.names, v0, load, f1.values, {"b": b})
+        return cost
+
+    c0 = profile(0.0)
+    # sqrt(delta chi2) is about linear in b: a secant on it, from a thousandth of a
+    b, target = 1e-3 * f1.values["a"], math.sqrt(DCHI2_95_ONE_SIDED * scale)
+    for _ in range(12):
+        rise = math.sqrt(max(profile(b) - c0, 0.0))
+        if abs(rise / target - 1.0) < 0.02:
+            break
+        b = b * target / rise if rise > 0 else 10.0 * b
+    upper = b
+    names = (*f1.names, "b")
+    corr = np.full((len(names), len(names)), math.nan)
+    corr[:-1, :-1] = f1.correlation
+    corr[-1, -1] = 1.0
+    note = (
+        f"b is at its bound 0 (the fit drove it towards 0, to {at_bound['b']:.2g} s/m): the record is F1; "
+        f"b < {upper:.3g} s/m (95%, one-sided, from the profile of the chi-square)"
+    )
+    return dataclasses.replace(
+        f1,
+        values={**f1.values, "b": 0.0},
+        errors={**f1.errors, "b": math.nan},
+        correlation=corr,
+        names=names,
+        warnings=(*f1.warnings, note),
+        upper_limits={"b": upper},
+    )
+
+
 def _fit_features(
     record: Record,
     table: CycleTable,
@@ -358,6 +437,7 @@ def _fit_features(
     v0: float,
     load: float,
     guess: dict[str, float] | None,
+    fixed: dict[str, float] | None = None,
 ) -> tuple[FloatArray, FloatArray, float, FloatArray, FloatArray]:
     """Fit on cycle features; return log-parameters, Jacobian, chi-square, features and their errors."""
     n = summary.n_cycles
@@ -385,8 +465,10 @@ def _fit_features(
     if not all(math.isfinite(start[x]) and start[x] > 0 for x in names):
         raise DataError(f"{record.name}: cannot start the fit from the features {start}")
 
+    held = {"b": 0.0, **(fixed or {})}
+
     def residuals(theta: FloatArray) -> FloatArray:
-        model = _model_features(theta, names, {"b": 0.0}, v0, load)
+        model = _model_features(theta, names, held, v0, load)
         r = (model - data_a) / err_a
         return np.where(np.isfinite(r), r, 1e6)
 
@@ -406,19 +488,10 @@ def _fit_features(
     return best.x, best.jac, 2.0 * best.cost, data_a, err_a
 
 
-def _noise(force: FloatArray) -> float:
-    """Return the standard deviation of white noise on a record, from its second differences.
-
-    The second differences of a ramp vanish and the slips are short: the median absolute
-    deviation of ``f[i+1] - 2 f[i] + f[i-1]`` is the noise's times ``sqrt(6)``. (First
-    differences would also carry the curvature of the slip phases.)
-    """
-    d = np.diff(force, 2)
-    return float(1.4826 * np.median(np.abs(d - np.median(d))) / math.sqrt(6.0))
-
-
-def _physical(theta: FloatArray, names: tuple[str, ...], v0: float, load: float) -> dict[str, float]:
-    vals = _values(theta, names)
+def _physical(
+    theta: FloatArray, names: tuple[str, ...], v0: float, load: float, fixed_b: float = 0.0
+) -> dict[str, float]:
+    vals = _values(theta, names, fixed_b)
     force = vals["mu0"] * load
     beta = math.sqrt(vals["k"] * vals["m"]) / force
     return {
@@ -431,15 +504,22 @@ def _physical(theta: FloatArray, names: tuple[str, ...], v0: float, load: float)
 
 
 def model_waveform(
-    theta: FloatArray, names: tuple[str, ...], t0: float, t: FloatArray, v0: float, load: float
+    theta: FloatArray,
+    names: tuple[str, ...],
+    t0: float,
+    t: FloatArray,
+    v0: float,
+    load: float,
+    fixed_b: float = 0.0,
 ) -> FloatArray:
     """Return the spring force (N) of the model's steady cycle at times ``t``, breakaway at ``t0``.
 
-    ``theta`` are the log-parameters ``names`` (``mu0, a, k, m`` and ``b``). The stick phase
+    ``theta`` are the log-parameters ``names`` (``mu0, a, k, m`` and ``b``; without ``b`` in
+    ``names`` it is ``fixed_b``, s/m). The stick phase
     is the exact ramp ``s_stop + nu (tau - t_slip)``; the slip phase from breakaway
     ``(1, 0)`` is sampled on the engine's dense output. NaN where the model does not stick.
     """
-    ph = _physical(theta, names, v0, load)
+    ph = _physical(theta, names, v0, load, fixed_b)
     nu, c, p = ph["nu"], ph["c"], ph["p"]
     row = run_attractors(
         0, [c, p, 0.0], [nu], from_breakaway=True, rtol=1e-10, atol=1e-12, max_slip_time=1e4, conv_tol=1e-8
@@ -472,12 +552,14 @@ def _fit_waveform(
     v0: float,
     load: float,
     noise: float,
-) -> tuple[FloatArray, FloatArray, float, int, float, float, float]:
-    """Fit the force waveform over a window of whole cycles.
+    fixed_b: float = 0.0,
+) -> tuple[FloatArray, FloatArray, float, int, float, float, float, float]:
+    """Fit the force waveform over a window of whole cycles (``b`` held at ``fixed_b`` unless fitted).
 
     Returns the log-parameters, their covariance (nuisance parameters marginalised, not
     scaled by the chi-square), the reduced chi-square, the samples used, a breakaway
-    time, the drift (N/s) and the time at which the drift term is zero.
+    time, the drift (N/s), the time at which the drift term is zero, and the total
+    chi-square.
     """
     t = record.time
     f = record.force
@@ -491,7 +573,7 @@ def _fit_waveform(
     if not noise > 0:
         raise DataError(f"{record.name}: the record has no measurable noise; cannot weight a waveform fit")
     # first breakaway: where the model's first peak falls on the data's first peak
-    ph = _physical(theta0, names, v0, load)
+    ph = _physical(theta0, names, v0, load, fixed_b)
     row = run_attractors(
         0,
         [ph["c"], ph["p"], 0.0],
@@ -518,7 +600,7 @@ def _fit_waveform(
     drift_unit = noise / span
 
     def residuals(x: FloatArray) -> FloatArray:
-        model = model_waveform(x[:-2], names, t_ref + x[-2] * scale_t, tw, v0, load)
+        model = model_waveform(x[:-2], names, t_ref + x[-2] * scale_t, tw, v0, load, fixed_b)
         r = (fw - model - x[-1] * drift_unit * (tw - t_mid)) / noise
         return np.where(np.isfinite(r), r, 1e3)
 
@@ -536,8 +618,7 @@ def _fit_waveform(
     n_p = len(names)
     cov = np.asarray(full[:n_p, :n_p], dtype=float)
     drift = float(x[-1] * drift_unit)
-
-    return x[:n_p], cov, chi2, int(tw.size), t_ref + float(x[-2]) * scale_t, drift, float(t_mid)
+    return x[:n_p], cov, chi2, int(tw.size), t_ref + float(x[-2]) * scale_t, drift, float(t_mid), cost
 
 
 def _jacobian(fun: Any, x: FloatArray, n: int, step: float = 1e-6) -> FloatArray:

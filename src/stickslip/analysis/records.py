@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
-from scipy.ndimage import uniform_filter1d
+from scipy.ndimage import median_filter, uniform_filter1d
 from scipy.signal import find_peaks
 
 from ..io.errors import DataError
@@ -104,6 +104,65 @@ def _dominant_period(t: FloatArray, f: FloatArray) -> float:
     return float(1.0 / freqs[ok][np.argmax(spec[ok])])
 
 
+#: a record's cycles must stand this many times above its noise to be measured
+SIGNAL_TO_NOISE = 10.0
+#: a sample this many robust standard deviations from the median of its neighbours is an outlier
+OUTLIER_SIGMAS = 20.0
+
+
+def noise_level(force: FloatArray) -> float:
+    """Return the standard deviation of white noise on a record, from its second differences.
+
+    The second differences of a ramp vanish and the slips are short: the median absolute
+    deviation of ``f[i+1] - 2 f[i] + f[i-1]`` is the noise's times ``sqrt(6)``. (First
+    differences would also carry the curvature of the slip phases.)
+    """
+    d = np.diff(force, 2)
+    return float(1.4826 * np.median(np.abs(d - np.median(d))) / math.sqrt(6.0))
+
+
+def exclude_outliers(force: FloatArray) -> tuple[FloatArray, npt.NDArray[np.int64]]:
+    """Replace isolated outlier samples by the mean of their neighbours; return the force and their indices.
+
+    A sample is an outlier when it is not finite, or when it lies more than
+    :data:`OUTLIER_SIGMAS` robust standard deviations (of the deviations from a running
+    median of 5) from that median *and* more than half the record's range (1st to 99th
+    percentile) from it: a glitch (a sensor's 1e308, a dropped bit), not a sharp corner
+    of the sawtooth, which the running median follows.
+    """
+    f = np.asarray(force, dtype=float).copy()
+    bad = ~np.isfinite(f)
+    if bad.any():
+        f[bad] = np.interp(np.flatnonzero(bad), np.flatnonzero(~bad), f[~bad]) if (~bad).any() else 0.0
+    if f.size >= 5:
+        med = median_filter(f, size=5, mode="nearest")
+        dev = f - med
+        scale = 1.4826 * float(np.median(np.abs(dev - np.median(dev))))
+        span = float(np.percentile(f, 99) - np.percentile(f, 1))
+        out = (np.abs(dev) > OUTLIER_SIGMAS * scale) & (np.abs(dev) > 0.5 * span)
+        bad |= out
+        if out.any():
+            good = ~bad
+            f[out] = np.interp(np.flatnonzero(out), np.flatnonzero(good), f[good])
+    return f, np.flatnonzero(bad)
+
+
+def _inverted(force: FloatArray, per_n: int) -> bool:
+    """Whether a record rises fast and falls slowly (an inverted stick-slip sawtooth).
+
+    On a lightly smoothed record, stick-slip rises for most of each period and drops in a
+    short time; inverted, it falls for most of it. A symmetric oscillation (pure slip)
+    rises about half the time and is left as it is.
+    """
+    smooth = uniform_filter1d(force, size=max(3, per_n // 50), mode="nearest")
+    d = np.diff(smooth)
+    moving = np.abs(d) > 0
+    if moving.sum() < 10:
+        return False
+    rising = float(np.mean(d[moving] > 0))
+    return rising < 0.3
+
+
 def _side_fit(t: FloatArray, f: FloatArray, i: int, w: int, side: int) -> float:
     """Value at sample ``i`` of a quadratic fitted on ``w`` samples before (-1) or after (+1) it.
 
@@ -145,11 +204,25 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
     n = f.size
     if n < 20:
         raise DataError(f"{record.name}: {n} samples are too few to find cycles")
+    notes: list[str] = []
+    f, excluded = exclude_outliers(f)
+    if excluded.size:
+        rows = ", ".join(str(int(i) + 2) for i in excluded[:10]) + (" ..." if excluded.size > 10 else "")
+        notes.append(
+            f"{excluded.size} outlier sample(s) excluded ({'rows' if excluded.size > 1 else 'row'} {rows}: "
+            "far from their neighbours against the record's noise; replaced by the mean of their neighbours)"
+        )
     period = _dominant_period(t, f)
     if not math.isfinite(period):
         raise DataError(f"{record.name}: no oscillation found (fewer than 2.5 cycles?)")
     dt = (t[-1] - t[0]) / (n - 1)
     per_n = max(4, round(period / dt))
+    if _inverted(f, per_n):
+        f = -f
+        notes.append(
+            "the force column is inverted (it falls slowly and rises fast; stick-slip rises slowly and "
+            "drops fast): measured as -force"
+        )
     # light smoothing to locate extrema (values are taken from the raw data below)
     smooth = uniform_filter1d(f, size=max(1, per_n // 100), mode="nearest")
     span = float(np.percentile(smooth, 99) - np.percentile(smooth, 1))
@@ -192,6 +265,14 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
             f"{min_cycles} (is the record long enough, or the oscillation too noisy?)"
         )
     arr = np.array(cycles)
+    sigma = noise_level(f)
+    amp = float(np.median(arr[:, 1] - arr[:, 2]))
+    if not amp > SIGNAL_TO_NOISE * sigma:
+        raise DataError(
+            f"{record.name}: no stick-slip structure: the 'cycles' found ({len(cycles)}, median range "
+            f"{amp:.3g} N) are only {amp / sigma if sigma > 0 else 0:.1f} times the noise ({sigma:.3g} N), "
+            f"not {SIGNAL_TO_NOISE:g}; there is no slow rise and fast drop above the noise"
+        )
     table = CycleTable(
         arr[:, 0],
         arr[:, 1],
@@ -203,9 +284,9 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
         arr[:, 6],
         arr[:, 7],
     )
-    warning = ""
     if w < 8:
-        warning = f"only {per_n} samples per period: extrema values are rough; sample faster"
+        notes.append(f"only {per_n} samples per period: extrema values are rough; sample faster")
+    warning = "; ".join(notes)
     summary = RecordSummary(
         name=record.name,
         n_cycles=len(cycles),
@@ -334,13 +415,33 @@ def synthetic_record(
     return Record(name, t - t0, force, None, vel, params.v0, params.load, {})
 
 
+def _failed_row(rec: Record, reason: str) -> dict[str, Any]:
+    """Return the summary row of a record that could not be measured: NaN values and the reason."""
+    nan = math.nan
+    measured: tuple[str, ...] = ("amplitude", "amplitude_spread", "period", "period_spread", "peak_force")
+    measured += ("trough_force", "rise_time", "drop_time", "stick_fraction", "rise_slope", "drift")
+    return {
+        "name": rec.name,
+        "n_cycles": 0,
+        **dict.fromkeys(measured, nan),
+        "v0": float(rec.v0.to("m/s").magnitude) if rec.v0 is not None else nan,
+        "load": float(rec.load.to("N").magnitude) if rec.load is not None else nan,
+        "warning": "not measured: " + reason,
+    }
+
+
 def analyze_records(records: list[Record], *, confidence: float = 0.95) -> tuple[Any, Any]:
     """Measure every record; return the summary table and the criterion's verdict.
+
+    A record that cannot be measured (no cycles, no structure above its noise) gets a
+    row of NaN with the reason in ``warning``, and counts for nothing in the verdict;
+    a single record that cannot be measured, or none of several, raises.
 
     Returns
     -------
     table : pandas.DataFrame
-        One row per record (SI units in the column names).
+        One row per record (SI units in the column names); ``warning`` says what was
+        excluded, inverted or could not be measured.
     verdict : CriterionResult or None
         The amplitude-velocity criterion over the records' driving velocities
         (records at one load: the most common one), or None without velocities.
@@ -353,9 +454,19 @@ def analyze_records(records: list[Record], *, confidence: float = 0.95) -> tuple
     if not records:
         raise ValueError("no records to analyze")
     rows = []
+    failed = []
     for rec in records:
-        _, s = measure_record(rec)
+        try:
+            _, s = measure_record(rec)
+        except DataError as exc:
+            if len(records) == 1:
+                raise
+            failed.append(str(exc))
+            rows.append(_failed_row(rec, str(exc)))
+            continue
         rows.append(s.as_dict())
+    if len(failed) == len(records):
+        raise DataError(f"no record could be measured: {failed[0]} (and {len(failed) - 1} more)")
     df = pd.DataFrame(rows).rename(
         columns={
             "amplitude": "amplitude [N]",
@@ -373,7 +484,7 @@ def analyze_records(records: list[Record], *, confidence: float = 0.95) -> tuple
         }
     )
     verdict = None
-    sel = df[np.isfinite(df["v0 [m/s]"])]
+    sel = df[np.isfinite(df["v0 [m/s]"]) & np.isfinite(df["amplitude [N]"])]
     if len(sel) and sel["load [N]"].notna().any():
         common = sel["load [N]"].round(12).mode()
         if len(common):

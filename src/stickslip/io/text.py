@@ -1,0 +1,303 @@
+"""Reading delimited text files: encodings checked, numbers parsed fast, bad cells named.
+
+Every table and record stickslip reads goes through here:
+
+* :func:`inspect` reads the first 64 kB only: it refuses a binary file, UTF-16/32
+  text and bytes that are not UTF-8 (naming the file and where), collects the
+  ``# key = value`` lines before the header, finds the header and the delimiter
+  (comma, semicolon or tab).
+* :func:`read_frame` parses the data with pandas' C parser straight into float
+  columns (no copy of the text, no Python per cell), after an estimate of the
+  memory it will need (refused beyond what the machine has).
+* When a file has a problem (a cell that is not a number, a ragged row, a field
+  too long for the CSV module), :func:`diagnose` streams it line by line to name
+  the first bad place: file, line (or data row), column, value.
+"""
+
+from __future__ import annotations
+
+import codecs
+import csv
+import math
+import os
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from ..core.memory import check_memory
+from .errors import DataError
+
+__all__ = ["TextLayout", "check_file", "diagnose", "inspect", "read_frame"]
+
+HEAD_BYTES = 1 << 16
+_META = re.compile(r"^\s*#\s*([A-Za-z_][\w ]*?)\s*[=:]\s*(.+?)\s*$")
+#: the longest cell shown in a message
+_SHOW = 40
+
+
+def check_file(path: str | os.PathLike[str]) -> str:
+    """Return the path as a string after checking that it is an existing, non-empty file.
+
+    Raises
+    ------
+    DataError
+        Naming the file: missing, a folder, or empty.
+
+    """
+    p = os.fspath(path)
+    if os.path.isdir(p):
+        raise DataError(f"{p}: is a folder, expected a file")
+    if not os.path.isfile(p):
+        raise DataError(f"{p}: no such file")
+    if os.path.getsize(p) == 0:
+        raise DataError(f"{p}: the file is empty")
+    return p
+
+
+def _show(cell: str) -> str:
+    return repr(cell if len(cell) <= _SHOW else cell[:_SHOW] + "...")
+
+
+@dataclass(frozen=True)
+class TextLayout:
+    """Where the header and the data of a text file are.
+
+    Attributes
+    ----------
+    path : str
+        The file.
+    meta : dict
+        ``# key = value`` lines before the header (keys lower-case, spaces as ``_``).
+    header : list of str
+        Header cells, trailing empty ones dropped (spreadsheet exports add them).
+    width : int
+        Number of cells in the header row as written (trailing empties included).
+    sep : str
+        Delimiter.
+    header_line : int
+        Line number (1-based) of the header.
+    size : int
+        File size in bytes.
+    bytes_per_row : float
+        Average length of the first data lines (for memory estimates).
+
+    """
+
+    path: str
+    meta: dict[str, str]
+    header: list[str]
+    width: int
+    sep: str
+    header_line: int
+    size: int
+    bytes_per_row: float = field(default=32.0)
+
+
+def _decode_head(path: str, head: bytes) -> str:
+    for bom, name in (
+        (codecs.BOM_UTF32_LE, "UTF-32"),
+        (codecs.BOM_UTF32_BE, "UTF-32"),
+        (codecs.BOM_UTF16_LE, "UTF-16"),
+        (codecs.BOM_UTF16_BE, "UTF-16"),
+    ):
+        if head.startswith(bom):
+            raise DataError(
+                f"{path}: the file is {name} text; save it as UTF-8 (CSV UTF-8) and read it again"
+            )
+    if b"\x00" in head:
+        raise DataError(
+            f"{path}: not a text file (it holds NUL bytes: binary, or UTF-16 without a byte-order mark)"
+        )
+    decoder = codecs.getincrementaldecoder("utf-8-sig")()
+    try:
+        text = decoder.decode(head, final=len(head) < HEAD_BYTES)
+    except UnicodeDecodeError as exc:
+        _raise_not_utf8(path, head, exc.start)
+    controls = sum(1 for ch in text if ord(ch) < 32 and ch not in "\t\r\n\f")
+    if controls > 0.01 * max(len(text), 1):
+        raise DataError(f"{path}: not a text file (control characters: binary data?)")
+    return text
+
+
+def _raise_not_utf8(path: str, data: bytes, offset: int, base_line: int = 0) -> None:
+    line = base_line + data[:offset].count(b"\n") + 1
+    byte = data[offset : offset + 1].hex()
+    raise DataError(
+        f"{path}: not UTF-8 text (byte 0x{byte} on line {line}; Latin-1 or another encoding?): "
+        "save it as UTF-8 and read it again"
+    )
+
+
+def inspect(path: str | os.PathLike[str], where: str | None = None) -> TextLayout:
+    """Check the encoding and find the metadata, the header and the delimiter of a text file.
+
+    Raises
+    ------
+    DataError
+        Missing, empty, binary or not UTF-8; no header line.
+
+    """
+    p = check_file(path)
+    shown = where or p
+    with open(p, "rb") as fh:
+        head = fh.read(HEAD_BYTES)
+    text = _decode_head(shown, head)
+    lines = text.splitlines()
+    if len(head) == HEAD_BYTES and not text.endswith(("\n", "\r")):
+        lines = lines[:-1]  # the last line may be cut in the middle
+    meta: dict[str, str] = {}
+    for i, line in enumerate(lines):
+        if not line.strip():
+            continue
+        if line.lstrip().startswith("#"):
+            m = _META.match(line)
+            if m:
+                meta[m.group(1).strip().lower().replace(" ", "_")] = m.group(2)
+            continue
+        sep = (
+            "\t"
+            if line.count("\t") > max(line.count(","), line.count(";"))
+            else (";" if line.count(";") > line.count(",") else ",")
+        )
+        cells = next(csv.reader([line], delimiter=sep))
+        width = len(cells)
+        while cells and not cells[-1].strip():
+            cells.pop()
+        rest = [ln for ln in lines[i + 1 : i + 200] if ln.strip() and not ln.lstrip().startswith("#")]
+        per_row = float(np.mean([len(ln) + 1 for ln in rest])) if rest else 32.0
+        return TextLayout(p, meta, [c.strip() for c in cells], width, sep, i + 1, os.path.getsize(p), per_row)
+    if len(head) == HEAD_BYTES:
+        raise DataError(f"{shown}: no header line within the first {HEAD_BYTES // 1024} kB")
+    raise DataError(f"{shown}: no header row and no data")
+
+
+def read_frame(
+    layout: TextLayout,
+    names: Sequence[str],
+    *,
+    numeric: Sequence[str],
+    text: Sequence[str] = (),
+    where: str | None = None,
+    position: str = "row",
+) -> pd.DataFrame:
+    """Parse the data rows into a frame: ``numeric`` columns as float64, ``text`` columns as strings.
+
+    ``names`` are the parsed header names (one per header cell, trailing empties
+    dropped). NaN and empty cells become NaN (the caller decides what they mean);
+    anything else that is not a number, a ragged row or an encoding error is named
+    by :func:`diagnose` (``position`` ``row``: data rows counted from the header as
+    row 1; ``line``: file lines).
+
+    Raises
+    ------
+    DataError
+        Naming the file and the first bad place; or when the file would need more
+        memory than the machine has.
+
+    """
+    shown = where or layout.path
+    rows = max(1.0, (layout.size - layout.header_line * layout.bytes_per_row) / layout.bytes_per_row)
+    wanted = [n for n in names if n in numeric or n in text]
+    check_memory(
+        rows * (8.0 * len(wanted) + 48.0 * len([n for n in wanted if n in text])) * 2.5,
+        f"{shown} ({layout.size / 1e6:.0f} MB, about {rows:.3g} rows)",
+        "split the record into parts",
+    )
+    all_names = [*names, *(f"_unused_{k}" for k in range(len(names), layout.width))]
+    dtype: dict[str, object] = {n: "float64" for n in wanted if n in numeric}
+    dtype.update({n: str for n in wanted if n in text})
+    try:
+        frame = pd.read_csv(
+            layout.path,
+            sep=layout.sep,
+            header=None,
+            names=all_names,
+            usecols=wanted,
+            skiprows=layout.header_line,
+            comment="#",
+            skip_blank_lines=True,
+            dtype=dtype,  # type: ignore[arg-type]
+            engine="c",
+            encoding="utf-8-sig",
+            index_col=False,
+            skipinitialspace=True,
+        )
+    except UnicodeDecodeError as exc:
+        _locate_bad_bytes(layout.path, shown, exc)
+        raise  # pragma: no cover - _locate_bad_bytes raises
+    except (ValueError, pd.errors.ParserError, csv.Error, OverflowError):
+        diagnose(layout, names, numeric=numeric, where=shown, position=position)
+        raise DataError(f"{shown}: malformed rows (pandas could not read them)") from None
+    for n in wanted:
+        if n in numeric and np.isinf(frame[n].to_numpy()).any():
+            diagnose(layout, names, numeric=numeric, where=shown, position=position)
+    return frame
+
+
+def _locate_bad_bytes(path: str, shown: str, exc: UnicodeDecodeError) -> None:
+    """Find the first byte that is not UTF-8 by streaming the file, and raise naming its line."""
+    line = 0
+    decoder = codecs.getincrementaldecoder("utf-8-sig")()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            try:
+                decoder.decode(block)
+            except UnicodeDecodeError as err:
+                _raise_not_utf8(shown, block, err.start, line)
+            line += block.count(b"\n")
+    raise DataError(f"{shown}: not UTF-8 text ({exc.reason}); save it as UTF-8 and read it again")
+
+
+def diagnose(
+    layout: TextLayout,
+    names: Sequence[str],
+    *,
+    numeric: Sequence[str],
+    where: str | None = None,
+    position: str = "row",
+    nan_is_error: bool = False,
+) -> None:
+    """Stream the data rows and raise at the first bad one (does nothing if none is bad).
+
+    Raises
+    ------
+    DataError
+        ``FILE: line N has K cells, the header has M``, ``FILE: row N, column 'x': 'abc'
+        is not a number``, a field too long, and the like.
+
+    """
+    shown = where or layout.path
+    cols = {n: names.index(n) for n in numeric if n in names}
+    old_limit = csv.field_size_limit()
+    row = 1
+    with open(layout.path, encoding="utf-8-sig", errors="strict", newline="") as fh:
+        for line_no, line in enumerate(fh, start=1):
+            if line_no <= layout.header_line or not line.strip() or line.lstrip().startswith("#"):
+                continue
+            row += 1
+            place = f"{shown}: line {line_no}" if position == "line" else f"{shown}: row {row}"
+            try:
+                cells = next(csv.reader([line], delimiter=layout.sep))
+            except csv.Error:
+                raise DataError(
+                    f"{place}: a field is longer than {old_limit} characters (the CSV limit)"
+                ) from None
+            while len(cells) > len(names) and not cells[-1].strip():
+                cells.pop()
+            if len(cells) != len(names):
+                raise DataError(
+                    f"{shown}: line {line_no} has {len(cells)} cells, the header has {len(names)}"
+                )
+            for name, j in cols.items():
+                cell = cells[j].strip()
+                try:
+                    x = float(cell)
+                except ValueError:
+                    raise DataError(f"{place}, column {name!r}: {_show(cell)} is not a number") from None
+                if math.isinf(x):
+                    raise DataError(f"{place}, column {name!r}: {_show(cell)} is not a finite number")
+                if nan_is_error and math.isnan(x):
+                    raise DataError(f"{place}, column {name!r} is NaN")
