@@ -834,17 +834,24 @@ def sweep(
     Any value option can be swept; the others are fixed as in 'stickslip cycle'.
     Example: stickslip sweep --preset zv --v0 "5 um/s..1000 um/s" --num 60 --log
     """
-    from .analysis.sweep import save_sweep
+    from .analysis.sweep import check_sweep_size, save_sweep
     from .analysis.sweep import sweep as run_sweep
     from .plots.figures import save_figure
 
     axes: dict[str, Any] = {}
     fixed = dict(opts)
-    for key, val in opts.items():
-        if key in VALUE_KEYS and isinstance(val, str) and (".." in val or "," in val):
-            axes[key] = parse_axis(key, val, num, log_spacing)
-            first = axes[key][0]
-            fixed[key] = first if key in NUMBER_KEYS else (first if isinstance(first, str) else f"{first:~}")
+    ranged = {
+        k: v for k, v in opts.items() if k in VALUE_KEYS and isinstance(v, str) and (".." in v or "," in v)
+    }
+    if num < 2:
+        raise click.UsageError(f"invalid value: --num={num}: expected at least 2 points per range")
+    # the grid's size from the options, before any axis is built
+    sizes = [num if ".." in v else len([c for c in v.split(",") if c.strip()]) for v in ranged.values()]
+    check_sweep_size(int(np.prod(sizes, dtype=np.float64)) if sizes else 0, "this sweep")
+    for key, val in ranged.items():
+        axes[key] = parse_axis(key, val, num, log_spacing)
+        first = axes[key][0]
+        fixed[key] = first if key in NUMBER_KEYS else (first if isinstance(first, str) else f"{first:~}")
     if not axes:
         raise click.UsageError(
             "nothing to sweep: give a range such as --v0 '5 um/s..1000 um/s' "
@@ -909,8 +916,6 @@ def classify(file: str, as_json: bool, confidence: float, min_points: int) -> No
     click.echo(f"reason    {res.reason}")
 
 
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
 
 
 @main.command()
@@ -1057,3 +1062,7 @@ def regimes(
     if checks and not all(c.agree for c in checks):
         click.echo("stickslip: some intervals were not confirmed by direct simulation", err=True)
         raise SystemExit(1)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -48,7 +48,7 @@ from ..io.records import Record
 from ..models.friction import PhysicalWeakeningLaw
 from ..models.parameters import PhysicalParameters
 from ..models.units import Q_
-from .records import CycleTable, RecordSummary, measure_record, noise_level
+from .records import CycleTable, RecordSummary, clean_force, measure_record, noise_level
 
 __all__ = ["FitResult", "fit_record"]
 
@@ -209,6 +209,8 @@ def _model_features(
     vals.update(_values(theta, names, fixed.get("b", 0.0)))
     mu0, a, b, k, m = vals["mu0"], vals["a"], vals.get("b", 0.0), vals["k"], vals["m"]
     force = mu0 * load
+    if not (force > 0 and k * m > 0 and math.isfinite(k * m / force)):  # an absurd trial step
+        return np.full(len(FEATURES), np.nan)
     beta = math.sqrt(k * m) / force
     nu = beta * v0
     c, p = a / beta, b / beta
@@ -519,8 +521,13 @@ def model_waveform(
     is the exact ramp ``s_stop + nu (tau - t_slip)``; the slip phase from breakaway
     ``(1, 0)`` is sampled on the engine's dense output. NaN where the model does not stick.
     """
-    ph = _physical(theta, names, v0, load, fixed_b)
+    try:
+        ph = _physical(theta, names, v0, load, fixed_b)
+    except (ZeroDivisionError, OverflowError, ValueError):  # an optimiser's absurd trial step
+        return np.full(t.shape, np.nan)
     nu, c, p = ph["nu"], ph["c"], ph["p"]
+    if not all(math.isfinite(x) and x >= 0.0 for x in (nu, c, p)) or nu == 0.0:
+        return np.full(t.shape, np.nan)
     row = run_attractors(
         0, [c, p, 0.0], [nu], from_breakaway=True, rtol=1e-10, atol=1e-12, max_slip_time=1e4, conv_tol=1e-8
     )[0]
@@ -562,7 +569,7 @@ def _fit_waveform(
     chi-square.
     """
     t = record.time
-    f = record.force
+    f, _, _ = clean_force(record)  # as measured: outliers out, the right way up
     # a window of whole cycles, from one peak to a later one, at most MAX_WAVEFORM_SAMPLES long
     peaks = np.searchsorted(t, table.peak_time)
     last = int(np.searchsorted(peaks, peaks[0] + MAX_WAVEFORM_SAMPLES, side="right")) - 1

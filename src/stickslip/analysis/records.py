@@ -30,10 +30,11 @@ import numpy.typing as npt
 from scipy.ndimage import median_filter, uniform_filter1d
 from scipy.signal import find_peaks
 
+from ..core.memory import check_memory
 from ..io.errors import DataError
 from ..io.records import Record
 
-__all__ = ["CycleTable", "RecordSummary", "measure_record"]
+__all__ = ["CycleTable", "RecordSummary", "clean_force", "measure_record"]
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -104,6 +105,9 @@ def _dominant_period(t: FloatArray, f: FloatArray) -> float:
     return float(1.0 / freqs[ok][np.argmax(spec[ok])])
 
 
+#: working memory of the measurement per sample (filters, spectrum, copies), measured on a
+#: 2e7-sample record (1.8 GB) and rounded up
+BYTES_PER_SAMPLE = 120.0
 #: a record's cycles must stand this many times above its noise to be measured
 SIGNAL_TO_NOISE = 10.0
 #: a sample this many robust standard deviations from the median of its neighbours is an outlier
@@ -145,6 +149,40 @@ def exclude_outliers(force: FloatArray) -> tuple[FloatArray, npt.NDArray[np.int6
             good = ~bad
             f[out] = np.interp(np.flatnonzero(out), np.flatnonzero(good), f[good])
     return f, np.flatnonzero(bad)
+
+
+def clean_force(record: Record) -> tuple[FloatArray, list[str], float]:
+    """Return the record's force as it is measured (and fitted), what was done to it, and its period.
+
+    Isolated outliers are replaced by the mean of their neighbours (their rows named), and
+    an inverted sawtooth (fast rises, slow falls) is turned the right way up.
+
+    Raises
+    ------
+    DataError
+        When the record shows no oscillation.
+
+    """
+    t = record.time
+    notes: list[str] = []
+    f, excluded = exclude_outliers(record.force)
+    if excluded.size:
+        rows = ", ".join(str(int(i) + 2) for i in excluded[:10]) + (" ..." if excluded.size > 10 else "")
+        notes.append(
+            f"{excluded.size} outlier sample(s) excluded ({'rows' if excluded.size > 1 else 'row'} {rows}: "
+            "far from their neighbours against the record's noise; replaced by the mean of their neighbours)"
+        )
+    period = _dominant_period(t, f)
+    if not math.isfinite(period):
+        raise DataError(f"{record.name}: no oscillation found (fewer than 2.5 cycles?)")
+    per_n = max(4, round(period / ((t[-1] - t[0]) / (t.size - 1))))
+    if _inverted(f, per_n):
+        f = -f
+        notes.append(
+            "the force column is inverted (it falls slowly and rises fast; stick-slip rises slowly and "
+            "drops fast): measured as -force"
+        )
+    return f, notes, period
 
 
 def _inverted(force: FloatArray, per_n: int) -> bool:
@@ -204,25 +242,10 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
     n = f.size
     if n < 20:
         raise DataError(f"{record.name}: {n} samples are too few to find cycles")
-    notes: list[str] = []
-    f, excluded = exclude_outliers(f)
-    if excluded.size:
-        rows = ", ".join(str(int(i) + 2) for i in excluded[:10]) + (" ..." if excluded.size > 10 else "")
-        notes.append(
-            f"{excluded.size} outlier sample(s) excluded ({'rows' if excluded.size > 1 else 'row'} {rows}: "
-            "far from their neighbours against the record's noise; replaced by the mean of their neighbours)"
-        )
-    period = _dominant_period(t, f)
-    if not math.isfinite(period):
-        raise DataError(f"{record.name}: no oscillation found (fewer than 2.5 cycles?)")
+    check_memory(n * BYTES_PER_SAMPLE, f"{record.name} ({n} samples)", "cut the record into parts")
+    f, notes, period = clean_force(record)
     dt = (t[-1] - t[0]) / (n - 1)
     per_n = max(4, round(period / dt))
-    if _inverted(f, per_n):
-        f = -f
-        notes.append(
-            "the force column is inverted (it falls slowly and rises fast; stick-slip rises slowly and "
-            "drops fast): measured as -force"
-        )
     # light smoothing to locate extrema (values are taken from the raw data below)
     smooth = uniform_filter1d(f, size=max(1, per_n // 100), mode="nearest")
     span = float(np.percentile(smooth, 99) - np.percentile(smooth, 1))

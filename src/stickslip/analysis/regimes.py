@@ -47,7 +47,7 @@ from .. import defaults
 from ..core import engine
 from ..core import variational as va
 from ..core.api import run_attractors
-from ..models.friction import DimensionlessLaw
+from ..models.friction import DimensionlessLaw, require_dimensionless_law
 from ..models.parameters import DimensionlessParameters
 from ..models.units import check_number
 from .attractors import OrbitKey, distinct, orbit_key, polish_rows, same_orbit
@@ -331,6 +331,7 @@ def continue_pure_slip(
         Folds and the grazing point found on the way.
 
     """
+    law = require_dimensionless_law(law)
     sh = _Shooter(law, tol * 1e-2)
     nu_h = hopf.nu
     f2, f3 = sh.f(nu_h, 2), sh.f(nu_h, 3)
@@ -519,6 +520,7 @@ def stick_slip_branch(
     on the engine (to ``1e-9`` relative) and added to the branch and to the points.
     ``rows``, the engine's output from breakaway at ``nu``, is computed when not given.
     """
+    law = require_dimensionless_law(law)
     nu = np.asarray(nu, dtype=float)
     if rows is None:
         rows = _stick_slip_rows(law, nu)
@@ -619,6 +621,7 @@ def regimes(
     ['stick-slip', 'pure-slip', 'steady-sliding']
 
     """
+    law = require_dimensionless_law(law)
     lo = check_number(nu_min, "nu_min")
     hi = check_number(nu_max, "nu_max")
     if hi <= lo:

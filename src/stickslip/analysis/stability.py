@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from ..models.friction import DimensionlessLaw
+from ..models.friction import DimensionlessLaw, require_dimensionless_law
 from ..models.units import check_number
 
 __all__ = ["Hopf", "averaged_amplitude", "hopf_points", "steady_sliding_eigenvalues"]
@@ -61,6 +61,7 @@ def _d(law: DimensionlessLaw, nu: float, order: int) -> float:
 
 def steady_sliding_eigenvalues(law: DimensionlessLaw, nu: float) -> tuple[complex, complex]:
     """Return the eigenvalues of steady sliding at ``nu`` (units of ``sqrt(k/m)``)."""
+    law = require_dimensionless_law(law)
     nu = check_number(nu, "nu")
     g = _d(law, nu, 1)
     disc = complex(g * g - 4.0)
@@ -81,6 +82,7 @@ def hopf_points(
         For a non-positive or reversed range.
 
     """
+    law = require_dimensionless_law(law)
     lo = check_number(nu_min, "nu_min")
     hi = check_number(nu_max, "nu_max")
     if hi <= lo:
@@ -111,6 +113,7 @@ def averaged_amplitude(law: DimensionlessLaw, nu: float) -> float:
     ``a = sqrt(-8 f'(nu)/f'''(nu))``, the amplitude of ``w - nu`` (and, at unit
     frequency, of ``s``); NaN where no small cycle exists (``f'/f''' > 0``).
     """
+    law = require_dimensionless_law(law)
     g1, g3 = _d(law, nu, 1), _d(law, nu, 3)
     if g3 == 0 or g1 / g3 >= 0:
         return math.nan

@@ -30,6 +30,7 @@ import xarray as xr
 from .. import __version__, defaults
 from ..core import engine
 from ..core.api import run_attractors
+from ..core.memory import check_memory
 from ..io.output import OutputFolder, emit, netcdf_writer
 from ..models.friction import CoulombLaw, CubicLaw, WeakeningLaw
 from ..models.parameters import DimensionlessParameters, PhysicalParameters, dimensionless_from_si
@@ -37,7 +38,28 @@ from ..models.units import parse_quantity
 from .attractors import polish_rows
 from .cycle import DIMENSIONLESS_UNITS, REGIMES, STATUSES, validate_tolerances
 
-__all__ = ["load_sweep", "save_sweep", "sweep", "sweepable"]
+__all__ = ["check_sweep_size", "load_sweep", "save_sweep", "sweep", "sweepable"]
+
+#: memory one point of a sweep takes in process (engine output, the grid, the dataset with
+#: its labels), measured on 1e5-point sweeps and rounded up
+BYTES_PER_POINT = 800.0
+
+
+def check_sweep_size(n: int, what: str = "the sweep") -> None:
+    """Refuse a sweep of ``n`` points that would not fit in memory, before anything is allocated.
+
+    Raises
+    ------
+    MemoryRequestError
+        A :class:`ValueError` with the estimate and what the machine has.
+
+    """
+    check_memory(
+        n * BYTES_PER_POINT,
+        f"{what} ({n:.3g} points)",
+        "use a coarser grid or split the range into several sweeps",
+    )
+
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -209,6 +231,7 @@ def sweep(
         coords[name] = (shown, unit, desc)
         si_axes[name] = si
     shape = tuple(len(v) for v in si_axes.values())
+    check_sweep_size(int(np.prod(shape, dtype=np.float64)))
     mesh = dict(zip(si_axes, np.meshgrid(*si_axes.values(), indexing="ij"), strict=True))
     flat = {k: v.ravel() for k, v in mesh.items()}
     n = int(np.prod(shape))

@@ -14,6 +14,7 @@ import numpy.typing as npt
 from .. import defaults
 from ..core import engine
 from ..core.api import run_trajectory
+from ..core.memory import check_memory
 from ..models.parameters import DimensionlessParameters, PhysicalParameters, as_dimensionless
 from ..models.units import check_number, parse_quantity
 from .cycle import DIMENSIONLESS_UNITS, SI_UNITS, STATUSES, cycle, validate_tolerances
@@ -31,6 +32,10 @@ EVENT_NAMES = {
 PHASE_NAMES = {0: "stick", 1: "slip", -1: "backward-slip"}
 
 FloatArray = npt.NDArray[np.float64]
+
+#: memory one sample of a trajectory takes on its way to a Trajectory (engine output, unique
+#: times, SI columns; the CSV is written in chunks)
+BYTES_PER_SAMPLE = 200.0
 
 
 @dataclass(frozen=True)
@@ -137,12 +142,21 @@ def simulate(
     rtol, atol = validate_tolerances(rtol, atol)
     if isinstance(n_points, bool) or not isinstance(n_points, numbers.Integral) or n_points < 2:
         raise ValueError(f"n_points={n_points!r}: expected an integer >= 2")
+    check_memory(
+        int(n_points) * BYTES_PER_SAMPLE,
+        f"n_points={n_points}",
+        "sample fewer points (events are always added) or simulate a shorter duration",
+    )
     try:
         s0, w0 = (float(initial[0]), float(initial[1]))
     except (TypeError, ValueError, IndexError):
         raise ValueError(f"initial={initial!r}: expected a pair (spring force, velocity)") from None
-    if not (math.isfinite(s0) and math.isfinite(w0)):
-        raise ValueError(f"initial={initial!r}: expected finite numbers")
+    bound = 1e6
+    if not (math.isfinite(s0) and math.isfinite(w0) and abs(s0) <= bound and abs(w0) <= bound):
+        raise ValueError(
+            f"initial={initial!r}: expected finite numbers of magnitude at most {bound:g} (units of the "
+            "static friction force and of mu_s W / sqrt(k m))"
+        )
     if duration is None:
         cycles = check_number(cycles, "cycles", what="a positive number of cycles")
         res = cycle(dp, rtol=max(rtol, 1e-9), atol=atol, probe=False)

@@ -140,6 +140,9 @@ _ZERO7 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 # a linearly stable steady sliding state counts as steady sliding
 AMPLITUDE_STEADY = 1e-7
 MAX_PHASES = 100_000
+# all slip phases of one run together (a phase alone has max_steps): about ten seconds of work,
+# so that no call into the compiled code runs unbounded (Ctrl-C cannot reach it)
+MAX_TOTAL_STEPS = 50_000_000
 
 
 @njit(cache=True)
@@ -600,6 +603,9 @@ def attractor_ws(  # type: ignore[no-untyped-def]
         )
         slip_used += t - t_start
         if ph == PH_STOPPED:
+            if trk[T_NSTEP] > MAX_TOTAL_STEPS:
+                out[O_STATUS] = ST_TOO_MANY_STEPS
+                break
             s = y[0]
             if s < -FS:
                 d = -1
@@ -727,6 +733,8 @@ def trajectory(  # type: ignore[no-untyped-def]
             trk, t_eval, out_y, out_mode, ie, evbuf, evn, max_steps,
         )
         if ph == PH_STOPPED:
+            if trk[T_NSTEP] > MAX_TOTAL_STEPS:
+                return ST_TOO_MANY_STEPS
             s = y[0]
             _log(evbuf, evn, t, EV_STOP, s)
             if s < -FS:

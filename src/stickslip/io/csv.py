@@ -13,6 +13,9 @@ from .output import OutputFolder, emit
 
 __all__ = ["write_columns"]
 
+#: rows formatted at a time
+CHUNK = 100_000
+
 
 def write_columns(
     path: str | os.PathLike[str],
@@ -52,14 +55,20 @@ def write_columns(
     lengths = {len(v) for v in arrays.values()}
     if len(lengths) > 1:
         raise ValueError(f"columns have different lengths: { {k: len(v) for k, v in arrays.items()} }")
-    cols = [
-        [repr(float(x)) for x in v] if v.dtype.kind == "f" else [str(x) for x in v] for v in arrays.values()
-    ]
+    n = next(iter(lengths), 0)
 
     def write(p: str) -> None:
         with open(p, "w", newline="") as fh:
             writer = csv.writer(fh)
             writer.writerow(list(arrays))
-            writer.writerows(zip(*cols, strict=True))
+            # in chunks: the text of a long series is never in memory all at once
+            for lo in range(0, n, CHUNK):
+                cols = [
+                    [repr(float(x)) for x in v[lo : lo + CHUNK]]
+                    if v.dtype.kind == "f"
+                    else [str(x) for x in v[lo : lo + CHUNK]]
+                    for v in arrays.values()
+                ]
+                writer.writerows(zip(*cols, strict=True))
 
     return emit(os.fspath(path), kind, write, out=out, overwrite=overwrite)

@@ -41,6 +41,7 @@ __all__ = [
     "WeakeningLaw",
     "f1",
     "f2",
+    "require_dimensionless_law",
 ]
 
 ArrayLike = npt.ArrayLike
@@ -508,3 +509,21 @@ class PhysicalCoulombLaw(_PhysicalLawMixin):
     def nondimensionalize(self, beta: pint.Quantity) -> CoulombLaw:
         """Return ``CoulombLaw(kinetic = mu_k / mu_s)``."""
         return CoulombLaw(kinetic=self.mu_k / self.mu_s)
+
+
+def require_dimensionless_law(law: Any, name: str = "law") -> DimensionlessLaw:
+    """Return ``law`` after checking that it is a dimensionless friction law.
+
+    Raises
+    ------
+    TypeError
+        Naming the argument and what it is instead.
+
+    """
+    if not isinstance(law, DimensionlessLaw):
+        raise TypeError(
+            f"{name}={law!r} (type {type(law).__name__}): expected a dimensionless friction law such as "
+            "WeakeningLaw(c=3.8), CubicLaw(alpha=0.5, gamma=0.17) or CoulombLaw(kinetic=0.5); "
+            "PhysicalParameters(...).dimensionless().law converts a physical set-up"
+        )
+    return law

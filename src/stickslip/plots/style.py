@@ -6,7 +6,7 @@ from typing import Any
 
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
-__all__ = ["plain_log_ticks", "pretty_units"]
+__all__ = ["envelope", "plain_log_ticks", "pretty_units"]
 
 
 def plain_log_ticks(axis: Any) -> None:
@@ -25,3 +25,34 @@ def pretty_units(text: str) -> str:
     import re
 
     return re.sub(r"(?<![A-Za-z])u(?=(m|N|s)\b)", "\u00b5", text).replace(" / ", "/")
+
+
+def envelope(x: Any, y: Any, max_points: int = 20_000) -> tuple[Any, Any]:
+    """Decimate a series for drawing: per bin, its minimum and its maximum, in time order.
+
+    A figure shows at most a few thousand pixels across; a series of millions of
+    samples is drawn as the envelope of ``max_points / 2`` bins, which keeps every
+    drop and every peak visible (a stride would skip them) and keeps the figure small.
+    """
+    import numpy as np
+
+    x = np.asarray(x)
+    y = np.asarray(y)
+    n = y.size
+    if n <= max_points:
+        return x, y
+    bins = max(1, max_points // 2)
+    width = n // bins
+    m = width * bins
+    yb = y[:m].reshape(bins, width)
+    lo = np.argmin(yb, axis=1)
+    hi = np.argmax(yb, axis=1)
+    base = np.arange(bins) * width
+    first = base + np.minimum(lo, hi)
+    second = base + np.maximum(lo, hi)
+    idx = np.empty(2 * bins, dtype=np.int64)
+    idx[0::2] = first
+    idx[1::2] = second
+    if m < n:
+        idx = np.concatenate([idx, [n - 1]])
+    return x[idx], y[idx]

@@ -1,0 +1,94 @@
+"""Validators of plain numbers, one per kind of argument, shared by every public entry point.
+
+Each raises :class:`TypeError` for a value of the wrong type and :class:`ValueError`
+for a value out of range, with the argument's name, the value and what was
+expected, before anything reaches the compiled kernels (where a NaN would loop
+for ever and a huge number would end in a ``SystemError`` from numba).
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+__all__ = [
+    "MAX_STATE",
+    "finite_array",
+    "integer",
+    "positive",
+    "state",
+    "tolerances",
+]
+
+#: the largest spring force or velocity accepted as a state (units of the static threshold):
+#: ten times the largest driving velocity a parameter set may have (1e12), well inside the
+#: range where the kernels' arithmetic stays finite
+MAX_STATE = 1e13
+
+
+def _real(name: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name}={value!r} (type {type(value).__name__}): expected a real number")
+    return float(value)
+
+
+def positive(name: str, value: Any, *, upper: float | None = None, what: str = "a positive number") -> float:
+    """Return ``value`` as a float after checking that it is finite, positive and at most ``upper``."""
+    x = _real(name, value)
+    if math.isnan(x):
+        raise ValueError(f"{name}={value!r} is NaN: expected {what}")
+    if not math.isfinite(x) or x <= 0.0:
+        raise ValueError(f"{name}={value!r}: expected {what}")
+    if upper is not None and x > upper:
+        raise ValueError(f"{name}={value!r}: expected {what} of at most {upper:g}")
+    return x
+
+
+def tolerances(rtol: Any, atol: Any) -> tuple[float, float]:
+    """Return integration tolerances after checking them: ``1e-14 <= rtol <= 1e-3`` and ``0 < atol <= 1``."""
+    r = positive("rtol", rtol, what="a relative tolerance between 1e-14 and 1e-3")
+    if not 1e-14 <= r <= 1e-3:
+        raise ValueError(f"rtol={rtol!r}: expected a relative tolerance between 1e-14 and 1e-3")
+    a = positive("atol", atol, upper=1.0, what="a positive absolute tolerance")
+    return r, a
+
+
+def integer(name: str, value: Any, *, lo: int = 1, hi: int | None = None) -> int:
+    """Return ``value`` as an int after checking that it is an integer in ``[lo, hi]``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name}={value!r} (type {type(value).__name__}): expected an integer")
+    n = int(value)
+    if n < lo or (hi is not None and n > hi):
+        raise ValueError(f"{name}={value!r}: expected an integer from {lo}" + (f" to {hi}" if hi else " up"))
+    return n
+
+
+def state(name: str, value: Any, bound: float = MAX_STATE) -> float:
+    """Return one component of a state (spring force or velocity) after checking it is finite and bounded."""
+    x = _real(name, value)
+    if not math.isfinite(x) or abs(x) > bound:
+        raise ValueError(f"{name}={value!r}: expected a finite value of magnitude at most {bound:g}")
+    return x
+
+
+def finite_array(
+    name: str, value: Any, *, bound: float = MAX_STATE, positive: bool = False
+) -> npt.NDArray[np.float64]:
+    """Return ``value`` as a float array after checking every entry is finite (and positive) and bounded."""
+    try:
+        a = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name}: expected numbers, got {type(value).__name__}") from None
+    bad = ~np.isfinite(a) | (np.abs(a) > bound)
+    if positive:
+        bad |= a <= 0.0
+    if bad.any():
+        i = tuple(int(k) for k in np.unravel_index(int(np.argmax(bad)), a.shape)) if a.ndim else ()
+        where = "[" + ", ".join(map(str, i)) + "]" if i else ""
+        kind = "a positive finite value" if positive else "a finite value"
+        raise ValueError(f"{name}{where}={float(a[i])!r}: expected {kind} of magnitude at most {bound:g}")
+    return a

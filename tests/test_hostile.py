@@ -1,0 +1,264 @@
+"""Nothing silently wrong: bad records, a careful Python API, bounded memory (issue 11)."""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+import tracemalloc
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import stickslip as S
+from stickslip.analysis.fitting import fit_record
+from stickslip.analysis.records import measure_record, synthetic_record
+from stickslip.analysis.regimes import regimes
+from stickslip.analysis.sweep import sweep
+from stickslip.cli import main
+from stickslip.core import memory
+from stickslip.core.api import run_attractors, run_shooting, run_trajectory
+from stickslip.io.errors import DataError
+from stickslip.io.records import Record, read_record
+
+P = S.zv_parameters("100 um/s")
+TRUE = S.cycle(P, probe=False)
+HEADER = "# v0 = 100 um/s\n# load = 196 mN\ntime [s],force [mN]\n"
+
+
+@pytest.fixture(scope="module")
+def clean() -> Record:
+    return synthetic_record(
+        P, duration=f"{12 * TRUE.period} s", rate="100 Hz", noise="0.5 mN", start=f"{TRUE.transient_time} s"
+    )
+
+
+def write(path: Path, t: np.ndarray, force_mn: np.ndarray) -> Path:
+    with open(path, "w") as fh:
+        fh.write(HEADER)
+        np.savetxt(fh, np.c_[t, force_mn], delimiter=",", fmt="%.10g")
+    return path
+
+
+# --------------------------------------------------------------------------- bad records
+
+
+def test_pure_noise_has_no_cycles(tmp_path: Path) -> None:
+    """Regression: a force column of uniform noise was measured as 58k 'cycles' at 0.004 s."""
+    t = np.arange(100_000) * 0.004
+    path = write(tmp_path / "noise.csv", t, np.random.default_rng(0).uniform(0, 1, t.size))
+    with pytest.raises(DataError, match="no stick-slip structure"):
+        measure_record(read_record(path))
+    res = CliRunner().invoke(main, ["analyze", str(path), "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2
+    assert res.output.count("\n") == 1 and res.output.startswith("Error: ")
+    assert "above the noise" in res.output
+
+
+def test_inverted_force_is_measured_the_right_way_up(clean: Record, tmp_path: Path) -> None:
+    """Regression: an inverted force column gave a negative amplitude."""
+    _, ref = measure_record(clean)
+    inv = Record("inv", clean.time, -clean.force, None, None, clean.v0, clean.load, {})
+    table, s = measure_record(inv)
+    assert np.all(table.amplitude > 0)
+    assert s.amplitude == pytest.approx(ref.amplitude, rel=1e-12)
+    assert "inverted" in s.warning
+    assert s.amplitude == pytest.approx(TRUE.amplitude, rel=0.02)
+
+
+def test_an_outlier_is_excluded_and_named(clean: Record, tmp_path: Path) -> None:
+    """Regression: one sample of 1e308 turned 12 cycles at 18.25 s into 3 at 54.75 s, silently."""
+    _, ref = measure_record(clean)
+    force = clean.force.copy()
+    force[5000] = 1e308
+    bad = Record("spike", clean.time, force, None, None, clean.v0, clean.load, {})
+    _, s = measure_record(bad)
+    assert s.n_cycles == ref.n_cycles
+    assert s.period == pytest.approx(ref.period, rel=1e-9)
+    assert "row 5002" in s.warning and "outlier" in s.warning
+    force_mn = clean.force * 1e3
+    force_mn[5000] = 1e308
+    path = write(tmp_path / "spike.csv", clean.time, force_mn)
+    res = CliRunner().invoke(main, ["analyze", str(path), "--out", str(tmp_path / "o")])
+    assert res.exit_code == 0, res.output
+    assert "row 5002" in res.output
+
+
+def test_sharp_corners_are_not_outliers() -> None:
+    """A 2 Hz record resolves no slip: every drop is one sample, and none of them is an outlier."""
+    rec = synthetic_record(P, duration=f"{12 * TRUE.period} s", rate="2 Hz", noise="0.1 mN", start="20 s")
+    _, s = measure_record(rec)
+    assert "outlier" not in s.warning
+    assert s.amplitude == pytest.approx(TRUE.amplitude, rel=0.05)
+
+
+def test_fit_b_at_its_bound_gets_an_upper_limit(tmp_path: Path) -> None:
+    """Regression: `fit --fit-b` on an F1 record reported b = 5e-24 +- 0."""
+    rec = synthetic_record(
+        P, duration=f"{10 * TRUE.period} s", rate="1 kHz", noise="1 mN", start=f"{TRUE.transient_time} s"
+    )
+    f = fit_record(rec, fit_b=True, method="features")
+    assert f.values["b"] == 0.0
+    assert math.isnan(f.errors["b"])
+    assert 0 < f.upper_limits["b"] < 160.0
+    d = f.as_dict()["parameters"]["b"]
+    assert d["error"] is None and d["at_bound"] is True and d["upper_limit_95"] == f.upper_limits["b"]
+    assert any("at its bound" in w for w in f.warnings)
+    json.dumps(f.as_dict())  # NaN-free JSON
+
+
+@pytest.mark.parametrize(
+    ("name", "content", "message"),
+    [
+        ("latin1.csv", "time [s],force [mN] \xe9\n0,1\n".encode("latin-1"), "not UTF-8 text"),
+        ("utf16.csv", "time [s],force [mN]\n0,1\n".encode("utf-16"), "UTF-16"),
+        ("binary.csv", bytes(range(256)) * 8, "not a text file"),
+        ("long.csv", ("time [s],force [mN]\n0," + "9" * 200_000 + "\n1,2\n").encode(), "longer than"),
+        ("huge-number.csv", b"time [s],force [mN]\n0,1e999\n1,2\n2,3\n", "not a finite number"),
+    ],
+)
+def test_unreadable_files_are_one_line_naming_the_file(
+    tmp_path: Path, name: str, content: bytes, message: str
+) -> None:
+    path = tmp_path / name
+    path.write_bytes(content)
+    for command in (
+        ["analyze", str(path), "--out", str(tmp_path / "o")],
+        ["fit", str(path), "--out", str(tmp_path)],
+    ):
+        res = CliRunner().invoke(main, command)
+        assert res.exit_code == 2, res.output
+        assert res.output.count("\n") == 1 and res.output.startswith("Error: "), res.output
+        assert str(path) in res.output and message in res.output
+    with pytest.raises(DataError, match=message):
+        read_record(path)
+
+
+def test_oversized_field_in_a_table(tmp_path: Path) -> None:
+    path = tmp_path / "amp.csv"
+    path.write_text("velocity [um/s],amplitude [mN]\n1," + "9" * 200_000 + "\n2,3\n")
+    res = CliRunner().invoke(main, ["classify", str(path)])
+    assert res.exit_code == 2
+    assert res.output.count("\n") == 1 and "line 2" in res.output
+
+
+# --------------------------------------------------------------------------- the Python API
+
+
+def _fast(call, exc: type[Exception], match: str) -> None:
+    t0 = time.perf_counter()
+    with pytest.raises(exc, match=match):
+        call()
+    assert time.perf_counter() - t0 < 1.0
+
+
+def test_api_bad_arguments_raise_at_once() -> None:
+    """Regression: NaN budgets or states never returned (and ignored Ctrl-C); 1e300 states ended in
+    ZeroDivisionError or numba's SystemError; regimes(None) raised AttributeError."""
+    base = dict(law=0, lp=[3.8, 0.0, 0.0], nu=[0.1], rtol=1e-10, atol=1e-12, max_slip_time=1e5, conv_tol=1e-8)
+    run_attractors(**base, from_breakaway=True)  # compiled before timing
+    _fast(
+        lambda: run_attractors(**{**base, "max_slip_time": math.nan}, from_breakaway=True),
+        ValueError,
+        "max_slip_time",
+    )
+    _fast(lambda: run_attractors(**base, s0=[math.nan], w0=[0.0], from_breakaway=False), ValueError, "s0")
+    _fast(lambda: run_attractors(**base, s0=[0.0], w0=[1e300], from_breakaway=False), ValueError, "w0")
+    _fast(
+        lambda: run_attractors(**{**base, "rtol": 0.0, "atol": 0.0}, from_breakaway=True), ValueError, "rtol"
+    )
+    _fast(lambda: run_attractors(**{**base, "law": 9}, from_breakaway=True), ValueError, "law")
+    _fast(lambda: run_attractors(**base, from_breakaway=True, max_steps=2.5), TypeError, "max_steps")
+    _fast(
+        lambda: run_trajectory(0, [3.8, 0, 0], 0.1, 1e300, 0.0, [1.0], rtol=1e-10, atol=1e-12),
+        ValueError,
+        "s0",
+    )
+    _fast(lambda: run_shooting(1, [0.5, 0.2, 0], [0.9], [math.inf], [6.3], tol=1e-10), ValueError, "s0")
+    d = S.DimensionlessParameters(nu=0.1, law=S.WeakeningLaw(c=3.0))
+    _fast(lambda: S.simulate(d, initial=(1e300, 0.0)), ValueError, "initial")
+    _fast(lambda: S.simulate(d, initial=(math.nan, 0.0)), ValueError, "initial")
+    _fast(lambda: regimes(None, 0.1, 1.0), TypeError, "law=None")  # type: ignore[arg-type]
+    _fast(lambda: S.cycle(d, rtol=0.0), ValueError, "rtol")
+    _fast(lambda: S.cycle("nu=0.1"), ValueError, "params")  # type: ignore[arg-type]
+
+
+def test_stiff_cases_are_bounded_in_time() -> None:
+    """A hopelessly stiff law gives up within its step budget, it does not run for ever."""
+    t0 = time.perf_counter()
+    row = run_attractors(
+        1,
+        [1e6, 1.0, 0.0],
+        [0.5],
+        rtol=1e-10,
+        atol=1e-12,
+        max_slip_time=1e5,
+        conv_tol=1e-8,
+        from_breakaway=True,
+        max_steps=20_000,
+    )[0]
+    assert time.perf_counter() - t0 < 5.0
+    from stickslip.core import engine
+
+    assert row[engine.O_STATUS] != engine.ST_OK
+
+
+# --------------------------------------------------------------------------- memory
+
+
+def test_memory_refusals_fire_before_any_allocation(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A request larger than the machine is refused with its estimate, allocating nothing first."""
+    monkeypatch.setattr(memory, "available_memory", lambda: 50_000_000)  # a 50 MB machine
+    d = S.DimensionlessParameters(nu=0.1, law=S.WeakeningLaw(c=3.0))
+    many = np.full(1_000_000, 0.1)  # the caller's array (8 MB), made before tracing
+    tracemalloc.start()
+    try:
+        with pytest.raises(memory.MemoryRequestError, match="needs about"):
+            sweep(d, {"nu": np.geomspace(0.01, 1.0, 1000), "c": np.linspace(1, 5, 1000)}, progress=False)
+        with pytest.raises(memory.MemoryRequestError, match="n_points"):
+            S.simulate(d, n_points=10_000_000)
+        with pytest.raises(memory.MemoryRequestError, match="parameter sets"):
+            run_attractors(
+                0,
+                [3.0, 0, 0],
+                many,
+                rtol=1e-10,
+                atol=1e-12,
+                max_slip_time=1e5,
+                conv_tol=1e-8,
+                from_breakaway=True,
+            )
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert peak < 5_000_000  # nothing of the requests' size (8 MB per array of 1e6 points) was built
+
+
+def test_cli_memory_refusals(tmp_path: Path) -> None:
+    """Regression: `sweep --num 1000000000` died with a numpy MemoryError traceback;
+    `simulate --points 300000000` took all the memory."""
+    for args in (
+        ["sweep", "--nu", "0.01..0.1", "--c", "3.8", "--num", "1000000000", "--out", str(tmp_path / "s.nc")],
+        ["simulate", "--nu", "0.1", "--c", "3", "--points", "300000000", "--out", str(tmp_path)],
+    ):
+        t0 = time.perf_counter()
+        res = CliRunner().invoke(main, args)
+        assert res.exit_code == 2, res.output
+        assert "needs about" in res.output and "Traceback" not in res.output
+        assert time.perf_counter() - t0 < 10.0
+    assert not (tmp_path / "s.nc").exists()
+
+
+@pytest.mark.slow
+def test_the_failure_probe_finds_nothing() -> None:
+    """The hostile-user probe of docs/robustness.md (59 cases, about 90 s): no traceback, no
+    hang, nothing silently wrong, no data lost."""
+    import subprocess
+    import sys
+
+    probe = Path(__file__).resolve().parents[1] / "tools" / "probe_failures.py"
+    proc = subprocess.run([sys.executable, str(probe)], capture_output=True, text=True, timeout=900)
+    assert proc.returncode == 0, proc.stderr[-3000:] + proc.stdout[-2000:]
+    assert "tracebacks 0, hangs 0, silently wrong 0, data lost 0" in proc.stdout
