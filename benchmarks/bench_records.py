@@ -18,7 +18,7 @@ import numpy as np
 from scipy.signal import find_peaks
 
 import stickslip as S
-from stickslip.analysis.records import measure_record, synthetic_record
+from stickslip.data.records import measure_record, synthetic_record
 
 
 def straightforward(t: np.ndarray, f: np.ndarray, period_guess: float) -> tuple[float, float]:

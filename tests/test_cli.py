@@ -212,7 +212,7 @@ def test_bad_input_gives_a_clear_error(args: list[str], message: str, tmp_path: 
 
 
 def test_failed_computation_is_reported_without_traceback(monkeypatch: pytest.MonkeyPatch) -> None:
-    import stickslip.analysis.trajectory as tr
+    import stickslip.dynamics.trajectory as tr
 
     def boom(*args, **kwargs):
         raise RuntimeError("integration failed: step-size-too-small (try a larger rtol)")
@@ -242,7 +242,7 @@ def test_sweep_command(tmp_path: Path) -> None:
         "--quiet",
     )
     assert res.exit_code == 0, res.output
-    from stickslip.analysis.sweep import load_sweep
+    from stickslip.dynamics.sweep import load_sweep
 
     ds = load_sweep(out)
     assert dict(ds.sizes) == {"v0": 6, "b": 2}

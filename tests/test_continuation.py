@@ -11,10 +11,10 @@ from click.testing import CliRunner
 from scipy.integrate import solve_ivp
 
 from stickslip import CoulombLaw, CubicLaw, DimensionlessParameters, WeakeningLaw
-from stickslip.analysis.averaging import averaging_table, thomsen_fidlin
-from stickslip.analysis.orbits import flow, law_arrays, pure_slip_orbit, saltation, stick_slip_orbit
-from stickslip.analysis.regime_map import criterion_table, criterion_trial, regime_map
-from stickslip.analysis.regimes import _fold, confirm, pure_slip_orbits_at, regimes
+from stickslip.bifurcation.averaging import averaging_table, thomsen_fidlin
+from stickslip.bifurcation.orbits import flow, law_arrays, pure_slip_orbit, saltation, stick_slip_orbit
+from stickslip.bifurcation.regime_map import criterion_table, criterion_trial, regime_map
+from stickslip.bifurcation.regimes import _fold, confirm, pure_slip_orbits_at, regimes
 from stickslip.cli import main
 
 CUBIC = CubicLaw(alpha=0.5, gamma=0.5 / 3)  # supercritical Hopf at nu = 1

@@ -8,9 +8,9 @@ import pytest
 from click.testing import CliRunner
 
 from stickslip import Q_, CubicLaw, DimensionlessParameters, zv_parameters
-from stickslip.analysis.criterion import classify, classify_file
-from stickslip.analysis.sweep import sweep
 from stickslip.cli import main
+from stickslip.data.criterion import classify, classify_file
+from stickslip.dynamics.sweep import sweep
 
 
 def write_csv(path: Path, header: str, rows: list) -> Path:

@@ -9,9 +9,9 @@ from click.testing import CliRunner
 from reference import reference_record
 
 import stickslip as S
-from stickslip.analysis.fitting import fit_record
-from stickslip.analysis.records import synthetic_record
 from stickslip.cli import main
+from stickslip.data.fitting import fit_record
+from stickslip.data.records import synthetic_record
 
 P = S.zv_parameters("100 um/s")
 TRUE = S.cycle(P, probe=False)

@@ -13,13 +13,13 @@ import pytest
 from click.testing import CliRunner
 
 import stickslip as S
-from stickslip.analysis.fitting import fit_record
-from stickslip.analysis.records import measure_record, synthetic_record
-from stickslip.analysis.regimes import regimes
-from stickslip.analysis.sweep import sweep
+from stickslip.bifurcation.regimes import regimes
 from stickslip.cli import main
 from stickslip.core import memory
 from stickslip.core.api import run_attractors, run_shooting, run_trajectory
+from stickslip.data.fitting import fit_record
+from stickslip.data.records import measure_record, synthetic_record
+from stickslip.dynamics.sweep import sweep
 from stickslip.io.errors import DataError
 from stickslip.io.records import Record, read_record
 

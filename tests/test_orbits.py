@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from stickslip import CubicLaw, DimensionlessParameters, WeakeningLaw, cycle, simulate
-from stickslip.analysis.orbits import pure_slip_orbit
-from stickslip.analysis.stability import averaged_amplitude
+from stickslip.bifurcation.orbits import pure_slip_orbit
+from stickslip.bifurcation.stability import averaged_amplitude
 
 LAW = CubicLaw(alpha=0.5, gamma=0.5 / 3)  # supercritical Hopf at nu = 1
 

@@ -13,8 +13,8 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from stickslip.analysis.sweep import load_sweep
 from stickslip.cli import main
+from stickslip.dynamics.sweep import load_sweep
 from stickslip.io.output import MANIFEST, ForeignFileError, OutputFolder, atomic_write, own_kind
 
 SWEEP = ["sweep", "--nu", "0.01..0.1", "--c", "3.8", "--num", "5", "--quiet"]

@@ -10,15 +10,15 @@ import sympy as sp
 from click.testing import CliRunner
 from scipy.integrate import solve_ivp
 
-from stickslip.analysis.dulac import derive, excluded, paper_divergence, symbols
-from stickslip.analysis.ratestate import (
+from stickslip.cli import main
+from stickslip.ratestate.dulac import derive, excluded, paper_divergence, symbols
+from stickslip.ratestate.model import RateStateParameters
+from stickslip.ratestate.protocols import (
     linear_stability,
     simulate_rate_state,
     slide_hold_slide,
     velocity_steps,
 )
-from stickslip.cli import main
-from stickslip.models.ratestate import RateStateParameters
 
 BASE = {"a": 0.01, "b": 0.015, "dc": "10 um", "v_ref": "1 um/s", "mu0": 0.6}
 
@@ -298,8 +298,8 @@ def test_peaks_are_located_not_sampled() -> None:
     """Regression: the slide-hold-slide peak and the inertial peak velocity were read off output
     samples and came out up to 1.5e-3 low. They are solver events now: at the located peak the
     extremum condition holds, and no sample exceeds it."""
-    from stickslip.analysis.ratestate import slide_hold_slide
-    from stickslip.models.ratestate import RateStateParameters
+    from stickslip.ratestate.model import RateStateParameters
+    from stickslip.ratestate.protocols import slide_hold_slide
 
     p = RateStateParameters(a=0.01, b=0.015, dc="10 um", v_ref="1 um/s", mu0=0.6, stiffness_per_load="5 1/mm")
     ds = slide_hold_slide(p, "1 um/s", ["10 s", "100 s"], n_points=50)
@@ -316,8 +316,8 @@ def test_peaks_are_located_not_sampled() -> None:
 def test_inertial_velocity_peaks_are_events() -> None:
     """The inertial slider's peak velocities are located where the spring force falls below
     friction (v' = 0): no sample exceeds them, and successive cycles repeat (a limit cycle)."""
-    from stickslip.analysis.ratestate import simulate_rate_state
-    from stickslip.models.ratestate import RateStateParameters
+    from stickslip.ratestate.model import RateStateParameters
+    from stickslip.ratestate.protocols import simulate_rate_state
 
     kc = 0.005 / 10e-6  # (B - A) / D0, 1/m
     p = RateStateParameters(

@@ -8,8 +8,8 @@ import pytest
 from click.testing import CliRunner
 
 import stickslip as S
-from stickslip.analysis.records import analyze_records, measure_record, synthetic_record
 from stickslip.cli import main
+from stickslip.data.records import analyze_records, measure_record, synthetic_record
 from stickslip.io import records as records_io
 from stickslip.io.records import read_record, read_records
 
@@ -105,7 +105,7 @@ def test_analyze_stick_slip_folder(tmp_path: Path) -> None:
     _, verdict = analyze_records(read_records(folder))
     assert verdict is not None and verdict.verdict == "stick-slip"
     # the model that made them agrees
-    model = S.analysis.criterion.classify(
+    model = S.data.criterion.classify(
         [20, 50, 100, 200, 500],
         [S.cycle(S.zv_parameters(f"{v} um/s"), probe=False).amplitude for v in (20, 50, 100, 200, 500)],
     )

@@ -7,8 +7,8 @@ import pytest
 from click.testing import CliRunner
 
 import stickslip as S
-from stickslip.analysis.criterion import classify
 from stickslip.cli import main
+from stickslip.data.criterion import classify
 
 
 def test_coulomb_is_not_reported_multistable() -> None:
@@ -55,7 +55,7 @@ def test_fixed_beta_holds_at_every_sweep_point(tmp_path: Path) -> None:
         ],
     )
     assert res.exit_code == 0, res.output
-    from stickslip.analysis.sweep import load_sweep
+    from stickslip.dynamics.sweep import load_sweep
 
     ds = load_sweep(out)
     np.testing.assert_allclose(ds.c.values.ravel(), 160 / 42)

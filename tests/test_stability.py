@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from stickslip import CoulombLaw, CubicLaw, DimensionlessParameters, WeakeningLaw, cycle
-from stickslip.analysis.stability import averaged_amplitude, hopf_points, steady_sliding_eigenvalues
+from stickslip.bifurcation.stability import averaged_amplitude, hopf_points, steady_sliding_eigenvalues
 
 
 def test_cubic_law_hopf_is_supercritical() -> None:

@@ -17,8 +17,8 @@ from stickslip import (
     f2,
     zv_parameters,
 )
-from stickslip.analysis.orbits import pure_slip_orbit
-from stickslip.analysis.sweep import load_sweep, save_sweep, sweep
+from stickslip.bifurcation.orbits import pure_slip_orbit
+from stickslip.dynamics.sweep import load_sweep, save_sweep, sweep
 
 
 def test_physical_sweep_equals_single_calls() -> None:

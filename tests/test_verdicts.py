@@ -13,9 +13,9 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import root
 
 from stickslip import CubicLaw, DimensionlessParameters, WeakeningLaw, cycle
-from stickslip.analysis.regimes import confirm, regimes
-from stickslip.analysis.sweep import sweep
+from stickslip.bifurcation.regimes import confirm, regimes
 from stickslip.cli import main
+from stickslip.dynamics.sweep import sweep
 
 # --------------------------------------------------------------------------- phantom attractors
 

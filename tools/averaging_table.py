@@ -7,7 +7,7 @@ Usage::
 
 from __future__ import annotations
 
-from stickslip.analysis.averaging import averaging_table
+from stickslip.bifurcation.averaging import averaging_table
 
 
 def main() -> None:

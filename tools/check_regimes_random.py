@@ -18,7 +18,7 @@ import warnings
 import numpy as np
 
 from stickslip import CubicLaw, WeakeningLaw
-from stickslip.analysis.regimes import confirm, regimes
+from stickslip.bifurcation.regimes import confirm, regimes
 
 
 def main(seed: int, n: int) -> int:

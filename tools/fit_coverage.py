@@ -20,7 +20,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from reference import reference_record
 
 import stickslip as S
-from stickslip.analysis.fitting import fit_record
+from stickslip.data.fitting import fit_record
 from stickslip.io.records import Record
 
 MASS = float(S.zv_parameters().mass.to("kg").magnitude)

@@ -97,7 +97,7 @@ def write_record(path: Path, force_mn: np.ndarray, t: np.ndarray, header: str = 
 def prepare(d: Path) -> None:
     """Files the cases read: good and bad records and tables."""
     import stickslip as S
-    from stickslip.analysis.records import synthetic_record
+    from stickslip.data.records import synthetic_record
 
     p = S.zv_parameters("100 um/s")
     c = S.cycle(p, probe=False)
@@ -462,7 +462,7 @@ def api_cases() -> list[tuple[str, str, str, str]]:
         import math, time, json
         import stickslip as S
         from stickslip.core.api import run_attractors, run_trajectory
-        from stickslip.analysis.regimes import regimes
+        from stickslip.bifurcation.regimes import regimes
         d = S.DimensionlessParameters(nu=0.1, law=S.WeakeningLaw(c=3.0))
         base = dict(law=0, lp=[3.8, 0, 0], nu=[0.1], rtol=1e-10, atol=1e-12, max_slip_time=1e5, conv_tol=1e-8)
         run_attractors(**base, from_breakaway=True)

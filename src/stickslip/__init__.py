@@ -5,11 +5,11 @@ friction, integrated event by event without smoothing the friction law.
 
 Layers (each imports only downward): :mod:`stickslip.core` (compiled numbers),
 :mod:`stickslip.models` (laws and parameters with units),
-:mod:`stickslip.analysis` (cycles, regimes, trajectories), :mod:`stickslip.io`
+:mod:`stickslip.dynamics` (cycles, regimes, trajectories), :mod:`stickslip.io`
 and :mod:`stickslip.plots`, and the command line :mod:`stickslip.cli`.
 """
 
-from .analysis import Attractor, CycleResult, Trajectory, cycle, simulate
+from .dynamics import Attractor, CycleResult, Trajectory, cycle, simulate
 from .models import (
     Q_,
     CoulombLaw,

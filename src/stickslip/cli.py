@@ -335,7 +335,7 @@ def cycle(as_json: bool, no_probe: bool, **opts: Any) -> None:
     Dimensionless input gives dimensionless output (force in units of the static
     friction force, time in units of sqrt(m/k)); physical input gives N and s.
     """
-    from .analysis.cycle import cycle as compute_cycle
+    from .dynamics.cycle import cycle as compute_cycle
 
     params = build_parameters(opts)
     res = compute_cycle(params, rtol=opts["rtol"], atol=opts["atol"], probe=not no_probe)
@@ -408,7 +408,7 @@ def simulate(
 
     With no parameters this is the paper's zv set-up at 10 um/s (its Fig. 1).
     """
-    from .analysis.trajectory import simulate as run
+    from .dynamics.trajectory import simulate as run
 
     params = build_parameters(opts, default_preset=True)
     dur: Any = duration
@@ -435,7 +435,7 @@ def simulate(
     click.echo(f"wrote {written[0]} ({traj.time.size} samples)")
     if len(written) > 1:
         click.echo("wrote " + ", ".join(written[1:]))
-    from .analysis.cycle import cycle as compute_cycle
+    from .dynamics.cycle import cycle as compute_cycle
 
     n_stops = sum(1 for k in traj.event_kind if k == "stick")
     click.echo(f"{n_stops} stick phases simulated")
@@ -489,7 +489,7 @@ def dulac(a: float | None, b: float | None, kappa: float | None, as_json: bool) 
     """
     import sympy as sp
 
-    from .analysis.dulac import derive, excluded, sign_verdict
+    from .ratestate.dulac import derive, excluded, sign_verdict
 
     given = [v is not None for v in (a, b, kappa)]
     if any(given) and not all(given):
@@ -570,10 +570,10 @@ def ratestate(
     Example: stickslip ratestate --a 0.01 --b 0.015 --dc "10 um" --v-ref "1 um/s" --mu0 0.6
     --stiffness-per-load "1 1/mm" --steps "1 um/s,10 um/s,1 um/s"
     """
-    from .analysis.ratestate import slide_hold_slide, velocity_steps
-    from .analysis.sweep import save_sweep
-    from .models.ratestate import RateStateParameters
+    from .dynamics.sweep import save_sweep
     from .plots.figures import plot_rate_state, save_figure
+    from .ratestate.model import RateStateParameters
+    from .ratestate.protocols import slide_hold_slide, velocity_steps
 
     if (steps is None) == (holds is None):
         raise click.UsageError("give one protocol: --steps VELOCITIES or --holds TIMES (with --v-slide)")
@@ -625,7 +625,7 @@ def analyze(source: str, out_dir: str, as_json: bool, no_plot: bool, overwrite: 
     'record' column. Writes summary.csv (one row per record) and amplitude and
     period against driving velocity and load.
     """
-    from .analysis.records import analyze_records
+    from .data.records import analyze_records
     from .io.output import OutputFolder
     from .io.records import read_records
     from .plots.figures import plot_records, save_figure
@@ -700,7 +700,7 @@ def fit(
     starting from a fit on cycle features (peak and trough force, period, stick-ramp
     slope, drop time). Uncertainties, correlations and identifiability warnings.
     """
-    from .analysis.fitting import fit_record
+    from .data.fitting import fit_record
     from .io.output import OutputFolder, json_writer, text_writer
     from .io.records import read_record
 
@@ -799,8 +799,8 @@ def parse_axis(name: str, text: str, num: int, log: bool) -> Any:
 
 
 def _dimension_of(name: str) -> str:
-    from .analysis.sweep import PHYSICAL_LAW
-    from .analysis.sweep import SETUP as SWEEP_SETUP
+    from .dynamics.sweep import PHYSICAL_LAW
+    from .dynamics.sweep import SETUP as SWEEP_SETUP
 
     if name in SWEEP_SETUP:
         return SWEEP_SETUP[name][0]
@@ -834,8 +834,8 @@ def sweep(
     Any value option can be swept; the others are fixed as in 'stickslip cycle'.
     Example: stickslip sweep --preset zv --v0 "5 um/s..1000 um/s" --num 60 --log
     """
-    from .analysis.sweep import check_sweep_size, save_sweep
-    from .analysis.sweep import sweep as run_sweep
+    from .dynamics.sweep import check_sweep_size, save_sweep
+    from .dynamics.sweep import sweep as run_sweep
     from .plots.figures import save_figure
 
     axes: dict[str, Any] = {}
@@ -903,7 +903,7 @@ def classify(file: str, as_json: bool, confidence: float, min_points: int) -> No
     Verdict: stick-slip (amplitude rises with velocity), pure-slip (it falls) or
     inconclusive (too few points, slope consistent with zero, non-monotonic).
     """
-    from .analysis.criterion import classify_file
+    from .data.criterion import classify_file
 
     res = classify_file(file, confidence=confidence, min_points=min_points)
     if as_json:
@@ -914,8 +914,6 @@ def classify(file: str, as_json: bool, confidence: float, min_points: int) -> No
     click.echo(f"slope     {res.slope:.4g}  ({100 * res.confidence:g}% CI [{lo:.4g}, {hi:.4g}])")
     click.echo(f"points    {res.n_points}")
     click.echo(f"reason    {res.reason}")
-
-
 
 
 @main.command()
@@ -967,9 +965,9 @@ def regimes(
     law in dimensionless form (beta from --mass or --beta) and the intervals also
     in v0.
     """
-    from .analysis.cycle import _json_clean as json_clean
-    from .analysis.regimes import confirm
-    from .analysis.regimes import regimes as compute_regimes
+    from .bifurcation.regimes import confirm
+    from .bifurcation.regimes import regimes as compute_regimes
+    from .io.jsonable import json_clean
 
     if opts.get("nu") is not None:
         raise click.UsageError("--nu: 'regimes' scans nu; give --nu-min and --nu-max instead")
@@ -1007,7 +1005,7 @@ def regimes(
         ]
     trial = None
     if map_spec is not None:
-        from .analysis.regime_map import criterion_table, criterion_trial, regime_map
+        from .bifurcation.regime_map import criterion_table, criterion_trial, regime_map
 
         name, sep, rng = map_spec.partition("=")
         if not sep:
@@ -1022,7 +1020,7 @@ def regimes(
         result["criterion"] = criterion_table(trial)
     result = json_clean(result)  # NaN (no pure-slip attractor, no criterion verdict) -> null
     if out_dir is not None:
-        from .analysis.sweep import save_sweep
+        from .dynamics.sweep import save_sweep
         from .io.output import OutputFolder, json_writer
         from .plots.figures import save_figure
         from .plots.regimes import plot_bifurcation, plot_criterion_map, plot_regime_map

@@ -9,7 +9,7 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 
-from ..analysis.sweep import load_sweep, save_sweep
+from ..dynamics.sweep import load_sweep, save_sweep
 from ..io.output import OutputFolder
 from ..plots.figures import save_figure
 from .compute import PaperConfig, compute_paper

@@ -1,6 +1,6 @@
 """Numerical evidence beside the appendix's theorem, and what inertia changes.
 
-* Phase portraits of the derived dimensionless system (``stickslip.analysis.dulac``)
+* Phase portraits of the derived dimensionless system (``stickslip.ratestate.dulac``)
   for ``kappa > B - A`` (orbits spiral into steady sliding), ``kappa < B - A``
   (they spiral out until the quasi-static slider runs away) and
   ``kappa = B - A`` (closed orbits: the flow preserves area). The return
@@ -23,11 +23,11 @@ import xarray as xr
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from ..analysis.dulac import lambdified
-from ..analysis.ratestate import linear_stability, simulate_rate_state
 from ..core import ratestate as core
-from ..models.ratestate import RateStateParameters
 from ..models.units import Q_
+from ..ratestate.dulac import lambdified
+from ..ratestate.model import RateStateParameters
+from ..ratestate.protocols import linear_stability, simulate_rate_state
 
 __all__ = ["compute_appendix"]
 

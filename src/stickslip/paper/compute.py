@@ -15,11 +15,11 @@ import numpy as np
 import xarray as xr
 from scipy.optimize import brentq
 
-from ..analysis.regimes import regimes
-from ..analysis.sweep import sweep
-from ..analysis.trajectory import Trajectory, simulate
+from ..bifurcation.regimes import regimes
 from ..core import engine
 from ..core.api import run_attractors
+from ..dynamics.sweep import sweep
+from ..dynamics.trajectory import Trajectory, simulate
 from ..models.friction import CubicLaw, DimensionlessLaw, WeakeningLaw, f1
 from ..models.parameters import PhysicalParameters, zv_parameters
 from ..models.units import Q_

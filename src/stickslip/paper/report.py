@@ -17,7 +17,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import xarray as xr
 
-from ..analysis.criterion import classify
+from ..data.criterion import classify
 from ..io.output import OutputFolder, generator, text_writer
 from .compute import measured_trends
 from .figures import FIGURES
@@ -213,7 +213,7 @@ def claims(ds: xr.Dataset) -> list[Claim]:
 def _appendix_claims(ds: xr.Dataset) -> list[Claim]:
     import sympy as sp
 
-    from ..analysis.dulac import derive, paper_divergence
+    from ..ratestate.dulac import derive, paper_divergence
 
     d = derive()
     same = sp.simplify(d.divergence - paper_divergence()) == 0

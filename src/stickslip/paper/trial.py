@@ -1,7 +1,7 @@
 """The paper's criterion on trial: regime maps of F1, F2 and the cubic law, and the verdicts.
 
-Each map runs :func:`stickslip.analysis.regime_map.regime_map` over one law
-parameter and :func:`~stickslip.analysis.regime_map.criterion_trial` over ``nu``.
+Each map runs :func:`stickslip.bifurcation.regime_map.regime_map` over one law
+parameter and :func:`~stickslip.bifurcation.regime_map.criterion_trial` over ``nu``.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from ..analysis.regime_map import criterion_table, criterion_trial, regime_map
+from ..bifurcation.regime_map import criterion_table, criterion_trial, regime_map
 from ..models.friction import CubicLaw, DimensionlessLaw, WeakeningLaw
 
 __all__ = ["TRIAL_MAPS", "TrialMap", "run_trials"]

@@ -18,7 +18,7 @@ from .style import envelope, plain_log_ticks, pretty_units
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from ..analysis.trajectory import Trajectory
+    from ..dynamics.trajectory import Trajectory
 
 __all__ = ["plot_spring_force", "save_figure"]
 
@@ -209,7 +209,7 @@ def plot_fit_overlay(record: Any, fit: Any, *, cycles: int = 3, max_points: int 
     record : Record
         The measured record.
     fit : FitResult
-        From :func:`stickslip.analysis.fitting.fit_record`; its ``model_force`` gives the
+        From :func:`stickslip.data.fitting.fit_record`; its ``model_force`` gives the
         model on the record's clock.
     cycles : int, optional
         Cycles shown, from the middle of the record.

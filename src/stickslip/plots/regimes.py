@@ -19,7 +19,7 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from ..analysis.regimes import RegimeDiagram
+    from ..bifurcation.regimes import RegimeDiagram
 
 __all__ = ["REGIME_COLORS", "plot_bifurcation", "plot_criterion_map", "plot_regime_map"]
 
@@ -56,7 +56,7 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None) -> Figu
     Parameters
     ----------
     diagram : RegimeDiagram
-        From :func:`stickslip.analysis.regimes.regimes`.
+        From :func:`stickslip.bifurcation.regimes.regimes`.
     log : bool, optional
         Logarithmic ``nu`` axis; default when the range spans more than a factor 20.
 
@@ -189,9 +189,9 @@ def _map_axes(ds: Any, variable: str, codes: dict[str, int], colors: dict[str, s
 def plot_regime_map(ds: Any) -> Figure:
     """Plot the regimes over (``nu``, law parameter).
 
-    ``ds`` comes from :func:`~stickslip.analysis.regime_map.regime_map`.
+    ``ds`` comes from :func:`~stickslip.bifurcation.regime_map.regime_map`.
     """
-    from ..analysis.regime_map import REGIME_CODES
+    from ..bifurcation.regime_map import REGIME_CODES
 
     fixed = ", ".join(f"{k} = {v:g}" for k, v in ds.attrs.items() if isinstance(v, float))
     return _map_axes(ds, "regime", {**REGIME_CODES}, REGIME_COLORS, f"regimes ({fixed})")
@@ -200,7 +200,7 @@ def plot_regime_map(ds: Any) -> Figure:
 def plot_criterion_map(trial: Any) -> Figure:
     """Plot where the amplitude criterion is right or wrong.
 
-    ``trial`` comes from :func:`~stickslip.analysis.regime_map.criterion_trial`.
+    ``trial`` comes from :func:`~stickslip.bifurcation.regime_map.criterion_trial`.
     """
     codes = {"not judged": -1, "wrong": 0, "right": 1}
     colors = {"not judged": "#f0f0f0", "wrong": "#d7301f", "right": "#74c476"}

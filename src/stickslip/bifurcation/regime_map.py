@@ -23,9 +23,9 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from ..io.progress import show_progress
 from ..models.friction import CubicLaw, DimensionlessLaw, WeakeningLaw
 from .regimes import RegimeDiagram, pure_slip_orbits_at, regimes
-from .sweep import _show_progress
 
 __all__ = ["MAP_PARAMETERS", "REGIME_CODES", "criterion_table", "criterion_trial", "regime_map"]
 
@@ -91,7 +91,7 @@ def regime_map(
     _with(law, param, float(vals[0]))  # checks the name
     from tqdm.auto import tqdm
 
-    show = _show_progress(progress) if progress is not None else (_show_progress(None) and vals.size > 4)
+    show = show_progress(progress) if progress is not None else (show_progress(None) and vals.size > 4)
     regime = np.empty((vals.size, n_nu), dtype=np.int8)
     observed = np.empty((vals.size, n_nu), dtype=np.int8)
     amplitude = np.empty((vals.size, n_nu))

@@ -25,8 +25,8 @@ import xarray as xr
 from scipy.integrate import solve_ivp
 
 from ..core import ratestate as core
-from ..models.ratestate import RateStateParameters
 from ..models.units import Q_, parse_quantity
+from .model import RateStateParameters
 
 __all__ = [
     "Stability",

@@ -47,11 +47,11 @@ from .. import defaults
 from ..core import engine
 from ..core import variational as va
 from ..core.api import run_attractors
+from ..io.jsonable import json_clean
 from ..models.friction import DimensionlessLaw, require_dimensionless_law
 from ..models.parameters import DimensionlessParameters
 from ..models.units import check_number
 from .attractors import OrbitKey, distinct, orbit_key, polish_rows, same_orbit
-from .cycle import _json_clean as json_clean
 from .orbits import PeriodicOrbit, flow, law_arrays, pure_slip_orbit
 from .stability import Hopf, hopf_points
 
@@ -615,7 +615,7 @@ def regimes(
     Examples
     --------
     >>> from stickslip import CubicLaw
-    >>> from stickslip.analysis.regimes import regimes
+    >>> from stickslip.bifurcation.regimes import regimes
     >>> d = regimes(CubicLaw(alpha=0.5, gamma=1 / 6), 0.5, 1.5)
     >>> [iv.regime for iv in d.intervals]
     ['stick-slip', 'pure-slip', 'steady-sliding']

@@ -22,8 +22,10 @@ import numpy as np
 import pint
 
 from .. import defaults
+from ..bifurcation.attractors import OrbitKey, orbit_key, polish_rows, same_orbit
 from ..core import engine
 from ..core.api import run_attractors
+from ..io.jsonable import json_clean
 from ..models.parameters import (
     DimensionlessParameters,
     PhysicalParameters,
@@ -31,7 +33,6 @@ from ..models.parameters import (
     as_dimensionless,
 )
 from ..models.units import Q_, check_number
-from .attractors import OrbitKey, orbit_key, polish_rows, same_orbit
 
 __all__ = ["Attractor", "CycleResult", "cycle", "validate_tolerances"]
 
@@ -212,21 +213,11 @@ class CycleResult:
 
     def as_dict(self) -> dict[str, Any]:
         """Return a JSON-ready dictionary (NaN becomes ``None``)."""
-        return _json_clean(asdict(self))
+        return json_clean(asdict(self))
 
     def to_json(self, **kwargs: Any) -> str:
         """Return :meth:`as_dict` as a JSON string."""
         return json.dumps(self.as_dict(), **kwargs)
-
-
-def _json_clean(x: Any) -> Any:
-    if isinstance(x, float):
-        return None if not math.isfinite(x) else x
-    if isinstance(x, dict):
-        return {k: _json_clean(v) for k, v in x.items()}
-    if isinstance(x, list | tuple):
-        return [_json_clean(v) for v in x]
-    return x
 
 
 def cycle(

@@ -18,7 +18,6 @@ from __future__ import annotations
 import itertools
 import math
 import os
-import sys
 from collections.abc import Mapping
 from typing import Any
 
@@ -28,14 +27,15 @@ import pint
 import xarray as xr
 
 from .. import __version__, defaults
+from ..bifurcation.attractors import polish_rows
 from ..core import engine
 from ..core.api import run_attractors
 from ..core.memory import check_memory
 from ..io.output import OutputFolder, emit, netcdf_writer
+from ..io.progress import progress_bar
 from ..models.friction import CoulombLaw, CubicLaw, WeakeningLaw
 from ..models.parameters import DimensionlessParameters, PhysicalParameters, dimensionless_from_si
 from ..models.units import parse_quantity
-from .attractors import polish_rows
 from .cycle import DIMENSIONLESS_UNITS, REGIMES, STATUSES, validate_tolerances
 
 __all__ = ["check_sweep_size", "load_sweep", "save_sweep", "sweep", "sweepable"]
@@ -309,14 +309,6 @@ def _check_dimensionless_law(law_name: str, nd: dict[str, FloatArray]) -> None:
         raise ValueError(f"kinetic={float(nd['kinetic'][i])!r} at point {i}: expected a ratio below 1")
 
 
-def _show_progress(progress: bool | None) -> bool:
-    if progress is not None:
-        return bool(progress)
-    if os.environ.get("STICKSLIP_NO_PROGRESS"):
-        return False
-    return sys.stderr.isatty()
-
-
 def _run_chunks(
     core_id: int,
     lp: FloatArray,
@@ -332,15 +324,8 @@ def _run_chunks(
     mult = np.empty(n)
     chunk = max(256, min(20_000, n // 50 + 1))
     bounds = [*range(0, n, chunk), n]
-    show = _show_progress(progress)
     pairs = list(itertools.pairwise(bounds))
-    bar = None
-    if show:
-        from tqdm.auto import tqdm
-
-        bar = tqdm(
-            total=n, unit="pt", desc="sweep", delay=0.0 if progress else 0.5, file=sys.stderr, leave=False
-        )
+    bar = progress_bar(n, unit="pt", desc="sweep", progress=progress)
     for lo, hi in pairs:
         rows = run_attractors(
             core_id,

@@ -1,0 +1,12 @@
+"""Dynamics: the motion from given starts, its steady oscillation, and sweeps of it.
+
+:mod:`~stickslip.dynamics.cycle` (the attractors reached from rest and from
+probes, polished into periodic orbits), :mod:`~stickslip.dynamics.trajectory`
+(time series with events) and :mod:`~stickslip.dynamics.sweep` (grids of
+parameter sets, streamed in chunks).
+"""
+
+from .cycle import Attractor, CycleResult, cycle
+from .trajectory import Trajectory, simulate
+
+__all__ = ["Attractor", "CycleResult", "Trajectory", "cycle", "simulate"]
