@@ -62,7 +62,8 @@ def test_simulate_physical_duration_needs_time_units() -> None:
     [
         ({"nu": [0.1, -0.1]}, "nu"),
         ({"nu": [0.1, math.nan]}, "nu"),
-        ({"lp": [[1.0, 0.0]]}, "lp"),
+        ({"lp": [[1.0, 0.0]] * 3}, "lp"),  # three rows of parameters for two velocities
+        ({"lp": [1.0] * 9}, "lp"),  # more parameters than a law can have
         ({"law": 7}, "law"),
         ({"s0": [0.0, 0.0, 0.0]}, "s0"),
     ],

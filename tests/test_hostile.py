@@ -198,11 +198,9 @@ def test_stiff_cases_are_bounded_in_time() -> None:
         conv_tol=1e-8,
         from_breakaway=True,
         max_steps=20_000,
-    )[0]
+    )
     assert time.perf_counter() - t0 < 5.0
-    from stickslip.core import engine
-
-    assert row[engine.O_STATUS] != engine.ST_OK
+    assert row.statuses() == ["too-many-steps"]
 
 
 # --------------------------------------------------------------------------- memory

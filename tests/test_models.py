@@ -20,7 +20,7 @@ from stickslip import (
     f2,
     zv_parameters,
 )
-from stickslip.core.laws import df_branch, f_branch
+from stickslip.core.laws import N_LAW_PARAMS, df_plus, f_plus
 
 LAWS = [
     WeakeningLaw(c=3.8),
@@ -47,10 +47,10 @@ class TestLawConformance:
         assert law.value(0.0) == 0.0
 
     def test_matches_compiled_core(self, law) -> None:
-        lp = law.core_params()
-        core = np.array([f_branch(law.core_id, lp, w) for w in W])
+        lp = tuple(np.pad(law.core_params(), (0, N_LAW_PARAMS - law.core_params().size)))
+        core = np.array([f_plus(law.core_id, lp, w) for w in W])
         np.testing.assert_allclose(core, law.value(W), rtol=1e-14)
-        dcore = np.array([df_branch(law.core_id, lp, w) for w in W])
+        dcore = np.array([df_plus(law.core_id, lp, w) for w in W])
         np.testing.assert_allclose(dcore, law.derivative(W), rtol=1e-13, atol=1e-14)
 
     @pytest.mark.parametrize("order", [1, 2, 3])

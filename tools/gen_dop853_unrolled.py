@@ -31,7 +31,7 @@ def stage_lines(st, indent):
         f"{p}ss = s + h * ({comb(T.A[st, :st], ks)})",
         f"{p}ww = w + h * ({comb(T.A[st, :st], kw)})",
         f"{p}ks{st} = nu - ww",
-        f"{p}kw{st} = _accel(law, p0, p1, d, ss, ww)",
+        f"{p}kw{st} = _accel(law, P, d, ss, ww)",
     ]
 
 
@@ -86,11 +86,12 @@ out = [
     "",
     "",
     "from .laws import friction_scalar as _fr",
+    "from .laws import params",
     "from .laws import slip_accel as _accel",
     "",
     "",
     "@njit(cache=True, fastmath={'reassoc', 'contract'})",
-    "def step_sw(law, p0, p1, nu, d, s, w, ks0, kw0, h, rtol, atol):  # type: ignore[no-untyped-def]",
+    "def step_sw(law, P, nu, d, s, w, ks0, kw0, h, rtol, atol):  # type: ignore[no-untyped-def]",
     '    """One DOP853 step of ``(s, w)`` with derivative ``(ks0, kw0)`` at the start.',
     "",
     f"    Returns ``(err, s1, w1, ks, kw)``: the error norm, the new state and the {NS + 1}",
@@ -106,7 +107,7 @@ out += [
     f"    s1 = s + h * ({comb(T.B, ks)})",
     f"    w1 = w + h * ({comb(T.B, kw)})",
     f"    ks{NS} = nu - w1",
-    f"    kw{NS} = _accel(law, p0, p1, d, s1, w1)",
+    f"    kw{NS} = _accel(law, P, d, s1, w1)",
 ]
 ks = [f"ks{j}" for j in range(NS + 1)]
 kw = [f"kw{j}" for j in range(NS + 1)]
@@ -126,7 +127,7 @@ out += [
     "",
     "",
     "@njit(cache=True)",
-    "def dense_sw(law, p0, p1, nu, d, s, w, s1, w1, h, ks, kw):  # type: ignore[no-untyped-def]",
+    "def dense_sw(law, P, nu, d, s, w, s1, w1, h, ks, kw):  # type: ignore[no-untyped-def]",
     '    """Dense output of the step ``(s, w) -> (s1, w1)`` with stage derivatives ``ks, kw``.',
     "",
     "    Returns ``(cs, cw, ksx, kwx)``: the seven interpolant coefficients of each",
@@ -152,8 +153,7 @@ out += [
     "",
     "    Stages ``first <= j < last``; the integrands are ``s`` and ``f(w) w``.",
     '    """',
-    "    p0 = lp[0]",
-    "    p1 = lp[1]",
+    "    P = params(lp)",
     "    s = y[0]",
     "    w = y[1]",
     "    for j in range(first, last):",
@@ -175,14 +175,14 @@ for st in range(1, NX):
     ]
 out += [
     "        K[j, 2] = ss",
-    "        K[j, 3] = _fr(law, p0, p1, d, ww) * ww",
+    "        K[j, 3] = _fr(law, P, d, ww) * ww",
     "",
     "",
     "@njit(cache=True)",
     "def step2(law, lp, nu, d, y, h, K, y_new, rtol, atol):  # type: ignore[no-untyped-def]",
     '    """One DOP853 step from ``y``; fills ``K`` and ``y_new``, returns the error norm."""',
     "    err, s1, w1, ks, kw = step_sw(",
-    "        law, lp[0], lp[1], nu, d, y[0], y[1], K[0, 0], K[0, 1], h, rtol, atol",
+    "        law, params(lp), nu, d, y[0], y[1], K[0, 0], K[0, 1], h, rtol, atol",
     "    )",
     "    store_step(law, lp, nu, d, y, h, K, y_new, s1, w1, ks, kw)",
     "    return err",
@@ -228,7 +228,7 @@ out += [
     "    ks = (" + ", ".join(f"K[{j}, 0]" for j in range(NS + 1)) + ")",
     "    kw = (" + ", ".join(f"K[{j}, 1]" for j in range(NS + 1)) + ")",
     "    cs, cw, ksx, kwx = dense_sw(",
-    "        law, lp[0], lp[1], nu, d, y_old[0], y_old[1], y_new[0], y_new[1], h, ks, kw",
+    "        law, params(lp), nu, d, y_old[0], y_old[1], y_new[0], y_new[1], h, ks, kw",
     "    )",
     "    store_dense(law, lp, nu, d, y_old, y_new, h, K, F, cs, cw, ksx, kwx)",
     "",

@@ -31,12 +31,11 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
 from .. import defaults
-from ..core import engine
-from ..core import variational as va
-from ..core.api import run_attractors, run_shooting
-from ..core.laws import N_LAW_PARAMS, f_scalar
+from ..core.api import Kernel, run_attractors, run_shooting
+from ..core.results import AttractorRows, Regime, ShootingRows, ShootStatus, Status
 from ..models.friction import DimensionlessLaw
 from .orbits import law_arrays, return_map_orbit_core
 
@@ -47,10 +46,6 @@ SHOOTING_TOL = 1e-10
 #: relative distance under which two orbits of one kind are the same attractor
 SAME_ORBIT_RTOL = 1e-6
 
-STICK_SLIP = "stick-slip"
-PURE_SLIP = "pure-slip"
-SLIP_REVERSAL = "slip-reversal"
-STEADY = "steady-sliding"
 
 
 @dataclass(frozen=True)
@@ -59,7 +54,7 @@ class OrbitKey:
 
     Attributes
     ----------
-    kind : str
+    kind : Regime
         ``stick-slip``, ``pure-slip``, ``slip-reversal`` or ``steady-sliding``.
     s_max : float
         Spring-force maximum (where ``w`` crosses ``nu`` upward); NaN where unique.
@@ -68,7 +63,7 @@ class OrbitKey:
 
     """
 
-    kind: str
+    kind: Regime
     s_max: float = math.nan
     period: float = math.nan
 
@@ -77,25 +72,23 @@ def same_orbit(a: OrbitKey, b: OrbitKey, rtol: float = SAME_ORBIT_RTOL) -> bool:
     """Return whether two attractors are the same (same kind, coinciding orbits)."""
     if a.kind != b.kind:
         return False
-    if a.kind in (STICK_SLIP, STEADY):
+    if a.kind in (Regime.STICK_SLIP, Regime.STEADY_SLIDING):
         return True
     return abs(a.s_max - b.s_max) <= rtol * max(1.0, abs(a.s_max), abs(b.s_max)) and abs(
         a.period - b.period
     ) <= rtol * max(a.period, b.period)
 
 
-def orbit_key(row: np.ndarray) -> OrbitKey | None:
-    """Return the key of the attractor in an engine row (layout ``O_*``); None when it failed."""
-    if row[engine.O_STATUS] != engine.ST_OK:
+def orbit_key(row: AttractorRows) -> OrbitKey | None:
+    """Return the key of the attractor in one engine row; None when its computation failed."""
+    if not row.ok[0]:
         return None
-    reg = int(row[engine.O_REGIME])
-    if reg == engine.RG_STICK_SLIP:
-        return OrbitKey(STICK_SLIP)
-    if reg == engine.RG_STEADY:
-        return OrbitKey(STEADY)
-    if reg == engine.RG_PURE_SLIP:
-        kind = SLIP_REVERSAL if row[engine.O_NBACKWARD] > 0 else PURE_SLIP
-        return OrbitKey(kind, float(row[engine.O_SMAX]), float(row[engine.O_PERIOD]))
+    reg = Regime.from_code(row.regime[0])
+    if reg in (Regime.STICK_SLIP, Regime.STEADY_SLIDING):
+        return OrbitKey(reg)
+    if reg == Regime.PURE_SLIP:
+        kind = Regime.SLIP_REVERSAL if row.n_backward[0] > 0 else Regime.PURE_SLIP
+        return OrbitKey(kind, float(row.s_max[0]), float(row.period[0]))
     return None
 
 
@@ -108,49 +101,46 @@ def distinct(keys: Sequence[OrbitKey]) -> list[OrbitKey]:
     return kept
 
 
-_MEASURED_ON_ORBIT = (engine.O_AMPLITUDE, engine.O_SMIN, engine.O_WMIN, engine.O_WMAX, engine.O_NBACKWARD)
+def _steady(rows: AttractorRows, i: int, nu: float) -> None:
+    """Turn row ``i`` into steady sliding ``(s, w) = (f(nu), nu)``, as the engine writes it."""
+    r = rows[i]
+    r.status = Status.OK.code
+    r.regime = Regime.STEADY_SLIDING.code
+    r.amplitude = r.stick_time = r.drive_work = r.friction_work = 0.0
+    r.period = math.nan
+    r.s_max = r.s_min = r.fnu
+    r.w_max = r.w_min = nu
+    r.n_backward = 0.0
+    rows[i] = r
 
 
-def _steady(row: np.ndarray, nu: float, f_nu: float) -> None:
-    """Turn an engine row into steady sliding ``(s, w) = (f(nu), nu)``, as the engine writes it."""
-    row[engine.O_STATUS] = engine.ST_OK
-    row[engine.O_REGIME] = engine.RG_STEADY
-    for k in (engine.O_AMPLITUDE, engine.O_STICK_TIME, engine.O_DRIVE_WORK, engine.O_FRICTION_WORK):
-        row[k] = 0.0
-    row[engine.O_PERIOD] = math.nan
-    row[engine.O_SMAX] = row[engine.O_SMIN] = f_nu
-    row[engine.O_WMAX] = row[engine.O_WMIN] = nu
-    row[engine.O_NBACKWARD] = 0.0
-
-
-def _accurate(o: np.ndarray) -> bool:
-    """Whether a shooting solution meets :data:`~stickslip.defaults.ORBIT_RTOL` (amplitude and period)."""
-    amp_err = 2.0 * o[va.SH_ERR_S0]  # the maximum and the minimum of s each move by about that much
-    return bool(
-        amp_err <= defaults.ORBIT_RTOL * o[va.SH_AMPLITUDE]
-        and o[va.SH_ERR_PERIOD] <= defaults.ORBIT_RTOL * o[va.SH_PERIOD]
+def _accurate(sh: ShootingRows) -> npt.NDArray[np.bool_]:
+    """Whether shooting solutions meet :data:`~stickslip.defaults.ORBIT_RTOL` (amplitude and period)."""
+    amp_err = 2.0 * sh.err_s0  # the maximum and the minimum of s each move by about that much
+    return np.asarray(
+        (amp_err <= defaults.ORBIT_RTOL * sh.amplitude) & (sh.err_period <= defaults.ORBIT_RTOL * sh.period)
     )
 
 
 def polish_rows(
-    law: DimensionlessLaw | tuple[np.ndarray, np.ndarray],
+    law: DimensionlessLaw | tuple[Kernel, np.ndarray],
     nu: np.ndarray,
-    rows: np.ndarray,
+    rows: AttractorRows,
     *,
     rerun: bool = False,
     rtol: float = defaults.RTOL,
     atol: float = defaults.ATOL,
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[AttractorRows, np.ndarray]:
     """Polish the non-sticking attractors in engine rows; return the new rows and the multipliers.
 
     Parameters
     ----------
-    law : DimensionlessLaw or (law ids, law parameters)
-        The law of every row, or per row its compiled id (shape (n,)) and
-        parameter vector (shape (n, N_LAW_PARAMS)), as for a sweep.
+    law : DimensionlessLaw or (Kernel, law parameters)
+        The law of every row, or its compiled kernel and the parameter vector of
+        each row (shape (n, k)) or of all (shape (k,)), as for a sweep.
     nu : ndarray, shape (n,)
         Driving velocity of each row.
-    rows : ndarray, shape (n, NOUT)
+    rows : AttractorRows
         Output of :func:`~stickslip.core.api.run_attractors` (not modified).
     rerun : bool, optional
         Restart the engine on each polished orbit to measure the work of the
@@ -161,7 +151,7 @@ def polish_rows(
 
     Returns
     -------
-    rows : ndarray, shape (n, NOUT)
+    rows : AttractorRows
         Pure-slip rows carry the shooting solution (amplitude, period, extremes),
         slip-reversal rows the return-map fixed point. An unfinished transient
         for which shooting finds no orbit but steady sliding, where steady sliding
@@ -169,80 +159,69 @@ def polish_rows(
         next to a Hopf point). Rows that could not be
         polished, or whose orbit's estimated error exceeds
         :data:`~stickslip.defaults.ORBIT_RTOL` (so close to a Hopf point that the
-        orbit is ill-conditioned), have status ``ST_NOT_CONVERGED``.
+        orbit is ill-conditioned), have status ``not-converged``.
     multiplier : ndarray, shape (n,)
         Nontrivial Floquet multiplier: 0 for stick-slip, NaN for steady sliding and
         where unknown.
 
     """
-    rows = np.array(rows, dtype=float, copy=True)
+    rows = rows.copy()
     nu = np.asarray(nu, dtype=float)
-    n = rows.shape[0]
+    n = len(rows)
     mult = np.full(n, math.nan)
-    reg = rows[:, engine.O_REGIME]
-    measured = reg == engine.RG_PURE_SLIP
-    mult[(reg == engine.RG_STICK_SLIP) & (rows[:, engine.O_STATUS] == engine.ST_OK)] = 0.0
+    measured = rows.regime == Regime.PURE_SLIP.code
+    mult[rows.is_regime(Regime.STICK_SLIP)] = 0.0
     # a transient that ran out of time still has a last oscillation to start from
-    startable = measured & np.isfinite(rows[:, engine.O_SMAX]) & np.isfinite(rows[:, engine.O_PERIOD])
-    pure = startable & ~(rows[:, engine.O_NBACKWARD] > 0)
-    reversal = startable & (rows[:, engine.O_NBACKWARD] > 0)
-    rows[measured & ~startable, engine.O_STATUS] = engine.ST_NOT_CONVERGED
-    if isinstance(law, tuple):
-        law_id = np.broadcast_to(np.asarray(law[0], dtype=np.int64), (n,))
-        lp = np.broadcast_to(np.asarray(law[1], dtype=float), (n, N_LAW_PARAMS))
-    else:
-        one_id, one_lp = law_arrays(law)
-        law_id = np.full(n, one_id, dtype=np.int64)
-        lp = np.broadcast_to(one_lp, (n, N_LAW_PARAMS))
+    startable = measured & np.isfinite(rows.s_max) & np.isfinite(rows.period)
+    pure = startable & ~(rows.n_backward > 0)
+    reversal = startable & (rows.n_backward > 0)
+    rows.status[measured & ~startable] = Status.NOT_CONVERGED.code
+    kernel, lp_any = law if isinstance(law, tuple) else law_arrays(law)
+    lp_a = np.asarray(lp_any, dtype=float)
+    lp = np.broadcast_to(lp_a, (n, lp_a.shape[-1]))
     polished = np.zeros(n, dtype=bool)
     err_s0 = np.zeros(n)
     if pure.any():
         idx = np.flatnonzero(pure)
-        sh = run_shooting(
-            law_id[idx],
-            lp[idx],
-            nu[idx],
-            rows[idx, engine.O_SMAX],
-            rows[idx, engine.O_PERIOD],
-            tol=SHOOTING_TOL,
-        )
+        sh = run_shooting(kernel, lp[idx], nu[idx], rows.s_max[idx], rows.period[idx], tol=SHOOTING_TOL)
+        good = _accurate(sh)
         for j, i in enumerate(idx):
-            o = sh[j]
-            if o[va.SH_STATUS] == va.SHOOT_TRIVIAL and rows[i, engine.O_DFNU] > 0.0:
+            status = ShootStatus.from_code(sh.status[j])
+            if status == ShootStatus.TRIVIAL and rows.dfnu[i] > 0.0:
                 # no periodic orbit near the oscillation, and steady sliding is linearly stable:
                 # the transient is decaying onto it (slowly, next to a Hopf point)
-                _steady(rows[i], float(nu[i]), f_scalar(int(law_id[i]), lp[i, 0], lp[i, 1], float(nu[i])))
+                _steady(rows, int(i), float(nu[i]))
                 continue
-            if o[va.SH_STATUS] != va.SHOOT_OK or not abs(o[va.SH_DIV_MULT]) < 1.0 or not _accurate(o):
-                rows[i, engine.O_STATUS] = engine.ST_NOT_CONVERGED
+            if status != ShootStatus.OK or not abs(sh.divergence_multiplier[j]) < 1.0 or not good[j]:
+                rows.status[i] = Status.NOT_CONVERGED.code
                 continue
-            rows[i, engine.O_AMPLITUDE] = o[va.SH_AMPLITUDE]
-            rows[i, engine.O_PERIOD] = o[va.SH_PERIOD]
-            rows[i, engine.O_SMAX] = o[va.SH_S0]
-            rows[i, engine.O_SMIN] = o[va.SH_S0] - o[va.SH_AMPLITUDE]
-            rows[i, engine.O_WMIN] = o[va.SH_W_MIN]
-            rows[i, engine.O_WMAX] = o[va.SH_W_MAX]
-            rows[i, engine.O_STATUS] = engine.ST_OK
-            mult[i] = o[va.SH_DIV_MULT]
+            rows.amplitude[i] = sh.amplitude[j]
+            rows.period[i] = sh.period[j]
+            rows.s_max[i] = sh.s0[j]
+            rows.s_min[i] = sh.s0[j] - sh.amplitude[j]
+            rows.w_min[i] = sh.w_min[j]
+            rows.w_max[i] = sh.w_max[j]
+            rows.status[i] = Status.OK.code
+            mult[i] = sh.divergence_multiplier[j]
             polished[i] = True
     for i in np.flatnonzero(reversal):
         try:
             orb = return_map_orbit_core(
-                int(law_id[i]),
+                kernel,
                 np.ascontiguousarray(lp[i]),
                 float(nu[i]),
-                (float(rows[i, engine.O_SMAX]), float(rows[i, engine.O_PERIOD])),
+                (float(rows.s_max[i]), float(rows.period[i])),
             )
         except RuntimeError:
-            rows[i, engine.O_STATUS] = engine.ST_NOT_CONVERGED
+            rows.status[i] = Status.NOT_CONVERGED.code
             continue
         if not abs(orb.multiplier) < 1.0:
-            rows[i, engine.O_STATUS] = engine.ST_NOT_CONVERGED
+            rows.status[i] = Status.NOT_CONVERGED.code
             continue
         # error of the fixed point: the residual over the map's contraction
         err_s0[i] = orb.residual / (1.0 - abs(orb.multiplier))
-        rows[i, engine.O_SMAX] = orb.s0
-        rows[i, engine.O_PERIOD] = orb.period
+        rows.s_max[i] = orb.s0
+        rows.period[i] = orb.period
         mult[i] = orb.multiplier
         polished[i] = True
     # where the orbit is known, measure one cycle on it with the engine: the work integrals,
@@ -251,10 +230,10 @@ def polish_rows(
     if again.any():
         idx = np.flatnonzero(again)
         on = run_attractors(
-            law_id[idx],
+            kernel,
             lp[idx],
             nu[idx],
-            rows[idx, engine.O_SMAX],
+            rows.s_max[idx],
             nu[idx],
             from_breakaway=False,
             rtol=rtol,
@@ -264,23 +243,19 @@ def polish_rows(
             diag=rerun,
         )
         for j, i in enumerate(idx):
-            o = on[j]
-            if o[engine.O_REGIME] != engine.RG_PURE_SLIP or not np.isfinite(o[engine.O_AMPLITUDE]):
-                rows[i, engine.O_STATUS] = engine.ST_NOT_CONVERGED
+            if on.regime[j] != Regime.PURE_SLIP.code or not np.isfinite(on.amplitude[j]):
+                rows.status[i] = Status.NOT_CONVERGED.code
                 continue
             if rerun:
-                rows[i, engine.O_DRIVE_WORK] = o[engine.O_DRIVE_WORK]
-                rows[i, engine.O_FRICTION_WORK] = o[engine.O_FRICTION_WORK]
+                rows.drive_work[i] = on.drive_work[j]
+                rows.friction_work[i] = on.friction_work[j]
             if reversal[i]:
-                for k in (
-                    engine.O_AMPLITUDE,
-                    engine.O_SMIN,
-                    engine.O_WMIN,
-                    engine.O_WMAX,
-                    engine.O_NBACKWARD,
-                ):
-                    rows[i, k] = o[k]
-                if 2.0 * err_s0[i] > defaults.ORBIT_RTOL * o[engine.O_AMPLITUDE]:
-                    rows[i, engine.O_STATUS] = engine.ST_NOT_CONVERGED
+                rows.amplitude[i] = on.amplitude[j]
+                rows.s_min[i] = on.s_min[j]
+                rows.w_min[i] = on.w_min[j]
+                rows.w_max[i] = on.w_max[j]
+                rows.n_backward[i] = on.n_backward[j]
+                if 2.0 * err_s0[i] > defaults.ORBIT_RTOL * on.amplitude[j]:
+                    rows.status[i] = Status.NOT_CONVERGED.code
                     mult[i] = math.nan
     return rows, mult

@@ -27,9 +27,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core import engine
-from ..core import variational as va
-from ..core.api import run_attractors, run_shooting, run_trajectory
+from ..core.api import Kernel, builtin_kernel, run_attractors, run_flow, run_shooting, run_trajectory
+from ..core.laws import N_LAW_PARAMS
+from ..core.results import EventKind, FlowResult, Regime, ShootingRows, ShootStatus, Status
 from ..models.friction import DimensionlessLaw
 from ..models.parameters import DimensionlessParameters
 from .stability import averaged_amplitude
@@ -87,13 +87,16 @@ class PeriodicOrbit:
     residual: float
 
 
-def law_arrays(law: DimensionlessLaw) -> tuple[int, np.ndarray]:
-    """Return the compiled core's law id and parameter vector for ``law``."""
-    return int(law.core_id), np.ascontiguousarray(law.core_params(), dtype=np.float64)  # type: ignore[attr-defined]
+def law_arrays(law: DimensionlessLaw) -> tuple[Kernel, np.ndarray]:
+    """Return the compiled kernel and the parameter vector of ``law``."""
+    lp = np.zeros(N_LAW_PARAMS)
+    cp = np.asarray(law.core_params(), dtype=np.float64)
+    lp[: cp.size] = cp
+    return builtin_kernel(int(law.core_id)), lp
 
 
 def flow(
-    law_id: int,
+    kernel: Kernel,
     lp: np.ndarray,
     nu: float,
     s0: float,
@@ -102,11 +105,10 @@ def flow(
     rtol: float,
     measure: bool = False,
     max_steps: int = 200_000,
-) -> tuple[np.ndarray, np.ndarray]:
+) -> FlowResult:
     """Integrate the slip flow and its variational equations over ``[0, period]``.
 
-    Returns the final state (see :mod:`stickslip.core.variational` for the
-    layout) and the measurements ``extras``.
+    See :func:`~stickslip.core.api.run_flow`.
 
     Raises
     ------
@@ -114,19 +116,7 @@ def flow(
         When the integration fails (step budget, non-finite state).
 
     """
-    y = np.zeros(va.NVAR)
-    y[0], y[1], y[2], y[5] = s0, w0, 1.0, 1.0
-    kv = np.empty((12, 7))
-    extras = np.zeros(va.NX)
-    va.flow_variational(law_id, lp, nu, y, period, rtol, rtol * 1e-2, max_steps, measure, kv, extras)
-    if extras[va.X_STATUS] != va.VS_OK:
-        why = (
-            "the step budget ran out"
-            if extras[va.X_STATUS] == va.VS_MAX_STEPS
-            else "the state became non-finite"
-        )
-        raise RuntimeError(f"slip flow from (s, w) = ({s0:.6g}, {w0:.6g}) over tau = {period:.6g}: {why}")
-    return y, extras
+    return run_flow(kernel, lp, nu, s0, w0, period, rtol=rtol, measure=measure, max_steps=max_steps)
 
 
 def pure_slip_orbit(
@@ -176,52 +166,42 @@ def pure_slip_orbit(
     return _shot(law, nu, float(guess[0]), float(guess[1]), tol, max_iter)
 
 
-_SHOOT_FAILURES = {
-    va.SHOOT_NO_CONVERGENCE: "shooting did not converge in {it} iterations (|G| = {res:.3g})",
-    va.SHOOT_DIVERGED: "shooting diverged at iteration {it}; try a better guess",
-    va.SHOOT_FLOW_FAILED: "the slip flow failed during shooting (step budget or a non-finite state)",
-    va.SHOOT_TRIVIAL: "shooting fell onto steady sliding (zero amplitude): no oscillation near the guess",
-}
-
-
 def _shot(
     law: DimensionlessLaw, nu: float, s0: float, period: float, tol: float, max_iter: int
 ) -> PeriodicOrbit:
     """Run the compiled shooting once and turn its output into a :class:`PeriodicOrbit`."""
-    law_id, lp = law_arrays(law)
-    o = run_shooting(law_id, lp, [nu], [s0], [period], tol=tol, max_iter=max_iter)[0]
-    status = int(o[va.SH_STATUS])
-    if status == va.SHOOT_GRAZES:
+    kernel, lp = law_arrays(law)
+    sh = run_shooting(kernel, lp, [nu], [s0], [period], tol=tol, max_iter=max_iter)
+    status = sh.statuses()[0]
+    if status == ShootStatus.GRAZES:
+        raise RuntimeError(f"{status.message} (w_min = {sh.w_min[0]:.3g})")
+    if status != ShootStatus.OK:
         raise RuntimeError(
-            f"the orbit found reaches w = {o[va.SH_W_MIN]:.3g} <= 0: it grazes, "
-            "so it is not a pure-slip orbit (the motion sticks)"
+            f"{status.message} ({int(sh.iterations[0])} iterations, |G| = {sh.residual[0]:.3g})"
         )
-    if status != va.SHOOT_OK:
-        raise RuntimeError(_SHOOT_FAILURES[status].format(it=int(o[va.SH_ITER]), res=o[va.SH_RESIDUAL]))
-    return orbit_from_shot(o)
+    return orbit_from_shot(sh)
 
 
-def orbit_from_shot(o: np.ndarray) -> PeriodicOrbit:
-    """Return the :class:`PeriodicOrbit` of a successful row of :func:`~stickslip.core.api.run_shooting`."""
-    phi = o[va.SH_PHI : va.SH_PHI + 4].reshape(2, 2)
-    mult = np.linalg.eigvals(phi)
+def orbit_from_shot(sh: ShootingRows) -> PeriodicOrbit:
+    """Return the :class:`PeriodicOrbit` of a successful shooting (the first row of ``sh``)."""
+    mult = np.linalg.eigvals(sh.monodromy[0])
     mult = mult[np.argsort(np.abs(np.abs(mult) - 1.0))]  # the trivial multiplier first
     return PeriodicOrbit(
-        s0=float(o[va.SH_S0]),
-        period=float(o[va.SH_PERIOD]),
-        amplitude=float(o[va.SH_AMPLITUDE]),
-        min_velocity=float(o[va.SH_W_MIN]),
-        max_velocity=float(o[va.SH_W_MAX]),
+        s0=float(sh.s0[0]),
+        period=float(sh.period[0]),
+        amplitude=float(sh.amplitude[0]),
+        min_velocity=float(sh.w_min[0]),
+        max_velocity=float(sh.w_max[0]),
         multipliers=(complex(mult[0]), complex(mult[1])),
-        divergence_multiplier=float(o[va.SH_DIV_MULT]),
+        divergence_multiplier=float(sh.divergence_multiplier[0]),
         stable=bool(abs(mult[1]) < 1.0),
-        iterations=int(o[va.SH_ITER]),
-        residual=float(o[va.SH_RESIDUAL]),
+        iterations=int(sh.iterations[0]),
+        residual=float(sh.residual[0]),
     )
 
 
 def next_force_maximum(
-    law_id: int, lp: np.ndarray, nu: float, s0: float, t_guess: float, *, rtol: float, atol: float
+    kernel: Kernel, lp: np.ndarray, nu: float, s0: float, t_guess: float, *, rtol: float, atol: float
 ) -> tuple[float, float]:
     """Return ``(s, t)`` at the next spring-force maximum after leaving ``(s0, w = nu)`` (exact engine).
 
@@ -230,12 +210,12 @@ def next_force_maximum(
     """
     t_end = 2.5 * t_guess
     for _ in range(8):
-        _, _, ev, status = run_trajectory(law_id, lp, nu, s0, nu, [t_end], rtol=rtol, atol=atol)
-        if status != engine.ST_OK:
-            raise RuntimeError(f"return map from s = {s0:.6g}: the integration failed (status {status})")
-        if np.any(ev[:, 1] == engine.EV_STICK):
+        _, _, ev, status = run_trajectory(kernel, lp, nu, s0, nu, [t_end], rtol=rtol, atol=atol)
+        if status != Status.OK:
+            raise RuntimeError(f"return map from s = {s0:.6g}: the integration failed ({status.message})")
+        if np.any(ev[:, 1] == EventKind.STICK.code):
             raise RuntimeError(f"return map from s = {s0:.6g}: the motion sticks (not a non-sticking orbit)")
-        hit = ev[(ev[:, 1] == engine.EV_SMAX) & (ev[:, 0] > 0.0)]
+        hit = ev[(ev[:, 1] == EventKind.FORCE_MAXIMUM.code) & (ev[:, 0] > 0.0)]
         if hit.size:
             return float(hit[0, 2]), float(hit[0, 0])
         t_end *= 2.0
@@ -286,12 +266,12 @@ def return_map_orbit(
         When the iteration does not converge or the motion sticks.
 
     """
-    law_id, lp = law_arrays(law)
-    return return_map_orbit_core(law_id, lp, nu, guess, tol=tol, max_iter=max_iter)
+    kernel, lp = law_arrays(law)
+    return return_map_orbit_core(kernel, lp, nu, guess, tol=tol, max_iter=max_iter)
 
 
 def return_map_orbit_core(
-    law_id: int,
+    kernel: Kernel,
     lp: np.ndarray,
     nu: float,
     guess: tuple[float, float],
@@ -299,11 +279,11 @@ def return_map_orbit_core(
     tol: float = 1e-10,
     max_iter: int = 40,
 ) -> ReturnMapOrbit:
-    """:func:`return_map_orbit` for a law given by its compiled id and parameter vector."""
+    """:func:`return_map_orbit` for a law given by its compiled kernel and parameter vector."""
     rtol, atol = tol * 1e-2, tol * 1e-4
 
     def g(s: float) -> tuple[float, float]:
-        s1, t1 = next_force_maximum(law_id, lp, nu, s, guess[1], rtol=rtol, atol=atol)
+        s1, t1 = next_force_maximum(kernel, lp, nu, s, guess[1], rtol=rtol, atol=atol)
         return s1 - s, t1
 
     scale = max(1.0, abs(guess[0]))
@@ -391,10 +371,10 @@ def stick_slip_orbit(params: DimensionlessParameters, *, tol: float = 1e-10) -> 
     if not isinstance(params, DimensionlessParameters):
         raise ValueError(f"params={params!r}: expected DimensionlessParameters")
 
-    law_id, lp = law_arrays(params.law)
+    kernel, lp = law_arrays(params.law)
     nu = params.nu
     o = run_attractors(
-        law_id,
+        kernel,
         lp,
         [nu],
         from_breakaway=True,
@@ -402,20 +382,20 @@ def stick_slip_orbit(params: DimensionlessParameters, *, tol: float = 1e-10) -> 
         atol=tol * 1e-4,
         max_slip_time=1e5,
         conv_tol=1e-8,
-    )[0]
-    if o[engine.O_REGIME] != engine.RG_STICK_SLIP or o[engine.O_STATUS] != engine.ST_OK:
+    )
+    if not o.is_regime(Regime.STICK_SLIP)[0]:
         raise RuntimeError(f"no stick-slip orbit at nu={nu!r}: the slip from breakaway does not stop")
-    if o[engine.O_NBACKWARD] > 0:
+    if o.n_backward[0] > 0:
         raise RuntimeError(
             f"the stick-slip cycle at nu={nu!r} has backward slip: its monodromy is not covered"
         )
-    period = float(o[engine.O_PERIOD])
-    stick = float(o[engine.O_STICK_TIME])
+    period = float(o.period[0])
+    stick = float(o.stick_time[0])
     slip = period - stick
-    y, _ = flow(law_id, lp, nu, 1.0, 0.0, slip, tol * 1e-2)
-    s_stop = float(y[0])
-    f0 = float(params.law.forward(np.array([0.0]))[0])  # type: ignore[attr-defined]
-    phi_slip = y[2:6].reshape(2, 2)
+    fl = flow(kernel, lp, nu, 1.0, 0.0, slip, tol * 1e-2)
+    s_stop = fl.s
+    f0 = float(params.law.forward(np.array([0.0]))[0])
+    phi_slip = fl.monodromy
     s_stop_m = saltation(np.array([nu, s_stop - f0]), np.array([nu, 0.0]), np.array([0.0, 1.0]))
     s_break = saltation(np.array([nu, 0.0]), np.array([nu, 1.0 - f0]), np.array([1.0, 0.0]))
     mono = s_break @ np.eye(2) @ s_stop_m @ phi_slip

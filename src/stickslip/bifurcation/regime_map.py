@@ -23,16 +23,28 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from ..core.results import AttractorRows, Regime
 from ..io.progress import show_progress
 from ..models.friction import CubicLaw, DimensionlessLaw, WeakeningLaw
 from .regimes import RegimeDiagram, pure_slip_orbits_at, regimes
 
 __all__ = ["MAP_PARAMETERS", "REGIME_CODES", "criterion_table", "criterion_trial", "regime_map"]
 
-#: integer codes of the ``regime`` variable (CF ``flag_values``)
-REGIME_CODES = {"none": -1, "stick-slip": 0, "pure-slip": 1, "steady-sliding": 2, "bistable": 3, "unknown": 4}
-#: what a simulation from rest reaches (``observed`` variable)
-OBSERVED_CODES = {"stick-slip": 0, "pure-slip": 1, "steady-sliding": 2, "slip-reversal": 3, "unknown": 4}
+#: integer codes of the ``regime`` variable (CF ``flag_values``): the codes of :class:`Regime`
+REGIME_CODES = {
+    r.value: r.code
+    for r in (
+        Regime.NONE,
+        Regime.STICK_SLIP,
+        Regime.PURE_SLIP,
+        Regime.STEADY_SLIDING,
+        Regime.BISTABLE,
+        Regime.UNKNOWN,
+    )
+}
+#: what a simulation from rest reaches (``observed`` variable), in the same codes
+_OBSERVED = (Regime.STICK_SLIP, Regime.PURE_SLIP, Regime.STEADY_SLIDING, Regime.SLIP_REVERSAL, Regime.UNKNOWN)
+OBSERVED_CODES = {r.value: r.code for r in _OBSERVED}
 #: the law parameters a map can run over
 MAP_PARAMETERS = {"weakening": ("c", "p"), "cubic": ("alpha", "gamma")}
 
@@ -147,33 +159,32 @@ def regime_map(
 
 
 def _rows(d: RegimeDiagram) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    from ..core import engine
-
     grid = d.branches[0].nu
-    rows = d.rest  # the engine from rest on this grid, run once (and polished) by regimes()
+    rows: AttractorRows = d.rest  # the engine from rest on this grid, run once (and polished) by regimes()
     regime = np.empty(grid.size, dtype=np.int8)
     observed = np.empty(grid.size, dtype=np.int8)
     amplitude = np.full(grid.size, math.nan)
+    stick_slip = rows.is_regime(Regime.STICK_SLIP)
+    oscillating = rows.is_regime(Regime.PURE_SLIP)
+    steady = rows.is_regime(Regime.STEADY_SLIDING)
     for j, nu in enumerate(grid):
         regime[j] = REGIME_CODES[d.regime_at(float(nu)).regime]
-        r = rows[j]
-        reg = r[engine.O_REGIME]
-        if r[engine.O_STATUS] == engine.ST_OK and reg == engine.RG_STICK_SLIP:
-            observed[j], amplitude[j] = OBSERVED_CODES["stick-slip"], r[engine.O_AMPLITUDE]
-        elif r[engine.O_STATUS] == engine.ST_OK and reg == engine.RG_PURE_SLIP:
+        if stick_slip[j]:
+            observed[j], amplitude[j] = Regime.STICK_SLIP.code, rows.amplitude[j]
+        elif oscillating[j]:
             # polished into its periodic orbit: exact even where the transient crawls
-            kind = "slip-reversal" if r[engine.O_NBACKWARD] > 0 else "pure-slip"
-            observed[j], amplitude[j] = OBSERVED_CODES[kind], r[engine.O_AMPLITUDE]
+            kind = Regime.SLIP_REVERSAL if rows.n_backward[j] > 0 else Regime.PURE_SLIP
+            observed[j], amplitude[j] = kind.code, rows.amplitude[j]
         else:
             # steady sliding reached, or a transient not pinned down: a stable pure-slip
             # orbit of the continued branches, solved at this nu, if there is one
             ps = pure_slip_orbits_at(d, float(nu), stable_only=True)
             if ps:
-                observed[j], amplitude[j] = OBSERVED_CODES["pure-slip"], min(o.amplitude for o in ps)
-            elif r[engine.O_STATUS] == engine.ST_OK and reg == engine.RG_STEADY:
-                observed[j], amplitude[j] = OBSERVED_CODES["steady-sliding"], 0.0
+                observed[j], amplitude[j] = Regime.PURE_SLIP.code, min(o.amplitude for o in ps)
+            elif steady[j]:
+                observed[j], amplitude[j] = Regime.STEADY_SLIDING.code, 0.0
             else:
-                observed[j] = OBSERVED_CODES["unknown"]
+                observed[j] = Regime.UNKNOWN.code
     return regime, observed, amplitude
 
 
@@ -202,11 +213,14 @@ def criterion_trial(ds: xr.Dataset) -> xr.Dataset:
         slope[:, 1:-1] = (la[:, 2:] - la[:, :-2]) / (lnu[2:] - lnu[:-2])
     same = np.zeros(amp.shape, dtype=bool)
     same[:, 1:-1] = (obs[:, 2:] == obs[:, 1:-1]) & (obs[:, :-2] == obs[:, 1:-1])
-    osc = obs != OBSERVED_CODES["steady-sliding"]
-    osc &= obs != OBSERVED_CODES["unknown"]
+    osc = obs != Regime.STEADY_SLIDING.code
+    osc &= obs != Regime.UNKNOWN.code
     judged = same & osc & np.isfinite(slope)
-    verdict = np.where(judged, np.where(slope > 0, 0, 1), -1).astype(np.int8)
-    truth = np.where(obs == OBSERVED_CODES["slip-reversal"], OBSERVED_CODES["pure-slip"], obs)  # no stick
+    # verdicts in the regime codes: stick-slip (amplitude rising) or pure slip (falling)
+    verdict = np.where(
+        judged, np.where(slope > 0, Regime.STICK_SLIP.code, Regime.PURE_SLIP.code), Regime.NONE.code
+    ).astype(np.int8)
+    truth = np.where(obs == Regime.SLIP_REVERSAL.code, Regime.PURE_SLIP.code, obs)  # it never sticks
     right = np.where(judged, (verdict == truth).astype(np.int8), -1).astype(np.int8)
     out = ds.copy()
     dims = ds.amplitude.dims
@@ -216,7 +230,7 @@ def criterion_trial(ds: xr.Dataset) -> xr.Dataset:
         verdict,
         {
             "long_name": "criterion verdict",
-            "flag_values": [-1, 0, 1],
+            "flag_values": [Regime.NONE.code, Regime.STICK_SLIP.code, Regime.PURE_SLIP.code],
             "flag_meanings": "none stick-slip pure-slip",
         },
     )
@@ -239,13 +253,13 @@ def criterion_table(trial: xr.Dataset) -> list[dict[str, Any]]:
     criterion said "no stick" (amplitude falling).
     """
     rows = []
-    for name, code in (("stick-slip", 0), ("pure-slip", 1), ("slip-reversal", 3)):
-        sel = (trial.observed.values == code) & (trial.right.values >= 0)
+    for regime in (Regime.STICK_SLIP, Regime.PURE_SLIP, Regime.SLIP_REVERSAL):
+        sel = (trial.observed.values == regime.code) & (trial.right.values >= 0)
         n = int(sel.sum())
         n_right = int((trial.right.values[sel] == 1).sum())
         rows.append(
             {
-                "regime": name,
+                "regime": regime.value,
                 "judged": n,
                 "right": n_right,
                 "wrong": n - n_right,

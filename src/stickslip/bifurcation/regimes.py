@@ -44,9 +44,8 @@ from typing import Any
 import numpy as np
 
 from .. import defaults
-from ..core import engine
-from ..core import variational as va
 from ..core.api import run_attractors
+from ..core.results import AttractorRows, Regime
 from ..io.jsonable import json_clean
 from ..models.friction import DimensionlessLaw, require_dimensionless_law
 from ..models.parameters import DimensionlessParameters
@@ -156,10 +155,10 @@ class Interval:
 
     """
 
-    regime: str
+    regime: Regime
     nu_min: float
     nu_max: float
-    attractors: tuple[str, ...]
+    attractors: tuple[Regime, ...]
 
 
 @dataclass(frozen=True)
@@ -175,10 +174,10 @@ class RegimeDiagram:
     points: tuple[SpecialPoint, ...]
     #: the engine's output (layout ``O_*``) from breakaway at each ``nu`` of the steady-sliding branch,
     #: non-sticking attractors polished into their orbits
-    rest: np.ndarray = field(default_factory=lambda: np.empty((0, engine.NOUT)), repr=False)
-    #: the engine's output from the probes (:data:`PROBE_PUSHES`) at each grid ``nu``, polished,
-    #: shape ``(n_grid, len(PROBE_PUSHES), NOUT)``
-    probes: np.ndarray = field(default_factory=lambda: np.empty((0, 0, engine.NOUT)), repr=False)
+    rest: AttractorRows = field(default_factory=lambda: AttractorRows.empty(0), repr=False)
+    #: the engine's output from each probe (:data:`PROBE_PUSHES`) at each grid ``nu``, polished:
+    #: one set of rows per push
+    probes: tuple[AttractorRows, ...] = field(default_factory=tuple, repr=False)
     units: dict[str, str] = field(default_factory=lambda: {"nu": "1", "amplitude": "mu_s W"})
 
     def regime_at(self, nu: float) -> Interval:
@@ -229,7 +228,7 @@ class _Shooter:
 
     def __init__(self, law: DimensionlessLaw, rtol: float) -> None:
         self.law = law
-        self.law_id, self.lp = law_arrays(law)
+        self.kernel, self.lp = law_arrays(law)
         self.rtol = rtol
 
     def f(self, nu: float, order: int = 0) -> float:
@@ -248,20 +247,21 @@ class _Shooter:
         """One integration: residual, Jacobian and (with ``measure``) the orbit's measurements."""
         a, period, nu = float(x[0]), float(x[1]), float(x[2])
         s0 = self.f(nu) + a
-        y, ex = flow(self.law_id, self.lp, nu, s0, nu, period, self.rtol, measure=measure)
+        fl = flow(self.kernel, self.lp, nu, s0, nu, period, self.rtol, measure=measure)
+        y = fl.state
         g = np.array([y[0] - s0, y[1] - nu])
-        phi = y[2:6].reshape(2, 2)
+        phi = fl.monodromy
         d0 = np.array([self.f(nu, 1), 1.0])  # d(s0, w0)/d nu
         j = np.empty((2, 3))
         j[:, 0] = phi[:, 0] - np.array([1.0, 0.0])
         j[:, 1] = [nu - y[1], y[0] - self.f(y[1])]
-        j[:, 2] = phi @ d0 + y[6:8] - d0
+        j[:, 2] = phi @ d0 + fl.d_nu - d0
         meas = {}
         if measure:
             meas = {
-                "amplitude": s0 - float(ex[va.X_S_MIN]),
-                "min_velocity": float(ex[va.X_W_MIN]),
-                "multiplier": math.exp(-float(y[8])),
+                "amplitude": s0 - fl.s_min,
+                "min_velocity": fl.w_min,
+                "multiplier": math.exp(-fl.integral_dfdw),
             }
         return g, j, meas
 
@@ -493,10 +493,10 @@ def _empty_branch(end: str) -> Branch:
 # ----------------------------------------------------------------------------- stick slip
 
 
-def _stick_slip_rows(law: DimensionlessLaw, nu: np.ndarray) -> np.ndarray:
-    law_id, lp = law_arrays(law)
+def _stick_slip_rows(law: DimensionlessLaw, nu: np.ndarray) -> AttractorRows:
+    kernel, lp = law_arrays(law)
     return run_attractors(
-        law_id,
+        kernel,
         lp,
         nu,
         from_breakaway=True,
@@ -507,12 +507,12 @@ def _stick_slip_rows(law: DimensionlessLaw, nu: np.ndarray) -> np.ndarray:
     )
 
 
-def _is_stick_slip(rows: np.ndarray) -> np.ndarray:
-    return (rows[:, engine.O_REGIME] == engine.RG_STICK_SLIP) & (rows[:, engine.O_STATUS] == engine.ST_OK)
+def _is_stick_slip(rows: AttractorRows) -> np.ndarray:
+    return rows.is_regime(Regime.STICK_SLIP)
 
 
 def stick_slip_branch(
-    law: DimensionlessLaw, nu: np.ndarray, *, refine: bool = True, rows: np.ndarray | None = None
+    law: DimensionlessLaw, nu: np.ndarray, *, refine: bool = True, rows: AttractorRows | None = None
 ) -> tuple[Branch, list[SpecialPoint]]:
     """Return the stick-slip orbit through breakaway where it exists, on the grid ``nu``.
 
@@ -541,7 +541,7 @@ def stick_slip_branch(
             extra_nu.append(edge)
     if extra_nu:
         nu = np.concatenate([nu, extra_nu])
-        rows = np.vstack([rows, _stick_slip_rows(law, np.array(extra_nu))])
+        rows = AttractorRows.concat([rows, _stick_slip_rows(law, np.array(extra_nu))])
         order = np.argsort(nu)
         nu, rows = nu[order], rows[order]
         ok = _is_stick_slip(rows)
@@ -549,17 +549,17 @@ def stick_slip_branch(
             j = int(np.searchsorted(nu, e))
             special.append(
                 SpecialPoint(
-                    "stick-slip-onset", e, float(rows[j, engine.O_AMPLITUDE]), "slip from breakaway stops"
+                    "stick-slip-onset", e, float(rows.amplitude[j]), "slip from breakaway stops"
                 )
             )
     sel = ok
     branch = Branch(
         kind="stick-slip",
         nu=nu[sel],
-        amplitude=rows[sel, engine.O_AMPLITUDE],
-        period=rows[sel, engine.O_PERIOD],
-        min_velocity=rows[sel, engine.O_WMIN],
-        max_force=rows[sel, engine.O_SMAX],
+        amplitude=rows.amplitude[sel],
+        period=rows.period[sel],
+        min_velocity=rows.w_min[sel],
+        max_force=rows.s_max[sel],
         multiplier=np.zeros(int(sel.sum())),
         stable=np.ones(int(sel.sum()), dtype=bool),
         end="range",
@@ -679,14 +679,14 @@ def regimes(
     intervals: list[Interval] = []
     for c0, c1 in itertools.pairwise(cuts):
         att = _attractor_sets(law, np.array([_midpoint(c0, c1)]), branches)[0]
-        if "unresolved" in att:
-            name = "unknown"
+        if Regime.UNKNOWN in att:
+            name = Regime.UNKNOWN
         elif len(att) > 1:
-            name = "bistable"
+            name = Regime.BISTABLE
         elif att:
-            name = "pure-slip" if att[0] == "slip-reversal" else att[0]  # it never sticks
+            name = Regime.PURE_SLIP if att[0] == Regime.SLIP_REVERSAL else att[0]  # it never sticks
         else:
-            name = "none"
+            name = Regime.NONE
         if intervals and intervals[-1].attractors == att:
             intervals[-1] = Interval(name, intervals[-1].nu_min, c1, att)
         else:
@@ -759,16 +759,16 @@ def pure_slip_orbits_at(
             continue
         if stable_only and not o.stable:
             continue
-        key = OrbitKey("pure-slip", o.s0, o.period)
-        if not any(same_orbit(key, OrbitKey("pure-slip", q.s0, q.period)) for q in out):
+        key = OrbitKey(Regime.PURE_SLIP, o.s0, o.period)
+        if not any(same_orbit(key, OrbitKey(Regime.PURE_SLIP, q.s0, q.period)) for q in out):
             out.append(o)
     return out
 
 
-def identify(law: DimensionlessLaw, nu: float, rows: np.ndarray) -> list[OrbitKey | None]:
+def identify(law: DimensionlessLaw, nu: float, rows: AttractorRows) -> list[OrbitKey | None]:
     """Polish the attractors in engine rows at ``nu``; return their keys (None where unresolved)."""
-    polished, _ = polish_rows(law, np.full(rows.shape[0], nu), rows)
-    return [orbit_key(r) for r in polished]
+    polished, _ = polish_rows(law, np.full(len(rows), nu), rows)
+    return [orbit_key(polished[i]) for i in range(len(polished))]
 
 
 #: spring force above steady sliding of the probes that look for attractors besides the one
@@ -778,17 +778,16 @@ PROBE_PUSHES = (1e-3, 2.0)
 CUT_RTOL = 1e-7
 
 
-def _probe_rows(law: DimensionlessLaw, nu: np.ndarray, pushes: Sequence[float]) -> np.ndarray:
-    """Engine rows from ``(f(nu) + push, nu)`` for each push, polished.
-
-    The shape is ``(len(nu), len(pushes), NOUT)``.
-    """
-    law_id, lp = law_arrays(law)
+def _probe_rows(
+    law: DimensionlessLaw, nu: np.ndarray, pushes: Sequence[float]
+) -> tuple[AttractorRows, ...]:
+    """Engine rows from ``(f(nu) + push, nu)``, polished: one set of rows (one per ``nu``) per push."""
+    kernel, lp = law_arrays(law)
     f_nu = np.asarray(law.forward(nu), dtype=float)  # type: ignore[attr-defined]
     nus = np.repeat(nu, len(pushes))
     s0 = (f_nu[:, None] + np.asarray(pushes, dtype=float)[None, :]).ravel()
     rows = run_attractors(
-        law_id,
+        kernel,
         lp,
         nus,
         s0,
@@ -800,22 +799,23 @@ def _probe_rows(law: DimensionlessLaw, nu: np.ndarray, pushes: Sequence[float]) 
         conv_tol=defaults.CONV_TOL,
     )
     polished, _ = polish_rows(law, nus, rows)
-    return polished.reshape(nu.size, len(pushes), engine.NOUT)
+    k = len(pushes)
+    return tuple(polished[np.arange(nu.size) * k + i] for i in range(k))
 
 
 def _attractor_sets(
     law: DimensionlessLaw,
     nu: np.ndarray,
     branches: Sequence[Branch],
-    rest: np.ndarray | None = None,
-    probes: np.ndarray | None = None,
-) -> list[tuple[str, ...]]:
+    rest: AttractorRows | None = None,
+    probes: tuple[AttractorRows, ...] | None = None,
+) -> list[tuple[Regime, ...]]:
     """Names of the distinct attractors at each ``nu`` (one entry per distinct orbit), in a fixed order.
 
     The engine from rest and from the :data:`PROBE_PUSHES` (every non-sticking
     attractor polished into its orbit), every stable pure-slip orbit of the
     continued branches solved at this ``nu``, and steady sliding where it is
-    stable; an attractor found twice counts once. The set is ``("unresolved",)``
+    stable; an attractor found twice counts once. The set is ``("unknown",)``
     where the motion from rest could not be followed; a probe that did not
     settle is left out (it shows nothing). ``rest`` and ``probes`` are the
     polished rows from breakaway and from the probes at ``nu`` when already computed.
@@ -825,25 +825,25 @@ def _attractor_sets(
     if probes is None:
         probes = _probe_rows(law, nu, PROBE_PUSHES)
     fp = np.asarray(law.forward(nu, 1), dtype=float)  # type: ignore[attr-defined]
-    out: list[tuple[str, ...]] = []
+    out: list[tuple[Regime, ...]] = []
     for j, v in enumerate(nu):
         key = orbit_key(rest[j])
         if key is None:
-            out.append(("unresolved",))  # the engine could not follow (or polish) the motion from rest
+            out.append((Regime.UNKNOWN,))  # the engine could not follow (or polish) the motion from rest
             continue
         # a probe that did not settle (near a Hopf point it crawls) tells nothing; the probe next
         # to steady sliding is asked only where steady sliding is unstable
         found = [key]
-        for push, r in zip(PROBE_PUSHES, probes[j], strict=True):
-            k = orbit_key(r)
+        for push, pr in zip(PROBE_PUSHES, probes, strict=True):
+            k = orbit_key(pr[j])
             if k is not None and (push >= 1.0 or fp[j] < 0):
                 found.append(k)
         found += [
-            OrbitKey("pure-slip", o.s0, o.period)
+            OrbitKey(Regime.PURE_SLIP, o.s0, o.period)
             for o in pure_slip_orbits_at((law, branches), float(v), stable_only=True)
         ]
         if fp[j] > 0:
-            found.append(OrbitKey("steady-sliding"))
+            found.append(OrbitKey(Regime.STEADY_SLIDING))
         out.append(_names(distinct(found)))
     return out
 
@@ -853,8 +853,8 @@ def _locate_boundary(
     branches: Sequence[Branch],
     lo: float,
     hi: float,
-    set_lo: tuple[str, ...],
-    set_hi: tuple[str, ...],
+    set_lo: tuple[Regime, ...],
+    set_hi: tuple[Regime, ...],
 ) -> SpecialPoint:
     """Bisect ``[lo, hi]`` for where the attractor set changes from ``set_lo`` to ``set_hi``.
 
@@ -870,13 +870,13 @@ def _locate_boundary(
             lo = mid
         elif s_mid == set_hi:
             hi = mid
-        elif s_mid == ("unresolved",):
+        elif s_mid == (Regime.UNKNOWN,):
             crawl = True
             break
         else:  # a third set in between: keep the side that still differs from set_lo
             hi, set_hi = mid, s_mid
-    gone = sorted((Counter(set_lo) - Counter(set_hi)).elements()) or ["-"]
-    new = sorted((Counter(set_hi) - Counter(set_lo)).elements()) or ["-"]
+    gone = [str(r) for r in sorted((Counter(set_lo) - Counter(set_hi)).elements())] or ["-"]
+    new = [str(r) for r in sorted((Counter(set_hi) - Counter(set_lo)).elements())] or ["-"]
     where = f"; located to +-{0.5 * (hi - lo):.2g} (transients crawl there)" if crawl else ""
     return SpecialPoint(
         "attractor-boundary",
@@ -887,10 +887,10 @@ def _locate_boundary(
     )
 
 
-_ORDER = ("stick-slip", "slip-reversal", "pure-slip", "steady-sliding", "unresolved")
+_ORDER = (Regime.STICK_SLIP, Regime.SLIP_REVERSAL, Regime.PURE_SLIP, Regime.STEADY_SLIDING, Regime.UNKNOWN)
 
 
-def _names(keys: Sequence[OrbitKey]) -> tuple[str, ...]:
+def _names(keys: Sequence[OrbitKey]) -> tuple[Regime, ...]:
     return tuple(sorted((k.kind for k in keys), key=_ORDER.index))
 
 
@@ -942,7 +942,7 @@ def confirm(diagram: RegimeDiagram) -> list[Confirmation]:
     polished into its periodic orbit, and the distinct orbits are counted.
     """
     law = diagram.law
-    law_id, lp = law_arrays(law)
+    kernel, lp = law_arrays(law)
     out = []
     for iv in diagram.intervals:
         nu = _midpoint(iv.nu_min, iv.nu_max)
@@ -950,11 +950,11 @@ def confirm(diagram: RegimeDiagram) -> list[Confirmation]:
         amps = [o.amplitude for o in pure_slip_orbits_at(diagram, nu)]
         pushes = [1e-3, 0.3, 2.0, 6.0] + [k * a / 2 for a in amps for k in (0.9, 1.1)]
         s0 = np.array([f_nu + p for p in pushes])
-        rows = np.vstack(
+        rows = AttractorRows.concat(
             [
                 _stick_slip_rows(law, np.array([nu])),
                 run_attractors(
-                    law_id,
+                    kernel,
                     lp,
                     np.full(s0.size, nu),
                     s0,
@@ -967,17 +967,17 @@ def confirm(diagram: RegimeDiagram) -> list[Confirmation]:
                 ),
             ]
         )
-        polished, _ = polish_rows(law, np.full(rows.shape[0], nu), rows)
-        keys = [orbit_key(r) for r in polished]
+        polished, _ = polish_rows(law, np.full(len(rows), nu), rows)
+        keys = [orbit_key(polished[i]) for i in range(len(polished))]
         found_keys = distinct([k for k in keys if k is not None])
         # the motion from rest must be resolved; another start that did not settle is inconclusive
-        found = tuple(sorted([k.kind for k in found_keys] + (["unresolved"] if keys[0] is None else [])))
+        found = tuple(sorted([k.kind for k in found_keys] + ([Regime.UNKNOWN] if keys[0] is None else [])))
         inconclusive = sum(k is None for k in keys[1:])
         stable = pure_slip_orbits_at(diagram, nu, stable_only=True)
         err = math.nan
-        for r, k in zip(polished, keys, strict=True):
-            if k is not None and k.kind == "pure-slip" and stable:
-                e = min(abs(r[engine.O_AMPLITUDE] - o.amplitude) / o.amplitude for o in stable)
+        for amp, k in zip(polished.amplitude, keys, strict=True):
+            if k is not None and k.kind == Regime.PURE_SLIP and stable:
+                e = min(abs(amp - o.amplitude) / o.amplitude for o in stable)
                 err = e if math.isnan(err) else max(err, e)
         expected = tuple(sorted(iv.attractors))
         agree = found == expected and not (err > 1e-6)

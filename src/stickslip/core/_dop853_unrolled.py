@@ -19,11 +19,12 @@ from numba import njit
 
 
 from .laws import friction_scalar as _fr
+from .laws import params
 from .laws import slip_accel as _accel
 
 
 @njit(cache=True, fastmath={'reassoc', 'contract'})
-def step_sw(law, p0, p1, nu, d, s, w, ks0, kw0, h, rtol, atol):  # type: ignore[no-untyped-def]
+def step_sw(law, P, nu, d, s, w, ks0, kw0, h, rtol, atol):  # type: ignore[no-untyped-def]
     """One DOP853 step of ``(s, w)`` with derivative ``(ks0, kw0)`` at the start.
 
     Returns ``(err, s1, w1, ks, kw)``: the error norm, the new state and the 13
@@ -33,51 +34,51 @@ def step_sw(law, p0, p1, nu, d, s, w, ks0, kw0, h, rtol, atol):  # type: ignore[
     ss = s + h * (0.05260015195876773 * ks0)
     ww = w + h * (0.05260015195876773 * kw0)
     ks1 = nu - ww
-    kw1 = _accel(law, p0, p1, d, ss, ww)
+    kw1 = _accel(law, P, d, ss, ww)
     ss = s + h * (0.0197250569845379 * ks0 + 0.0591751709536137 * ks1)
     ww = w + h * (0.0197250569845379 * kw0 + 0.0591751709536137 * kw1)
     ks2 = nu - ww
-    kw2 = _accel(law, p0, p1, d, ss, ww)
+    kw2 = _accel(law, P, d, ss, ww)
     ss = s + h * (0.02958758547680685 * ks0 + 0.08876275643042054 * ks2)
     ww = w + h * (0.02958758547680685 * kw0 + 0.08876275643042054 * kw2)
     ks3 = nu - ww
-    kw3 = _accel(law, p0, p1, d, ss, ww)
+    kw3 = _accel(law, P, d, ss, ww)
     ss = s + h * (0.2413651341592667 * ks0 + -0.8845494793282861 * ks2 + 0.924834003261792 * ks3)
     ww = w + h * (0.2413651341592667 * kw0 + -0.8845494793282861 * kw2 + 0.924834003261792 * kw3)
     ks4 = nu - ww
-    kw4 = _accel(law, p0, p1, d, ss, ww)
+    kw4 = _accel(law, P, d, ss, ww)
     ss = s + h * (0.037037037037037035 * ks0 + 0.17082860872947386 * ks3 + 0.12546768756682242 * ks4)
     ww = w + h * (0.037037037037037035 * kw0 + 0.17082860872947386 * kw3 + 0.12546768756682242 * kw4)
     ks5 = nu - ww
-    kw5 = _accel(law, p0, p1, d, ss, ww)
+    kw5 = _accel(law, P, d, ss, ww)
     ss = s + h * (0.037109375 * ks0 + 0.17025221101954405 * ks3 + 0.06021653898045596 * ks4 + -0.017578125 * ks5)
     ww = w + h * (0.037109375 * kw0 + 0.17025221101954405 * kw3 + 0.06021653898045596 * kw4 + -0.017578125 * kw5)
     ks6 = nu - ww
-    kw6 = _accel(law, p0, p1, d, ss, ww)
+    kw6 = _accel(law, P, d, ss, ww)
     ss = s + h * (0.03709200011850479 * ks0 + 0.17038392571223998 * ks3 + 0.10726203044637328 * ks4 + -0.015319437748624402 * ks5 + 0.008273789163814023 * ks6)
     ww = w + h * (0.03709200011850479 * kw0 + 0.17038392571223998 * kw3 + 0.10726203044637328 * kw4 + -0.015319437748624402 * kw5 + 0.008273789163814023 * kw6)
     ks7 = nu - ww
-    kw7 = _accel(law, p0, p1, d, ss, ww)
+    kw7 = _accel(law, P, d, ss, ww)
     ss = s + h * (0.6241109587160757 * ks0 + -3.3608926294469414 * ks3 + -0.868219346841726 * ks4 + 27.59209969944671 * ks5 + 20.154067550477894 * ks6 + -43.48988418106996 * ks7)
     ww = w + h * (0.6241109587160757 * kw0 + -3.3608926294469414 * kw3 + -0.868219346841726 * kw4 + 27.59209969944671 * kw5 + 20.154067550477894 * kw6 + -43.48988418106996 * kw7)
     ks8 = nu - ww
-    kw8 = _accel(law, p0, p1, d, ss, ww)
+    kw8 = _accel(law, P, d, ss, ww)
     ss = s + h * (0.47766253643826434 * ks0 + -2.4881146199716677 * ks3 + -0.590290826836843 * ks4 + 21.230051448181193 * ks5 + 15.279233632882423 * ks6 + -33.28821096898486 * ks7 + -0.020331201708508627 * ks8)
     ww = w + h * (0.47766253643826434 * kw0 + -2.4881146199716677 * kw3 + -0.590290826836843 * kw4 + 21.230051448181193 * kw5 + 15.279233632882423 * kw6 + -33.28821096898486 * kw7 + -0.020331201708508627 * kw8)
     ks9 = nu - ww
-    kw9 = _accel(law, p0, p1, d, ss, ww)
+    kw9 = _accel(law, P, d, ss, ww)
     ss = s + h * (-0.9371424300859873 * ks0 + 5.186372428844064 * ks3 + 1.0914373489967295 * ks4 + -8.149787010746927 * ks5 + -18.52006565999696 * ks6 + 22.739487099350505 * ks7 + 2.4936055526796523 * ks8 + -3.0467644718982196 * ks9)
     ww = w + h * (-0.9371424300859873 * kw0 + 5.186372428844064 * kw3 + 1.0914373489967295 * kw4 + -8.149787010746927 * kw5 + -18.52006565999696 * kw6 + 22.739487099350505 * kw7 + 2.4936055526796523 * kw8 + -3.0467644718982196 * kw9)
     ks10 = nu - ww
-    kw10 = _accel(law, p0, p1, d, ss, ww)
+    kw10 = _accel(law, P, d, ss, ww)
     ss = s + h * (2.273310147516538 * ks0 + -10.53449546673725 * ks3 + -2.0008720582248625 * ks4 + -17.9589318631188 * ks5 + 27.94888452941996 * ks6 + -2.8589982771350235 * ks7 + -8.87285693353063 * ks8 + 12.360567175794303 * ks9 + 0.6433927460157636 * ks10)
     ww = w + h * (2.273310147516538 * kw0 + -10.53449546673725 * kw3 + -2.0008720582248625 * kw4 + -17.9589318631188 * kw5 + 27.94888452941996 * kw6 + -2.8589982771350235 * kw7 + -8.87285693353063 * kw8 + 12.360567175794303 * kw9 + 0.6433927460157636 * kw10)
     ks11 = nu - ww
-    kw11 = _accel(law, p0, p1, d, ss, ww)
+    kw11 = _accel(law, P, d, ss, ww)
     s1 = s + h * (0.054293734116568765 * ks0 + 4.450312892752409 * ks5 + 1.8915178993145003 * ks6 + -5.801203960010585 * ks7 + 0.3111643669578199 * ks8 + -0.1521609496625161 * ks9 + 0.20136540080403034 * ks10 + 0.04471061572777259 * ks11)
     w1 = w + h * (0.054293734116568765 * kw0 + 4.450312892752409 * kw5 + 1.8915178993145003 * kw6 + -5.801203960010585 * kw7 + 0.3111643669578199 * kw8 + -0.1521609496625161 * kw9 + 0.20136540080403034 * kw10 + 0.04471061572777259 * kw11)
     ks12 = nu - w1
-    kw12 = _accel(law, p0, p1, d, s1, w1)
+    kw12 = _accel(law, P, d, s1, w1)
     sc_s = atol + rtol * max(abs(s), abs(s1))
     sc_w = atol + rtol * max(abs(w), abs(w1))
     e5s = (0.01312004499419488 * ks0 + -1.2251564463762044 * ks5 + -0.4957589496572502 * ks6 + 1.6643771824549864 * ks7 + -0.35032884874997366 * ks8 + 0.3341791187130175 * ks9 + 0.08192320648511571 * ks10 + -0.022355307863886294 * ks11) / sc_s
@@ -93,7 +94,7 @@ def step_sw(law, p0, p1, nu, d, s, w, ks0, kw0, h, rtol, atol):  # type: ignore[
 
 
 @njit(cache=True)
-def dense_sw(law, p0, p1, nu, d, s, w, s1, w1, h, ks, kw):  # type: ignore[no-untyped-def]
+def dense_sw(law, P, nu, d, s, w, s1, w1, h, ks, kw):  # type: ignore[no-untyped-def]
     """Dense output of the step ``(s, w) -> (s1, w1)`` with stage derivatives ``ks, kw``.
 
     Returns ``(cs, cw, ksx, kwx)``: the seven interpolant coefficients of each
@@ -120,15 +121,15 @@ def dense_sw(law, p0, p1, nu, d, s, w, s1, w1, h, ks, kw):  # type: ignore[no-un
     ss = s + h * (0.056167502283047954 * ks0 + 0.25350021021662483 * ks6 + -0.2462390374708025 * ks7 + -0.12419142326381637 * ks8 + 0.15329179827876568 * ks9 + 0.00820105229563469 * ks10 + 0.007567897660545699 * ks11 + -0.008298 * ks12)
     ww = w + h * (0.056167502283047954 * kw0 + 0.25350021021662483 * kw6 + -0.2462390374708025 * kw7 + -0.12419142326381637 * kw8 + 0.15329179827876568 * kw9 + 0.00820105229563469 * kw10 + 0.007567897660545699 * kw11 + -0.008298 * kw12)
     ks13 = nu - ww
-    kw13 = _accel(law, p0, p1, d, ss, ww)
+    kw13 = _accel(law, P, d, ss, ww)
     ss = s + h * (0.03183464816350214 * ks0 + 0.028300909672366776 * ks5 + 0.053541988307438566 * ks6 + -0.05492374857139099 * ks7 + -0.00010834732869724932 * ks10 + 0.0003825710908356584 * ks11 + -0.00034046500868740456 * ks12 + 0.1413124436746325 * ks13)
     ww = w + h * (0.03183464816350214 * kw0 + 0.028300909672366776 * kw5 + 0.053541988307438566 * kw6 + -0.05492374857139099 * kw7 + -0.00010834732869724932 * kw10 + 0.0003825710908356584 * kw11 + -0.00034046500868740456 * kw12 + 0.1413124436746325 * kw13)
     ks14 = nu - ww
-    kw14 = _accel(law, p0, p1, d, ss, ww)
+    kw14 = _accel(law, P, d, ss, ww)
     ss = s + h * (-0.42889630158379194 * ks0 + -4.697621415361164 * ks5 + 7.683421196062599 * ks6 + 4.06898981839711 * ks7 + 0.3567271874552811 * ks8 + -0.0013990241651590145 * ks12 + 2.9475147891527724 * ks13 + -9.15095847217987 * ks14)
     ww = w + h * (-0.42889630158379194 * kw0 + -4.697621415361164 * kw5 + 7.683421196062599 * kw6 + 4.06898981839711 * kw7 + 0.3567271874552811 * kw8 + -0.0013990241651590145 * kw12 + 2.9475147891527724 * kw13 + -9.15095847217987 * kw14)
     ks15 = nu - ww
-    kw15 = _accel(law, p0, p1, d, ss, ww)
+    kw15 = _accel(law, P, d, ss, ww)
     dy = s1 - s
     c0 = dy
     c1 = h * ks0 - dy
@@ -156,8 +157,7 @@ def quad_stages(law, lp, nu, d, y, h, K, first, last):  # type: ignore[no-untype
 
     Stages ``first <= j < last``; the integrands are ``s`` and ``f(w) w``.
     """
-    p0 = lp[0]
-    p1 = lp[1]
+    P = params(lp)
     s = y[0]
     w = y[1]
     for j in range(first, last):
@@ -209,14 +209,14 @@ def quad_stages(law, lp, nu, d, y, h, K, first, last):  # type: ignore[no-untype
             ss = s + h * (-0.42889630158379194 * K[0, 0] + -4.697621415361164 * K[5, 0] + 7.683421196062599 * K[6, 0] + 4.06898981839711 * K[7, 0] + 0.3567271874552811 * K[8, 0] + -0.0013990241651590145 * K[12, 0] + 2.9475147891527724 * K[13, 0] + -9.15095847217987 * K[14, 0])
             ww = w + h * (-0.42889630158379194 * K[0, 1] + -4.697621415361164 * K[5, 1] + 7.683421196062599 * K[6, 1] + 4.06898981839711 * K[7, 1] + 0.3567271874552811 * K[8, 1] + -0.0013990241651590145 * K[12, 1] + 2.9475147891527724 * K[13, 1] + -9.15095847217987 * K[14, 1])
         K[j, 2] = ss
-        K[j, 3] = _fr(law, p0, p1, d, ww) * ww
+        K[j, 3] = _fr(law, P, d, ww) * ww
 
 
 @njit(cache=True)
 def step2(law, lp, nu, d, y, h, K, y_new, rtol, atol):  # type: ignore[no-untyped-def]
     """One DOP853 step from ``y``; fills ``K`` and ``y_new``, returns the error norm."""
     err, s1, w1, ks, kw = step_sw(
-        law, lp[0], lp[1], nu, d, y[0], y[1], K[0, 0], K[0, 1], h, rtol, atol
+        law, params(lp), nu, d, y[0], y[1], K[0, 0], K[0, 1], h, rtol, atol
     )
     store_step(law, lp, nu, d, y, h, K, y_new, s1, w1, ks, kw)
     return err
@@ -264,7 +264,7 @@ def dense2(law, lp, nu, d, y_old, y_new, h, K, F):  # type: ignore[no-untyped-de
     ks = (K[0, 0], K[1, 0], K[2, 0], K[3, 0], K[4, 0], K[5, 0], K[6, 0], K[7, 0], K[8, 0], K[9, 0], K[10, 0], K[11, 0], K[12, 0])
     kw = (K[0, 1], K[1, 1], K[2, 1], K[3, 1], K[4, 1], K[5, 1], K[6, 1], K[7, 1], K[8, 1], K[9, 1], K[10, 1], K[11, 1], K[12, 1])
     cs, cw, ksx, kwx = dense_sw(
-        law, lp[0], lp[1], nu, d, y_old[0], y_old[1], y_new[0], y_new[1], h, ks, kw
+        law, params(lp), nu, d, y_old[0], y_old[1], y_new[0], y_new[1], h, ks, kw
     )
     store_dense(law, lp, nu, d, y_old, y_new, h, K, F, cs, cw, ksx, kwx)
 

@@ -9,26 +9,95 @@ model layer does that before calling them.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from types import ModuleType
+from typing import NamedTuple
+
 import numpy as np
 import numpy.typing as npt
 
 from . import checks, engine, variational
-from .laws import LAW_COULOMB, N_LAW_PARAMS
+from .laws import BUILTIN_LAWS, N_LAW_PARAMS
 from .memory import check_memory
+from .results import AttractorRows, FlowResult, ShootingRows, Status
 
 FloatArray = npt.NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Kernel:
+    """The compiled engine of one friction law.
+
+    Attributes
+    ----------
+    law_id : int
+        The law's id in its modules (``LAW_*`` of :mod:`stickslip.core.laws` for a
+        built-in law; 0 in a law's own generated modules).
+    engine, variational : module
+        The compiled modules: :mod:`stickslip.core.engine` and
+        :mod:`stickslip.core.variational` for the built-in laws, or their copies
+        compiled with a law's generated kernel (:mod:`stickslip.laws.compiler`).
+    name : str
+        The law, for messages.
+
+    """
+
+    law_id: int
+    engine: ModuleType
+    variational: ModuleType
+    name: str = ""
+
+
+_BUILTIN_NAMES = {0: "weakening", 1: "cubic", 2: "coulomb"}
+
+
+def builtin_kernel(law_id: int) -> Kernel:
+    """Return the kernel of a built-in law (id ``LAW_*`` of :mod:`stickslip.core.laws`)."""
+    return Kernel(int(law_id), engine, variational, _BUILTIN_NAMES.get(int(law_id), ""))
+
+
+def _kernel(law: Kernel | int | npt.ArrayLike) -> Kernel:
+    if isinstance(law, Kernel):
+        return law
+    try:
+        ids = np.unique(np.asarray(law, dtype=np.int64))
+    except (TypeError, ValueError):
+        raise TypeError(
+            f"law={law!r}: expected a Kernel or a built-in law id 0 (weakening), 1 (cubic) or 2 (coulomb)"
+        ) from None
+    if ids.size != 1 or int(ids[0]) not in BUILTIN_LAWS:
+        raise ValueError(f"law={law!r}: expected one law id: 0 (weakening), 1 (cubic) or 2 (coulomb)")
+    return builtin_kernel(int(ids[0]))
+
+
+class TrajectoryResult(NamedTuple):
+    """Output of :func:`run_trajectory`."""
+
+    y: FloatArray
+    mode: npt.NDArray[np.int64]
+    events: FloatArray
+    status: Status
+
 
 #: rows per call into the compiled batch kernel (Ctrl-C is seen between calls)
 BATCH = 4096
 #: memory of one row of run_attractors: the output (NOUT doubles), the checked copies of the
 #: inputs (law id, law parameters, nu, s0, w0) and the validation's masks
-BYTES_PER_ROW = 8.0 * (20 + 1 + 3 + 3) * 1.5
+BYTES_PER_ROW = 8.0 * (21 + 1 + 8 + 3) * 1.5
 
-__all__ = ["run_attractors", "run_shooting", "run_trajectory"]
+__all__ = [
+    "Kernel",
+    "TrajectoryResult",
+    "builtin_kernel",
+    "run_attractors",
+    "run_flow",
+    "run_shooting",
+    "run_trajectory",
+]
 
 
 def run_attractors(
-    law: npt.ArrayLike,
+    law: Kernel | int,
     lp: npt.ArrayLike,
     nu: npt.ArrayLike,
     s0: npt.ArrayLike | None = None,
@@ -41,15 +110,15 @@ def run_attractors(
     conv_tol: float,
     diag: bool = False,
     max_steps: int = 2_000_000,
-) -> FloatArray:
-    """Run the attractor kernel for each row, in parallel; return an ``(n, NOUT)`` array.
+) -> AttractorRows:
+    """Run the attractor kernel for each row, in parallel.
 
     Parameters
     ----------
-    law : array_like of int, shape (n,) or scalar
-        Law ids (``LAW_*`` of :mod:`stickslip.core.laws`).
-    lp : array_like, shape (n, N_LAW_PARAMS) or (N_LAW_PARAMS,)
-        Law parameters.
+    law : Kernel or int
+        The law's compiled kernel (or a built-in law's id).
+    lp : array_like, shape (n, k) or (k,), k <= N_LAW_PARAMS
+        Law parameters (missing trailing ones are 0).
     nu : array_like, shape (n,)
         Dimensionless driving velocities.
     s0, w0 : array_like, shape (n,), optional
@@ -67,6 +136,11 @@ def run_attractors(
     max_steps : int, optional
         Bound on the steps of one slip phase.
 
+    Returns
+    -------
+    AttractorRows
+        One row per parameter set, with named fields.
+
     """
     # first of all, from the input's size alone: the copies below and the output scale with it
     check_memory(np.size(nu) * BYTES_PER_ROW, f"{np.size(nu)} parameter sets")
@@ -76,7 +150,8 @@ def run_attractors(
     max_steps = checks.integer("max_steps", max_steps, lo=10, hi=10**9)
     nu_a = np.array(np.atleast_1d(_nu(nu)), order="C")
     n = nu_a.shape[0]
-    law_a, lp_a = _laws(law, lp, n)
+    kernel = _kernel(law)
+    law_a, lp_a = _laws(kernel, lp, n)
     z = np.zeros(n)
     s0_a = z if s0 is None else _broadcast("s0", checks.finite_array("s0", s0), (n,))
     w0_a = z if w0 is None else _broadcast("w0", checks.finite_array("w0", w0), (n,))
@@ -84,7 +159,7 @@ def run_attractors(
     # in chunks: Ctrl-C is seen between two calls into the compiled code, never inside one
     for lo in range(0, n, BATCH):
         hi = min(n, lo + BATCH)
-        engine.attractor_batch(
+        kernel.engine.attractor_batch(
             law_a[lo:hi],
             lp_a[lo:hi],
             nu_a[lo:hi],
@@ -99,7 +174,7 @@ def run_attractors(
             max_steps,
             out[lo:hi],
         )
-    return out
+    return AttractorRows(out)
 
 
 def _nu(nu: npt.ArrayLike) -> FloatArray:
@@ -109,15 +184,17 @@ def _nu(nu: npt.ArrayLike) -> FloatArray:
     return a
 
 
-def _laws(law: npt.ArrayLike, lp: npt.ArrayLike, n: int) -> tuple[npt.NDArray[np.int64], FloatArray]:
-    try:
-        law_i = np.asarray(law, dtype=np.int64)
-    except (TypeError, ValueError):
-        raise TypeError(f"law={law!r}: expected law ids 0 (weakening), 1 (cubic) or 2 (coulomb)") from None
-    law_a = _broadcast("law", law_i, (n,))
-    if not np.all((law_a >= 0) & (law_a <= LAW_COULOMB)):
-        raise ValueError(f"law={law!r}: expected law ids 0 (weakening), 1 (cubic) or 2 (coulomb)")
-    lp_a = _broadcast("lp", checks.finite_array("lp", lp, bound=1e15), (n, N_LAW_PARAMS))
+def _laws(kernel: Kernel, lp: npt.ArrayLike, n: int) -> tuple[npt.NDArray[np.int64], FloatArray]:
+    law_a = np.full(n, kernel.law_id, dtype=np.int64)
+    lp_c = checks.finite_array("lp", lp, bound=1e15)
+    k = lp_c.shape[-1] if lp_c.ndim else 0
+    if lp_c.ndim == 0 or lp_c.ndim > 2 or k > N_LAW_PARAMS:
+        raise ValueError(
+            f"lp: shape {lp_c.shape}: expected law parameters of shape (n, k) or (k,), k <= {N_LAW_PARAMS}"
+        )
+    if k < N_LAW_PARAMS:  # the trailing parameters of a law with fewer are unused: zeros
+        lp_c = np.concatenate([lp_c, np.zeros((*lp_c.shape[:-1], N_LAW_PARAMS - k))], axis=-1)
+    lp_a = _broadcast("lp", lp_c, (n, N_LAW_PARAMS))
     return law_a, lp_a
 
 
@@ -130,7 +207,7 @@ def _broadcast(name: str, a: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
 
 
 def run_trajectory(
-    law: int,
+    law: Kernel | int,
     lp: npt.ArrayLike,
     nu: float,
     s0: float,
@@ -141,25 +218,28 @@ def run_trajectory(
     atol: float,
     max_steps: int = 2_000_000,
     event_capacity: int = 1024,
-) -> tuple[FloatArray, npt.NDArray[np.int64], FloatArray, int]:
+) -> TrajectoryResult:
     """Integrate from ``(s0, w0)`` and sample at ``t_eval`` (sorted, starting at or after 0).
 
     Returns
     -------
+    TrajectoryResult
+        A named tuple of:
     y : ndarray, shape (len(t_eval), 2)
         Spring force and velocity.
     mode : ndarray of int, shape (len(t_eval),)
         0 stick, +1 forward slip, -1 backward slip.
     events : ndarray, shape (m, 3)
         Rows ``(time, kind, spring force)``, kinds ``EV_*`` of the engine.
-    status : int
-        ``ST_*`` status code of the engine.
+    status : Status
+        How the integration ended.
 
     """
     t = np.ascontiguousarray(checks.finite_array("t_eval", t_eval, bound=1e15))
     if t.ndim != 1 or t.size == 0 or t[0] < 0 or np.any(np.diff(t) < 0):
         raise ValueError("t_eval: expected a non-empty, sorted 1-d array of finite times >= 0")
-    law_a, lp_2d = _laws(law, lp, 1)
+    kernel = _kernel(law)
+    law_a, lp_2d = _laws(kernel, lp, 1)
     lp_a = np.array(lp_2d[0], order="C")
     nu = float(_nu(nu))
     s0 = checks.state("s0", s0)
@@ -173,7 +253,7 @@ def run_trajectory(
         mode = np.empty(t.shape[0], dtype=np.int64)
         ev = np.empty((cap, 3))
         evn = np.zeros(1, dtype=np.int64)
-        status = engine.trajectory(
+        status = kernel.engine.trajectory(
             int(law_a[0]),
             lp_a,
             float(nu),
@@ -189,12 +269,12 @@ def run_trajectory(
             evn,
         )
         if evn[0] <= cap:
-            return y, mode, ev[: evn[0]].copy(), int(status)
+            return TrajectoryResult(y, mode, ev[: evn[0]].copy(), Status.from_code(status))
         cap = int(evn[0])
 
 
 def run_shooting(
-    law: npt.ArrayLike,
+    law: Kernel | int,
     lp: npt.ArrayLike,
     nu: npt.ArrayLike,
     s0: npt.ArrayLike,
@@ -203,7 +283,7 @@ def run_shooting(
     tol: float,
     max_iter: int = 30,
     max_steps: int = 200_000,
-) -> FloatArray:
+) -> ShootingRows:
     """Solve for pure-slip periodic orbits by Newton shooting from guesses, in parallel.
 
     Parameters
@@ -219,13 +299,14 @@ def run_shooting(
 
     Returns
     -------
-    ndarray, shape (n, NSH)
-        Layout ``SH_*`` of :mod:`stickslip.core.variational`.
+    ShootingRows
+        One orbit (or the reason there is none) per row.
 
     """
     nu_a = np.array(np.atleast_1d(_nu(nu)), order="C")
     n = nu_a.shape[0]
-    law_a, lp_a = _laws(law, lp, n)
+    kernel = _kernel(law)
+    law_a, lp_a = _laws(kernel, lp, n)
     s0_a = _broadcast("s0", checks.finite_array("s0", s0), (n,))
     t_a = _broadcast("period", checks.finite_array("period", period, bound=1e12, positive=True), (n,))
     tol = checks.positive("tol", tol, upper=1e-3, what="a tolerance of at most 1e-3")
@@ -234,5 +315,67 @@ def run_shooting(
     max_iter = checks.integer("max_iter", max_iter, lo=1, hi=1000)
     max_steps = checks.integer("max_steps", max_steps, lo=10, hi=10**9)
     out = np.empty((n, variational.NSH))
-    variational.shoot_batch(law_a, lp_a, nu_a, s0_a, t_a, float(tol), int(max_iter), int(max_steps), out)
-    return out
+    kernel.variational.shoot_batch(
+        law_a, lp_a, nu_a, s0_a, t_a, float(tol), int(max_iter), int(max_steps), out
+    )
+    return ShootingRows(out)
+
+
+def run_flow(
+    law: Kernel | int,
+    lp: npt.ArrayLike,
+    nu: float,
+    s0: float,
+    w0: float,
+    period: float,
+    *,
+    rtol: float,
+    measure: bool = False,
+    max_steps: int = 200_000,
+) -> FlowResult:
+    """Integrate the forward slip flow and its variational equations over ``[0, period]``.
+
+    Parameters
+    ----------
+    law, lp, nu
+        As in :func:`run_attractors` (one parameter set).
+    s0, w0 : float
+        Start.
+    period : float
+        Time to integrate (> 0).
+    rtol : float
+        Relative tolerance (the absolute one is ``rtol / 100``).
+    measure : bool, optional
+        Record the spring force where ``w`` crosses ``nu`` downward and the extremes of ``w``.
+    max_steps : int, optional
+        Step budget.
+
+    Raises
+    ------
+    RuntimeError
+        When the integration fails (step budget, non-finite state).
+
+    """
+    kernel = _kernel(law)
+    _, lp_2d = _laws(kernel, lp, 1)
+    nu = float(_nu(nu))
+    s0 = checks.state("s0", s0)
+    w0 = checks.state("w0", w0)
+    period = checks.positive("period", period, upper=1e12)
+    rtol, _ = checks.tolerances(rtol, rtol * 1e-2)
+    max_steps = checks.integer("max_steps", max_steps, lo=10, hi=10**9)
+    va = kernel.variational
+    y = np.zeros(va.NVAR)
+    y[0], y[1], y[2], y[5] = s0, w0, 1.0, 1.0
+    kv = np.empty((12, 7))
+    extras = np.zeros(va.NX)
+    lp_a = np.array(lp_2d[0], order="C")
+    va.flow_variational(kernel.law_id, lp_a, nu, y, period, rtol, rtol * 1e-2, max_steps, measure, kv, extras)
+    if extras[va.X_STATUS] != va.VS_OK:
+        why = (
+            "the step budget ran out"
+            if extras[va.X_STATUS] == va.VS_MAX_STEPS
+            else "the state became non-finite"
+        )
+        raise RuntimeError(f"slip flow from (s, w) = ({s0:.6g}, {w0:.6g}) over tau = {period:.6g}: {why}")
+    return FlowResult(y, extras)

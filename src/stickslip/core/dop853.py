@@ -17,7 +17,7 @@ import math
 from numba import njit
 
 from ._dop853_tableau import N_STAGES, N_STAGES_EXTENDED
-from .laws import friction, friction_scalar
+from .laws import friction_scalar, params
 
 __all__ = [
     "N_STAGES",
@@ -34,7 +34,7 @@ def rhs(law, lp, nu, d, y, out):  # type: ignore[no-untyped-def]
     """Evaluate the slip-phase vector field in direction ``d`` into ``out``."""
     s = y[0]
     w = y[1]
-    fr = friction(law, lp, d, w)
+    fr = friction_scalar(law, params(lp), d, w)
     out[0] = nu - w
     out[1] = s - fr
     if y.shape[0] > 2:
@@ -107,7 +107,7 @@ def poly7(c, y0, x):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def illinois_sw(law, p0, p1, d, cs, s0, cw, w0, what, level, xa, ga, xb, gb):  # type: ignore[no-untyped-def]
+def illinois_sw(law, P, d, cs, s0, cw, w0, what, level, xa, ga, xb, gb):  # type: ignore[no-untyped-def]
     """Find a root by the Illinois method on the interpolants of ``s`` and ``w``.
 
     ``(cs, s0)`` and ``(cw, w0)`` are the coefficient tuples and start values of
@@ -129,7 +129,7 @@ def illinois_sw(law, p0, p1, d, cs, s0, cw, w0, what, level, xa, ga, xb, gb):  #
         if what == 1:
             gc = poly7(cw, w0, xc) - level
         else:
-            gc = poly7(cs, s0, xc) - friction_scalar(law, p0, p1, d, poly7(cw, w0, xc))
+            gc = poly7(cs, s0, xc) - friction_scalar(law, P, d, poly7(cw, w0, xc))
         if gc == 0.0:
             return xc
         if (gc > 0.0) == (gb > 0.0):

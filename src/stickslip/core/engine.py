@@ -39,7 +39,7 @@ from .dop853 import (
     poly7,
     rhs,
 )
-from .laws import STATIC_THRESHOLD, df_branch, f_branch
+from .laws import STATIC_THRESHOLD, df_plus, f_plus, params
 
 FS = STATIC_THRESHOLD
 
@@ -132,7 +132,8 @@ O_T = 16
 O_NSTEP = 17
 O_NREJECT = 18
 O_DFNU = 19  # f'(nu): steady sliding is linearly stable where it is positive
-NOUT = 20
+O_FNU = 20  # f(nu): the spring force of steady sliding
+NOUT = 21
 
 _ZERO7 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
@@ -283,8 +284,7 @@ def _slip_phase(  # type: ignore[no-untyped-def]
     if t_end - t <= 0.0:
         return t, PH_T_END, ie
     h = initial_step(law, lp, nu, d, y, K[0], rtol, atol, t_end - t, ytmp, y_new)
-    p0 = lp[0]
-    p1 = lp[1]
+    P = params(lp)
     s = y[0]
     w = y[1]
     ks0 = K[0, 0]  # derivative at (s, w)
@@ -307,7 +307,7 @@ def _slip_phase(  # type: ignore[no-untyped-def]
         hh = h if h < remaining else remaining
         if hh < min_step:
             return t, PH_STEP_TOO_SMALL, ie
-        err, s1, w1, ks, kw = step_sw(law, p0, p1, nu, d, s, w, ks0, kw0, hh, rtol, atol)
+        err, s1, w1, ks, kw = step_sw(law, P, nu, d, s, w, ks0, kw0, hh, rtol, atol)
         if not (err <= 1.0):
             if err != err or err == math.inf:
                 factor = MIN_FACTOR
@@ -347,29 +347,29 @@ def _slip_phase(  # type: ignore[no-untyped-def]
         x_wext = -1.0
         wext = 0.0
         if (dw0 > 0.0 and dw1 < 0.0) or (dw0 < 0.0 and dw1 > 0.0):
-            cs, cw, ksx, kwx = dense_sw(law, p0, p1, nu, d, s, w, s1, w1, hh, ks, kw)
+            cs, cw, ksx, kwx = dense_sw(law, P, nu, d, s, w, s1, w1, hh, ks, kw)
             if diag:
                 store_dense(law, lp, nu, d, y, y_new, hh, K, F, cs, cw, ksx, kwx)
             dense = True
-            x_wext = illinois_sw(law, p0, p1, d, cs, s, cw, w, 2, 0.0, 0.0, dw0, 1.0, dw1)
+            x_wext = illinois_sw(law, P, d, cs, s, cw, w, 2, 0.0, 0.0, dw0, 1.0, dw1)
             wext = poly7(cw, w, x_wext)
         # stop: d*w reaches zero
         x_stop = 2.0
         if d * w0 > 0.0:
             if d * w1 <= 0.0:
                 if not dense:
-                    cs, cw, ksx, kwx = dense_sw(law, p0, p1, nu, d, s, w, s1, w1, hh, ks, kw)
+                    cs, cw, ksx, kwx = dense_sw(law, P, nu, d, s, w, s1, w1, hh, ks, kw)
                     if diag:
                         store_dense(law, lp, nu, d, y, y_new, hh, K, F, cs, cw, ksx, kwx)
                     dense = True
-                x_stop = illinois_sw(law, p0, p1, d, cs, s, cw, w, 1, 0.0, 0.0, w0, 1.0, w1)
+                x_stop = illinois_sw(law, P, d, cs, s, cw, w, 1, 0.0, 0.0, w0, 1.0, w1)
             elif x_wext >= 0.0 and d * wext <= 0.0 and d * dw0 < 0.0:
-                x_stop = illinois_sw(law, p0, p1, d, cs, s, cw, w, 1, 0.0, 0.0, w0, x_wext, wext)
+                x_stop = illinois_sw(law, P, d, cs, s, cw, w, 1, 0.0, 0.0, w0, x_wext, wext)
         elif d * w0 == 0.0 and x_wext >= 0.0 and d * wext > 0.0 and d * w1 <= 0.0:
             # a phase that starts at rest (w = 0) with a weak push (after a stop just
             # past the static threshold) can end inside its first step: w leaves zero,
             # turns at x_wext and is back at zero before the step ends
-            x_stop = illinois_sw(law, p0, p1, d, cs, s, cw, w, 1, 0.0, x_wext, wext, 1.0, w1)
+            x_stop = illinois_sw(law, P, d, cs, s, cw, w, 1, 0.0, x_wext, wext, 1.0, w1)
         x_end = x_stop if x_stop < 1.0 else 1.0
         # spring-force extrema (w = nu), forward slip only; velocity extrema
         nev = 0
@@ -383,22 +383,22 @@ def _slip_phase(  # type: ignore[no-untyped-def]
             if nev == 1 and x_wext < x_end:
                 ge = wext - nu
                 if g0 * ge < 0.0 or (ge == 0.0 and g0 != 0.0):
-                    ev_x[nev] = illinois_sw(law, p0, p1, d, cs, s, cw, w, 1, nu, 0.0, g0, x_wext, ge)
+                    ev_x[nev] = illinois_sw(law, P, d, cs, s, cw, w, 1, nu, 0.0, g0, x_wext, ge)
                     ev_k[nev] = 1 if g0 < 0.0 else -1
                     nev += 1
                 if ge * g_end < 0.0 or (g_end == 0.0 and ge != 0.0):
                     ev_x[nev] = illinois_sw(
-                        law, p0, p1, d, cs, s, cw, w, 1, nu, x_wext, ge, x_end, g_end
+                        law, P, d, cs, s, cw, w, 1, nu, x_wext, ge, x_end, g_end
                     )
                     ev_k[nev] = 1 if ge < 0.0 else -1
                     nev += 1
             elif g0 * g_end < 0.0 or (g_end == 0.0 and g0 != 0.0):
                 if not dense:
-                    cs, cw, ksx, kwx = dense_sw(law, p0, p1, nu, d, s, w, s1, w1, hh, ks, kw)
+                    cs, cw, ksx, kwx = dense_sw(law, P, nu, d, s, w, s1, w1, hh, ks, kw)
                     if diag:
                         store_dense(law, lp, nu, d, y, y_new, hh, K, F, cs, cw, ksx, kwx)
                     dense = True
-                ev_x[nev] = illinois_sw(law, p0, p1, d, cs, s, cw, w, 1, nu, 0.0, g0, x_end, g_end)
+                ev_x[nev] = illinois_sw(law, P, d, cs, s, cw, w, 1, nu, 0.0, g0, x_end, g_end)
                 ev_k[nev] = 1 if g0 < 0.0 else -1
                 nev += 1
         # process in time order (at most three events)
@@ -432,7 +432,7 @@ def _slip_phase(  # type: ignore[no-untyped-def]
         t_seg_end = t + x_end * hh
         while ie < n_eval and t_eval[ie] <= t_seg_end:
             if not dense:
-                cs, cw, ksx, kwx = dense_sw(law, p0, p1, nu, d, s, w, s1, w1, hh, ks, kw)
+                cs, cw, ksx, kwx = dense_sw(law, P, nu, d, s, w, s1, w1, hh, ks, kw)
                 if diag:
                     store_dense(law, lp, nu, d, y, y_new, hh, K, F, cs, cw, ksx, kwx)
                 dense = True
@@ -538,8 +538,8 @@ def attractor_ws(  # type: ignore[no-untyped-def]
     _reset_tracker(trk)
     trk[T_NSTEP] = 0.0
     trk[T_NREJ] = 0.0
-    trk[T_DFNU] = df_branch(law, lp, nu)
-    trk[T_FNU] = f_branch(law, lp, nu)
+    trk[T_DFNU] = df_plus(law, params(lp), nu)
+    trk[T_FNU] = f_plus(law, params(lp), nu)
     t_eval = np.empty(0)
     out_y = np.empty((0, 2))
     out_mode = np.empty(0, dtype=np.int64)
@@ -657,6 +657,7 @@ def attractor_ws(  # type: ignore[no-untyped-def]
     out[O_NSTEP] = trk[T_NSTEP]
     out[O_NREJECT] = trk[T_NREJ]
     out[O_DFNU] = trk[T_DFNU]
+    out[O_FNU] = trk[T_FNU]
 
 
 @njit(parallel=True, cache=True)

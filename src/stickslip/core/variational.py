@@ -27,7 +27,7 @@ from numba import njit, prange
 from ._dop853_tableau import A, B
 from ._dop853_unrolled import dense_sw, step_sw
 from .dop853 import illinois_sw, poly7
-from .laws import df_branch, slip_accel
+from .laws import df_plus, params, slip_accel
 
 NVAR = 9
 # extras layout
@@ -50,11 +50,12 @@ MAX_FACTOR = 10.0
 @njit(cache=True)
 def _var_stages(law, lp, y, h, kw, KV):  # type: ignore[no-untyped-def]
     """Fill ``KV`` (12 x 7) with the stage derivatives of the variational components."""
+    P = params(lp)
     for j in range(12):
         ww = y[1]
         for k in range(j):
             ww += h * A[j, k] * kw[k]
-        df = df_branch(law, lp, ww)
+        df = df_plus(law, P, ww)
         v0 = y[2]
         v1 = y[3]
         v2 = y[4]
@@ -86,12 +87,11 @@ def flow_variational(law, lp, nu, y, T, rtol, atol, max_steps, measure, KV, extr
     (``X_S_MIN``, ``X_W_MIN``, ``X_W_MAX``); ``extras[X_STEPS]`` and
     ``extras[X_STATUS]`` are always set.
     """
-    p0 = lp[0]
-    p1 = lp[1]
+    P = params(lp)
     s = y[0]
     w = y[1]
     ks0 = nu - w
-    kw0 = slip_accel(law, p0, p1, 1.0, s, w)
+    kw0 = slip_accel(law, P, 1.0, s, w)
     extras[X_S_MIN] = math.nan
     extras[X_W_MIN] = w
     extras[X_W_MAX] = w
@@ -107,7 +107,7 @@ def flow_variational(law, lp, nu, y, T, rtol, atol, max_steps, measure, KV, extr
         if t + h >= T:
             h = T - t
             last = True
-        err, s1, w1, ks, kw = step_sw(law, p0, p1, nu, 1.0, s, w, ks0, kw0, h, rtol, atol)
+        err, s1, w1, ks, kw = step_sw(law, P, nu, 1.0, s, w, ks0, kw0, h, rtol, atol)
         n += 1
         if not (math.isfinite(err) and math.isfinite(s1) and math.isfinite(w1)):
             if h < 1e-14:
@@ -130,14 +130,14 @@ def flow_variational(law, lp, nu, y, T, rtol, atol, max_steps, measure, KV, extr
                 or (kw[0] < 0.0 and kw[12] >= 0.0)
                 or (kw[0] > 0.0 and kw[12] <= 0.0)
             ):
-                cs, cw, _ksx, _kwx = dense_sw(law, p0, p1, nu, 1.0, s, w, s1, w1, h, ks, kw)
+                cs, cw, _ksx, _kwx = dense_sw(law, P, nu, 1.0, s, w, s1, w1, h, ks, kw)
                 if w - nu > 0.0 and w1 - nu <= 0.0:
-                    x = illinois_sw(law, p0, p1, 1.0, cs, s, cw, w, 1, nu, 0.0, w - nu, 1.0, w1 - nu)
+                    x = illinois_sw(law, P, 1.0, cs, s, cw, w, 1, nu, 0.0, w - nu, 1.0, w1 - nu)
                     sv = poly7(cs, s, x)
                     if not (extras[X_S_MIN] <= sv):
                         extras[X_S_MIN] = sv
                 if (kw[0] < 0.0 and kw[12] >= 0.0) or (kw[0] > 0.0 and kw[12] <= 0.0):
-                    x = illinois_sw(law, p0, p1, 1.0, cs, s, cw, w, 2, 0.0, 0.0, kw[0], 1.0, kw[12])
+                    x = illinois_sw(law, P, 1.0, cs, s, cw, w, 2, 0.0, 0.0, kw[0], 1.0, kw[12])
                     wv = poly7(cw, w, x)
                     extras[X_W_MIN] = min(extras[X_W_MIN], wv)
                     extras[X_W_MAX] = max(extras[X_W_MAX], wv)
@@ -208,7 +208,7 @@ def _newton_step(law, lp, nu, s0, period, rtol, max_steps, y, kv, extras):  # ty
     a = y[2] - 1.0
     c = y[4]
     f0 = nu - y[1]
-    f1 = slip_accel(law, lp[0], lp[1], 1.0, y[0], y[1])
+    f1 = slip_accel(law, params(lp), 1.0, y[0], y[1])
     det = a * f1 - f0 * c
     if det == 0.0 or not math.isfinite(det):
         return False, math.sqrt(g0 * g0 + g1 * g1), math.nan, math.nan
@@ -238,7 +238,7 @@ def shoot(law, lp, nu, s0, period, tol, max_iter, max_steps, out):  # type: igno
     for i in range(NSH):
         out[i] = math.nan
     out[SH_STATUS] = SHOOT_NO_CONVERGENCE
-    f_nu = s0 - slip_accel(law, lp[0], lp[1], 1.0, s0, nu)  # f(nu)
+    f_nu = s0 - slip_accel(law, params(lp), 1.0, s0, nu)  # f(nu)
     residual = math.inf
     it = 0
     converged = False

@@ -41,8 +41,8 @@ import numpy as np
 import numpy.typing as npt
 from scipy.optimize import least_squares
 
-from ..core import engine
 from ..core.api import run_attractors, run_trajectory
+from ..core.results import AttractorRows, EventKind, Regime, Status
 from ..io.errors import DataError
 from ..io.records import Record
 from ..models.friction import PhysicalWeakeningLaw
@@ -173,8 +173,8 @@ class FitResult:
 def _fall_time_model(c: float, p: float, nu: float, t_slip: float, time_scale: float) -> float:
     """90%-10% fall time (s) of the model's force drop, from a dense trajectory of the slip."""
     tau = np.linspace(0.0, t_slip, 600)
-    y, _, _, status = run_trajectory(0, [c, p, 0.0], nu, 1.0, 0.0, tau, rtol=1e-9, atol=1e-12)
-    if status != 0:
+    y, _, _, status = run_trajectory(0, [c, p], nu, 1.0, 0.0, tau, rtol=1e-9, atol=1e-12)
+    if status != Status.OK:
         return math.nan
     s = y[:, 0]
     i_max = int(np.argmax(s))
@@ -215,17 +215,17 @@ def _model_features(
     nu = beta * v0
     c, p = a / beta, b / beta
     out = run_attractors(
-        0, [c, p, 0.0], [nu], from_breakaway=True, rtol=1e-9, atol=1e-12, max_slip_time=1e4, conv_tol=1e-8
-    )[0]
-    if out[engine.O_REGIME] != engine.RG_STICK_SLIP or out[engine.O_STATUS] != engine.ST_OK:
+        0, [c, p], [nu], from_breakaway=True, rtol=1e-9, atol=1e-12, max_slip_time=1e4, conv_tol=1e-8
+    )
+    if not out.is_regime(Regime.STICK_SLIP)[0]:
         return np.full(len(FEATURES), np.nan)
     ts = math.sqrt(m / k)
-    t_slip = out[engine.O_PERIOD] - out[engine.O_STICK_TIME]
+    t_slip = float(out.period[0] - out.stick_time[0])
     return np.array(
         [
-            force * out[engine.O_SMAX],
-            force * out[engine.O_SMIN],
-            out[engine.O_PERIOD] * ts,
+            force * out.s_max[0],
+            force * out.s_min[0],
+            out.period[0] * ts,
             k * v0,
             _fall_time_model(c, p, nu, t_slip, ts),
         ]
@@ -529,22 +529,20 @@ def model_waveform(
     if not all(math.isfinite(x) and x >= 0.0 for x in (nu, c, p)) or nu == 0.0:
         return np.full(t.shape, np.nan)
     row = run_attractors(
-        0, [c, p, 0.0], [nu], from_breakaway=True, rtol=1e-10, atol=1e-12, max_slip_time=1e4, conv_tol=1e-8
-    )[0]
-    if row[engine.O_REGIME] != engine.RG_STICK_SLIP or row[engine.O_STATUS] != engine.ST_OK:
+        0, [c, p], [nu], from_breakaway=True, rtol=1e-10, atol=1e-12, max_slip_time=1e4, conv_tol=1e-8
+    )
+    if not row.is_regime(Regime.STICK_SLIP)[0]:
         return np.full(t.shape, np.nan)
-    period = float(row[engine.O_PERIOD])
-    t_slip = period - float(row[engine.O_STICK_TIME])
+    period = float(row.period[0])
+    t_slip = period - float(row.stick_time[0])
     tau = np.mod((t - t0) / ph["time"], period)
-    s = float(row[engine.O_SSTOP]) + nu * (tau - t_slip)
+    s = float(row.s_stop[0]) + nu * (tau - t_slip)
     slip = tau < t_slip
     if slip.any():
         idx = np.flatnonzero(slip)
         order = np.argsort(tau[idx], kind="stable")
-        y, _, _, status = run_trajectory(
-            0, [c, p, 0.0], nu, 1.0, 0.0, tau[idx[order]], rtol=1e-10, atol=1e-12
-        )
-        if status != engine.ST_OK:
+        y, _, _, status = run_trajectory(0, [c, p], nu, 1.0, 0.0, tau[idx[order]], rtol=1e-10, atol=1e-12)
+        if status != Status.OK:
             return np.full(t.shape, np.nan)
         s[idx[order]] = y[:, 0]
     return ph["force"] * s
@@ -583,14 +581,14 @@ def _fit_waveform(
     ph = _physical(theta0, names, v0, load, fixed_b)
     row = run_attractors(
         0,
-        [ph["c"], ph["p"], 0.0],
+        [ph["c"], ph["p"]],
         [ph["nu"]],
         from_breakaway=True,
         rtol=1e-10,
         atol=1e-12,
         max_slip_time=1e4,
         conv_tol=1e-8,
-    )[0]
+    )
     tau_peak = _time_of_max(ph, row)
     # the phase is anchored at the peak in the middle of the window: every drop sits at
     # t_ref + j T, and with j centred the phase and the period are not correlated (as a
@@ -719,23 +717,21 @@ def _first_breakaway(
     ph = _physical(theta, names, v0, load)
     row = run_attractors(
         0,
-        [ph["c"], ph["p"], 0.0],
+        [ph["c"], ph["p"]],
         [ph["nu"]],
         from_breakaway=True,
         rtol=1e-10,
         atol=1e-12,
         max_slip_time=1e4,
         conv_tol=1e-8,
-    )[0]
+    )
     return t_peak - _time_of_max(ph, row) * ph["time"]
 
 
-def _time_of_max(ph: dict[str, float], row: np.ndarray) -> float:
+def _time_of_max(ph: dict[str, float], row: AttractorRows) -> float:
     """Dimensionless time from breakaway to the spring-force maximum (w = nu, on the dense output)."""
-    t_slip = float(row[engine.O_PERIOD] - row[engine.O_STICK_TIME])
+    t_slip = float(row.period[0] - row.stick_time[0])
     tau = np.linspace(0.0, t_slip, 2001)
-    _, _, ev, _ = run_trajectory(
-        0, [ph["c"], ph["p"], 0.0], ph["nu"], 1.0, 0.0, tau[-1:], rtol=1e-10, atol=1e-12
-    )
-    hit = ev[ev[:, 1] == engine.EV_SMAX]
+    _, _, ev, _ = run_trajectory(0, [ph["c"], ph["p"]], ph["nu"], 1.0, 0.0, tau[-1:], rtol=1e-10, atol=1e-12)
+    hit = ev[ev[:, 1] == EventKind.FORCE_MAXIMUM.code]
     return float(hit[0, 0]) if hit.size else 0.0

@@ -402,7 +402,9 @@ def synthetic_record(
         Simulated time discarded before the record starts (to skip the transient).
 
     """
+    from ..bifurcation.orbits import law_arrays
     from ..core.api import run_trajectory
+    from ..core.results import Status
     from ..models.parameters import PhysicalParameters
     from ..models.units import parse_quantity
 
@@ -427,10 +429,9 @@ def synthetic_record(
     sc = params.scales
     d = params.dimensionless()
     tau = t / sc.time.to("s").magnitude
-    y, _, _, status = run_trajectory(
-        d.law.core_id, d.law.core_params(), d.nu, 0.0, 0.0, tau, rtol=1e-10, atol=1e-12
-    )
-    if status != 0:
+    kernel, lp = law_arrays(d.law)
+    y, _, _, status = run_trajectory(kernel, lp, d.nu, 0.0, 0.0, tau, rtol=1e-10, atol=1e-12)
+    if status != Status.OK:
         raise RuntimeError("synthetic_record: the integration failed")
     rng = np.random.default_rng(seed)
     force = y[:, 0] * sc.force.to("N").magnitude + sigma * rng.standard_normal(n) + k_drift * (t - t0)

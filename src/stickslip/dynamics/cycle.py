@@ -23,8 +23,9 @@ import pint
 
 from .. import defaults
 from ..bifurcation.attractors import OrbitKey, orbit_key, polish_rows, same_orbit
-from ..core import engine
+from ..bifurcation.orbits import law_arrays
 from ..core.api import run_attractors
+from ..core.results import AttractorRows, Regime, Status
 from ..io.jsonable import json_clean
 from ..models.parameters import (
     DimensionlessParameters,
@@ -35,20 +36,6 @@ from ..models.parameters import (
 from ..models.units import Q_, check_number
 
 __all__ = ["Attractor", "CycleResult", "cycle", "validate_tolerances"]
-
-REGIMES = {
-    engine.RG_STICK_SLIP: "stick-slip",
-    engine.RG_PURE_SLIP: "pure-slip",
-    engine.RG_STEADY: "steady-sliding",
-    engine.RG_UNKNOWN: "unknown",
-}
-STATUSES = {
-    engine.ST_OK: "ok",
-    engine.ST_NOT_CONVERGED: "not-converged",
-    engine.ST_STEP_TOO_SMALL: "step-size-too-small",
-    engine.ST_TOO_MANY_STEPS: "too-many-steps",
-    engine.ST_TOO_MANY_PHASES: "too-many-phases",
-}
 
 #: unit of each result field, by kind
 _FIELD_KIND = {
@@ -114,11 +101,11 @@ class Attractor:
 
     """
 
-    regime: str
+    regime: Regime
     amplitude: float
     period: float
     start: str
-    status: str
+    status: Status
     multiplier: float = math.nan
 
 
@@ -174,7 +161,7 @@ class CycleResult:
 
     """
 
-    regime: str
+    regime: Regime
     amplitude: float
     period: float
     stick_fraction: float
@@ -188,7 +175,7 @@ class CycleResult:
     drive_work: float
     friction_work: float
     transient_time: float
-    status: str
+    status: Status
     multiplier: float
     attractors: tuple[Attractor, ...]
     multistable: bool
@@ -263,14 +250,14 @@ def cycle(
     conv_tol = check_number(conv_tol, "conv_tol", upper=0.1, what="a relative tolerance below 0.1")
     law = dp.law
     nu = dp.nu
-    lp = law.core_params()
+    kernel, lp = law_arrays(law)
     dfnu = float(law.forward(np.array([nu]), 1)[0])
     fnu = float(law.forward(np.array([nu]))[0])
     steady_stable = dfnu > 0.0
 
     run = functools.partial(
         run_attractors,
-        law.core_id,
+        kernel,
         lp,
         [nu],
         rtol=rtol,
@@ -281,22 +268,22 @@ def cycle(
     )
     # From rest the block sticks until s = 1 (closed form, duration 1/nu), then
     # slips from (1, 0): start there and add the stick to the transient.
-    out0 = run(from_breakaway=True)[0]
-    out0[engine.O_TRANSIENT] += 1.0 / nu
+    out0 = run(from_breakaway=True)
+    out0.transient += 1.0 / nu
     rows, starts = [out0], ["rest"]
     if probe and dfnu < 0.0:  # strictly unstable: f'(nu) = 0 (Coulomb) is neutral, no attractor
-        rows.append(run([fnu + defaults.STEADY_PERTURBATION], [nu], from_breakaway=False)[0])
+        rows.append(run([fnu + defaults.STEADY_PERTURBATION], [nu], from_breakaway=False))
         starts.append("near steady sliding")
 
     # polish every non-sticking attractor into its periodic orbit (exact near a Hopf point,
     # where the transient crawls); measure the work integrals on the polished orbit
     polished, mult = polish_rows(
-        law, np.full(len(rows), nu), np.vstack(rows), rerun=True, rtol=rtol, atol=atol
+        law, np.full(len(rows), nu), AttractorRows.concat(rows), rerun=True, rtol=rtol, atol=atol
     )
     conv = _converter(scales)
     keyed = [
-        (_attractor(o, start, conv, m), orbit_key(o))
-        for o, start, m in zip(polished, starts, mult, strict=True)
+        (_attractor(polished[i], start, conv, m), orbit_key(polished[i]))
+        for i, (start, m) in enumerate(zip(starts, mult, strict=True))
     ]
     if len(rows) > 1:
         # a probe that never left the neighbourhood of steady sliding (amplitude still about
@@ -306,15 +293,18 @@ def cycle(
             keyed.pop(1)
     if steady_stable:
         keyed.append(
-            (Attractor("steady-sliding", 0.0, math.nan, "linear stability", "ok"), OrbitKey("steady-sliding"))
+            (
+                Attractor(Regime.STEADY_SLIDING, 0.0, math.nan, "linear stability", Status.OK),
+                OrbitKey(Regime.STEADY_SLIDING),
+            )
         )
     distinct = _distinct(keyed)
 
     o = polished[0]
-    period = o[engine.O_PERIOD]
-    regime = REGIMES[int(o[engine.O_REGIME])]
-    stick_time = o[engine.O_STICK_TIME]
-    if regime == "steady-sliding":
+    period = float(o.period[0])
+    regime = Regime.from_code(o.regime[0])
+    stick_time = float(o.stick_time[0])
+    if regime == Regime.STEADY_SLIDING:
         stick_fraction = 0.0
         slip_distance = math.nan
     else:
@@ -322,20 +312,20 @@ def cycle(
         slip_distance = nu * period
     return CycleResult(
         regime=regime,
-        amplitude=conv("force", o[engine.O_AMPLITUDE]),
+        amplitude=conv("force", o.amplitude[0]),
         period=conv("time", period),
         stick_fraction=float(stick_fraction),
         stick_time=conv("time", stick_time),
         slip_distance=conv("length", slip_distance),
-        peak_velocity=conv("velocity", o[engine.O_WMAX]),
-        min_velocity=conv("velocity", o[engine.O_WMIN]),
-        max_force=conv("force", o[engine.O_SMAX]),
-        min_force=conv("force", o[engine.O_SMIN]),
-        backward_slips=int(o[engine.O_NBACKWARD]) if math.isfinite(o[engine.O_NBACKWARD]) else 0,
-        drive_work=conv("energy", o[engine.O_DRIVE_WORK]),
-        friction_work=conv("energy", o[engine.O_FRICTION_WORK]),
-        transient_time=conv("time", o[engine.O_TRANSIENT]),
-        status=STATUSES[int(o[engine.O_STATUS])],
+        peak_velocity=conv("velocity", o.w_max[0]),
+        min_velocity=conv("velocity", o.w_min[0]),
+        max_force=conv("force", o.s_max[0]),
+        min_force=conv("force", o.s_min[0]),
+        backward_slips=int(o.n_backward[0]) if math.isfinite(o.n_backward[0]) else 0,
+        drive_work=conv("energy", o.drive_work[0]),
+        friction_work=conv("energy", o.friction_work[0]),
+        transient_time=conv("time", o.transient[0]),
+        status=Status.from_code(o.status[0]),
         multiplier=float(mult[0]),
         attractors=tuple(distinct),
         multistable=len(distinct) > 1,
@@ -357,13 +347,13 @@ def _converter(scales: Scales | None) -> Any:
     return lambda kind, x: float(x) * float(factor[kind])
 
 
-def _attractor(o: np.ndarray, start: str, conv: Any, multiplier: float) -> Attractor:
+def _attractor(o: AttractorRows, start: str, conv: Any, multiplier: float) -> Attractor:
     return Attractor(
-        regime=REGIMES[int(o[engine.O_REGIME])],
-        amplitude=conv("force", o[engine.O_AMPLITUDE]),
-        period=conv("time", o[engine.O_PERIOD]),
+        regime=Regime.from_code(o.regime[0]),
+        amplitude=conv("force", o.amplitude[0]),
+        period=conv("time", o.period[0]),
         start=start,
-        status=STATUSES[int(o[engine.O_STATUS])],
+        status=Status.from_code(o.status[0]),
         multiplier=float(multiplier),
     )
 

@@ -28,15 +28,16 @@ import xarray as xr
 
 from .. import __version__, defaults
 from ..bifurcation.attractors import polish_rows
-from ..core import engine
-from ..core.api import run_attractors
+from ..core.api import Kernel, builtin_kernel, run_attractors
+from ..core.laws import N_LAW_PARAMS
 from ..core.memory import check_memory
+from ..core.results import AttractorRows, Regime
 from ..io.output import OutputFolder, emit, netcdf_writer
 from ..io.progress import progress_bar
 from ..models.friction import CoulombLaw, CubicLaw, WeakeningLaw
 from ..models.parameters import DimensionlessParameters, PhysicalParameters, dimensionless_from_si
 from ..models.units import parse_quantity
-from .cycle import DIMENSIONLESS_UNITS, REGIMES, STATUSES, validate_tolerances
+from .cycle import DIMENSIONLESS_UNITS, validate_tolerances
 
 __all__ = ["check_sweep_size", "load_sweep", "save_sweep", "sweep", "sweepable"]
 
@@ -248,11 +249,11 @@ def sweep(
         law_name
     ]
     _check_dimensionless_law(law_name, law_nd)
-    lp = np.zeros((n, 3))
+    lp = np.zeros((n, N_LAW_PARAMS))
     for j, key in enumerate(DIMENSIONLESS_LAW[law_name]):
         lp[:, j] = law_nd[key]
 
-    out, mult = _run_chunks(core_id, lp, nu, rtol, atol, max_slip_time, conv_tol, progress)
+    out, mult = _run_chunks(builtin_kernel(core_id), lp, nu, rtol, atol, max_slip_time, conv_tol, progress)
     return _dataset(base, coords, shape, out, mult, nu, law_nd, scales, rtol, atol)
 
 
@@ -310,7 +311,7 @@ def _check_dimensionless_law(law_name: str, nd: dict[str, FloatArray]) -> None:
 
 
 def _run_chunks(
-    core_id: int,
+    kernel: Kernel,
     lp: FloatArray,
     nu: FloatArray,
     rtol: float,
@@ -318,9 +319,9 @@ def _run_chunks(
     max_slip_time: float,
     conv_tol: float,
     progress: bool | None,
-) -> tuple[FloatArray, FloatArray]:
+) -> tuple[AttractorRows, FloatArray]:
     n = nu.shape[0]
-    out = np.empty((n, engine.NOUT))
+    out = AttractorRows.empty(n)
     mult = np.empty(n)
     chunk = max(256, min(20_000, n // 50 + 1))
     bounds = [*range(0, n, chunk), n]
@@ -328,7 +329,7 @@ def _run_chunks(
     bar = progress_bar(n, unit="pt", desc="sweep", progress=progress)
     for lo, hi in pairs:
         rows = run_attractors(
-            core_id,
+            kernel,
             lp[lo:hi],
             nu[lo:hi],
             from_breakaway=True,
@@ -337,7 +338,7 @@ def _run_chunks(
             max_slip_time=max_slip_time,
             conv_tol=conv_tol,
         )
-        out[lo:hi], mult[lo:hi] = polish_rows((np.full(hi - lo, core_id), lp[lo:hi]), nu[lo:hi], rows)
+        out[lo:hi], mult[lo:hi] = polish_rows((kernel, lp[lo:hi]), nu[lo:hi], rows)
         if bar is not None:
             bar.update(hi - lo)
     if bar is not None:
@@ -349,7 +350,7 @@ def _dataset(
     base: DimensionlessParameters | PhysicalParameters,
     coords: dict[str, tuple[FloatArray, str, str]],
     shape: tuple[int, ...],
-    out: FloatArray,
+    out: AttractorRows,
     mult: FloatArray,
     nu: FloatArray,
     law_nd: dict[str, FloatArray],
@@ -358,21 +359,20 @@ def _dataset(
     atol: float,
 ) -> xr.Dataset:
     dims = tuple(coords)
-    regime_code = out[:, engine.O_REGIME].astype(int)
-    status_code = out[:, engine.O_STATUS].astype(int)
-    period = out[:, engine.O_PERIOD]
-    stick = out[:, engine.O_STICK_TIME]
-    steady = regime_code == engine.RG_STEADY
+    bad = ~out.ok
+    period = out.period
+    stick = out.stick_time
+    steady = out.regime == Regime.STEADY_SLIDING.code
     with np.errstate(invalid="ignore", divide="ignore"):
         stick_fraction = np.where(steady, 0.0, stick / period)
     slip_distance = np.where(steady, np.nan, nu * period)
     values = {
-        "amplitude": (out[:, engine.O_AMPLITUDE], "force", "range of the spring force over one steady cycle"),
+        "amplitude": (out.amplitude, "force", "range of the spring force over one steady cycle"),
         "period": (period, "time", "period of the steady oscillation"),
         "stick_time": (stick, "time", "duration of the stick phase per cycle"),
         "stick_fraction": (stick_fraction, "1", "fraction of the period at rest"),
         "slip_distance": (slip_distance, "length", "distance slipped per cycle"),
-        "peak_velocity": (out[:, engine.O_WMAX], "velocity", "largest block velocity over the cycle"),
+        "peak_velocity": (out.w_max, "velocity", "largest block velocity over the cycle"),
     }
     si = {"force": "N", "time": "s", "length": "m", "velocity": "m/s", "1": "1"}
     data: dict[str, Any] = {}
@@ -382,19 +382,13 @@ def _dataset(
             unit = si[kind]
         else:
             unit = "1" if kind == "1" else DIMENSIONLESS_UNITS[kind]
-        bad = status_code != engine.ST_OK
         v = np.where(bad, np.nan, v)
         data[key] = (dims, v.reshape(shape), {"units": unit, "long_name": desc})
     # plain str arrays (numpy picks the width), so that NetCDF round-trips them exactly
-    regimes = np.array(
-        [
-            REGIMES[int(c)] if s == engine.ST_OK else "unknown"
-            for c, s in zip(regime_code, status_code, strict=True)
-        ]
-    )
+    regimes = np.array([str(r) for r in out.regimes()])
     data["multiplier"] = (
         dims,
-        np.where(status_code != engine.ST_OK, np.nan, mult).reshape(shape),
+        np.where(bad, np.nan, mult).reshape(shape),
         {
             "units": "1",
             "long_name": "nontrivial Floquet multiplier of the attractor (0 stick-slip, NaN steady sliding)",
@@ -407,7 +401,7 @@ def _dataset(
     )
     data["status"] = (
         dims,
-        np.array([STATUSES[int(c)] for c in status_code]).reshape(shape),
+        np.array([str(st) for st in out.statuses()]).reshape(shape),
         {"long_name": "ok, or why the point failed"},
     )
     dfnu = _steady_stable(base.law.name, nu, law_nd)

@@ -12,23 +12,16 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import defaults
-from ..core import engine
+from ..bifurcation.orbits import law_arrays
 from ..core.api import run_trajectory
 from ..core.memory import check_memory
+from ..core.results import EventKind, Regime, Status
 from ..models.parameters import DimensionlessParameters, PhysicalParameters, as_dimensionless
 from ..models.units import check_number, parse_quantity
-from .cycle import DIMENSIONLESS_UNITS, SI_UNITS, STATUSES, cycle, validate_tolerances
+from .cycle import DIMENSIONLESS_UNITS, SI_UNITS, cycle, validate_tolerances
 
 __all__ = ["Trajectory", "simulate"]
 
-EVENT_NAMES = {
-    engine.EV_STOP: "stop",
-    engine.EV_FORWARD: "breakaway",
-    engine.EV_BACKWARD: "backward-slip",
-    engine.EV_SMAX: "force-maximum",
-    engine.EV_SMIN: "force-minimum",
-    engine.EV_STICK: "stick",
-}
 PHASE_NAMES = {0: "stick", 1: "slip", -1: "backward-slip"}
 
 FloatArray = npt.NDArray[np.float64]
@@ -162,7 +155,7 @@ def simulate(
         res = cycle(dp, rtol=max(rtol, 1e-9), atol=atol, probe=False)
         period = res.period if math.isfinite(res.period) else 2.0 * math.pi
         t_end = max(0.0, -s0) / dp.nu + 1.0 / dp.nu + cycles * period
-        if res.regime != "stick-slip":
+        if res.regime != Regime.STICK_SLIP:
             t_end = min(res.transient_time, defaults.MAX_SLIP_TIME) + cycles * period
     elif scales is not None:
         dq = parse_quantity(duration, "duration", "[time]", "10 s")
@@ -170,26 +163,25 @@ def simulate(
     else:
         t_end = check_number(duration, "duration", what="a positive dimensionless duration")
 
-    law = dp.law
-    lp = law.core_params()
+    kernel, lp = law_arrays(dp.law)
     grid = np.linspace(0.0, t_end, n_points)
     # first pass: the event times, so that corners and extrema are sampled exactly
-    _, _, ev, status = run_trajectory(law.core_id, lp, dp.nu, s0, w0, grid[-1:], rtol=rtol, atol=atol)
+    _, _, ev, status = run_trajectory(kernel, lp, dp.nu, s0, w0, grid[-1:], rtol=rtol, atol=atol)
     t = np.unique(np.concatenate([grid, ev[:, 0][(ev[:, 0] >= 0) & (ev[:, 0] <= t_end)]]))
     y, mode, ev, status = run_trajectory(
-        law.core_id, lp, dp.nu, s0, w0, t, rtol=rtol, atol=atol, event_capacity=max(16, ev.shape[0])
+        kernel, lp, dp.nu, s0, w0, t, rtol=rtol, atol=atol, event_capacity=max(16, ev.shape[0])
     )
-    if status != engine.ST_OK:
+    if status != Status.OK:
         hint = (
             "simulate fewer cycles or a shorter duration"
-            if status == engine.ST_TOO_MANY_PHASES
+            if status == Status.TOO_MANY_PHASES
             else "try a larger rtol"
         )
-        raise RuntimeError(f"integration failed: {STATUSES[status]} ({hint})")
+        raise RuntimeError(f"integration failed: {status} ({hint})")
     s = y[:, 0]
     w = y[:, 1]
     u = dp.nu * t - s
-    kinds = tuple(EVENT_NAMES[int(k)] for k in ev[:, 1])
+    kinds = tuple(EventKind.from_code(k) for k in ev[:, 1])
     if scales is None:
         return Trajectory(
             t, u - u[0], w, s, mode, ev[:, 0].copy(), kinds, ev[:, 2].copy(), dict(DIMENSIONLESS_UNITS)

@@ -25,7 +25,7 @@ import numpy as np
 import numpy.typing as npt
 import pint
 
-from ..core.laws import LAW_COULOMB, LAW_CUBIC, LAW_WEAKENING, N_LAW_PARAMS
+from ..core.laws import LAW_COULOMB, LAW_CUBIC, LAW_WEAKENING
 from .units import Q_, check_number, parse_quantity
 
 _ONE_S_PER_M = Q_(1.0, "s/m")
@@ -157,7 +157,7 @@ class WeakeningLaw(_LawMixin):
 
     def core_params(self) -> npt.NDArray[np.float64]:
         """Return ``(c, p, 0)`` for the compiled core."""
-        return np.array([self.c, self.p, 0.0][:N_LAW_PARAMS])
+        return np.array([self.c, self.p])
 
     def to_physical(self, beta: pint.Quantity, static_coefficient: float) -> PhysicalWeakeningLaw:
         """Return the physical law: ``a = c beta``, ``b = p beta``, ``mu0 = static_coefficient``."""
@@ -220,7 +220,7 @@ class CubicLaw(_LawMixin):
 
     def core_params(self) -> npt.NDArray[np.float64]:
         """Return ``(alpha, gamma, 0)`` for the compiled core."""
-        return np.array([self.alpha, self.gamma, 0.0])
+        return np.array([self.alpha, self.gamma])
 
     def to_physical(self, beta: pint.Quantity, static_coefficient: float) -> PhysicalCubicLaw:
         """Return the physical law: ``k1 = alpha mu_s beta``, ``k3 = gamma mu_s beta**3``."""
@@ -265,7 +265,7 @@ class CoulombLaw(_LawMixin):
 
     def core_params(self) -> npt.NDArray[np.float64]:
         """Return ``(kinetic, 0, 0)`` for the compiled core."""
-        return np.array([self.kinetic, 0.0, 0.0])
+        return np.array([self.kinetic])
 
     def to_physical(self, beta: pint.Quantity, static_coefficient: float) -> PhysicalCoulombLaw:
         """Return the physical law: ``mu_k = kinetic mu_s``."""

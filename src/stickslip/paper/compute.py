@@ -15,8 +15,8 @@ import numpy as np
 import xarray as xr
 from scipy.optimize import brentq
 
+from ..bifurcation.orbits import law_arrays
 from ..bifurcation.regimes import regimes
-from ..core import engine
 from ..core.api import run_attractors
 from ..dynamics.sweep import sweep
 from ..dynamics.trajectory import Trajectory, simulate
@@ -237,17 +237,18 @@ def _friction_range(b_values: np.ndarray, v0_um_s: np.ndarray) -> np.ndarray:
             d = params.dimensionless()
             law = d.law
             assert isinstance(law, WeakeningLaw)
+            kernel, lp = law_arrays(law)
             row = run_attractors(
-                law.core_id,
-                law.core_params(),
+                kernel,
+                lp,
                 [d.nu],
                 from_breakaway=True,
                 rtol=1e-10,
                 atol=1e-12,
                 max_slip_time=1e5,
                 conv_tol=1e-8,
-            )[0]
-            w_max = float(row[engine.O_WMAX])
+            )
+            w_max = float(row.w_max[0])
             slip_w = [w_max]
             if law.p > 0 and law.c > law.p:
                 w_star = (math.sqrt(law.c / law.p) - 1.0) / law.c  # f'(w*) = 0: the law's minimum
@@ -255,7 +256,7 @@ def _friction_range(b_values: np.ndarray, v0_um_s: np.ndarray) -> np.ndarray:
                     slip_w.append(w_star)
             f_slip = law.forward(np.array(slip_w))
             hi = max(1.0, float(f_slip.max()))
-            lo = min(float(row[engine.O_SSTOP]), float(f_slip.min()))
+            lo = min(float(row.s_stop[0]), float(f_slip.min()))
             out[i, j] = (hi - lo) * params.scales.force.to("N").magnitude
     return out
 

@@ -13,6 +13,7 @@ import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.patches import Patch
 
+from ..core.results import Regime
 from .style import plain_log_ticks
 
 if TYPE_CHECKING:
@@ -88,29 +89,22 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None) -> Figu
     }
     # slip-reversal orbits (never sticking, velocity changing sign): not continued, shown where
     # the engine reached them, from rest or from a probe
-    from ..core import engine
-
     grid = diagram.branches[0].nu
-    found = [diagram.rest, *(diagram.probes[:, k] for k in range(diagram.probes.shape[1]))]
     rev_amp: list[float] = []
-    for rows in found:
-        if rows.shape[0] != grid.size:
+    for rows in (diagram.rest, *diagram.probes):
+        if len(rows) != grid.size:
             continue
-        rev = (
-            (rows[:, engine.O_STATUS] == engine.ST_OK)
-            & (rows[:, engine.O_REGIME] == engine.RG_PURE_SLIP)
-            & (rows[:, engine.O_NBACKWARD] > 0)
-        )
+        rev = rows.is_regime(Regime.PURE_SLIP) & (rows.n_backward > 0)
         if rev.any():
             ax.plot(
                 grid[rev],
-                rows[rev, engine.O_AMPLITUDE],
+                rows.amplitude[rev],
                 ".",
                 color="C5",
                 ms=3,
                 label=None if rev_amp else "slip reversal (engine)",
             )
-            rev_amp.append(float(np.max(rows[rev, engine.O_AMPLITUDE])))
+            rev_amp.append(float(np.max(rows.amplitude[rev])))
     seen = set()
     for p in diagram.points:
         if not np.isfinite(p.amplitude):  # a boundary of an attractor that no branch follows
