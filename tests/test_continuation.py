@@ -202,8 +202,8 @@ def test_regimes_bad_input() -> None:
         regimes(CUBIC, 0.5, 1.0, n_grid=2)
     with pytest.raises(ValueError, match="param='c'"):
         regime_map(CUBIC, "c", [1.0], 0.5, 1.0)
-    with pytest.raises(ValueError, match="weakening or the cubic"):
-        regime_map(CoulombLaw(kinetic=0.5), "kinetic", [0.5], 0.5, 1.0)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="regime map of the coulomb law"):
+        regime_map(CoulombLaw(kinetic=0.5), "kinetic", [0.5], 0.5, 1.0)
 
 
 def run(*args: str):

@@ -15,7 +15,7 @@ from stickslip.data.records import synthetic_record
 
 P = S.zv_parameters("100 um/s")
 TRUE = S.cycle(P, probe=False)
-TRUTH = {"mu0": 0.46, "a": 160.0, "k": 62.0, "m": float(P.mass.to("kg").magnitude)}
+TRUTH = {"mu_s": 0.46, "a": 160.0, "k": 62.0, "m": float(P.mass.to("kg").magnitude)}
 
 
 def record(seed: int, rate: str = "1 kHz", cycles: int = 22):

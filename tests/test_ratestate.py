@@ -50,9 +50,9 @@ def test_dulac_cli_json() -> None:
     paper = paper_divergence().subs({symbols()[n]: names[n] for n in names})
     assert sp.simplify(parsed - paper) == 0
     assert "excluded" not in out
-    res = CliRunner().invoke(main, ["dulac", "--A", "0.01", "--B", "0.015", "--kappa", "0.004", "--json"])
+    res = CliRunner().invoke(main, ["dulac", "--a", "0.01", "--b", "0.015", "--kappa", "0.004", "--json"])
     assert json.loads(res.output)["excluded"] is True
-    res = CliRunner().invoke(main, ["dulac", "--A", "0.01", "--B", "0.015", "--kappa", "0.005", "--json"])
+    res = CliRunner().invoke(main, ["dulac", "--a", "0.01", "--b", "0.015", "--kappa", "0.005", "--json"])
     out = json.loads(res.output)
     assert out["excluded"] is False
     assert "closed orbits" in out["verdict"]
@@ -63,7 +63,7 @@ def test_dulac_cli_json() -> None:
 def test_excluded_values() -> None:
     assert excluded(0.01, 0.015, 0.006)
     assert not excluded(0.01, 0.015, 0.005)
-    with pytest.raises(ValueError, match=r"A=-0\.01"):
+    with pytest.raises(ValueError, match=r"a=-0\.01"):
         excluded(-0.01, 0.015, 0.005)
 
 
@@ -282,10 +282,11 @@ def test_ratestate_cli_errors(args: list[str], message: str, tmp_path) -> None:
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        (["--A", "0.01"], "give all of --A, --B and --kappa"),
-        (["--A", "0.01", "--B", "-1", "--kappa", "0.1"], "B=-1.0 must be non-negative"),
-        (["--A", "0.01", "--B", "0.1", "--kappa", "0"], "kappa=0.0 must be positive"),
-        (["--A", "x", "--B", "0.1", "--kappa", "1"], "'x' is not a valid float"),
+        (["--a", "0.01"], "give all of --a, --b and --kappa"),
+        (["--a", "0.01", "--b", "-1", "--kappa", "0.1"], "b=-1.0 must be non-negative"),
+        (["--a", "0.01", "--b", "0.1", "--kappa", "0"], "kappa=0.0 must be positive"),
+        (["--a", "x", "--b", "0.1", "--kappa", "1"], "'x' is not a valid float"),
+        (["--a", "0.01", "--b", "0.1", "--dc", "10 um"], "--dc and --stiffness-per-load go together"),
     ],
 )
 def test_dulac_cli_errors(args: list[str], message: str) -> None:

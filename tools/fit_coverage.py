@@ -24,7 +24,7 @@ from stickslip.data.fitting import fit_record
 from stickslip.io.records import Record
 
 MASS = float(S.zv_parameters().mass.to("kg").magnitude)
-TRUTH = {"mu0": 0.46, "a": 160.0, "k": 62.0, "m": MASS}
+TRUTH = {"mu_s": 0.46, "a": 160.0, "k": 62.0, "m": MASS}
 
 
 def main(first: int, last: int) -> None:

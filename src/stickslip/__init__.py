@@ -3,31 +3,38 @@
 The one-block Burridge–Knopoff (spring-block) model with velocity-dependent
 friction, integrated event by event without smoothing the friction law.
 
-Layers (each imports only downward): :mod:`stickslip.core` (compiled numbers),
-:mod:`stickslip.models` (laws and parameters with units),
-:mod:`stickslip.dynamics` (cycles, regimes, trajectories), :mod:`stickslip.io`
-and :mod:`stickslip.plots`, and the command line :mod:`stickslip.cli`.
+Layers, each importing only from those below it (checked by import-linter):
+
+* :mod:`stickslip.core`: compiled kernels and their array API (numbers only);
+* :mod:`stickslip.units`, :mod:`stickslip.io`: units, files;
+* :mod:`stickslip.laws`: friction laws, each declared once and registered;
+* :mod:`stickslip.models`: parameter sets with units;
+* :mod:`stickslip.bifurcation`, :mod:`stickslip.dynamics`: orbits and regimes, cycles and sweeps;
+* :mod:`stickslip.data`, :mod:`stickslip.ratestate`: measured records, rate and state;
+* :mod:`stickslip.plots`, :mod:`stickslip.paper`: figures, the paper's reproduction;
+* :mod:`stickslip.cli`: the command line.
 """
 
 from .dynamics import Attractor, CycleResult, Trajectory, cycle, simulate
-from .models import (
-    Q_,
+from .io.output import package_version
+from .laws import (
     CoulombLaw,
     CubicLaw,
-    DimensionlessParameters,
+    DimensionlessLaw,
+    ExpressionLaw,
     PhysicalCoulombLaw,
     PhysicalCubicLaw,
-    PhysicalParameters,
+    PhysicalLaw,
     PhysicalWeakeningLaw,
-    Scales,
+    TabulatedLaw,
     WeakeningLaw,
     f1,
     f2,
-    ureg,
-    zv_parameters,
 )
+from .models import DimensionlessParameters, PhysicalParameters, Scales, zv_parameters
+from .units import Q_, ureg
 
-__version__ = "0.1.0"
+__version__ = package_version()
 
 __all__ = [
     "Q_",
@@ -35,12 +42,16 @@ __all__ = [
     "CoulombLaw",
     "CubicLaw",
     "CycleResult",
+    "DimensionlessLaw",
     "DimensionlessParameters",
+    "ExpressionLaw",
     "PhysicalCoulombLaw",
     "PhysicalCubicLaw",
+    "PhysicalLaw",
     "PhysicalParameters",
     "PhysicalWeakeningLaw",
     "Scales",
+    "TabulatedLaw",
     "Trajectory",
     "WeakeningLaw",
     "__version__",

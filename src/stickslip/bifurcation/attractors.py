@@ -36,7 +36,7 @@ import numpy.typing as npt
 from .. import defaults
 from ..core.api import Kernel, run_attractors, run_shooting
 from ..core.results import AttractorRows, Regime, ShootingRows, ShootStatus, Status
-from ..models.friction import DimensionlessLaw
+from ..laws import DimensionlessLaw
 from .orbits import law_arrays, return_map_orbit_core
 
 __all__ = ["SAME_ORBIT_RTOL", "SHOOTING_TOL", "OrbitKey", "orbit_key", "polish_rows", "same_orbit"]
@@ -45,7 +45,6 @@ __all__ = ["SAME_ORBIT_RTOL", "SHOOTING_TOL", "OrbitKey", "orbit_key", "polish_r
 SHOOTING_TOL = 1e-10
 #: relative distance under which two orbits of one kind are the same attractor
 SAME_ORBIT_RTOL = 1e-6
-
 
 
 @dataclass(frozen=True)

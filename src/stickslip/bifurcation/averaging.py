@@ -24,7 +24,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from ..models.friction import CubicLaw
+from ..laws import CubicLaw
 from ..models.parameters import DimensionlessParameters
 from .orbits import pure_slip_orbit
 from .regimes import continue_pure_slip

@@ -27,10 +27,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.api import Kernel, builtin_kernel, run_attractors, run_flow, run_shooting, run_trajectory
+from ..core.api import Kernel, run_attractors, run_flow, run_shooting, run_trajectory
 from ..core.laws import N_LAW_PARAMS
 from ..core.results import EventKind, FlowResult, Regime, ShootingRows, ShootStatus, Status
-from ..models.friction import DimensionlessLaw
+from ..laws import DimensionlessLaw
 from ..models.parameters import DimensionlessParameters
 from .stability import averaged_amplitude
 
@@ -92,7 +92,7 @@ def law_arrays(law: DimensionlessLaw) -> tuple[Kernel, np.ndarray]:
     lp = np.zeros(N_LAW_PARAMS)
     cp = np.asarray(law.core_params(), dtype=np.float64)
     lp[: cp.size] = cp
-    return builtin_kernel(int(law.core_id)), lp
+    return law.kernel, lp
 
 
 def flow(
@@ -154,7 +154,7 @@ def pure_slip_orbit(
     if not (isinstance(tol, float) and 1e-13 <= tol <= 1e-3):
         raise ValueError(f"tol={tol!r}: expected a tolerance between 1e-13 and 1e-3")
     law, nu = params.law, params.nu
-    f_nu = float(law.forward(np.array([nu]))[0])  # type: ignore[attr-defined]
+    f_nu = float(law.forward(np.array([nu]))[0])
     if guess is None:
         a = averaged_amplitude(law, nu)
         if not math.isfinite(a):

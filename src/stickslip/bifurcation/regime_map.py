@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -25,10 +24,10 @@ import xarray as xr
 
 from ..core.results import AttractorRows, Regime
 from ..io.progress import show_progress
-from ..models.friction import CubicLaw, DimensionlessLaw, WeakeningLaw
+from ..laws import DimensionlessLaw, require_dimensionless_law
 from .regimes import RegimeDiagram, pure_slip_orbits_at, regimes
 
-__all__ = ["MAP_PARAMETERS", "REGIME_CODES", "criterion_table", "criterion_trial", "regime_map"]
+__all__ = ["REGIME_CODES", "criterion_table", "criterion_trial", "regime_map"]
 
 #: integer codes of the ``regime`` variable (CF ``flag_values``): the codes of :class:`Regime`
 REGIME_CODES = {
@@ -45,17 +44,13 @@ REGIME_CODES = {
 #: what a simulation from rest reaches (``observed`` variable), in the same codes
 _OBSERVED = (Regime.STICK_SLIP, Regime.PURE_SLIP, Regime.STEADY_SLIDING, Regime.SLIP_REVERSAL, Regime.UNKNOWN)
 OBSERVED_CODES = {r.value: r.code for r in _OBSERVED}
-#: the law parameters a map can run over
-MAP_PARAMETERS = {"weakening": ("c", "p"), "cubic": ("alpha", "gamma")}
 
 
 def _with(law: DimensionlessLaw, name: str, value: float) -> DimensionlessLaw:
-    allowed = MAP_PARAMETERS.get(law.name, ())  # type: ignore[attr-defined]
+    allowed = law.spec.mappable
     if name not in allowed:
-        raise ValueError(
-            f"param={name!r}: a regime map of the {law.name} law runs over one of {allowed}"  # type: ignore[attr-defined]
-        )
-    return replace(law, **{name: float(value)})  # type: ignore[type-var]
+        raise ValueError(f"param={name!r}: a regime map of the {law.name} law runs over one of {allowed}")
+    return law.replace(**{name: float(value)})
 
 
 def regime_map(
@@ -72,10 +67,11 @@ def regime_map(
 
     Parameters
     ----------
-    law : WeakeningLaw or CubicLaw
+    law : DimensionlessLaw
         The law; its other parameters are held fixed.
     param : str
-        ``c`` or ``p`` (weakening), ``alpha`` or ``gamma`` (cubic).
+        One of its parameters (``law.spec.mappable``): ``c`` or ``p`` (weakening),
+        ``alpha`` or ``gamma`` (cubic), a formula's own.
     values : sequence of float
         Values of ``param``.
     nu_min, nu_max : float
@@ -95,8 +91,7 @@ def regime_map(
         ``fold``, ``grazing`` and ``stick_slip_onset`` (NaN when absent).
 
     """
-    if not isinstance(law, WeakeningLaw | CubicLaw):
-        raise ValueError(f"law={law!r}: a regime map needs the weakening or the cubic law")
+    law = require_dimensionless_law(law)
     vals = np.asarray(values, dtype=float)
     if vals.ndim != 1 or vals.size < 1 or not np.all(np.isfinite(vals)):
         raise ValueError(f"values={values!r}: expected a 1-d sequence of finite numbers")
@@ -150,10 +145,10 @@ def regime_map(
             },
         },
         coords={
-            param: (param, vals, {"long_name": f"{law.name} law parameter {param}"}),  # type: ignore[attr-defined]
+            param: (param, vals, {"long_name": f"{law.name} law parameter {param}"}),
             "nu": ("nu", grid, {"long_name": "dimensionless driving velocity beta*v0"}),
         },
-        attrs={"law": law.name, **{k: float(x) for k, x in vars(law).items() if k != param}},  # type: ignore[attr-defined]
+        attrs={"law": law.name, **{k: float(x) for k, x in law.params.items() if k != param}},
     )
     return ds
 

@@ -47,9 +47,9 @@ from .. import defaults
 from ..core.api import run_attractors
 from ..core.results import AttractorRows, Regime
 from ..io.jsonable import json_clean
-from ..models.friction import DimensionlessLaw, require_dimensionless_law
+from ..laws import DimensionlessLaw, require_dimensionless_law
 from ..models.parameters import DimensionlessParameters
-from ..models.units import check_number
+from ..units import check_number
 from .attractors import OrbitKey, distinct, orbit_key, polish_rows, same_orbit
 from .orbits import PeriodicOrbit, flow, law_arrays, pure_slip_orbit
 from .stability import Hopf, hopf_points
@@ -190,7 +190,7 @@ class RegimeDiagram:
     def as_dict(self) -> dict[str, Any]:
         """Return the JSON-ready dictionary printed by ``stickslip regimes --json``."""
         return {
-            "law": {"name": self.law.name, **_law_fields(self.law)},  # type: ignore[attr-defined]
+            "law": {"name": self.law.name, **self.law.params, "description": self.law.describe()},
             "nu_min": self.nu_min,
             "nu_max": self.nu_max,
             "hopf": [
@@ -216,10 +216,6 @@ class RegimeDiagram:
         return json.dumps(self.as_dict(), **kwargs)
 
 
-def _law_fields(law: Any) -> dict[str, float]:
-    return {k: float(v) for k, v in vars(law).items() if isinstance(v, int | float)}
-
-
 # ----------------------------------------------------------------------------- pure slip
 
 
@@ -232,7 +228,7 @@ class _Shooter:
         self.rtol = rtol
 
     def f(self, nu: float, order: int = 0) -> float:
-        return float(self.law.forward(np.array([nu]), order)[0])  # type: ignore[attr-defined]
+        return float(self.law.forward(np.array([nu]), order)[0])
 
     def residual(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Return ``G(x)`` and its 2 x 3 Jacobian."""
@@ -548,9 +544,7 @@ def stick_slip_branch(
         for e in extra_nu:
             j = int(np.searchsorted(nu, e))
             special.append(
-                SpecialPoint(
-                    "stick-slip-onset", e, float(rows.amplitude[j]), "slip from breakaway stops"
-                )
+                SpecialPoint("stick-slip-onset", e, float(rows.amplitude[j]), "slip from breakaway stops")
             )
     sel = ok
     branch = Branch(
@@ -633,14 +627,14 @@ def regimes(
     hopf_in = tuple(h for h in h_all if lo <= h.nu <= hi)
     grid = _grid(lo, hi, n_grid)
 
-    fp = np.asarray(law.forward(grid, 1), dtype=float)  # type: ignore[attr-defined]
+    fp = np.asarray(law.forward(grid, 1), dtype=float)
     steady = Branch(
         kind="steady-sliding",
         nu=grid,
         amplitude=np.zeros_like(grid),
         period=np.full_like(grid, math.nan),
         min_velocity=grid.copy(),
-        max_force=np.asarray(law.forward(grid), dtype=float),  # type: ignore[attr-defined]
+        max_force=np.asarray(law.forward(grid), dtype=float),
         multiplier=np.array([max(z.real for z in _eig(g)) for g in fp]),
         stable=fp > 0,
         end="range",
@@ -778,12 +772,10 @@ PROBE_PUSHES = (1e-3, 2.0)
 CUT_RTOL = 1e-7
 
 
-def _probe_rows(
-    law: DimensionlessLaw, nu: np.ndarray, pushes: Sequence[float]
-) -> tuple[AttractorRows, ...]:
+def _probe_rows(law: DimensionlessLaw, nu: np.ndarray, pushes: Sequence[float]) -> tuple[AttractorRows, ...]:
     """Engine rows from ``(f(nu) + push, nu)``, polished: one set of rows (one per ``nu``) per push."""
     kernel, lp = law_arrays(law)
-    f_nu = np.asarray(law.forward(nu), dtype=float)  # type: ignore[attr-defined]
+    f_nu = np.asarray(law.forward(nu), dtype=float)
     nus = np.repeat(nu, len(pushes))
     s0 = (f_nu[:, None] + np.asarray(pushes, dtype=float)[None, :]).ravel()
     rows = run_attractors(
@@ -824,7 +816,7 @@ def _attractor_sets(
         rest, _ = polish_rows(law, nu, _stick_slip_rows(law, nu))
     if probes is None:
         probes = _probe_rows(law, nu, PROBE_PUSHES)
-    fp = np.asarray(law.forward(nu, 1), dtype=float)  # type: ignore[attr-defined]
+    fp = np.asarray(law.forward(nu, 1), dtype=float)
     out: list[tuple[Regime, ...]] = []
     for j, v in enumerate(nu):
         key = orbit_key(rest[j])
@@ -946,7 +938,7 @@ def confirm(diagram: RegimeDiagram) -> list[Confirmation]:
     out = []
     for iv in diagram.intervals:
         nu = _midpoint(iv.nu_min, iv.nu_max)
-        f_nu = float(law.forward(np.array([nu]))[0])  # type: ignore[attr-defined]
+        f_nu = float(law.forward(np.array([nu]))[0])
         amps = [o.amplitude for o in pure_slip_orbits_at(diagram, nu)]
         pushes = [1e-3, 0.3, 2.0, 6.0] + [k * a / 2 for a in amps for k in (0.9, 1.1)]
         s0 = np.array([f_nu + p for p in pushes])

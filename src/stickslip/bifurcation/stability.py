@@ -24,8 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from ..models.friction import DimensionlessLaw, require_dimensionless_law
-from ..models.units import check_number
+from ..laws import DimensionlessLaw, require_dimensionless_law
+from ..units import check_number
 
 __all__ = ["Hopf", "averaged_amplitude", "hopf_points", "steady_sliding_eigenvalues"]
 
@@ -56,7 +56,7 @@ class Hopf:
 
 
 def _d(law: DimensionlessLaw, nu: float, order: int) -> float:
-    return float(law.derivative(np.array([nu]), order)[0])  # type: ignore[attr-defined]
+    return float(law.derivative(np.array([nu]), order)[0])
 
 
 def steady_sliding_eigenvalues(law: DimensionlessLaw, nu: float) -> tuple[complex, complex]:
@@ -88,7 +88,7 @@ def hopf_points(
     if hi <= lo:
         raise ValueError(f"nu_max={nu_max!r} must exceed nu_min={nu_min!r}")
     grid = np.geomspace(lo, hi, n_grid)
-    g = np.asarray(law.derivative(grid, 1), dtype=np.float64)  # type: ignore[attr-defined]
+    g = np.asarray(law.derivative(grid, 1), dtype=np.float64)
     if np.all(g == 0.0):
         return []  # f' vanishes identically (Coulomb): steady sliding is neutral, no Hopf point
     # a root on the grid itself, isolated: the neighbours have opposite signs

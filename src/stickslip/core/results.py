@@ -59,6 +59,14 @@ class _Labelled(enum.StrEnum):
         raise ValueError(f"{cls.__name__}: no member with code {c}")
 
     @classmethod
+    def from_label(cls, label: str) -> Any:
+        """Return the member labelled ``label`` (ValueError when there is none)."""
+        for m in cls:
+            if m.value == label:
+                return m
+        raise ValueError(f"{cls.__name__}: no member {label!r}")
+
+    @classmethod
     def codes(cls) -> dict[str, int]:
         """Return ``{label: code}`` of every member (for NetCDF ``flag_values``)."""
         return {m.value: m.code for m in cls}

@@ -27,7 +27,7 @@ from scipy import stats
 
 from ..io.errors import DataError
 from ..io.tables import read_table
-from ..models.units import ureg
+from ..units import ureg
 
 __all__ = ["CriterionResult", "classify", "classify_file"]
 

@@ -5,7 +5,7 @@ Two stages.
 1. **Cycle features** give a robust start: the peak force, the trough force, the
    period, the slope of the stick ramp and the drop (fall) time, each the median
    over the record's cycles with its standard error. The peak is the static
-   friction ``mu0 W``, the ramp's slope is ``k v0`` exactly, the drop time sets
+   friction ``mu_s W``, the ramp's slope is ``k v0`` exactly, the drop time sets
    ``sqrt(m/k)``, the period and the trough set the weakening ``a``. A fit on
    features alone cannot say whether the model fits: the trough is nearly the
    ramp slope times the period, so four parameters meet four independent numbers,
@@ -14,7 +14,7 @@ Two stages.
 2. **The force waveform**: the model's steady cycle, repeated with the period it
    predicts, against every sample of a window of whole cycles (up to
    :data:`MAX_WAVEFORM_SAMPLES`), by :func:`scipy.optimize.least_squares` over
-   ``mu0, a, k, m`` (and ``b``) in log space and the time of the first breakaway.
+   ``mu_s, a, k, m`` (and ``b``) in log space and the time of the first breakaway.
    Residuals are weighted by the record's noise, estimated from the spread of
    successive differences (robust to the drops), so the reduced chi-square is
    about 1 when the model describes the record, and larger when it does not (it is
@@ -45,16 +45,16 @@ from ..core.api import run_attractors, run_trajectory
 from ..core.results import AttractorRows, EventKind, Regime, Status
 from ..io.errors import DataError
 from ..io.records import Record
-from ..models.friction import PhysicalWeakeningLaw
+from ..laws import PhysicalWeakeningLaw
 from ..models.parameters import PhysicalParameters
-from ..models.units import Q_
+from ..units import Q_
 from .records import CycleTable, RecordSummary, clean_force, measure_record, noise_level
 
 __all__ = ["FitResult", "fit_record"]
 
 FloatArray = npt.NDArray[np.float64]
 FEATURES = ("peak_force", "trough_force", "period", "rise_slope", "drop_time")
-UNITS = {"mu0": "", "a": "s/m", "b": "s/m", "k": "N/m", "m": "kg"}
+UNITS = {"mu_s": "", "a": "s/m", "b": "s/m", "k": "N/m", "m": "kg"}
 
 
 @dataclass(frozen=True)
@@ -207,8 +207,8 @@ def _model_features(
 ) -> FloatArray:
     vals = dict(fixed)
     vals.update(_values(theta, names, fixed.get("b", 0.0)))
-    mu0, a, b, k, m = vals["mu0"], vals["a"], vals.get("b", 0.0), vals["k"], vals["m"]
-    force = mu0 * load
+    mu_s, a, b, k, m = vals["mu_s"], vals["a"], vals.get("b", 0.0), vals["k"], vals["m"]
+    force = mu_s * load
     if not (force > 0 and k * m > 0 and math.isfinite(k * m / force)):  # an absurd trial step
         return np.full(len(FEATURES), np.nan)
     beta = math.sqrt(k * m) / force
@@ -251,7 +251,7 @@ def fit_record(
     guess: dict[str, float] | None = None,
     method: str = "waveform",
 ) -> FitResult:
-    """Fit ``mu0``, ``a``, ``k``, ``m`` (and ``b``) of the paper's model to a stick-slip record.
+    """Fit ``mu_s``, ``a``, ``k``, ``m`` (and ``b``) of the paper's model to a stick-slip record.
 
     Parameters
     ----------
@@ -289,8 +289,8 @@ def fit_record(
     table, summary = measure_record(record)
     v0 = float(record.v0.to("m/s").magnitude)
     load = float(record.load.to("N").magnitude)
-    names = ("mu0", "a", "k", "m", "b") if fit_b else ("mu0", "a", "k", "m")
-    coords = ("mu0", "d", "k", "m", "b") if fit_b else names  # see _values
+    names = ("mu_s", "a", "k", "m", "b") if fit_b else ("mu_s", "a", "k", "m")
+    coords = ("mu_s", "d", "k", "m", "b") if fit_b else names  # see _values
     theta, jac, chi2, data_a, err_a = _fit_features(record, table, summary, coords, v0, load, guess)
     cov = np.linalg.pinv(jac.T @ jac)
     noise = noise_level(record.force)
@@ -357,7 +357,7 @@ def fit_record(
         load=record.load,
         v0=record.v0,
         law=PhysicalWeakeningLaw(
-            mu0=values["mu0"], a=Q_(values["a"], "s/m"), b=Q_(values.get("b", 0.0), "s/m")
+            mu_s=values["mu_s"], a=Q_(values["a"], "s/m"), b=Q_(values.get("b", 0.0), "s/m")
         ),
     )
     return FitResult(
@@ -459,9 +459,9 @@ def _fit_features(
         err.append(max(se, floor, 1e-6 * abs(med)))
     data_a, err_a = np.array(data), np.array(err)
     k0 = summary.rise_slope / v0
-    mu0_0 = summary.peak_force / load
+    mu_s0 = summary.peak_force / load
     m0 = k0 * (summary.drop_time / (0.6 * math.pi)) ** 2
-    start = {"mu0": mu0_0, "a": 100.0, "k": k0, "m": max(m0, 1e-9), "b": 10.0}
+    start = {"mu_s": mu_s0, "a": 100.0, "k": k0, "m": max(m0, 1e-9), "b": 10.0}
     start.update(guess or {})
     start["d"] = start["a"] - start["b"]
     if not all(math.isfinite(start[x]) and start[x] > 0 for x in names):
@@ -494,7 +494,7 @@ def _physical(
     theta: FloatArray, names: tuple[str, ...], v0: float, load: float, fixed_b: float = 0.0
 ) -> dict[str, float]:
     vals = _values(theta, names, fixed_b)
-    force = vals["mu0"] * load
+    force = vals["mu_s"] * load
     beta = math.sqrt(vals["k"] * vals["m"]) / force
     return {
         "force": force,
@@ -516,7 +516,7 @@ def model_waveform(
 ) -> FloatArray:
     """Return the spring force (N) of the model's steady cycle at times ``t``, breakaway at ``t0``.
 
-    ``theta`` are the log-parameters ``names`` (``mu0, a, k, m`` and ``b``; without ``b`` in
+    ``theta`` are the log-parameters ``names`` (``mu_s, a, k, m`` and ``b``; without ``b`` in
     ``names`` it is ``fixed_b``, s/m). The stick phase
     is the exact ramp ``s_stop + nu (tau - t_slip)``; the slip phase from breakaway
     ``(1, 0)`` is sampled on the engine's dense output. NaN where the model does not stick.

@@ -406,14 +406,14 @@ def synthetic_record(
     from ..core.api import run_trajectory
     from ..core.results import Status
     from ..models.parameters import PhysicalParameters
-    from ..models.units import parse_quantity
+    from ..units import parse_quantity
 
     if not isinstance(params, PhysicalParameters):
         raise ValueError(f"params={params!r}: expected PhysicalParameters")
     dur = parse_quantity(duration, "duration", "[time]", "300 s").to("s").magnitude
     fs = parse_quantity(rate, "rate", "1 / [time]", "100 Hz").to("Hz").magnitude
     sigma = parse_quantity(noise, "noise", "[force]", "1 mN", allow_zero=True).to("N").magnitude
-    from ..models.units import ureg
+    from ..units import ureg
 
     try:
         dq = ureg.Quantity(drift.strip()) if isinstance(drift, str) else drift

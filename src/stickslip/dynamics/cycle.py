@@ -33,7 +33,7 @@ from ..models.parameters import (
     Scales,
     as_dimensionless,
 )
-from ..models.units import Q_, check_number
+from ..units import Q_, check_number
 
 __all__ = ["Attractor", "CycleResult", "cycle", "validate_tolerances"]
 

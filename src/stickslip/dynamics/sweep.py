@@ -6,19 +6,23 @@ parallel, in chunks, with a progress bar when the sweep takes more than a
 moment. A point whose computation fails keeps its status and NaN values; the
 other points are not affected.
 
-Physical sweeps can vary the set-up (``v0``, ``mass``, ``stiffness``, ``load``,
-``beta``, which sets the mass through ``m = (beta mu_s W)**2 / k``) and the law's
-physical parameters (``mu0``, ``a``, ``b``; ``mu_s``, ``k1``, ``k3``; ``mu_s``,
-``mu_k``). Dimensionless sweeps vary ``nu`` and the law's dimensionless
-parameters (``c``, ``p``; ``alpha``, ``gamma``; ``kinetic``).
+What can be swept comes from the law's declaration (:mod:`stickslip.laws`):
+physical sweeps vary the set-up (``v0``, ``mass``, ``stiffness``, ``load``,
+``beta``, which sets the mass through ``m = (beta mu_s W)**2 / k``), the static
+coefficient ``mu_s`` and the law's physical parameters (``a``, ``b`` of the
+weakening law; a formula's own parameters); dimensionless sweeps vary ``nu`` and
+the law's dimensionless parameters. Every point is validated with the law's own
+validators, vectorised over the whole grid before anything runs.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 import os
 from collections.abc import Mapping
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -26,20 +30,26 @@ import numpy.typing as npt
 import pint
 import xarray as xr
 
-from .. import __version__, defaults
+from .. import defaults
 from ..bifurcation.attractors import polish_rows
-from ..core.api import Kernel, builtin_kernel, run_attractors
+from ..core.api import Kernel, run_attractors
 from ..core.laws import N_LAW_PARAMS
 from ..core.memory import check_memory
 from ..core.results import AttractorRows, Regime
-from ..io.output import OutputFolder, emit, netcdf_writer
+from ..io.output import OutputFolder, emit, netcdf_writer, package_version
 from ..io.progress import progress_bar
-from ..models.friction import CoulombLaw, CubicLaw, WeakeningLaw
-from ..models.parameters import DimensionlessParameters, PhysicalParameters, dimensionless_from_si
-from ..models.units import parse_quantity
+from ..laws import PhysicalLaw
+from ..laws.spec import STATIC, Parameter
+from ..models.parameters import (
+    DimensionlessParameters,
+    PhysicalParameters,
+    dimensionless_from_si,
+    mass_for_beta,
+)
+from ..units import parse_quantity
 from .cycle import DIMENSIONLESS_UNITS, validate_tolerances
 
-__all__ = ["check_sweep_size", "load_sweep", "save_sweep", "sweep", "sweepable"]
+__all__ = ["SETUP", "Axis", "axes", "check_sweep_size", "load_sweep", "save_sweep", "sweep", "sweepable"]
 
 #: memory one point of a sweep takes in process (engine output, the grid, the dataset with
 #: its labels), measured on 1e5-point sweeps and rounded up
@@ -64,46 +74,45 @@ def check_sweep_size(n: int, what: str = "the sweep") -> None:
 
 FloatArray = npt.NDArray[np.float64]
 
-# name: (dimension, SI unit, description); dimension "" = dimensionless number
+#: the set-up's parameters: name -> Parameter (SI unit, bounds, help)
 SETUP = {
-    "v0": ("[length] / [time]", "m/s", "driving velocity"),
-    "mass": ("[mass]", "kg", "mass"),
-    "stiffness": ("[mass] / [time] ** 2", "N/m", "spring constant"),
-    "load": ("[force]", "N", "normal load"),
-    "beta": ("[time] / [length]", "s/m", "beta = sqrt(k m)/(mu_s W)"),
+    "v0": Parameter("v0", "driving velocity", unit="m/s", example="5 um/s"),
+    "mass": Parameter("mass", "mass of the moving part", unit="kg", example="1 kg"),
+    "stiffness": Parameter("stiffness", "spring constant", unit="N/m", example="62 N/m"),
+    "load": Parameter("load", "normal load", unit="N", example="196 mN"),
+    "beta": Parameter("beta", "beta = sqrt(k m)/(mu_s W) (sets the mass)", unit="s/m", example="42 s/m"),
 }
-PHYSICAL_LAW = {
-    "weakening": {
-        "mu0": ("", "", "static friction coefficient"),
-        "a": ("[time] / [length]", "s/m", "weakening rate a"),
-        "b": ("[time] / [length]", "s/m", "strengthening rate b"),
-    },
-    "cubic": {
-        "mu_s": ("", "", "static friction coefficient"),
-        "k1": ("[time] / [length]", "s/m", "linear coefficient k1"),
-        "k3": ("[time] ** 3 / [length] ** 3", "s**3/m**3", "cubic coefficient k3"),
-    },
-    "coulomb": {
-        "mu_s": ("", "", "static friction coefficient"),
-        "mu_k": ("", "", "kinetic friction coefficient"),
-    },
-}
-DIMENSIONLESS_LAW = {
-    "weakening": {"c": "weakening rate c = a/beta", "p": "strengthening p = b/beta"},
-    "cubic": {"alpha": "alpha = k1/(mu_s beta)", "gamma": "gamma = k3/(mu_s beta^3)"},
-    "coulomb": {"kinetic": "kinetic/static friction ratio"},
-}
-ZERO_ALLOWED = {"b", "p"}
+NU = Parameter("nu", "dimensionless driving velocity beta v0")
+
+
+@dataclass(frozen=True)
+class Axis:
+    """What a sweep axis is: its parameter and whether it belongs to the set-up or the law."""
+
+    parameter: Parameter
+    kind: str  # "setup", "static", "law" (physical), "nu", "dimensionless"
+
+
+def axes(params: DimensionlessParameters | PhysicalParameters) -> dict[str, Axis]:
+    """Return every parameter a sweep of ``params`` can vary (aliases included), by name."""
+    spec = params.law.spec
+    if isinstance(params, PhysicalParameters):
+        out = {k: Axis(p, "setup") for k, p in SETUP.items()}
+        if spec.static_from is None:  # a formula's mu(0+) is not a parameter of its own
+            out["mu_s"] = Axis(STATIC, "static")
+            for alias in spec.static_aliases:
+                out[alias] = Axis(STATIC, "static")
+        out.update({p.name: Axis(p, "law") for p in spec.physical})
+        return out
+    return {"nu": Axis(NU, "nu"), **{p.name: Axis(p, "dimensionless") for p in spec.parameters}}
 
 
 def sweepable(params: DimensionlessParameters | PhysicalParameters) -> list[str]:
     """Return the names of the parameters a sweep of ``params`` can vary."""
-    if isinstance(params, PhysicalParameters):
-        return [*SETUP, *PHYSICAL_LAW[params.law.name]]
-    return ["nu", *DIMENSIONLESS_LAW[params.law.name]]
+    return [k for k, a in axes(params).items() if a.parameter.name == k]
 
 
-def _grid_values(name: str, values: Any, dimension: str) -> tuple[FloatArray, FloatArray, str]:
+def _grid_values(p: Parameter, name: str, values: Any) -> tuple[FloatArray, FloatArray, str]:
     """Return (values in the user's unit, values in SI, unit string) for one swept parameter."""
     if isinstance(values, str):
         raise ValueError(f"{name}={values!r}: expected a sequence of values, not a single string")
@@ -113,6 +122,13 @@ def _grid_values(name: str, values: Any, dimension: str) -> tuple[FloatArray, Fl
                 f"{name}={values!r}: expected a sequence of values (an array "
                 "quantity or a list), not a single value"
             )
+        if p.unit and values.check(p.dimension):
+            si = np.asarray(values.to(p.unit).magnitude, dtype=float).ravel()
+            shown = np.asarray(values.magnitude, dtype=float).ravel()
+            if si.size == 0:
+                raise ValueError(f"{name}: the list of values is empty")
+            p.check_array(si)
+            return shown, si, f"{values.units:~}"
         items: list[Any] = [values[i] for i in range(len(values.magnitude))]
     else:
         try:
@@ -121,27 +137,17 @@ def _grid_values(name: str, values: Any, dimension: str) -> tuple[FloatArray, Fl
             raise ValueError(f"{name}={values!r}: expected a sequence of values") from None
     if not items:
         raise ValueError(f"{name}: the list of values is empty")
-    if dimension == "":
+    if not p.unit:
         shown = np.array([_number(name, v) for v in items], dtype=float)
+        p.check_array(shown)
         return shown, shown.copy(), ""
-    qs = [
-        parse_quantity(
-            v, name, dimension, "1 " + SETUP.get(name, ("", "s/m"))[1], allow_zero=name in ZERO_ALLOWED
-        )
-        for v in items
-    ]
+    example = p.example or f"1 {p.unit}"
+    qs = [parse_quantity(v, name, p.dimension, example, allow_zero=True, allow_negative=True) for v in items]
     unit = qs[0].units
     shown = np.array([q.to(unit).magnitude for q in qs], dtype=float)
-    si_unit = SETUP[name][1] if name in SETUP else _law_si_unit(name)
-    si = np.array([q.to(si_unit).magnitude for q in qs], dtype=float)
+    si = np.array([q.to(p.unit).magnitude for q in qs], dtype=float)
+    p.check_array(si)
     return shown, si, f"{unit:~}"
-
-
-def _law_si_unit(name: str) -> str:
-    for table in PHYSICAL_LAW.values():
-        if name in table:
-            return table[name][1]
-    raise KeyError(name)
 
 
 def _number(name: str, v: Any) -> float:
@@ -155,8 +161,6 @@ def _number(name: str, v: Any) -> float:
         raise ValueError(f"{name}={v!r}: expected a number") from None
     if not math.isfinite(x):
         raise ValueError(f"{name}={x!r}: expected a finite number")
-    if x < 0 or (x == 0 and name not in ZERO_ALLOWED):
-        raise ValueError(f"{name}={x!r} must be {'non-negative' if name in ZERO_ALLOWED else 'positive'}")
     return x
 
 
@@ -180,6 +184,7 @@ def sweep(
         Swept parameter to its values, e.g. ``{"v0": Q_(np.geomspace(5, 1000, 60), "um/s")}``
         or ``{"nu": np.geomspace(1e-4, 1e-1, 30), "c": [1, 3, 10]}``. Physical values
         may be quantities or strings; the dataset keeps the unit of the first value.
+        :func:`sweepable` lists the names.
     rtol, atol, max_slip_time, conv_tol : float, optional
         As in :func:`stickslip.cycle`.
     progress : bool, optional
@@ -204,61 +209,43 @@ def sweep(
         raise ValueError(f"base={base!r}: expected DimensionlessParameters or PhysicalParameters")
     if not grid:
         raise ValueError("grid is empty: give at least one parameter to sweep")
-    allowed = sweepable(base)
+    allowed = axes(base)
     for name in grid:
         if name not in allowed:
             raise ValueError(
                 f"cannot sweep {name!r} for this set-up ({base.law.name} law, "
                 f"{'physical' if isinstance(base, PhysicalParameters) else 'dimensionless'}): "
-                f"expected one of {allowed}"
+                f"expected one of {sweepable(base)}"
             )
-    physical = isinstance(base, PhysicalParameters)
+    canonical = [allowed[n].parameter.name for n in grid]
+    if len(set(canonical)) != len(canonical):
+        raise ValueError(f"grid {list(grid)}: one parameter given twice (under two names)")
     coords: dict[str, tuple[FloatArray, str, str]] = {}
     si_axes: dict[str, FloatArray] = {}
     for name, values in grid.items():
-        if physical:
-            dim = SETUP[name][0] if name in SETUP else PHYSICAL_LAW[base.law.name][name][0]
-            desc = SETUP[name][2] if name in SETUP else PHYSICAL_LAW[base.law.name][name][2]
-        else:
-            dim, desc = (
-                "",
-                (
-                    "dimensionless driving velocity"
-                    if name == "nu"
-                    else DIMENSIONLESS_LAW[base.law.name][name]
-                ),
-            )
-        shown, si, unit = _grid_values(name, values, dim)
-        coords[name] = (shown, unit, desc)
-        si_axes[name] = si
+        p = allowed[name].parameter
+        shown, si, unit = _grid_values(dataclasses.replace(p, name=name), name, values)
+        coords[p.name] = (shown, unit, p.help)
+        si_axes[p.name] = si
     shape = tuple(len(v) for v in si_axes.values())
     check_sweep_size(int(np.prod(shape, dtype=np.float64)))
     mesh = dict(zip(si_axes, np.meshgrid(*si_axes.values(), indexing="ij"), strict=True))
     flat = {k: v.ravel() for k, v in mesh.items()}
     n = int(np.prod(shape))
 
-    if physical:
-        assert isinstance(base, PhysicalParameters)
+    if isinstance(base, PhysicalParameters):
         nu, law_nd, scales = _physical_to_dimensionless(base, flat, n)
     else:
-        assert isinstance(base, DimensionlessParameters)
         nu, law_nd = _dimensionless_arrays(base, flat, n)
         scales = None
-    law_name = base.law.name
-    core_id = {"weakening": WeakeningLaw.core_id, "cubic": CubicLaw.core_id, "coulomb": CoulombLaw.core_id}[
-        law_name
-    ]
-    _check_dimensionless_law(law_name, law_nd)
+    spec = base.law.spec
+    spec.validate(law_nd)
     lp = np.zeros((n, N_LAW_PARAMS))
-    for j, key in enumerate(DIMENSIONLESS_LAW[law_name]):
-        lp[:, j] = law_nd[key]
-
-    out, mult = _run_chunks(builtin_kernel(core_id), lp, nu, rtol, atol, max_slip_time, conv_tol, progress)
+    for j, p in enumerate(spec.parameters):
+        lp[:, j] = law_nd[p.name]
+    kernel = base.law.kernel if isinstance(base, DimensionlessParameters) else spec.kernel()
+    out, mult = _run_chunks(kernel, lp, nu, rtol, atol, max_slip_time, conv_tol, progress)
     return _dataset(base, coords, shape, out, mult, nu, law_nd, scales, rtol, atol)
-
-
-def _si(q: pint.Quantity, unit: str) -> float:
-    return float(q.to(unit).magnitude)
 
 
 def _physical_to_dimensionless(
@@ -267,29 +254,21 @@ def _physical_to_dimensionless(
     def arr(name: str, default: float) -> FloatArray:
         return flat[name] if name in flat else np.full(n, default)
 
-    law = base.law
-    mu_name = "mu0" if law.name == "weakening" else "mu_s"
-    mu = arr(mu_name, law.static_coefficient)
-    k = arr("stiffness", _si(base.stiffness, "N/m"))
-    w = arr("load", _si(base.load, "N"))
+    law: PhysicalLaw = base.law
+    spec = law.spec
+    law_si = {key: arr(key, v) for key, v in law.si_parameters().items()}
+    mu = spec.static_from(law_si) if spec.static_from is not None else arr("mu_s", law.mu_s)
+    k = arr("stiffness", base.stiffness.to("N/m").magnitude)
+    w = arr("load", base.load.to("N").magnitude)
     if "beta" in flat:
         if "mass" in flat:
             raise ValueError("sweep either 'beta' or 'mass', not both: beta sets the mass")
-        m = (flat["beta"] * (mu * w)) ** 2 / k
+        m = mass_for_beta(flat["beta"], k, w, mu)
     else:
-        m = arr("mass", _si(base.mass, "kg"))
-    law_si = {key: arr(key, v) for key, v in law.si_parameters().items()}
-    if law.name == "coulomb" and np.any(law_si["mu_k"] >= mu):
-        i = int(np.argmax(law_si["mu_k"] >= mu))
-        raise ValueError(f"mu_k={float(law_si['mu_k'][i])!r} is not below mu_s={float(mu[i])!r} at point {i}")
+        m = arr("mass", base.mass.to("kg").magnitude)
+    PhysicalLaw._validate(spec, mu, law_si)
     nu, nd, scales = dimensionless_from_si(
-        law.name,
-        stiffness=k,
-        mass=m,
-        load=w,
-        v0=arr("v0", _si(base.v0, "m/s")),
-        static_coefficient=mu,
-        law_si=law_si,
+        spec, stiffness=k, mass=m, load=w, v0=arr("v0", base.v0.to("m/s").magnitude), mu_s=mu, law_si=law_si
     )
     return nu, nd, scales
 
@@ -298,16 +277,8 @@ def _dimensionless_arrays(
     base: DimensionlessParameters, flat: dict[str, FloatArray], n: int
 ) -> tuple[FloatArray, dict[str, FloatArray]]:
     nu = flat["nu"] if "nu" in flat else np.full(n, base.nu)
-    nd = {}
-    for key in DIMENSIONLESS_LAW[base.law.name]:
-        nd[key] = flat[key] if key in flat else np.full(n, float(getattr(base.law, key)))
+    nd = {k: flat[k] if k in flat else np.full(n, v) for k, v in base.law.params.items()}
     return nu, nd
-
-
-def _check_dimensionless_law(law_name: str, nd: dict[str, FloatArray]) -> None:
-    if law_name == "coulomb" and np.any(nd["kinetic"] >= 1.0):
-        i = int(np.argmax(nd["kinetic"] >= 1.0))
-        raise ValueError(f"kinetic={float(nd['kinetic'][i])!r} at point {i}: expected a ratio below 1")
 
 
 def _run_chunks(
@@ -404,13 +375,14 @@ def _dataset(
         np.array([str(st) for st in out.statuses()]).reshape(shape),
         {"long_name": "ok, or why the point failed"},
     )
-    dfnu = _steady_stable(base.law.name, nu, law_nd)
     data["steady_sliding_stable"] = (
         dims,
-        dfnu.reshape(shape),
+        (out.dfnu > 0.0).reshape(shape),
         {"long_name": "steady sliding linearly stable, f'(nu) > 0"},
     )
     # the dimensionless form of every point (unless it is itself a swept coordinate)
+    base_spec = base.law.spec
+    names = {p.name for p in base_spec.parameters}
     if "nu" not in coords:
         data["nu"] = (dims, nu.reshape(shape), {"units": "1", "long_name": "nu = beta v0"})
     for key, v in law_nd.items():
@@ -418,7 +390,7 @@ def _dataset(
             data[key] = (
                 dims,
                 v.reshape(shape),
-                {"units": "1", "long_name": DIMENSIONLESS_LAW[base.law.name][key]},
+                {"units": "1", "long_name": base_spec.parameter(key).help if key in names else key},
             )
     coord_vars = {
         name: (name, vals, {"units": unit or "1", "long_name": desc})
@@ -427,24 +399,15 @@ def _dataset(
     attrs = {
         "title": "stickslip parameter sweep: steady oscillation reached from rest",
         "law": base.law.name,
+        "law_description": base.law.describe(),
         "kind": "physical" if isinstance(base, PhysicalParameters) else "dimensionless",
         "base_parameters": repr(base),
         "rtol": rtol,
         "atol": atol,
-        "stickslip_version": __version__,
+        "stickslip_version": package_version(),
         "Conventions": "CF-1.8",
     }
     return xr.Dataset(data, coords=coord_vars, attrs=attrs)
-
-
-def _steady_stable(law_name: str, nu: FloatArray, nd: dict[str, FloatArray]) -> npt.NDArray[np.bool_]:
-    if law_name == "weakening":
-        d = -nd["c"] / (1.0 + nd["c"] * nu) ** 2 + nd["p"]
-    elif law_name == "cubic":
-        d = -nd["alpha"] + 3.0 * nd["gamma"] * nu**2
-    else:
-        d = np.zeros_like(nu)
-    return np.asarray(d > 0.0)
 
 
 def save_sweep(

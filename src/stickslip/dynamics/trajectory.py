@@ -17,7 +17,7 @@ from ..core.api import run_trajectory
 from ..core.memory import check_memory
 from ..core.results import EventKind, Regime, Status
 from ..models.parameters import DimensionlessParameters, PhysicalParameters, as_dimensionless
-from ..models.units import check_number, parse_quantity
+from ..units import check_number, parse_quantity
 from .cycle import DIMENSIONLESS_UNITS, SI_UNITS, cycle, validate_tolerances
 
 __all__ = ["Trajectory", "simulate"]

@@ -46,6 +46,7 @@ __all__ = [
     "json_writer",
     "netcdf_writer",
     "own_kind",
+    "package_version",
     "text_writer",
 ]
 
@@ -56,7 +57,8 @@ _MARK = re.compile(rb"stickslip (\d[\w.+-]*|unknown) \(([a-z][\w-]*)\)")
 _HEAD_BYTES = 8192
 
 
-def _version() -> str:
+def package_version() -> str:
+    """Return stickslip's version from the package metadata (``unknown`` in an uninstalled tree)."""
     try:
         return metadata.version("stickslip")
     except metadata.PackageNotFoundError:  # pragma: no cover - running from a source tree
@@ -65,7 +67,7 @@ def _version() -> str:
 
 def generator(kind: str) -> str:
     """Return the marker stickslip writes into its outputs of ``kind``: ``'stickslip VERSION (KIND)'``."""
-    return f"stickslip {_version()} ({kind})"
+    return f"stickslip {package_version()} ({kind})"
 
 
 class ForeignFileError(DataError):

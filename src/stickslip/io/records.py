@@ -24,7 +24,7 @@ import numpy.typing as npt
 import pandas as pd
 import pint
 
-from ..models.units import parse_quantity, ureg
+from ..units import parse_quantity, ureg
 from . import text
 from .errors import DataError
 from .tables import check_file, parse_header

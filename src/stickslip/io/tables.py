@@ -11,7 +11,7 @@ import numpy as np
 import numpy.typing as npt
 import pint
 
-from ..models.units import ureg
+from ..units import ureg
 from . import text
 from .errors import DataError
 

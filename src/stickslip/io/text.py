@@ -219,7 +219,7 @@ def read_frame(
             skiprows=layout.header_line,
             comment="#",
             skip_blank_lines=True,
-            dtype=dtype,  # type: ignore[arg-type]
+            dtype=dtype,
             engine="c",
             encoding="utf-8-sig",
             index_col=False,

@@ -12,6 +12,7 @@ the paper's law).
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any
@@ -20,23 +21,35 @@ import numpy as np
 import numpy.typing as npt
 import pint
 
-from .friction import (
-    CoulombLaw,
-    CubicLaw,
-    DimensionlessLaw,
-    PhysicalLaw,
-    PhysicalWeakeningLaw,
-    WeakeningLaw,
-)
-from .units import Q_, check_number, parse_quantity
+from ..laws import DimensionlessLaw, PhysicalLaw, PhysicalWeakeningLaw, require_physical_law
+from ..laws.spec import STATIC, LawSpec
+from ..units import Q_, check_number, parse_quantity
 
 __all__ = [
     "DimensionlessParameters",
     "PhysicalParameters",
     "Scales",
     "as_dimensionless",
+    "beta_of",
+    "dimensionless_from_si",
+    "mass_for_beta",
     "zv_parameters",
 ]
+
+
+def beta_of(stiffness: npt.ArrayLike, mass: npt.ArrayLike, load: npt.ArrayLike, mu_s: npt.ArrayLike) -> Any:
+    """Return ``beta = sqrt(k m)/(mu_s W)`` (s/m) from SI values (scalars or arrays)."""
+    k, m = np.asarray(stiffness, dtype=float), np.asarray(mass, dtype=float)
+    return np.sqrt(k * m) / (np.asarray(mu_s, dtype=float) * np.asarray(load, dtype=float))
+
+
+def mass_for_beta(
+    beta: npt.ArrayLike, stiffness: npt.ArrayLike, load: npt.ArrayLike, mu_s: npt.ArrayLike
+) -> Any:
+    """Return the mass (kg) that gives ``beta`` (s/m): ``m = (beta mu_s W)**2 / k`` (SI, vectorised)."""
+    b = np.asarray(beta, dtype=float)
+    force = np.asarray(mu_s, dtype=float) * np.asarray(load, dtype=float)
+    return (b * force) ** 2 / np.asarray(stiffness, dtype=float)
 
 
 @dataclass(frozen=True)
@@ -48,9 +61,9 @@ class DimensionlessParameters:
     nu : float
         Dimensionless driving velocity ``beta v0`` (> 0).
     law : DimensionlessLaw
-        A :class:`~stickslip.models.friction.WeakeningLaw`,
-        :class:`~stickslip.models.friction.CubicLaw` or
-        :class:`~stickslip.models.friction.CoulombLaw`.
+        Any dimensionless law: :class:`~stickslip.laws.WeakeningLaw`,
+        :class:`~stickslip.laws.CubicLaw`, :class:`~stickslip.laws.CoulombLaw`,
+        :class:`~stickslip.laws.ExpressionLaw`, a registered law's class.
 
     """
 
@@ -71,8 +84,8 @@ class DimensionlessParameters:
         )
         if not isinstance(self.law, DimensionlessLaw):
             raise ValueError(
-                f"law={self.law!r}: expected a dimensionless law (WeakeningLaw, CubicLaw or "
-                "CoulombLaw); convert a physical law with PhysicalParameters"
+                f"law={self.law!r}: expected a dimensionless law (WeakeningLaw, CubicLaw, CoulombLaw, "
+                "ExpressionLaw, ...); convert a physical law with PhysicalParameters"
             )
 
     def with_nu(self, nu: float) -> DimensionlessParameters:
@@ -117,6 +130,9 @@ class Scales:
 class PhysicalParameters:
     """A physical spring-block set-up.
 
+    The dimensionless form (``nu``, the dimensionless law, the scales) is computed
+    once, on first use, and kept.
+
     Parameters
     ----------
     mass : pint.Quantity or str
@@ -129,7 +145,7 @@ class PhysicalParameters:
         Driving velocity, e.g. ``"5 um/s"``.
     law : PhysicalLaw
         Friction law in physical units, e.g.
-        ``PhysicalWeakeningLaw(mu0=0.46, a="160 s/m")``.
+        ``PhysicalWeakeningLaw(mu_s=0.46, a="160 s/m")``.
 
     Raises
     ------
@@ -152,49 +168,43 @@ class PhysicalParameters:
         )
         object.__setattr__(self, "load", parse_quantity(self.load, "load", "[force]", "196 mN"))
         object.__setattr__(self, "v0", parse_quantity(self.v0, "v0", "[length] / [time]", "5 um/s"))
-        if not hasattr(self.law, "nondimensionalize"):
-            raise ValueError(
-                f"law={self.law!r}: expected a physical law (PhysicalWeakeningLaw, "
-                "PhysicalCubicLaw or PhysicalCoulombLaw)"
-            )
+        require_physical_law(self.law)
 
-    def _si_form(self) -> tuple[Any, dict[str, Any], dict[str, Any]]:
-        return dimensionless_from_si(
-            self.law.name,
-            stiffness=self.stiffness.to("N/m").magnitude,
-            mass=self.mass.to("kg").magnitude,
-            load=self.load.to("N").magnitude,
-            v0=self.v0.to("m/s").magnitude,
-            static_coefficient=self.law.static_coefficient,
-            law_si=self.law.si_parameters(),
+    @functools.cached_property
+    def _form(self) -> tuple[float, DimensionlessLaw, Scales]:
+        """``nu``, the dimensionless law and the scales: computed once."""
+        k = float(self.stiffness.to("N/m").magnitude)
+        m = float(self.mass.to("kg").magnitude)
+        force = self.law.mu_s * float(self.load.to("N").magnitude)
+        beta = float(beta_of(k, m, self.load.to("N").magnitude, self.law.mu_s))
+        scales = Scales(
+            force=Q_(force, "N"),
+            time=Q_(float(np.sqrt(m / k)), "s"),
+            length=Q_(force / k, "m"),
+            velocity=Q_(1.0 / beta, "m/s"),
         )
+        nu = beta * float(self.v0.to("m/s").magnitude)
+        return nu, self.law.nondimensionalize(Q_(beta, "s/m")), scales
 
     @property
     def scales(self) -> Scales:
         """Return the force, time, length and velocity units of the dimensionless model."""
-        sc = self._si_form()[2]
-        return Scales(
-            force=Q_(float(sc["force"]), "N"),
-            time=Q_(float(sc["time"]), "s"),
-            length=Q_(float(sc["length"]), "m"),
-            velocity=Q_(float(sc["velocity"]), "m/s"),
-        )
+        return self._form[2]
 
     @property
     def beta(self) -> pint.Quantity:
         """``beta = sqrt(k m)/(mu_s W)`` (s/m)."""
-        return Q_(1.0 / float(self._si_form()[2]["velocity"]), "s/m")
+        return self._form[2].beta
 
     @property
     def nu(self) -> float:
         """Dimensionless driving velocity ``beta v0``."""
-        return float(self._si_form()[0])
+        return self._form[0]
 
     def dimensionless(self) -> DimensionlessParameters:
         """Return the dimensionless parameter set (``nu`` and the dimensionless law)."""
-        nu, nd, _ = self._si_form()
-        law = DIMENSIONLESS_LAWS[self.law.name](**{k: float(v) for k, v in nd.items()})
-        return DimensionlessParameters(nu=float(nu), law=law)
+        nu, law, _ = self._form
+        return DimensionlessParameters(nu=nu, law=law)
 
     def with_v0(self, v0: Any) -> PhysicalParameters:
         """Return a copy with another driving velocity."""
@@ -208,7 +218,7 @@ class PhysicalParameters:
         mass: Any,
         stiffness: Any,
         load: Any,
-        static_coefficient: float,
+        mu_s: float,
     ) -> PhysicalParameters:
         """Return the physical set that has the given dimensionless form.
 
@@ -218,15 +228,15 @@ class PhysicalParameters:
             ``nu`` and a dimensionless law.
         mass, stiffness, load : pint.Quantity or str
             The scales that the dimensionless form does not fix.
-        static_coefficient : float
-            ``mu_s`` (``mu0`` for the paper's law).
+        mu_s : float
+            The static friction coefficient.
 
         """
-        mu = check_number(static_coefficient, "static_coefficient")
+        mu = STATIC.check(mu_s)
         m = parse_quantity(mass, "mass", "[mass]", "1 kg")
         k = parse_quantity(stiffness, "stiffness", "[mass] / [time] ** 2", "62 N/m")
         w = parse_quantity(load, "load", "[force]", "196 mN")
-        beta = ((k * m) ** 0.5 / (mu * w)).to("s/m")
+        beta = Q_(float(beta_of(k.to("N/m").magnitude, m.to("kg").magnitude, w.to("N").magnitude, mu)), "s/m")
         return cls(
             mass=m,
             stiffness=k,
@@ -259,17 +269,19 @@ def zv_parameters(v0: Any = "10 um/s", *, b: Any = "0 s/m", beta: Any = ZV_BETA)
     b : pint.Quantity or str, optional
         Strengthening rate of F2 (``"100 s/m"`` in the paper's Fig. 2). Default 0 (F1).
     beta : pint.Quantity or str, optional
-        The scale ``sqrt(k m)/(mu0 W)``; the mass follows from it. Default 42 s/m.
+        The scale ``sqrt(k m)/(mu_s W)``; the mass follows from it. Default 42 s/m.
 
     """
     beta_q = parse_quantity(beta, "beta", "[time] / [length]", "42 s/m")
-    mass = ((beta_q * ZV_MU0 * ZV_LOAD) ** 2 / ZV_STIFFNESS).to("kg")
+    mass = mass_for_beta(
+        beta_q.to("s/m").magnitude, ZV_STIFFNESS.to("N/m").magnitude, ZV_LOAD.to("N").magnitude, ZV_MU0
+    )
     return PhysicalParameters(
-        mass=mass,
+        mass=Q_(float(mass), "kg"),
         stiffness=ZV_STIFFNESS,
         load=ZV_LOAD,
         v0=v0,
-        law=PhysicalWeakeningLaw(mu0=ZV_MU0, a=ZV_A, b=b),
+        law=PhysicalWeakeningLaw(mu_s=ZV_MU0, a=ZV_A, b=b),
     )
 
 
@@ -291,59 +303,45 @@ def as_dimensionless(
     raise ValueError(f"params={params!r}: expected DimensionlessParameters or PhysicalParameters")
 
 
-DIMENSIONLESS_LAWS: dict[str, Any] = {"weakening": WeakeningLaw, "cubic": CubicLaw, "coulomb": CoulombLaw}
-
-
 def dimensionless_from_si(
-    law: str,
+    spec: LawSpec,
     *,
     stiffness: npt.ArrayLike,
     mass: npt.ArrayLike,
     load: npt.ArrayLike,
     v0: npt.ArrayLike,
-    static_coefficient: npt.ArrayLike,
+    mu_s: npt.ArrayLike,
     law_si: Mapping[str, npt.ArrayLike],
 ) -> tuple[Any, dict[str, Any], dict[str, Any]]:
-    """Convert SI values (scalars or arrays) to the dimensionless form; one formula for all.
+    """Convert SI values (scalars or arrays) to the dimensionless form; one formula for every law.
 
     Parameters
     ----------
-    law : str
-        ``weakening``, ``cubic`` or ``coulomb``.
+    spec : LawSpec
+        The law (its map from physical to dimensionless parameters).
     stiffness, mass, load, v0 : array_like
         In N/m, kg, N and m/s.
-    static_coefficient : array_like
-        ``mu_s`` (``mu0``).
+    mu_s : array_like
+        Static friction coefficient.
     law_si : dict
-        The law's physical parameters in SI: ``a``, ``b`` (s/m); ``k1`` (s/m), ``k3``
-        (s**3/m**3); ``mu_k``.
+        The law's physical parameters in SI.
 
     Returns
     -------
     nu : array_like
         ``beta v0``.
     law_params : dict
-        The dimensionless law parameters (``c``, ``p``; ``alpha``, ``gamma``; ``kinetic``).
+        The dimensionless law parameters.
     scales : dict
         ``force`` (N), ``time`` (s), ``length`` (m), ``velocity`` (m/s).
 
     """
     k = np.asarray(stiffness, dtype=float)
     m = np.asarray(mass, dtype=float)
-    mu = np.asarray(static_coefficient, dtype=float)
+    mu = np.asarray(mu_s, dtype=float)
     force = mu * np.asarray(load, dtype=float)
-    beta = np.sqrt(k * m) / force
+    beta = beta_of(k, m, load, mu)
     nu = beta * np.asarray(v0, dtype=float)
-    if law == "weakening":
-        nd = {"c": np.asarray(law_si["a"]) / beta, "p": np.asarray(law_si["b"]) / beta}
-    elif law == "cubic":
-        nd = {
-            "alpha": np.asarray(law_si["k1"]) / (mu * beta),
-            "gamma": np.asarray(law_si["k3"]) / (mu * beta**3),
-        }
-    elif law == "coulomb":
-        nd = {"kinetic": np.asarray(law_si["mu_k"]) / mu}
-    else:
-        raise ValueError(f"law={law!r}: expected weakening, cubic or coulomb")
+    nd = spec.dimensionless_values(law_si, beta, mu)
     scales = {"force": force, "time": np.sqrt(m / k), "length": force / k, "velocity": 1.0 / beta}
     return nu, nd, scales

@@ -24,10 +24,10 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from ..core import ratestate as core
-from ..models.units import Q_
 from ..ratestate.dulac import lambdified
 from ..ratestate.model import RateStateParameters
 from ..ratestate.protocols import linear_stability, simulate_rate_state
+from ..units import Q_
 
 __all__ = ["compute_appendix"]
 

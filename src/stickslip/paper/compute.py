@@ -20,9 +20,9 @@ from ..bifurcation.regimes import regimes
 from ..core.api import run_attractors
 from ..dynamics.sweep import sweep
 from ..dynamics.trajectory import Trajectory, simulate
-from ..models.friction import CubicLaw, DimensionlessLaw, WeakeningLaw, f1
+from ..laws import CubicLaw, DimensionlessLaw, WeakeningLaw, f1
 from ..models.parameters import PhysicalParameters, zv_parameters
-from ..models.units import Q_
+from ..units import Q_
 
 __all__ = ["PaperConfig", "compute_paper", "measured_trends"]
 
@@ -47,7 +47,7 @@ def measured_trends() -> dict[str, dict[str, float | str]]:
     """Return the measured trends as stated in the paper, with the log-log slope they imply."""
     out: dict[str, dict[str, float | str]] = {}
     for key, m in MEASURED.items():
-        slope = math.log10(float(m["factor"])) / float(m["decades"])  # type: ignore[arg-type]
+        slope = math.log10(float(m["factor"])) / float(m["decades"])
         out[key] = {**m, "slope": slope}
     return out
 

@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from ..bifurcation.regime_map import criterion_table, criterion_trial, regime_map
-from ..models.friction import CubicLaw, DimensionlessLaw, WeakeningLaw
+from ..laws import CubicLaw, DimensionlessLaw, WeakeningLaw
 
 __all__ = ["TRIAL_MAPS", "TrialMap", "run_trials"]
 

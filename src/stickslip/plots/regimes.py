@@ -132,8 +132,8 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None) -> Figu
     ax.set_xlabel(r"dimensionless driving velocity $\nu = \beta v_0$")
     ax.set_ylabel(r"amplitude of the spring force [$\mu_s W$]")
     law = diagram.law
-    pars = ", ".join(f"{k} = {v:g}" for k, v in vars(law).items() if isinstance(v, int | float))
-    ax.set_title(f"{law.name} law ({pars})", fontsize=10)  # type: ignore[attr-defined]
+    pars = ", ".join(f"{k} = {v:g}" for k, v in law.params.items())
+    ax.set_title(f"{law.name} law ({pars})", fontsize=10)
     handles, labels = ax.get_legend_handles_labels()
     present = dict.fromkeys(iv.regime for iv in diagram.intervals)
     handles += [Patch(color=REGIME_COLORS[r]) for r in present]

@@ -100,20 +100,21 @@ def paper_divergence() -> sp.Expr:
 def excluded(a: float, b: float, kappa: float, *, rel: float = 1e-12) -> bool:
     """Return whether Dulac's criterion excludes periodic orbits for these values.
 
-    True unless ``B - A - kappa`` vanishes (to ``rel`` relative to the largest of
-    ``A``, ``B``, ``kappa``).
+    ``a`` and ``b`` are the direct and evolution effects (the paper's ``A`` and ``B``).
+    True unless ``b - a - kappa`` vanishes (to ``rel`` relative to the largest of
+    ``a``, ``b``, ``kappa``).
 
     Raises
     ------
     ValueError
-        For a non-positive ``A`` or ``kappa``, a negative ``B``, or a non-finite value.
+        For a non-positive ``a`` or ``kappa``, a negative ``b``, or a non-finite value.
 
     """
-    from ..models.units import check_number
+    from ..units import check_number
 
-    a = check_number(a, "A", what="a positive direct effect A")
-    b = check_number(b, "B", allow_zero=True, what="a non-negative evolution effect B")
-    kappa = check_number(kappa, "kappa", what="a positive stiffness kappa = k D0 / W")
+    a = check_number(a, "a", what="a positive direct effect a")
+    b = check_number(b, "b", allow_zero=True, what="a non-negative evolution effect b")
+    kappa = check_number(kappa, "kappa", what="a positive stiffness kappa = k Dc / W")
     return abs(b - a - kappa) > rel * max(a, b, kappa)
 
 
@@ -121,14 +122,14 @@ def sign_verdict(a: float, b: float, kappa: float) -> str:
     """Describe, in one sentence, what the criterion says for these values."""
     if not excluded(a, b, kappa):
         return (
-            "B - A - kappa = 0: the divergence vanishes identically (the flow preserves "
+            "b - a - kappa = 0: the divergence vanishes identically (the flow preserves "
             "area), Dulac's criterion says nothing, and closed orbits do exist (a centre)"
         )
     side = "negative" if b - a - kappa < 0 else "positive"
     return (
-        f"B - A - kappa = {b - a - kappa:.6g} < 0"
+        f"b - a - kappa = {b - a - kappa:.6g} < 0"
         if side == "negative"
-        else f"B - A - kappa = {b - a - kappa:.6g} > 0"
+        else f"b - a - kappa = {b - a - kappa:.6g} > 0"
     ) + (f": the divergence is {side} on all of phi > 0, so no periodic orbit exists")
 
 

@@ -17,7 +17,7 @@ import numpy as np
 import numpy.typing as npt
 import pint
 
-from ..models.units import check_number, parse_quantity
+from ..units import check_number, parse_quantity
 
 __all__ = ["RateStateParameters"]
 

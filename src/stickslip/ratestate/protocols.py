@@ -25,7 +25,7 @@ import xarray as xr
 from scipy.integrate import solve_ivp
 
 from ..core import ratestate as core
-from ..models.units import Q_, parse_quantity
+from ..units import Q_, parse_quantity
 from .model import RateStateParameters
 
 __all__ = [

@@ -29,6 +29,7 @@ def parse_quantity(
     example: str,
     *,
     allow_zero: bool = False,
+    allow_negative: bool = False,
 ) -> pint.Quantity:
     """Return ``value`` as a validated pint quantity of the given dimension.
 
@@ -44,6 +45,8 @@ def parse_quantity(
         An example of a valid value, used in error messages (``"1 kg"``).
     allow_zero : bool, optional
         Accept zero (default: only strictly positive values).
+    allow_negative : bool, optional
+        Accept any finite value (the caller checks the bounds).
 
     Returns
     -------
@@ -89,6 +92,8 @@ def parse_quantity(
         x = float(mag)
     except (TypeError, ValueError):
         raise ValueError(f"{name}={value!r}: expected a single number with a unit") from None
+    if allow_negative and math.isfinite(x):
+        return q
     _check_finite_sign(name, value, x, allow_zero, f"a quantity such as {example!r}")
     return q
 

@@ -1,0 +1,26 @@
+"""Command line: a thin layer over the public API, one module per command family.
+
+:mod:`~.dynamics` (``cycle``, ``simulate``, ``sweep``), :mod:`~.bifurcation`
+(``regimes``), :mod:`~.data` (``analyze``, ``fit``, ``classify``),
+:mod:`~.ratestate` (``ratestate``, ``dulac``) and :mod:`~.paper` (``reproduce``);
+the options of a parameter set are built from the law registry (:mod:`~.options`).
+"""
+
+from __future__ import annotations
+
+import click
+
+from . import bifurcation, data, dynamics, paper, ratestate
+from .options import build_parameters, describe_parameters
+
+__all__ = ["build_parameters", "describe_parameters", "main"]
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(package_name="stickslip")
+def main() -> None:
+    """Friction oscillators: the one-block spring-slider, exact and fast."""
+
+
+for _family in (dynamics, paper, ratestate, data, bifurcation):
+    _family.register(main)

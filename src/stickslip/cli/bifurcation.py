@@ -1,0 +1,177 @@
+"""Commands of the bifurcation family: ``regimes`` (branches, intervals, regime maps)."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import click
+import numpy as np
+
+from ..models.parameters import PhysicalParameters
+from .errors import handle_errors
+from .options import build_parameters, law_command, overwrite_option, parse_axis
+
+__all__ = ["register"]
+
+
+def register(main: click.Group) -> None:
+    """Add the commands to ``main``."""
+
+    @law_command(main)
+    @click.option("--nu-min", type=float, default=0.01, show_default=True, help="Lower end of the nu range.")
+    @click.option("--nu-max", type=float, default=3.0, show_default=True, help="Upper end of the nu range.")
+    @click.option("--n", "n_grid", type=int, default=201, show_default=True, help="Grid points along nu.")
+    @click.option(
+        "--json", "as_json", is_flag=True, help="Print hopf, intervals, points and branches as JSON."
+    )
+    @click.option(
+        "--check", is_flag=True, help="Confirm every interval by direct simulation from several starts."
+    )
+    @click.option(
+        "--map",
+        "map_spec",
+        default=None,
+        metavar="NAME=A..B",
+        help="Also a two-parameter regime map over a law parameter, e.g. 'p=0.05..1.5' (weakening: c, p; "
+        "cubic: alpha, gamma; a formula: its parameters), with the criterion on trial.",
+    )
+    @click.option("--map-n", type=int, default=25, show_default=True, help="Values of the --map parameter.")
+    @click.option(
+        "--out",
+        "out_dir",
+        type=click.Path(file_okay=False),
+        default=None,
+        help="Write regimes.json, bifurcation.png/.svg (and regime_map.nc, regime_map.png, "
+        "criterion_map.png with --map) to this folder.",
+    )
+    @overwrite_option
+    @handle_errors
+    def regimes(
+        nu_min: float,
+        nu_max: float,
+        n_grid: int,
+        as_json: bool,
+        check: bool,
+        map_spec: str | None,
+        map_n: int,
+        out_dir: str | None,
+        overwrite: bool,
+        **opts: Any,
+    ) -> None:
+        """Find every branch (steady sliding, pure slip, stick-slip) over a range of nu and the regimes.
+
+        Hopf points and their criticality, pure-slip orbits continued by shooting
+        (stable and unstable), folds, grazing, the onset of stick-slip, and the
+        intervals where each attractor exists (bistable where two coexist). The law
+        is given as for 'stickslip cycle', without --nu; a physical set-up gives its
+        law in dimensionless form (beta from --mass or --beta) and the intervals also
+        in v0.
+        """
+        from ..bifurcation.regimes import confirm
+        from ..bifurcation.regimes import regimes as compute_regimes
+        from ..io.jsonable import json_clean
+
+        if opts.get("nu") is not None:
+            raise click.UsageError("--nu: 'regimes' scans nu; give --nu-min and --nu-max instead")
+        physical = any(
+            opts.get(k) is not None
+            for k in ("v0", "mass", "beta", "stiffness", "load", "preset", "mu", "table")
+        )
+        if not physical:
+            opts["nu"] = 1.0  # placeholder: only the law is used
+        elif opts.get("v0") is None:
+            opts["v0"] = "1 m/s"  # placeholder: only the law and beta are used
+        params = build_parameters(opts)
+        beta = None
+        if isinstance(params, PhysicalParameters):
+            beta = params.beta.to("s/m").magnitude
+            law = params.dimensionless().law
+        else:
+            law = params.law
+        d = compute_regimes(law, nu_min, nu_max, n_grid=n_grid)
+        result = d.as_dict()
+        if beta is not None:
+            result["beta_s_per_m"] = beta
+            for iv in result["intervals"]:
+                iv["v0_min_m_per_s"] = iv["nu_min"] / beta
+                iv["v0_max_m_per_s"] = iv["nu_max"] / beta
+        checks = confirm(d) if check else []
+        if check:
+            result["check"] = [
+                {
+                    "regime": c.interval.regime,
+                    "nu": c.nu,
+                    "expected": list(c.expected),
+                    "found": list(c.found),
+                    "pure_slip_amplitude_error": c.pure_slip_amplitude_error,
+                    "agree": c.agree,
+                }
+                for c in checks
+            ]
+        trial = None
+        if map_spec is not None:
+            from ..bifurcation.regime_map import criterion_table, criterion_trial, regime_map
+
+            name, sep, rng = map_spec.partition("=")
+            name = name.strip()
+            if not sep:
+                raise click.UsageError(f"--map={map_spec!r}: expected NAME=A..B, e.g. 'p=0.05..1.5'")
+            try:
+                p = law.spec.parameter(name)
+            except KeyError:
+                raise click.UsageError(
+                    f"--map: param={name!r} is not a parameter of the {law.name} law "
+                    f"(it has {', '.join(law.params)})"
+                ) from None
+            try:
+                values = [float(v) for v in parse_axis(p, name, rng.strip(), map_n, False)]
+            except ValueError as exc:
+                raise click.UsageError(f"--map: {exc}") from None
+            ds = regime_map(law, name, values, nu_min, nu_max, n_nu=n_grid)
+            trial = criterion_trial(ds)
+            result["criterion"] = criterion_table(trial)
+        result = json_clean(result)  # NaN (no pure-slip attractor, no criterion verdict) -> null
+        if out_dir is not None:
+            from ..dynamics.sweep import save_sweep
+            from ..io.output import OutputFolder, json_writer
+            from ..plots.figures import save_figure
+            from ..plots.regimes import plot_bifurcation, plot_criterion_map, plot_regime_map
+
+            with OutputFolder(out_dir, "regimes", overwrite=overwrite) as out:
+                out.write("regimes.json", "regimes", json_writer(result, "regimes"))
+                save_figure(plot_bifurcation(d), "bifurcation", out=out)
+                if trial is not None:
+                    save_sweep(trial, "regime_map.nc", kind="regime-map", out=out)
+                    save_figure(plot_regime_map(trial), "regime_map", out=out)
+                    save_figure(plot_criterion_map(trial), "criterion_map", out=out)
+        if as_json:
+            click.echo(json.dumps(result, indent=2))
+        else:
+            for h in d.hopf:
+                click.echo(f"Hopf point      nu = {h.nu:.10g}  {h.criticality} (l1 = {h.l1:.4g})")
+            for pt in d.points:
+                if pt.kind == "hopf":
+                    continue
+                what = f"amplitude {pt.amplitude:.6g}" if np.isfinite(pt.amplitude) else pt.detail
+                click.echo(f"{pt.kind:<15} nu = {pt.nu:.10g}  {what}")
+            for iv in d.intervals:
+                v0 = f"   v0 {iv.nu_min / beta:.4g} .. {iv.nu_max / beta:.4g} m/s" if beta else ""
+                att = " + ".join(iv.attractors) if iv.regime == "bistable" else ""
+                click.echo(f"{iv.regime:<15} nu {iv.nu_min:.8g} .. {iv.nu_max:.8g}{v0}  {att}".rstrip())
+            for c in checks:
+                mark = "confirmed" if c.agree else "NOT CONFIRMED"
+                click.echo(
+                    f"check at nu = {c.nu:.6g}: expected {', '.join(c.expected)}; "
+                    f"simulations reached {', '.join(c.found)}: {mark}"
+                )
+            if trial is not None:
+                for row in result["criterion"]:
+                    click.echo(
+                        f"criterion on {row['regime']}: right at {row['right']} of {row['judged']} points"
+                    )
+            if out_dir is not None:
+                click.echo(f"wrote {out_dir}/regimes.json and figures")
+        if checks and not all(c.agree for c in checks):
+            click.echo("stickslip: some intervals were not confirmed by direct simulation", err=True)
+            raise SystemExit(1)

@@ -1,0 +1,182 @@
+"""Commands of the measured-data family: ``analyze``, ``fit``, ``classify``."""
+
+from __future__ import annotations
+
+import json
+
+import click
+
+from .errors import handle_errors
+from .options import out_dir_option, overwrite_option
+
+__all__ = ["register"]
+
+
+def _figure_names(stem: str) -> dict[str, str]:
+    return {f"{stem}.png": "figure", f"{stem}.svg": "figure"}
+
+
+def register(main: click.Group) -> None:
+    """Add the commands to ``main``."""
+
+    @main.command()
+    @click.argument("source", type=click.Path(exists=False))
+    @out_dir_option("Output folder: summary.csv and figures.")
+    @click.option("--json", "as_json", is_flag=True, help="Print the verdict and summary as JSON.")
+    @click.option("--no-plot", is_flag=True, help="Write summary.csv only.")
+    @overwrite_option
+    @handle_errors
+    def analyze(source: str, out_dir: str, as_json: bool, no_plot: bool, overwrite: bool) -> None:
+        """Measure a folder of force-time records (or one long table) and apply the criterion.
+
+        SOURCE is a folder of CSV/TSV records (with index.csv giving 'file', 'v0 [unit]',
+        'load [unit]', or '# v0 = ...' header lines in each file) or one table with a
+        'record' column. Writes summary.csv (one row per record) and amplitude and
+        period against driving velocity and load.
+        """
+        from ..data.records import analyze_records
+        from ..io.output import OutputFolder
+        from ..io.records import read_records
+        from ..plots.figures import plot_records, save_figure
+
+        with OutputFolder(out_dir, "analyze", overwrite=overwrite) as out:
+            out.expect({"summary.csv": "records-summary"})
+            records = read_records(source)
+            table, verdict = analyze_records(records)
+            written = [
+                out.write(
+                    "summary.csv",
+                    "records-summary",
+                    lambda p: table.to_csv(p, index=False, float_format="%.10g"),
+                )
+            ]
+            if not no_plot:
+                for name, fig in plot_records(table).items():
+                    written += save_figure(fig, name, out=out)
+        if as_json:
+            click.echo(
+                json.dumps(
+                    {
+                        "verdict": None if verdict is None else verdict.as_dict(),
+                        "records": json.loads(table.to_json(orient="records")),
+                    },
+                    indent=2,
+                )
+            )
+            return
+        click.echo("wrote " + ", ".join(written))
+        for name, note in zip(table["name"], table["warning"], strict=True):
+            if isinstance(note, str) and note:
+                click.echo(f"warning: {name}: {note}")
+        cols = ["name", "n_cycles", "v0 [m/s]", "load [N]", "amplitude [N]", "period [s]", "stick_fraction"]
+        click.echo(table[cols].to_string(index=False, float_format=lambda x: f"{x:.4g}"))
+        if verdict is None:
+            click.echo("criterion: no verdict (records need driving velocities)")
+        else:
+            click.echo(f"criterion: {verdict.verdict} ({verdict.reason})")
+
+    @main.command()
+    @click.argument("record_file", type=click.Path(exists=False, dir_okay=False))
+    @click.option("--v0", default=None, help="Driving velocity (overrides the file's '# v0 = ...').")
+    @click.option("--load", default=None, help="Normal load (overrides the file's '# load = ...').")
+    @click.option("--fit-b", is_flag=True, help="Also fit b (law F2); default F1 (b = 0).")
+    @click.option(
+        "--method",
+        type=click.Choice(["waveform", "features"]),
+        default="waveform",
+        show_default=True,
+        help="Fit the force waveform (started from cycle features), or the cycle features only.",
+    )
+    @out_dir_option("Output folder: fit.json, fit.csv, fit_overlay.png/.svg.")
+    @click.option("--no-plot", is_flag=True, help="Do not draw the overlay figure.")
+    @click.option("--json", "as_json", is_flag=True, help="Print the fit as JSON.")
+    @overwrite_option
+    @handle_errors
+    def fit(
+        record_file: str,
+        v0: str | None,
+        load: str | None,
+        fit_b: bool,
+        method: str,
+        out_dir: str,
+        no_plot: bool,
+        as_json: bool,
+        overwrite: bool,
+    ) -> None:
+        """Fit mu_s (the paper's mu0), a, k and the mass (and b) of the paper's model to a stick-slip record.
+
+        By default the force waveform itself is fitted (residuals weighted by the record's
+        noise, so the reduced chi-square says whether the model describes the record),
+        starting from a fit on cycle features (peak and trough force, period, stick-ramp
+        slope, drop time). Uncertainties, correlations and identifiability warnings.
+        """
+        from ..data.fitting import fit_record
+        from ..io.output import OutputFolder, json_writer, text_writer
+        from ..io.records import read_record
+
+        with OutputFolder(out_dir, "fit", overwrite=overwrite) as out:
+            out.expect(
+                {"fit.json": "fit", "fit.csv": "fit-parameters"}
+                | ({} if no_plot else _figure_names("fit_overlay"))
+            )
+            rec = read_record(record_file, v0=v0, load=load)
+            res = fit_record(rec, fit_b=fit_b, method=method)
+            d = res.as_dict()
+            rows = "".join(
+                f"{name},{v['value']!r},{v['error']!r},{v['unit']}\n" for name, v in d["parameters"].items()
+            )
+            paths = [
+                out.write("fit.json", "fit", json_writer(d, "fit")),
+                out.write("fit.csv", "fit-parameters", text_writer("parameter,value,error,unit\n" + rows)),
+            ]
+            if not no_plot:
+                from ..plots.figures import plot_fit_overlay, save_figure
+
+                paths += save_figure(plot_fit_overlay(rec, res), "fit_overlay", out=out)
+        if as_json:
+            click.echo(json.dumps(d, indent=2))
+            return
+        for name, v in d["parameters"].items():
+            if v.get("at_bound"):
+                click.echo(f"{name:4s} = 0 (at its bound; < {v['upper_limit_95']:.3g} {v['unit']} at 95%)")
+            else:
+                click.echo(f"{name:4s} = {v['value']:.6g} +- {v['error']:.2g} {v['unit']}")
+        click.echo(
+            f"reduced chi2 = {res.reduced_chi2:.3f} ({res.method} fit, {res.samples} "
+            f"{'samples' if res.method == 'waveform' else 'features'}, noise {1e3 * res.noise:.3g} mN)"
+        )
+        for w in res.warnings:
+            click.echo(f"warning: {w}")
+        click.echo("wrote " + ", ".join(paths))
+
+    @main.command()
+    @click.argument("file", type=click.Path(dir_okay=False))
+    @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+    @click.option(
+        "--confidence",
+        type=float,
+        default=0.95,
+        show_default=True,
+        help="Confidence level of the slope interval.",
+    )
+    @click.option("--min-points", type=int, default=4, show_default=True, help="Fewest points for a verdict.")
+    @handle_errors
+    def classify(file: str, as_json: bool, confidence: float, min_points: int) -> None:
+        """Apply the amplitude-velocity criterion to a CSV of measured amplitudes.
+
+        The CSV needs columns 'velocity' and 'amplitude', optionally 'amplitude_err',
+        with units in brackets: velocity [um/s],amplitude [mN],amplitude_err [mN].
+        Verdict: stick-slip (amplitude rises with velocity), pure-slip (it falls) or
+        inconclusive (too few points, slope consistent with zero, non-monotonic).
+        """
+        from ..data.criterion import classify_file
+
+        res = classify_file(file, confidence=confidence, min_points=min_points)
+        if as_json:
+            click.echo(json.dumps(res.as_dict(), indent=2))
+            return
+        lo, hi = res.slope_ci
+        click.echo(f"verdict   {res.verdict}")
+        click.echo(f"slope     {res.slope:.4g}  ({100 * res.confidence:g}% CI [{lo:.4g}, {hi:.4g}])")
+        click.echo(f"points    {res.n_points}")
+        click.echo(f"reason    {res.reason}")

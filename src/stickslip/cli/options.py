@@ -1,0 +1,620 @@
+"""The options that define a parameter set, built from the law registry.
+
+Every registered law's parameters become options (``--c``, ``--alpha``,
+``--mu-k``, ...), with help saying which law each belongs to; a law registered
+after import (a test's, a plug-in's) gets its options too, because commands
+built with :class:`LawCommand` ask the registry when they parse. A user's own
+law: ``--law expr --f FORMULA`` (dimensionless), ``--law expr --mu FORMULA``
+(physical) with ``--param NAME=VALUE``, or ``--law table --table FILE``.
+
+Parameters are given either dimensionless (``--nu`` and the law's dimensionless
+options) or physical (``--v0 --mass --stiffness --load``, ``--mu-s`` and the
+law's physical options, values with units such as ``"196 mN"``), or from the
+paper's zv set-up (``--preset zv``, each option overridable).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import click
+import numpy as np
+
+from .. import defaults
+from ..laws import ExpressionLaw, PhysicalExpressionLaw, TabulatedLaw, registry
+from ..laws.spec import STATIC, Parameter
+from ..laws.table import INTERPOLATIONS
+from ..models.parameters import (
+    ZV_A,
+    ZV_LOAD,
+    ZV_MU0,
+    ZV_STIFFNESS,
+    DimensionlessParameters,
+    PhysicalParameters,
+    mass_for_beta,
+    zv_parameters,
+)
+from ..units import Q_, parse_quantity, ureg
+
+__all__ = [
+    "SETUP",
+    "LawCommand",
+    "build_parameters",
+    "describe_parameters",
+    "law_option_names",
+    "opt",
+    "out_dir_option",
+    "overwrite_option",
+    "parse_axis",
+]
+
+#: the set-up's options (physical), besides the law's
+SETUP = ("v0", "mass", "stiffness", "load")
+#: the options of a user's own law
+USER_LAW = ("f", "mu", "static", "param", "table", "interpolation")
+
+
+def opt(name: str) -> str:
+    """Return the option of a parameter name: ``mu_k`` -> ``--mu-k``."""
+    return "--" + name.replace("_", "-")
+
+
+# ----------------------------------------------------------------------------- options from the registry
+
+
+@dataclass(frozen=True)
+class _LawOption:
+    name: str
+    parameter: Parameter
+    kind: str  # "dimensionless" or "physical"
+    laws: tuple[str, ...]
+
+
+def _law_options() -> dict[str, _LawOption]:
+    """Every law parameter of the registry, by name (shared names merged, their laws listed)."""
+    out: dict[str, _LawOption] = {}
+    for entry in registry.entries():
+        spec = entry.spec
+        for kind, params in (("dimensionless", spec.parameters), ("physical", spec.physical)):
+            for p in params:
+                have = out.get(p.name)
+                if have is not None and have.kind != kind:
+                    raise click.ClickException(
+                        f"law {spec.name!r}: parameter {p.name!r} is {kind} but {have.kind} in {have.laws}"
+                    )
+                laws = (*have.laws, spec.name) if have else (spec.name,)
+                out[p.name] = _LawOption(p.name, p, kind, laws)
+    return out
+
+
+def law_option_names() -> dict[str, tuple[str, ...]]:
+    """Return each law option's laws (for messages and the docs)."""
+    return {k: v.laws for k, v in _law_options().items()}
+
+
+def _static_aliases() -> dict[str, tuple[str, ...]]:
+    out: dict[str, tuple[str, ...]] = {}
+    for entry in registry.entries():
+        for a in entry.spec.static_aliases:
+            out[a] = (*out.get(a, ()), entry.spec.name)
+    return out
+
+
+class _LawChoice(click.ParamType):
+    """``--law``: a registered law, ``expr`` or ``table`` (checked against the registry when parsing)."""
+
+    name = "law"
+
+    def get_metavar(self, param: click.Parameter, ctx: click.Context | None = None) -> str:
+        return "[" + "|".join([*registry.names(), "expr", "table"]) + "]"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> str:
+        choices = [*registry.names(), "expr", "table"]
+        if value not in choices:
+            self.fail(f"{value!r} is not one of {', '.join(choices)}", param, ctx)
+        return str(value)
+
+
+def _option_decorators(text: bool) -> list[Any]:
+    """Return the options of a parameter set, from the registry as it is now."""
+    num: Any = str if text else float
+    laws = _law_options()
+    opts: list[Any] = [
+        click.option(
+            "--law",
+            type=_LawChoice(),
+            default="weakening",
+            show_default=True,
+            help="Friction law: a registered law, 'expr' (a formula: --f or --mu) or 'table' (--table FILE).",
+        ),
+        click.option(
+            "--preset",
+            type=click.Choice(["zv"]),
+            default=None,
+            help="Physical set-up of the paper's zv experiment (beta = 42 s/m); other options override it.",
+        ),
+        click.option("--nu", type=num, default=None, help="Dimensionless driving velocity beta*v0."),
+    ]
+    for o in laws.values():
+        p = o.parameter
+        owner = "/".join(o.laws)
+        if o.kind == "dimensionless":
+            opts.append(click.option(opt(p.name), p.name, type=num, default=None, help=f"{owner}: {p.help}."))
+        else:
+            example = f", e.g. '{p.example}'" if p.example else ""
+            typ: Any = str if (p.unit or text) else float
+            opts.append(
+                click.option(opt(p.name), p.name, type=typ, default=None, help=f"{owner}: {p.help}{example}.")
+            )
+    opts += [
+        click.option("--v0", default=None, help="Driving velocity, e.g. '5 um/s'."),
+        click.option("--mass", default=None, help="Mass, e.g. '1 kg'."),
+        click.option(
+            "--beta", default=None, help="Instead of --mass: beta = sqrt(k m)/(mu_s W), e.g. '42 s/m'."
+        ),
+        click.option("--stiffness", default=None, help="Spring constant, e.g. '62 N/m'."),
+        click.option("--load", default=None, help="Normal load W, e.g. '196 mN'."),
+        click.option("--mu-s", "mu_s", type=num, default=None, help=f"Every physical law: {STATIC.help}."),
+    ]
+    for alias, owners in _static_aliases().items():
+        opts.append(
+            click.option(
+                opt(alias),
+                alias,
+                type=num,
+                default=None,
+                help=f"{'/'.join(owners)}: the same as --mu-s (the paper's name).",
+            )
+        )
+    opts += [
+        click.option(
+            "--f",
+            "f",
+            default=None,
+            help="expr: dimensionless f(w), e.g. '1/(1 + 3.8*w) + 0.5*w' (f(0+) = 1).",
+        ),
+        click.option(
+            "--mu", "mu", default=None, help="expr: physical mu(v), v in m/s, e.g. '0.46/(1 + 160*v)'."
+        ),
+        click.option(
+            "--param",
+            "param",
+            multiple=True,
+            metavar="NAME=VALUE",
+            help="expr: a value of the formula's other names, e.g. 'c=3.8' or 'a=160 s/m' (repeatable).",
+        ),
+        click.option(
+            "--static",
+            type=float,
+            default=None,
+            help="expr/table: the static threshold where it differs from f(0+) (a drop at onset of slip).",
+        ),
+        click.option(
+            "--table", default=None, help="table: CSV of 'velocity [unit]' and 'friction coefficient [1]'."
+        ),
+        click.option(
+            "--interpolation",
+            type=click.Choice(INTERPOLATIONS),
+            default="pchip",
+            show_default=True,
+            help="table: pchip (monotone, C1), cubic (C2 spline) or smoothing (C2, for noisy tables).",
+        ),
+        click.option(
+            "--rtol",
+            type=float,
+            default=defaults.RTOL,
+            show_default=True,
+            help="Relative tolerance of the integration.",
+        ),
+        click.option(
+            "--atol",
+            type=float,
+            default=defaults.ATOL,
+            show_default=True,
+            help="Absolute tolerance of the integration.",
+        ),
+    ]
+    return opts
+
+
+class LawCommand(click.Command):
+    """A command whose parameter-set options come from the law registry, at parse time."""
+
+    def __init__(self, *args: Any, text: bool = False, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._text = text
+        self._built_for = -1
+        self._law_params: list[click.Parameter] = []
+
+    def _law_params_now(self) -> list[click.Parameter]:
+        if self._built_for != registry.version:
+
+            def holder() -> None:  # pragma: no cover - only collects the options
+                return None
+
+            for d in reversed(_option_decorators(self._text)):
+                holder = d(holder)
+            self._law_params = list(getattr(holder, "__click_params__", []))[::-1]
+            self._built_for = registry.version
+        return self._law_params
+
+    def get_params(self, ctx: click.Context) -> list[click.Parameter]:
+        """Return the command's own options followed by the parameter-set options."""
+        own = super().get_params(ctx)
+        help_opt = [p for p in own if p.name == "help"]
+        rest = [p for p in own if p.name != "help"]
+        return self._law_params_now() + rest + help_opt
+
+
+def law_command(group: click.Group, name: str | None = None, *, text: bool = False) -> Callable[..., Any]:
+    """Register a :class:`LawCommand` in ``group``."""
+    return group.command(name, cls=LawCommand, text=text)
+
+
+def out_dir_option(help_text: str) -> Any:
+    """Return the ``--out`` option (an output folder, default ``results``) of a command."""
+    return click.option(
+        "--out",
+        "out_dir",
+        type=click.Path(file_okay=False),
+        default="results",
+        show_default=True,
+        help=help_text,
+    )
+
+
+def overwrite_option(func: Callable[..., Any]) -> Any:
+    """Add ``--overwrite``: replace existing outputs that stickslip did not write."""
+    return click.option(
+        "--overwrite",
+        is_flag=True,
+        help="Replace existing output files even if stickslip did not write them.",
+    )(func)
+
+
+# ----------------------------------------------------------------------------- building a parameter set
+
+
+def _to_float(name: str, value: Any) -> Any:
+    if value is None or isinstance(value, float):
+        return value
+    if hasattr(value, "magnitude"):  # a quantity from a sweep axis
+        return value
+    try:
+        return float(value)
+    except ValueError:
+        raise ValueError(f"{name}={value!r}: expected a number") from None
+
+
+def _require(opts: dict[str, Any], names: Sequence[str], context: str) -> None:
+    missing = [n for n in names if opts.get(n) is None]
+    if missing:
+        raise click.UsageError(f"{context} needs {', '.join(map(opt, missing))}")
+
+
+def params_of(opts: dict[str, Any]) -> dict[str, Any]:
+    """Return ``--param NAME=VALUE`` options as a dict (texts; values where a sweep set them)."""
+    out: dict[str, Any] = {}
+    for item in opts.get("param") or ():
+        if isinstance(item, tuple):
+            out[item[0]] = item[1]
+            continue
+        name, sep, value = str(item).partition("=")
+        if not sep or not name.strip() or not value.strip():
+            raise click.UsageError(f"--param {item!r}: expected NAME=VALUE, e.g. 'c=3.8' or 'a=160 s/m'")
+        out[name.strip()] = value.strip()
+    return out
+
+
+def _param_value(name: str, text: Any, physical: bool) -> Any:
+    if not isinstance(text, str):
+        return text  # a value a sweep put there
+    try:
+        return float(text)
+    except ValueError:
+        if not physical:
+            raise click.UsageError(
+                f"--param {name}={text!r}: expected a number (the formula is dimensionless)"
+            ) from None
+        return text  # a quantity with units, parsed by the law
+
+
+def build_parameters(
+    opts: dict[str, Any], *, default_preset: bool = False
+) -> DimensionlessParameters | PhysicalParameters:
+    """Build a parameter set from command-line options.
+
+    Raises
+    ------
+    click.UsageError
+        For a missing, conflicting or invalid option.
+
+    """
+    law = opts.get("law") or "weakening"
+    user = [k for k in USER_LAW if opts.get(k) not in (None, (), "pchip")]
+    if law not in ("expr", "table") and user:
+        raise click.UsageError(
+            f"{', '.join(map(opt, user))} belong{'s' if len(user) == 1 else ''} to --law expr / --law table"
+        )
+    try:
+        if law == "expr":
+            return _expression(opts)
+        if law == "table":
+            return _table(opts)
+        return _registered(law, opts, default_preset)
+    except click.UsageError:
+        raise
+    except ValueError as exc:
+        raise click.UsageError(f"invalid value: {exc}") from None
+
+
+def _law_values_given(opts: dict[str, Any]) -> tuple[list[str], list[str]]:
+    laws = _law_options()
+    dim = ["nu", *(k for k, o in laws.items() if o.kind == "dimensionless")]
+    phys = [*SETUP, "beta", "mu_s", *_static_aliases(), *(k for k, o in laws.items() if o.kind == "physical")]
+    return [k for k in dim if opts.get(k) is not None], [k for k in phys if opts.get(k) is not None]
+
+
+def _registered(
+    law: str, opts: dict[str, Any], default_preset: bool
+) -> DimensionlessParameters | PhysicalParameters:
+    entry = registry.get(law)
+    spec = entry.spec
+    dim_given, phys_given = _law_values_given(opts)
+    preset = opts.get("preset")
+    if dim_given and (phys_given or preset):
+        raise click.UsageError(
+            f"options {', '.join(map(opt, dim_given))} are dimensionless and "
+            f"{', '.join(map(opt, phys_given)) or '--preset'} physical: give one kind only"
+        )
+    laws = _law_options()
+    own = {p.name for p in (*spec.parameters, *spec.physical)} | {"mu_s", *spec.static_aliases}
+    for k in (*dim_given, *phys_given):
+        if k in laws and k not in own:
+            raise click.UsageError(f"{opt(k)} belongs to --law {'/'.join(laws[k].laws)}, not --law {law}")
+        if k in _static_aliases() and k not in spec.static_aliases:
+            raise click.UsageError(f"{opt(k)} belongs to --law {'/'.join(_static_aliases()[k])}; use --mu-s")
+    if not dim_given and not phys_given and not preset:
+        if not default_preset:
+            example = " ".join(f"{opt(p.name)} ..." for p in spec.parameters if p.default is None)
+            raise click.UsageError(
+                "no parameters: give --nu with the law's dimensionless options "
+                f"(e.g. --nu 0.01 {example}), or --v0 --mass --stiffness --load with the law's "
+                "physical options, or --preset zv"
+            )
+        preset = "zv"
+    if dim_given:
+        o = {k: _to_float(k, opts.get(k)) for k in ("nu", *(p.name for p in spec.parameters))}
+        _require(o, ("nu",), "a dimensionless set-up")
+        _require(o, [p.name for p in spec.parameters if p.default is None], f"--law {law}")
+        values = {p.name: o[p.name] for p in spec.parameters if o.get(p.name) is not None}
+        return DimensionlessParameters(nu=o["nu"], law=entry.dimensionless(**values))
+    o = dict(opts)
+    static_name = "mu_s"  # the name the user gave it, for messages
+    for alias in spec.static_aliases:
+        if o.get(alias) is not None:
+            if o.get("mu_s") is not None:
+                raise click.UsageError(f"give --mu-s or {opt(alias)}, not both")
+            o["mu_s"] = o[alias]
+            static_name = alias
+    if preset == "zv":
+        _zv_defaults(o)
+        if law == "weakening":
+            o["mu_s"] = ZV_MU0 if o.get("mu_s") is None else o["mu_s"]
+            o["a"] = ZV_A if o.get("a") is None else o["a"]
+    _require(o, ("mu_s",), f"a physical set-up of --law {law}")
+    _require(o, [p.name for p in spec.physical if p.default is None], f"--law {law}")
+    values = {
+        p.name: _to_float(p.name, o[p.name]) if not p.unit else o[p.name]
+        for p in spec.physical
+        if o.get(p.name) is not None
+    }
+    plaw = entry.physical(**{static_name: _to_float(static_name, o["mu_s"])}, **values)
+    _setup_mass(o, plaw.mu_s)
+    _require(o, SETUP, "a physical set-up")
+    return PhysicalParameters(mass=o["mass"], stiffness=o["stiffness"], load=o["load"], v0=o["v0"], law=plaw)
+
+
+def _zv_defaults(o: dict[str, Any]) -> None:
+    base = zv_parameters()
+    for key, value in (
+        ("v0", "10 um/s"),
+        ("mass", base.mass),
+        ("stiffness", ZV_STIFFNESS),
+        ("load", ZV_LOAD),
+    ):
+        if o.get(key) is None and not (key == "mass" and o.get("beta") is not None):
+            o[key] = value
+
+
+def _setup_mass(o: dict[str, Any], mu_s: Any) -> None:
+    """Turn ``--beta`` into the mass (with the law's static coefficient)."""
+    if o.get("beta") is None:
+        return
+    if o.get("mass") is not None:
+        raise click.UsageError("give --mass or --beta, not both: beta sets the mass")
+    _require(o, ("stiffness", "load"), "--beta")
+    beta = parse_quantity(o["beta"], "beta", "[time] / [length]", "42 s/m")
+    k = parse_quantity(o["stiffness"], "stiffness", "[mass] / [time] ** 2", "62 N/m")
+    w = parse_quantity(o["load"], "load", "[force]", "196 mN")
+    m = mass_for_beta(beta.to("s/m").magnitude, k.to("N/m").magnitude, w.to("N").magnitude, float(mu_s))
+    o["mass"] = Q_(float(m), "kg")
+
+
+def _physical_setup(opts: dict[str, Any], what: str) -> dict[str, Any]:
+    o = dict(opts)
+    if o.get("preset") == "zv":
+        _zv_defaults(o)
+    dim_given, _ = _law_values_given(o)
+    stray = [k for k in dim_given if k != "nu"]
+    if stray:
+        raise click.UsageError(f"{', '.join(map(opt, stray))}: not options of {what}")
+    return o
+
+
+def _expression(opts: dict[str, Any]) -> DimensionlessParameters | PhysicalParameters:
+    f, mu = opts.get("f"), opts.get("mu")
+    if (f is None) == (mu is None):
+        raise click.UsageError(
+            "--law expr needs one formula: --f (dimensionless f(w)) or --mu (physical mu(v), v in m/s)"
+        )
+    for k in ("table",):
+        if opts.get(k) is not None:
+            raise click.UsageError(f"{opt(k)} belongs to --law table")
+    given = params_of(opts)
+    static = opts.get("static")
+    if f is not None:
+        dim_given, phys_given = _law_values_given(opts)
+        stray = [k for k in (*dim_given, *phys_given) if k != "nu"]
+        if stray or opts.get("preset"):
+            raise click.UsageError(
+                f"{', '.join(map(opt, stray)) or '--preset'}: "
+                "a dimensionless formula (--f) takes --nu and --param only"
+            )
+        _require(opts, ("nu",), "--f (a dimensionless formula)")
+        law = ExpressionLaw(f, static=static, **{k: _param_value(k, v, False) for k, v in given.items()})
+        return DimensionlessParameters(nu=_to_float("nu", opts["nu"]), law=law)
+    o = _physical_setup(opts, "--mu (a physical formula)")
+    if o.get("nu") is not None:
+        raise click.UsageError("--nu: a physical formula (--mu) takes --v0 --mass --stiffness --load")
+    plaw = PhysicalExpressionLaw(
+        str(mu), static=static, **{k: _param_value(k, v, True) for k, v in given.items()}
+    )
+    _setup_mass(o, plaw.mu_s)
+    _require(o, SETUP, "a physical set-up")
+    return PhysicalParameters(mass=o["mass"], stiffness=o["stiffness"], load=o["load"], v0=o["v0"], law=plaw)
+
+
+def _table(opts: dict[str, Any]) -> PhysicalParameters:
+    if opts.get("table") is None:
+        raise click.UsageError(
+            "--law table needs --table FILE (columns 'velocity [unit]', 'friction coefficient [1]')"
+        )
+    for k in ("f", "mu"):
+        if opts.get(k) is not None:
+            raise click.UsageError(f"{opt(k)} belongs to --law expr")
+    o = _physical_setup(opts, "--law table (a physical law)")
+    if o.get("nu") is not None:
+        raise click.UsageError("--nu: a table is physical: give --v0 --mass --stiffness --load")
+    plaw = TabulatedLaw.from_csv(
+        o["table"], load=o.get("load"), static=o.get("static"), interpolation=o["interpolation"]
+    )
+    _setup_mass(o, plaw.mu_s)
+    _require(o, SETUP, "a physical set-up")
+    return PhysicalParameters(mass=o["mass"], stiffness=o["stiffness"], load=o["load"], v0=o["v0"], law=plaw)
+
+
+def describe_parameters(params: DimensionlessParameters | PhysicalParameters) -> dict[str, Any]:
+    """Return a JSON-ready description of a parameter set (with the dimensionless form)."""
+    if isinstance(params, DimensionlessParameters):
+        return {
+            "nu": params.nu,
+            "law": params.law.name,
+            **params.law.params,
+            "description": params.law.describe(),
+        }
+    d = params.dimensionless()
+    law = params.law
+    out: dict[str, Any] = {
+        "v0": f"{params.v0:~P}",
+        "mass": f"{params.mass:~P}",
+        "stiffness": f"{params.stiffness:~P}",
+        "load": f"{params.load:~P}",
+        "law": law.name,
+        "mu_s": law.mu_s,
+    }
+    for k, v in law.params.items():
+        out[k] = v if isinstance(v, float) else f"{v:~P}"
+    out["description"] = law.describe()
+    out["beta"] = f"{params.beta:.6g~P}"
+    out["dimensionless"] = {"nu": d.nu, "law": d.law.name, **d.law.params}
+    return out
+
+
+# ----------------------------------------------------------------------------- sweep axes
+
+
+def parse_axis(p: Parameter, name: str, text: str, num: int, log: bool) -> Any:
+    """Parse a sweep axis of parameter ``p``: a range ``'A..B'`` (``num`` points) or a list ``'A,B,C'``.
+
+    Physical values keep units (``'5 um/s..1000 um/s'``, or ``'5..1000 um/s'``) and come back as
+    one quantity array; numbers as a list of floats. The ends of a range are checked against the
+    parameter's bounds. Raises ValueError for a malformed axis.
+    """
+    checked = dataclasses.replace(p, name=name)
+    example = p.example or f"1 {p.unit}"
+    if ".." in text:
+        parts = [t.strip() for t in text.split("..")]
+        if len(parts) != 2 or not all(parts):
+            raise ValueError(f"{name}={text!r}: expected a range 'A..B'")
+        if num < 2:
+            raise ValueError(f"--num={num}: a range needs at least 2 points")
+        if not p.unit:
+            lo, hi = (float(_to_float(name, t)) for t in parts)
+            unit = None
+        else:
+            qhi = parse_quantity(parts[1], name, p.dimension, example, allow_zero=True, allow_negative=True)
+            lo_text = parts[0]
+            try:
+                float(lo_text)
+                lo_text = f"{lo_text} {qhi.units:~}"
+            except ValueError:
+                pass
+            for end in (lo_text, parts[1]):
+                checked.check(end)
+            qlo = parse_quantity(lo_text, name, p.dimension, example, allow_zero=True, allow_negative=True)
+            lo, hi, unit = float(qlo.to(qhi.units).magnitude), float(qhi.magnitude), qhi.units
+        if log:
+            if lo <= 0 or hi <= 0:
+                raise ValueError(f"{name}={text!r}: a --log range needs positive ends")
+            vals = np.geomspace(lo, hi, num)
+        else:
+            vals = np.linspace(lo, hi, num)
+        return [float(v) for v in vals] if unit is None else Q_(vals, unit)
+    items = [t.strip() for t in text.split(",") if t.strip()]
+    if not items:
+        raise ValueError(f"{name}={text!r}: expected values separated by commas")
+    if not p.unit:
+        return [float(_to_float(name, t)) for t in items]
+    qs = [parse_quantity(t, name, p.dimension, example, allow_zero=True, allow_negative=True) for t in items]
+    unit = qs[0].units
+    return Q_(np.array([q.to(unit).magnitude for q in qs]), unit)
+
+
+def axis_parameter(key: str, text: str) -> Parameter:
+    """Return the parameter a sweep axis ``key`` stands for (a formula's: from the values' unit)."""
+    from ..dynamics.sweep import NU
+    from ..dynamics.sweep import SETUP as SWEEP_SETUP
+
+    if key in SWEEP_SETUP:
+        return SWEEP_SETUP[key]
+    if key == "nu":
+        return NU
+    if key == "mu_s" or key in _static_aliases():
+        return STATIC
+    laws = _law_options()
+    if key in laws:
+        return laws[key].parameter
+    last = text.replace("..", ",").split(",")[-1].strip()
+    try:
+        float(last)
+        return Parameter(key, "parameter of the formula", lower=-np.inf)
+    except ValueError:
+        try:
+            q: Any = ureg.Quantity(last)
+        except Exception:  # pint raises several unrelated types
+            raise ValueError(f"{key}={text!r}: expected numbers or quantities such as '160 s/m'") from None
+        return Parameter(key, "parameter of the formula", unit=f"{q.units:~}", example=last, lower=-np.inf)
+
+
+def is_axis(value: Any) -> bool:
+    """Whether an option's text is a sweep axis (a range or a list)."""
+    return isinstance(value, str) and (".." in value or "," in value)
+
+
+def axis_count(text: str, num: int) -> int:
+    """Points of an axis, from its text alone (for the memory check before parsing)."""
+    return num if ".." in text else len([c for c in text.split(",") if c.strip()])

@@ -1,0 +1,39 @@
+"""The paper's reproduction: ``reproduce``."""
+
+from __future__ import annotations
+
+import click
+
+from .errors import handle_errors
+from .options import out_dir_option, overwrite_option
+
+__all__ = ["register"]
+
+
+def register(main: click.Group) -> None:
+    """Add the commands to ``main``."""
+
+    @main.command()
+    @out_dir_option("Output folder.")
+    @click.option("--quick", is_flag=True, help="A reduced version (fewer points per curve), for tests.")
+    @overwrite_option
+    @handle_errors
+    def reproduce(out_dir: str, quick: bool, overwrite: bool) -> None:
+        """Reproduce the paper: Figs. 1-3, parameter dependences, the criterion, a report.
+
+        Writes reproduce.nc (every curve), each figure as PNG and SVG, report.md and a
+        self-contained report.html into the output folder.
+        """
+        import time
+
+        from ..paper import reproduce as run
+
+        t0 = time.perf_counter()
+        res = run(out_dir, quick=quick, overwrite=overwrite)
+        click.echo(f"wrote {res.netcdf}")
+        for paths in res.figures.values():
+            click.echo(f"wrote {', '.join(paths)}")
+        click.echo(f"wrote {res.report_md}, {res.report_html}")
+        for c in res.claims:
+            click.echo(f"claim {c.number:2d}: {c.verdict}")
+        click.echo(f"done in {time.perf_counter() - t0:.1f} s")

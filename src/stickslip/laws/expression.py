@@ -1,0 +1,462 @@
+"""A user's friction law from a formula: ``ExpressionLaw("1/(1 + 3.8*w) + 0.5*w")``.
+
+Two forms:
+
+* dimensionless, ``f(w)``: friction in units of the static friction force, ``w``
+  the slip velocity in the model's units (``mu_s W / sqrt(k m)``), so
+  ``f(0+) = 1`` for a law that is continuous at the onset of slip. For a law
+  that drops at the onset, give the static threshold ``static`` in the units of
+  ``f``: with ``static=1``, ``f(0+) < 1`` is the drop; any other value is taken
+  as the unit of ``f``, and the formula is rescaled to units of the static
+  friction, ``f(w) -> f(static w) / static`` (so ``nu`` is then in those units);
+* physical, ``mu(v)``: the friction coefficient against the slip velocity ``v``
+  in m/s (``ExpressionLaw(mu="0.46/(1 + 160*v)")``), with the set-up's mass,
+  stiffness and load; ``static`` is the static coefficient ``mu_s`` where it
+  differs from ``mu(0+)``.
+
+Other names in the formula are parameters, given as keywords (numbers, or
+quantities with units in the physical form: ``a="160 s/m"``); they can be swept.
+The formula is read by :func:`~.formula.parse_formula` (never ``eval``'d), its
+derivatives come from sympy, and the engine is compiled for it once
+(:mod:`~.compiler`): the same exact stick and events as a built-in law.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+import pint
+import sympy as sp
+
+from ..units import Q_, check_number, parse_quantity, ureg
+from .base import DimensionlessLaw, PhysicalLaw
+from .formula import FormulaError, parse_formula
+from .spec import LawSpec, Parameter, W
+
+__all__ = ["ExpressionLaw", "PhysicalExpressionLaw"]
+
+FloatArray = npt.NDArray[np.float64]
+V = sp.Symbol("v", real=True)
+#: friction at the onset of slip within this of 1 counts as continuous (no --static needed)
+ONSET_TOL = 1e-9
+#: velocities at which a formula must be finite (model units; physical: these times 1 m/s)
+_PROBE = np.concatenate([[0.0], np.geomspace(1e-9, 1e2, 45)])
+
+_SPECS: dict[tuple[Any, ...], LawSpec] = {}
+
+
+def _onset(expr: sp.Expr, var: sp.Symbol, values: Mapping[str, float]) -> float:
+    """``expr`` at ``var = 0+`` for these parameter values."""
+    e = expr.subs({sp.Symbol(k, real=True): v for k, v in values.items()})
+    x = e.subs(var, 0)
+    if x.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
+        x = sp.limit(e, var, 0, "+")
+    try:
+        return float(x)
+    except TypeError:
+        return math.nan
+
+
+def _parameters(expr: sp.Expr, variable: str, given: Mapping[str, Any], what: str, text: str) -> list[str]:
+    names = sorted(s.name for s in expr.free_symbols if s.name != variable)
+    for n in names:
+        if n in ("w", "v", "beta", "mu_s", "nu") or n.startswith("_"):
+            raise FormulaError(f"{what}={text!r}: {n!r} is reserved; give the parameter another name")
+    missing = [n for n in names if n not in given]
+    if missing:
+        raise FormulaError(
+            f"{what}={text!r}: give the value of {', '.join(missing)} "
+            f"({', '.join(f'{n}=...' for n in missing)}; on the command line --param {missing[0]}=...)"
+        )
+    extra = [n for n in given if n not in names]
+    if extra:
+        raise FormulaError(f"{what}={text!r} has no parameter {', '.join(map(repr, extra))}")
+    return names
+
+
+def _check_values(spec: LawSpec, values: Mapping[str, npt.ArrayLike], text: str) -> None:
+    """Friction finite for ``w >= 0``, at most the static threshold at the onset; warn where negative."""
+    arrays = [np.asarray(values[p.name], dtype=float) for p in spec.parameters]
+    shape = np.broadcast_shapes(*(a.shape for a in arrays)) if arrays else ()
+    w = _PROBE.reshape((-1,) + (1,) * len(shape))
+    f = spec.evaluate(w, arrays)
+    f = np.broadcast_to(f, (w.shape[0], *shape)).reshape(w.shape[0], -1)
+    bad = ~np.isfinite(f)
+    if bad.any():
+        i, j = np.argwhere(bad)[0]
+        at = f" at point {j}" if f.shape[1] > 1 else ""
+        raise ValueError(
+            f"f(w) = {text} is not finite at w = {_PROBE[i]:.3g}{at}: friction must be finite for every "
+            "velocity the block can reach"
+        )
+    onset = f[0]
+    if np.any(onset > 1.0 + ONSET_TOL):
+        j = int(np.argmax(onset > 1.0 + ONSET_TOL))
+        raise ValueError(
+            f"f(0+) = {onset[j]:.6g} for f(w) = {text}: friction just after breakaway exceeds the static "
+            "threshold 1, so the block could never slip"
+        )
+    if np.any(f < 0.0):
+        i, j = np.argwhere(f < 0.0)[0]
+        warnings.warn(
+            f"f(w) = {text} is negative at w = {_PROBE[i]:.3g}: the friction drives the block there",
+            UserWarning,
+            stacklevel=5,
+        )
+
+
+def _continuous_onset(spec: LawSpec, text: str) -> Any:
+    def check(values: Mapping[str, FloatArray]) -> None:
+        _check_values(spec, values, text)
+        arrays = [np.asarray(values[p.name], dtype=float) for p in spec.parameters]
+        f0 = np.ravel(spec.evaluate(np.zeros(1), arrays))
+        if np.any(np.abs(f0 - 1.0) > ONSET_TOL):
+            j = int(np.argmax(np.abs(f0 - 1.0) > ONSET_TOL))
+            at = f" (point {j})" if f0.size > 1 else ""
+            raise ValueError(
+                f"f(0+) = {f0[j]:.10g}{at} for f(w) = {text}: the dimensionless form measures friction in "
+                "units of the static friction, so a law continuous at the onset of slip has f(0+) = 1. "
+                "For a law that drops at the onset give the static threshold in the units of f "
+                "(static=1 / --static 1 if f is already in units of static friction)"
+            )
+
+    return check
+
+
+def _spec_for(expr: sp.Expr, names: list[str], text: str, continuous: bool) -> LawSpec:
+    key = (sp.srepr(expr), tuple(names), continuous)
+    spec = _SPECS.get(key)
+    if spec is None:
+        params = tuple(Parameter(n, f"parameter {n} of the formula", lower=-math.inf) for n in names)
+        spec = LawSpec(
+            name="expr",
+            title=f"f(w) = {text}",
+            f=sp.sstr(expr),
+            parameters=params,
+            expression=expr.subs({sp.Symbol(n, real=True): sp.Symbol(n, real=True) for n in names}),
+            source="a formula typed by the user",
+        )
+        checker = _continuous_onset(spec, text) if continuous else (lambda v: _check_values(spec, v, text))
+        object.__setattr__(spec, "check", checker)
+        _SPECS[key] = spec
+    return spec
+
+
+class ExpressionLaw(DimensionlessLaw):
+    """A dimensionless friction law from a formula in ``w`` (or, with ``mu=``, a physical one).
+
+    Parameters
+    ----------
+    f : str
+        ``f_+(w)`` for ``w > 0``, friction in units of the static friction force, e.g.
+        ``"1/(1 + 3.8*w) + 0.5*w"`` or ``"1/(1 + c*w)"`` with ``c=3.8``.
+    static : float, optional
+        Static threshold in the units of ``f`` where it differs from ``f(0+) = 1``
+        (a drop at the onset of slip): 1 keeps ``f``'s units; another value
+        rescales the formula to units of the static friction.
+    mu : str, optional
+        Instead of ``f``: the friction coefficient ``mu(v)``, ``v`` in m/s; returns a
+        :class:`PhysicalExpressionLaw`.
+    **params
+        Values of the formula's other names.
+
+    Raises
+    ------
+    ValueError
+        For a formula that is not one (code, unknown functions), missing or extra
+        parameters, friction not finite, or ``f(0+) != 1`` without ``static``.
+
+    Examples
+    --------
+    >>> from stickslip import ExpressionLaw
+    >>> law = ExpressionLaw("1/(1 + c*w) + p*w", c=3.8, p=0.5)
+    >>> float(law.forward(0.0))
+    1.0
+
+    """
+
+    __slots__ = ("static", "text")
+    static: float | None
+    text: str
+
+    def __new__(cls, f: str | None = None, *, mu: str | None = None, **kwargs: Any) -> Any:  # noqa: D102
+        if mu is not None:
+            if f is not None:
+                raise TypeError("ExpressionLaw: give f (dimensionless) or mu (physical), not both")
+            return PhysicalExpressionLaw(mu, **kwargs)
+        return object.__new__(cls)
+
+    def __init__(self, f: str | None = None, *, static: float | None = None, **params: Any) -> None:
+        if f is None:
+            raise TypeError("ExpressionLaw: give the formula f, e.g. ExpressionLaw('1/(1 + 3.8*w)')")
+        expr = parse_formula(f, "f", ("w",))
+        names = _parameters(expr, "w", params, "f", f)
+        values = {n: _number(n, params[n]) for n in names}
+        continuous = static is None
+        if static is not None:
+            s = check_number(static, "static", what="a positive static threshold")
+            if s != 1.0:  # f in other units than the static friction: rescale to them
+                expr = expr.subs(W, s * W) / s
+        shown = f if static in (None, 1.0) else f"({f}) rescaled by static={static}"
+        spec = _spec_for(expr, names, shown, continuous)
+        self._set(spec, (), values)
+        object.__setattr__(self, "static", None if static is None else float(static))
+        object.__setattr__(self, "text", f)
+
+    @classmethod
+    def _from_spec(cls, spec: LawSpec, values: Mapping[str, float], text: str) -> ExpressionLaw:
+        law = object.__new__(cls)
+        law._set(spec, (), dict(values))
+        object.__setattr__(law, "static", 1.0)
+        object.__setattr__(law, "text", text)
+        return law
+
+    def _from_values_like(self, values: Mapping[str, float]) -> ExpressionLaw:
+        law = object.__new__(type(self))
+        law._set(self.spec, (), dict(values))
+        object.__setattr__(law, "static", self.static)
+        object.__setattr__(law, "text", self.text)
+        return law
+
+    def replace(self, **changes: float) -> ExpressionLaw:
+        """Return a copy with some parameters changed (checked)."""
+        return self._from_values_like({**self.params, **changes})
+
+    def __repr__(self) -> str:
+        args = [repr(self.text), *(f"{k}={v!r}" for k, v in self.params.items())]
+        if self.static is not None:
+            args.append(f"static={self.static!r}")
+        return f"ExpressionLaw({', '.join(args)})"
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        names = [p.name for p in self.spec.parameters]
+        title = self.spec.title.removeprefix("f(w) = ")
+        return _rebuild, (self.spec.expr, names, title, self.params, self.static, self.text)
+
+    def to_physical(self, beta: Any, mu_s: float) -> PhysicalLaw:
+        """Return ``mu(v) = mu_s f(beta v)`` as a :class:`PhysicalExpressionLaw`."""
+        b = parse_quantity(beta, "beta", "[time] / [length]", "42 s/m").to("s/m").magnitude
+        mu = check_number(mu_s, "mu_s")
+        expr = mu * self.spec.expr.subs(W, float(b) * V)
+        expr = expr.subs({s: v for s, v in zip(self.spec.symbols, self._values, strict=True)})
+        static = mu if self.kinetic_limit < 1.0 - ONSET_TOL else None
+        return PhysicalExpressionLaw._from_expr(expr, {}, static, f"{mu:g}*f({float(b):g}*v)")
+
+    def describe(self) -> str:
+        """One line: the formula and its parameters."""
+        pars = ", ".join(f"{k} = {v:.6g}" for k, v in self.params.items())
+        return f"expr: f(w) = {self.spec.f}" + (f" with {pars}" if pars else "")
+
+
+def _rebuild(
+    expr: sp.Expr, names: list[str], title: str, params: dict[str, float], static: float | None, text: str
+) -> ExpressionLaw:
+    spec = _spec_for(expr, names, title, static is None)
+    law = object.__new__(ExpressionLaw)
+    law._set(spec, (), params)
+    object.__setattr__(law, "static", static)
+    object.__setattr__(law, "text", text)
+    return law
+
+
+class PhysicalExpressionLaw(PhysicalLaw):
+    """A friction law from a formula for the coefficient ``mu(v)``, ``v`` the slip velocity in m/s.
+
+    Parameters
+    ----------
+    mu : str
+        ``mu(v)`` for ``v > 0``, e.g. ``"0.46/(1 + 160*v)"`` or ``"m0/(1 + a*v)"``.
+    static : float, optional
+        Static coefficient ``mu_s`` where it differs from ``mu(0+)`` (a drop at the onset).
+    **params
+        Values of the formula's other names: numbers, or quantities (``a="160 s/m"``)
+        so that the formula is dimensionally consistent with ``v`` in m/s.
+
+    """
+
+    __slots__ = ("_mu_expr", "static", "text")
+    static: float | None
+    text: str
+    _mu_expr: sp.Expr
+
+    def __init__(self, mu: str, *, static: float | None = None, **params: Any) -> None:
+        expr = parse_formula(mu, "mu", ("v",))
+        names = _parameters(expr, "v", params, "mu", mu)
+        self._init(expr, {n: params[n] for n in names}, static, mu)
+
+    @classmethod
+    def _from_expr(
+        cls, expr: sp.Expr, params: Mapping[str, Any], static: float | None, text: str
+    ) -> PhysicalExpressionLaw:
+        law = object.__new__(cls)
+        law._init(expr, params, static, text)
+        return law
+
+    def _init(self, expr: sp.Expr, params: Mapping[str, Any], static: float | None, text: str) -> None:
+        names = sorted(params)
+        quantities: dict[str, Any] = {}
+        si: dict[str, float] = {}
+        units: dict[str, str] = {}
+        for n in names:
+            x = params[n]
+            if isinstance(x, str | pint.Quantity):
+                q = _quantity(n, x)
+                base = q.to_base_units()
+                quantities[n] = q
+                si[n] = float(base.magnitude)
+                units[n] = "" if base.dimensionless else f"{base.units:~}"
+            else:
+                si[n] = _number(n, x)
+                quantities[n] = si[n]
+                units[n] = ""
+        _dimension_check(expr, quantities, text)
+        onset = _onset(expr, V, si)
+        if not (math.isfinite(onset) and onset > 0):
+            raise ValueError(
+                f"mu(0+) = {onset!r} for mu(v) = {text}: the friction coefficient at the onset of slip "
+                "must be positive and finite"
+            )
+        if static is None:
+            mu_s = onset
+        else:
+            mu_s = check_number(static, "static", what="a positive static coefficient")
+            if onset > mu_s * (1 + ONSET_TOL):
+                raise ValueError(f"mu(0+) = {onset:.6g} exceeds static={mu_s!r}: the block could never slip")
+        # the dimensionless form: f(w) = mu(w / beta) / mu_s, beta and mu_s parameters of its own
+        beta_s, mu_s_s = sp.Symbol("beta", real=True), sp.Symbol("mu_s", real=True)
+        f_expr = expr.subs(V, W / beta_s) / mu_s_s
+        nd_names = ["beta", "mu_s", *names]
+        key = ("physical", sp.srepr(f_expr), tuple(nd_names))
+        spec = _SPECS.get(key)
+        if spec is None:
+            spec = LawSpec(
+                name="expr",
+                title=f"mu(v) = {text}",
+                f=sp.sstr(f_expr),
+                parameters=(
+                    Parameter("beta", "beta = sqrt(k m)/(mu_s W) in s/m"),
+                    Parameter("mu_s", "static friction coefficient"),
+                    *(Parameter(n, f"parameter {n} of the formula (SI)", lower=-math.inf) for n in names),
+                ),
+                physical=tuple(
+                    Parameter(
+                        n,
+                        f"parameter {n} of the formula",
+                        unit=units[n],
+                        example=f"1 {units[n]}" if units[n] else "",
+                        lower=-math.inf,
+                    )
+                    for n in names
+                ),
+                to_dimensionless={"beta": "beta", "mu_s": "mu_s", **{n: n for n in names}},
+                expression=f_expr,
+                source="a formula typed by the user",
+            )
+            shown = f"mu(w/beta)/mu_s, mu(v) = {text}"
+            object.__setattr__(spec, "check", lambda v, s=spec, t=shown: _check_values(s, v, t))
+            if static is None:
+                object.__setattr__(spec, "static_from", _static_from(expr, names))
+            _SPECS[key] = spec
+        object.__setattr__(self, "spec", spec)
+        object.__setattr__(self, "mu_s", float(mu_s))
+        object.__setattr__(self, "_values", tuple(si[n] for n in names))
+        object.__setattr__(self, "static", None if static is None else float(mu_s))
+        object.__setattr__(self, "text", text)
+        object.__setattr__(self, "_mu_expr", expr)
+        self._validate(spec, mu_s, dict(zip(names, [si[n] for n in names], strict=True)))
+
+    def replace(self, **changes: Any) -> PhysicalExpressionLaw:
+        """Return a copy with some parameters (or ``static``) changed."""
+        static = changes.pop("static", changes.pop("mu_s", self.static))
+        return PhysicalExpressionLaw._from_expr(self._mu_expr, {**self.params, **changes}, static, self.text)
+
+    def __repr__(self) -> str:
+        args = [f"mu={self.text!r}", *(f"{k}={v!r}" for k, v in self.params.items())]
+        if self.static is not None:
+            args.append(f"static={self.static!r}")
+        return f"ExpressionLaw({', '.join(args)})"
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return PhysicalExpressionLaw._from_expr, (self._mu_expr, self.params, self.static, self.text)
+
+    def nondimensionalize(self, beta: Any) -> DimensionlessLaw:
+        """Return ``f(w) = mu(w/beta)/mu_s`` as an :class:`ExpressionLaw` (parameters ``beta``, ``mu_s``)."""
+        b = float(parse_quantity(beta, "beta", "[time] / [length]", "42 s/m").to("s/m").magnitude)
+        values = {"beta": b, "mu_s": self.mu_s, **self.si_parameters()}
+        return ExpressionLaw._from_spec(self.spec, values, f"mu(w/beta)/mu_s, mu(v) = {self.text}")
+
+    def describe(self) -> str:
+        """One line: the formula, ``mu_s`` and the parameters."""
+        pars = ", ".join([f"mu_s = {self.mu_s:.6g}", *(f"{k} = {v}" for k, v in self.params.items())])
+        return f"expr: mu(v) = {self.text}; {pars}"
+
+
+def _quantity(name: str, x: Any) -> pint.Quantity:
+    if isinstance(x, pint.Quantity):
+        q = ureg.Quantity(x.magnitude, str(x.units))
+    else:
+        try:
+            q = ureg.Quantity(x)
+        except Exception as exc:  # pint raises several unrelated types
+            raise ValueError(f"{name}={x!r}: not a quantity ({exc}); expected e.g. '160 s/m'") from None
+    if not isinstance(q, pint.Quantity) or not math.isfinite(float(q.magnitude)):
+        raise ValueError(f"{name}={x!r}: expected a finite quantity such as '160 s/m'")
+    return q
+
+
+def _dimension_check(expr: sp.Expr, quantities: Mapping[str, Any], text: str) -> None:
+    """Evaluate ``mu`` with pint quantities at v = 1 mm/s: the result must be a pure number."""
+    names = sorted(quantities)
+    fn = sp.lambdify([V, *[sp.Symbol(n, real=True) for n in names]], expr, modules="numpy")
+    try:
+        out = fn(Q_(1e-3, "m/s"), *[quantities[n] for n in names])
+    except pint.DimensionalityError as exc:
+        raise ValueError(
+            f"mu(v) = {text} is not dimensionally consistent with v in m/s and these parameters ({exc}); "
+            "give parameters with units, e.g. a='160 s/m'"
+        ) from None
+    except Exception:  # a numpy function pint does not wrap: the values check below will tell
+        return
+    if isinstance(out, pint.Quantity) and not out.dimensionless:
+        raise ValueError(
+            f"mu(v) = {text} has dimension {out.dimensionality}: a friction coefficient is a pure number "
+            "(v is a velocity in m/s: write e.g. 0.46/(1 + a*v) with a='160 s/m')"
+        )
+
+
+def _number(name: str, x: Any) -> float:
+    if isinstance(x, bool) or not isinstance(x, int | float | np.floating | np.integer):
+        raise ValueError(f"{name}={x!r}: expected a finite number (or, in the physical form, a quantity)")
+    if not math.isfinite(float(x)):
+        raise ValueError(f"{name}={x!r}: expected a finite number")
+    return float(x)
+
+
+def _static_from(expr: sp.Expr, names: list[str]) -> Any:
+    at_zero = expr.subs(V, 0)
+    if not at_zero.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
+        fn = sp.lambdify([sp.Symbol(n, real=True) for n in names], at_zero, modules="numpy")
+
+        def direct(values: Mapping[str, FloatArray]) -> FloatArray:
+            arrays = [np.asarray(values[n], dtype=float) for n in names]
+            shape = np.broadcast_shapes(*(a.shape for a in arrays)) if arrays else ()
+            return np.asarray(np.broadcast_to(fn(*arrays), shape), dtype=float)
+
+        return direct
+
+    def static(values: Mapping[str, FloatArray]) -> FloatArray:
+        arrays = [np.asarray(values[n], dtype=float) for n in names]
+        shape = np.broadcast_shapes(*(a.shape for a in arrays)) if arrays else ()
+        out = np.empty(shape)
+        flat = [np.broadcast_to(a, shape).ravel() for a in arrays]
+        o = out.ravel()
+        for i in range(o.size):
+            o[i] = _onset(expr, V, {n: float(f[i]) for n, f in zip(names, flat, strict=True)})
+        return out
+
+    return static

@@ -1,0 +1,145 @@
+"""Formulas typed by users, read into sympy without ``eval``.
+
+:func:`parse_formula` walks Python's syntax tree of the text and builds the sympy
+expression node by node. Only numbers, names, ``+ - * / **`` (and ``^`` for the
+power), parentheses and a fixed list of functions are accepted: anything else
+(attribute access, indexing, lambdas, keyword arguments, strings, comparisons)
+is refused in one line that says what is allowed. Nothing the user typed is
+ever executed.
+"""
+
+from __future__ import annotations
+
+import ast
+import math
+from collections.abc import Iterable
+
+import sympy as sp
+
+__all__ = ["FUNCTIONS", "FormulaError", "parse_formula"]
+
+#: the functions a formula may call, by the name the user types
+FUNCTIONS: dict[str, sp.Function] = {
+    "exp": sp.exp,
+    "log": sp.log,
+    "ln": sp.log,
+    "log10": lambda x: sp.log(x, 10),
+    "sqrt": sp.sqrt,
+    "abs": sp.Abs,
+    "sin": sp.sin,
+    "cos": sp.cos,
+    "tan": sp.tan,
+    "sinh": sp.sinh,
+    "cosh": sp.cosh,
+    "tanh": sp.tanh,
+    "atan": sp.atan,
+    "arctan": sp.atan,
+    "asinh": sp.asinh,
+    "arcsinh": sp.asinh,
+    "erf": sp.erf,
+}
+#: named constants
+CONSTANTS = {"pi": sp.pi, "e": sp.E}
+
+_BINARY = {
+    ast.Add: lambda a, b: a + b,
+    ast.Sub: lambda a, b: a - b,
+    ast.Mult: lambda a, b: a * b,
+    ast.Div: lambda a, b: a / b,
+    ast.Pow: lambda a, b: a**b,
+    ast.BitXor: lambda a, b: a**b,  # w^3 as written on paper
+}
+
+
+class FormulaError(ValueError):
+    """A formula that is not one: the message names the argument and what is allowed."""
+
+
+def _allowed(variables: Iterable[str]) -> str:
+    v = ", ".join(variables)
+    return (
+        f"numbers, the variable{'s' if ',' in v else ''} {v}, parameter names, + - * / ** ( ) and the "
+        f"functions {', '.join(sorted(FUNCTIONS))}"
+    )
+
+
+def parse_formula(text: str, name: str, variables: Iterable[str]) -> sp.Expr:
+    """Return the sympy expression of ``text``.
+
+    Parameters
+    ----------
+    text : str
+        The formula, e.g. ``"1/(1 + 3.8*w) + 0.5*w"``.
+    name : str
+        The argument it came from (``f``, ``mu``), for messages.
+    variables : iterable of str
+        Names with a fixed meaning (``w``, ``v``); every other name is a parameter.
+
+    Raises
+    ------
+    FormulaError
+        For text that is not a formula of this kind (a :class:`ValueError`).
+
+    """
+    variables = tuple(variables)
+    if not isinstance(text, str):
+        raise FormulaError(f"{name}={text!r}: expected a formula as text, such as '1/(1 + 3.8*w)'")
+    if not text.strip():
+        raise FormulaError(f"{name}: the formula is empty")
+    if len(text) > 2000:
+        raise FormulaError(f"{name}: a formula of {len(text)} characters is too long (at most 2000)")
+    try:
+        tree = ast.parse(text.strip(), mode="eval")
+    except SyntaxError as exc:
+        raise FormulaError(
+            f"{name}={text!r} is not a formula ({exc.msg} at column {exc.offset}); "
+            f"allowed: {_allowed(variables)}"
+        ) from None
+
+    def build(node: ast.AST) -> sp.Expr:
+        if isinstance(node, ast.Expression):
+            return build(node.body)
+        if isinstance(node, ast.Constant):
+            if isinstance(node.value, bool) or not isinstance(node.value, int | float):
+                raise FormulaError(
+                    f"{name}={text!r}: {node.value!r} is not a number; allowed: {_allowed(variables)}"
+                )
+            if isinstance(node.value, float) and not math.isfinite(node.value):
+                raise FormulaError(f"{name}={text!r}: {node.value!r} is not a finite number")
+            return sp.Integer(node.value) if isinstance(node.value, int) else sp.Float(node.value)
+        if isinstance(node, ast.Name):
+            if node.id in CONSTANTS:
+                return CONSTANTS[node.id]
+            if node.id in FUNCTIONS:
+                raise FormulaError(f"{name}={text!r}: {node.id} is a function: call it, as in {node.id}(w)")
+            if node.id.startswith("_"):
+                raise FormulaError(
+                    f"{name}={text!r}: the name {node.id!r} is not allowed (leading underscore)"
+                )
+            return sp.Symbol(node.id, real=True)
+        if isinstance(node, ast.BinOp) and type(node.op) in _BINARY:
+            return _BINARY[type(node.op)](build(node.left), build(node.right))
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub | ast.UAdd):
+            x = build(node.operand)
+            return -x if isinstance(node.op, ast.USub) else x
+        if isinstance(node, ast.Call):
+            fn = node.func
+            if not isinstance(fn, ast.Name) or fn.id not in FUNCTIONS:
+                what = ast.unparse(fn)
+                raise FormulaError(
+                    f"{name}={text!r}: {what}(...) is not an allowed function; allowed: {_allowed(variables)}"
+                )
+            if node.keywords or len(node.args) != 1:
+                raise FormulaError(f"{name}={text!r}: {fn.id} takes exactly one argument")
+            return FUNCTIONS[fn.id](build(node.args[0]))
+        what = type(node).__name__
+        snippet = ast.unparse(node) if hasattr(ast, "unparse") else what
+        raise FormulaError(
+            f"{name}={text!r}: {snippet!r} ({what}) is not allowed in a formula; "
+            f"allowed: {_allowed(variables)}"
+        )
+
+    expr = build(tree)
+    if not isinstance(expr, sp.Expr):
+        raise FormulaError(f"{name}={text!r}: not a formula")
+    return expr

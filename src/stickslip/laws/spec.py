@@ -1,0 +1,455 @@
+"""A friction law declared once: :class:`LawSpec` and its :class:`Parameter` s.
+
+A law is declared by its dimensionless forward branch ``f_+(w)`` as a formula
+(friction in units of the static friction force, ``w`` the slip velocity in units
+of ``mu_s W / sqrt(k m)``), its parameters with bounds and help, its physical
+parameters with units and the map from physical to dimensionless values. Every
+thing else is derived here from that declaration, with sympy:
+
+* the derivatives ``f^(n)`` the analyses need (stability, Hopf criticality),
+  as vectorised numpy functions;
+* the compiled kernel: the built-in laws have hand-tuned kernels in
+  :mod:`stickslip.core.laws` (the declaration names their id, and the
+  conformance tests check them against the formula); any other law gets numba
+  code generated from its formula (:meth:`LawSpec.kernel_source`), with a
+  continuation to ``w < 0`` by its Taylor polynomial at 0 (the integrator
+  samples slightly negative velocities before it locates a stop);
+* the physical law ``mu(v) = mu_s f(beta v)`` and the inverse map;
+* validation of scalars and, vectorised, of whole sweep grids;
+* the command-line options, the sweep tables and the docs table.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+import pint
+import sympy as sp
+
+from ..units import Q_, check_number, parse_quantity, ureg
+from .formula import parse_formula
+
+__all__ = ["STATIC", "LawSpec", "Parameter"]
+
+FloatArray = npt.NDArray[np.float64]
+
+#: the velocity symbol of the dimensionless formulas
+W = sp.Symbol("w", real=True)
+#: symbols of the scales in the physical-to-dimensionless map
+BETA = sp.Symbol("beta", positive=True)
+MU_S = sp.Symbol("mu_s", positive=True)
+#: degree of the Taylor polynomial that continues f_+ to w < 0
+CONTINUATION_DEGREE = 10
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One parameter of a friction law, with its bounds, unit and help.
+
+    Parameters
+    ----------
+    name : str
+        Name in Python, in the formula and (with ``-`` for ``_``) on the command line.
+    help : str
+        One line for the command line and the docs.
+    unit : str, optional
+        SI unit of a physical parameter (``"s/m"``); empty for a number.
+    example : str, optional
+        A valid value as a user would type it (``"160 s/m"``).
+    lower, upper : float, optional
+        Bounds (default: positive, no upper bound).
+    lower_inclusive, upper_inclusive : bool, optional
+        Whether the bounds themselves are allowed.
+    default : float, optional
+        Value when not given (SI for a physical parameter); None: required.
+    aliases : tuple of str, optional
+        Other names accepted on input (the paper's ``mu0`` for ``mu_s``).
+
+    """
+
+    name: str
+    help: str
+    unit: str = ""
+    example: str = ""
+    lower: float = 0.0
+    upper: float = math.inf
+    lower_inclusive: bool = False
+    upper_inclusive: bool = False
+    default: float | None = None
+    aliases: tuple[str, ...] = ()
+
+    @property
+    def dimension(self) -> str:
+        """Pint dimensionality of a physical parameter ("" for a number)."""
+        if not self.unit:
+            return ""
+        return str(ureg.Unit(self.unit).dimensionality)
+
+    @property
+    def what(self) -> str:
+        """What a valid value is, in words, for messages."""
+        lo = (
+            ""
+            if self.lower == -math.inf
+            else ("non-negative" if self.lower == 0 and self.lower_inclusive else "")
+        )
+        if self.lower == 0 and not self.lower_inclusive and self.upper == math.inf:
+            kind = "a positive number"
+        elif lo and self.upper == math.inf:
+            kind = f"a {lo} number"
+        elif self.upper == math.inf and self.lower == -math.inf:
+            kind = "a finite number"
+        else:
+            a = "[" if self.lower_inclusive else "("
+            b = "]" if self.upper_inclusive else ")"
+            kind = f"a number in {a}{self.lower:g}, {self.upper:g}{b}"
+        if self.unit:
+            kind = kind.replace("number", f"quantity such as {self.example!r}")
+        return kind
+
+    def check(self, value: Any) -> float:
+        """Return ``value`` in SI (a float) after checking its unit and bounds.
+
+        Raises
+        ------
+        ValueError
+            Naming the parameter, the value and what was expected.
+
+        """
+        if self.unit:
+            q = parse_quantity(
+                value,
+                self.name,
+                self.dimension,
+                self.example or f"1 {self.unit}",
+                allow_zero=True,
+                allow_negative=True,
+            )
+            x = float(q.to(self.unit).magnitude)
+        else:
+            if isinstance(value, pint.Quantity):
+                x = check_number(value, self.name, allow_zero=True, what=self.what)
+            elif isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
+                raise ValueError(f"{self.name}={value!r}: expected {self.what}")
+            else:
+                x = float(value)
+        self.check_array(np.array([x]), shown=value)
+        return x
+
+    def check_array(self, values: npt.ArrayLike, *, shown: Any = None, where: str = "") -> None:
+        """Check SI values (any shape) against the bounds, in one vectorised pass.
+
+        Raises
+        ------
+        ValueError
+            At the first bad value, naming it (and its point, for arrays).
+
+        """
+        x = np.asarray(values, dtype=float)
+        ok = np.isfinite(x)
+        ok &= (x >= self.lower) if self.lower_inclusive else (x > self.lower)
+        if self.upper < math.inf:
+            ok &= (x <= self.upper) if self.upper_inclusive else (x < self.upper)
+        if ok.all():
+            return
+        i = int(np.flatnonzero(~ok.ravel())[0])
+        bad = float(x.ravel()[i])
+        v = shown if shown is not None else (Q_(bad, self.unit) if self.unit else bad)
+        at = f" (point {i}{where})" if x.size > 1 else where
+        if math.isnan(bad):
+            reason = "is NaN"
+        elif math.isinf(bad):
+            reason = "is infinite"
+        elif bad < self.lower or (bad == self.lower and not self.lower_inclusive):
+            if self.lower == 0:
+                reason = "must be non-negative" if self.lower_inclusive else "must be positive"
+            else:
+                reason = "is too small"
+        else:
+            reason = "is too large"
+        raise ValueError(f"{self.name}={v!r} {reason}{at}: expected {self.what}")
+
+    def quantity(self, si: float) -> Any:
+        """Return an SI value as the user sees it (a pint quantity for a physical parameter)."""
+        return Q_(si, self.unit) if self.unit else float(si)
+
+
+#: the static friction coefficient of every physical law
+STATIC = Parameter(
+    "mu_s",
+    "static friction coefficient mu_s: the friction force at rest is at most mu_s W",
+    lower=0.0,
+)
+
+
+@dataclass(frozen=True, eq=False)
+class LawSpec:
+    """The declaration of a friction law; everything else is derived from it.
+
+    Parameters
+    ----------
+    name : str
+        Registry name and ``--law`` choice (``weakening``).
+    title : str
+        One line: what the law is.
+    f : str
+        Dimensionless forward branch ``f_+(w)`` (``w > 0``) as a formula in ``w``
+        and the parameters, friction in units of the static friction force, e.g.
+        ``"1/(1 + c*w) + p*w"``. Friction is odd in ``w`` and set-valued at rest.
+    parameters : tuple of Parameter
+        Dimensionless parameters, in the order of the compiled parameter vector.
+    physical : tuple of Parameter, optional
+        Physical parameters besides ``mu_s``, with units.
+    to_dimensionless : mapping, optional
+        For each dimensionless parameter, a formula in the physical parameters
+        (SI), ``beta = sqrt(k m)/(mu_s W)`` (s/m) and ``mu_s``: ``{"c": "a/beta"}``.
+    source : str, optional
+        Citation.
+    core_id : int, optional
+        Id of a hand-tuned kernel in :mod:`stickslip.core.laws` (built-in laws);
+        otherwise a kernel is generated from ``f``.
+    map_parameters : tuple of str, optional
+        The parameters a regime map may run over (default: all).
+    check : callable, optional
+        Extra vectorised validation of dimensionless values
+        (``check(values: dict of arrays)``), e.g. a warning where friction turns negative.
+    static_aliases : tuple of str, optional
+        Other names of ``mu_s`` on input (``mu0``, the paper's name).
+    notes : str, optional
+        A paragraph for the docs.
+    expression : sympy.Expr, optional
+        ``f`` already parsed (laws built from a user's formula), used instead of parsing ``f``.
+    static_from : callable, optional
+        ``mu_s`` from the physical values (SI arrays) where the law fixes it (a
+        formula's ``mu(0+)``); None: ``mu_s`` is a parameter of its own.
+
+    """
+
+    name: str
+    title: str
+    f: str
+    parameters: tuple[Parameter, ...]
+    physical: tuple[Parameter, ...] = ()
+    to_dimensionless: Mapping[str, str] = field(default_factory=dict)
+    source: str = ""
+    core_id: int | None = None
+    map_parameters: tuple[str, ...] | None = None
+    check: Callable[[Mapping[str, FloatArray]], None] | None = None
+    static_aliases: tuple[str, ...] = ()
+    notes: str = ""
+    expression: sp.Expr | None = field(default=None, compare=False, repr=False)
+    static_from: Callable[[Mapping[str, FloatArray]], FloatArray] | None = field(
+        default=None, compare=False, repr=False
+    )
+
+    def __post_init__(self) -> None:
+        names = [p.name for p in self.parameters]
+        if len(set(names)) != len(names):
+            raise ValueError(f"law {self.name!r}: parameter names repeat: {names}")
+        from ..core.laws import N_LAW_PARAMS
+
+        if len(names) > N_LAW_PARAMS:
+            raise ValueError(f"law {self.name!r}: {len(names)} parameters, at most {N_LAW_PARAMS}")
+        for reserved in ("w",):
+            if reserved in names:
+                raise ValueError(f"law {self.name!r}: the parameter name {reserved!r} is reserved")
+        free = {s.name for s in self.expr.free_symbols} - {"w"}
+        if free - set(names):
+            raise ValueError(f"law {self.name!r}: f uses {sorted(free - set(names))}, not parameters")
+        if self.physical:
+            if set(self.to_dimensionless) != set(names):
+                raise ValueError(f"law {self.name!r}: to_dimensionless must give each of {names}")
+            self._inverse  # noqa: B018  (checks that the map can be inverted)
+
+    # ------------------------------------------------------------------ symbols
+
+    @functools.cached_property
+    def symbols(self) -> tuple[sp.Symbol, ...]:
+        """Symbols of the dimensionless parameters, in order."""
+        return tuple(sp.Symbol(p.name, real=True) for p in self.parameters)
+
+    @functools.cached_property
+    def expr(self) -> sp.Expr:
+        """``f_+(w)`` as a sympy expression."""
+        e = (
+            self.expression
+            if self.expression is not None
+            else parse_formula(self.f, f"law {self.name!r}: f", ("w",))
+        )
+        return e.subs(
+            {sp.Symbol(p.name, real=True): s for p, s in zip(self.parameters, self.symbols, strict=True)}
+        )
+
+    @functools.cache  # noqa: B019  (specs live for the whole run)
+    def derivative(self, order: int) -> sp.Expr:
+        """``d^n f_+ / d w^n`` as a sympy expression."""
+        return sp.diff(self.expr, W, order) if order else self.expr
+
+    @functools.cache  # noqa: B019
+    def numpy_function(self, order: int) -> Callable[..., Any]:
+        """``f_+^(n)(w, *params)`` as a vectorised numpy function."""
+        return sp.lambdify((W, *self.symbols), self.derivative(order), modules="numpy")
+
+    def evaluate(self, w: npt.ArrayLike, values: Sequence[Any], order: int = 0) -> FloatArray:
+        """Return ``f_+^(n)(w)`` for parameter values (scalars or arrays that broadcast with ``w``)."""
+        w = np.asarray(w, dtype=float)
+        with np.errstate(all="ignore"):
+            out = self.numpy_function(order)(w, *values)
+        return np.asarray(
+            np.broadcast_to(out, np.broadcast_shapes(w.shape, *(np.shape(v) for v in values))), dtype=float
+        )
+
+    @functools.cached_property
+    def continuation(self) -> sp.Expr:
+        """Taylor polynomial of ``f_+`` at ``w = 0`` (degree :data:`CONTINUATION_DEGREE`), for ``w < 0``.
+
+        Where ``f_+`` is not smooth at 0 (``sqrt(w)``), the polynomial stops at the
+        last finite derivative (a constant at least).
+        """
+        terms = []
+        d = self.expr
+        bad = (sp.zoo, sp.oo, -sp.oo, sp.nan)
+        for k in range(CONTINUATION_DEGREE + 1):
+            if k:
+                d = sp.diff(d, W)
+            c = d.subs(W, 0)
+            if c.has(*bad):
+                c = sp.limit(d, W, 0, "+")
+            if c.has(*bad):
+                break
+            terms.append(c / sp.factorial(k) * W**k)
+        if not terms:
+            raise ValueError(
+                f"law {self.name!r}: f_+(0+) is not finite; friction at the onset of slip must be"
+            )
+        return sp.Add(*terms)
+
+    # ------------------------------------------------------------------ kernel
+
+    def kernel_source(self) -> str:
+        """Return the numba module of this law's kernel (the functions of :mod:`stickslip.core.laws`)."""
+        from .compiler import law_module_source
+
+        return law_module_source(self.expr, self.derivative(1), self.continuation, self.symbols, self.name)
+
+    def kernel(self) -> Any:
+        """Return the compiled kernel (:class:`~stickslip.core.api.Kernel`) of this law."""
+        from ..core.api import builtin_kernel
+
+        if self.core_id is not None:
+            return builtin_kernel(self.core_id)
+        from .compiler import compile_kernel
+
+        return compile_kernel(self.kernel_source(), self.name)
+
+    # ------------------------------------------------------------------ physical form
+
+    @functools.cached_property
+    def _mapping(self) -> dict[str, sp.Expr]:
+        phys = {p.name: sp.Symbol(p.name, real=True) for p in self.physical}
+        local = ("beta", "mu_s")
+        out = {}
+        for k, text in self.to_dimensionless.items():
+            e = parse_formula(text, f"law {self.name!r}: to_dimensionless[{k!r}]", local)
+            e = e.subs({sp.Symbol("beta", real=True): BETA, sp.Symbol("mu_s", real=True): MU_S})
+            e = e.subs({sp.Symbol(n, real=True): s for n, s in phys.items()})
+            unknown = {s.name for s in e.free_symbols} - set(phys) - {"beta", "mu_s"}
+            if unknown:
+                raise ValueError(
+                    f"law {self.name!r}: to_dimensionless[{k!r}] uses unknown names {sorted(unknown)}"
+                )
+            out[k] = e
+        return out
+
+    @functools.cached_property
+    def _inverse(self) -> dict[str, sp.Expr]:
+        """Each physical parameter from the dimensionless ones (the map solved by sympy)."""
+        out = {}
+        for p in self.physical:
+            sym = sp.Symbol(p.name, real=True)
+            using = [k for k, e in self._mapping.items() if e.has(sym)]
+            if len(using) != 1:
+                raise ValueError(
+                    f"law {self.name!r}: the physical parameter {p.name!r} must enter exactly one "
+                    f"dimensionless parameter (it enters {using})"
+                )
+            k = using[0]
+            sol = sp.solve(sp.Eq(sp.Symbol(k, real=True), self._mapping[k]), sym, dict=True)
+            if len(sol) != 1:
+                raise ValueError(f"law {self.name!r}: cannot solve {k} = {self._mapping[k]} for {p.name}")
+            out[p.name] = sol[0][sym]
+        return out
+
+    @functools.cached_property
+    def _to_dimensionless_fn(self) -> Callable[..., Any]:
+        args = (*[sp.Symbol(p.name, real=True) for p in self.physical], BETA, MU_S)
+        out = [self._mapping[p.name] for p in self.parameters]
+        return sp.lambdify(args, out, modules="numpy", dummify=True)
+
+    @functools.cached_property
+    def _to_physical_fn(self) -> Callable[..., Any]:
+        args = (*[sp.Symbol(p.name, real=True) for p in self.parameters], BETA, MU_S)
+        out = [self._inverse[p.name] for p in self.physical]
+        return sp.lambdify(args, out, modules="numpy", dummify=True)
+
+    def dimensionless_values(
+        self, physical_si: Mapping[str, npt.ArrayLike], beta: npt.ArrayLike, mu_s: npt.ArrayLike
+    ) -> dict[str, FloatArray]:
+        """Map physical values (SI, scalars or arrays) to the dimensionless parameters, vectorised."""
+        args = [np.asarray(physical_si[p.name], dtype=float) for p in self.physical]
+        vals = self._to_dimensionless_fn(*args, np.asarray(beta, dtype=float), np.asarray(mu_s, dtype=float))
+        shape = np.broadcast_shapes(np.shape(beta), np.shape(mu_s), *(np.shape(a) for a in args))
+        return {
+            p.name: np.asarray(np.broadcast_to(v, shape), dtype=float)
+            for p, v in zip(self.parameters, vals, strict=True)
+        }
+
+    def physical_values(self, values: Mapping[str, float], beta: float, mu_s: float) -> dict[str, float]:
+        """Map dimensionless values to the physical parameters (SI) for ``beta`` (s/m) and ``mu_s``."""
+        out = self._to_physical_fn(*[values[p.name] for p in self.parameters], beta, mu_s)
+        return {p.name: float(v) for p, v in zip(self.physical, out, strict=True)}
+
+    @functools.cached_property
+    def physical_expr(self) -> sp.Expr:
+        """``mu(v) = mu_s f(beta v)`` in the physical parameters (``v`` in m/s)."""
+        v = sp.Symbol("v", positive=True)
+        e = self.expr.subs(W, BETA * v).subs(
+            {s: self._mapping[p.name] for p, s in zip(self.parameters, self.symbols, strict=True)}
+        )
+        return sp.simplify(MU_S * e)
+
+    # ------------------------------------------------------------------ validation
+
+    def validate(self, values: Mapping[str, npt.ArrayLike], *, where: str = "") -> None:
+        """Check dimensionless values (scalars or whole grids) against the bounds and the law's check."""
+        arrays = {p.name: np.asarray(values[p.name], dtype=float) for p in self.parameters}
+        for p in self.parameters:
+            p.check_array(arrays[p.name], where=where)
+        if self.check is not None:
+            self.check(arrays)
+
+    def parameter(self, name: str) -> Parameter:
+        """Return the dimensionless or physical parameter ``name`` (or an alias of ``mu_s``)."""
+        for p in (*self.parameters, *self.physical):
+            if p.name == name:
+                return p
+        if name == "mu_s" or name in self.static_aliases:
+            return STATIC
+        raise KeyError(name)
+
+    @property
+    def mappable(self) -> tuple[str, ...]:
+        """Parameters a regime map may run over."""
+        return (
+            self.map_parameters if self.map_parameters is not None else tuple(p.name for p in self.parameters)
+        )
+
+    def latex(self) -> str:
+        """``f_+(w)`` in LaTeX."""
+        return sp.latex(self.expr)

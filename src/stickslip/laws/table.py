@@ -1,0 +1,396 @@
+"""A user's friction law from a measured table: friction coefficient against velocity.
+
+``TabulatedLaw(v, mu)`` or ``TabulatedLaw.from_csv("mu_v.csv")``, with the header
+convention of the records: ``velocity [um/s],friction coefficient [1]``, or a
+friction force with a unit (``friction force [mN]``) and the normal ``load``.
+
+* **Static coefficient.** The table starts at ``v = 0``: that row is the static
+  coefficient ``mu_s``. A second row at ``v = 0`` gives ``mu(0+)``, the level
+  just after breakaway (a drop at the onset of slip); without it friction is
+  continuous at the onset, ``mu(0+) = mu_s``.
+* **Interpolation** (``interpolation=``):
+
+  - ``"pchip"`` (default): the monotone piecewise-cubic Hermite interpolant of
+    Fritsch and Carlson (``scipy.interpolate.PchipInterpolator``). It passes
+    through every row, its first derivative is continuous, and it never
+    invents a wiggle between rows: where the data fall, it falls. That matters
+    here: the sign of ``mu'(v)`` decides the stability of steady sliding, so a
+    wiggle of an interpolant would be a spurious Hopf bifurcation. Its second
+    derivative jumps at the rows, so the criticality of a Hopf point (which
+    needs ``mu'''``) is that of the local cubic.
+  - ``"cubic"``: the interpolating cubic spline (not-a-knot), twice continuously
+    differentiable, for smooth, dense, noise-free tables.
+  - ``"smoothing"``: a cubic smoothing spline with its smoothing chosen by
+    generalised cross-validation (``scipy.interpolate.make_smoothing_spline``),
+    twice continuously differentiable, for noisy measured tables: it does not
+    pass through the rows.
+
+* **Extrapolation.** Above the last row the coefficient continues along the
+  tangent at the last row (value and slope continuous). A computation that
+  reaches beyond the table says so (:meth:`TabulatedDimensionlessLaw.range_warning`):
+  those results rest on the extrapolation. Below ``v = 0`` (the integrator's
+  samples just before a stop) the first cubic piece continues as a polynomial.
+
+Bad tables are refused with the row: unsorted or repeated velocities, negative
+velocities or coefficients, too few rows (at least 4 above ``v = 0``), no row at
+``v = 0``.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import math
+import os
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+import pint
+import sympy as sp
+from scipy.interpolate import CubicSpline, PchipInterpolator, PPoly, make_smoothing_spline
+
+from ..io.errors import DataError
+from ..io.tables import read_table
+from ..units import Q_, check_number, parse_quantity, ureg
+from .base import DimensionlessLaw, PhysicalLaw
+from .spec import LawSpec, Parameter, W
+
+__all__ = ["INTERPOLATIONS", "TabulatedDimensionlessLaw", "TabulatedLaw"]
+
+FloatArray = npt.NDArray[np.float64]
+INTERPOLATIONS = ("pchip", "cubic", "smoothing")
+#: rows above v = 0 a table needs
+MIN_ROWS = 4
+
+
+class _TableSpec(LawSpec):
+    """The spec of one table: the kernel and the derivatives come from its piecewise cubic."""
+
+    pp: PPoly
+
+    def evaluate(self, w: npt.ArrayLike, values: Any, order: int = 0) -> FloatArray:
+        beta = np.asarray(values[0], dtype=float)
+        mu_s = np.asarray(values[1], dtype=float)
+        w = np.asarray(w, dtype=float)
+        v = w / beta
+        return np.asarray(_mu(self.pp, v, order) / (mu_s * beta**order), dtype=float)
+
+    @functools.cached_property
+    def continuation(self) -> sp.Expr:  # the first cubic piece, not a Taylor polynomial
+        return sp.Integer(0)
+
+    def kernel_source(self) -> str:
+        from .compiler import piecewise_module_source
+
+        return piecewise_module_source(self.pp.x, self.pp.c, self.name, self.f)
+
+    def kernel(self) -> Any:
+        from .compiler import compile_kernel
+
+        return compile_kernel(self.kernel_source(), f"table {self.f}")
+
+
+def _mu(pp: PPoly, v: npt.ArrayLike, order: int = 0) -> FloatArray:
+    """Return the interpolant's ``order``-th derivative (the tangent continues above the last row)."""
+    v = np.asarray(v, dtype=float)
+    end = pp.x[-1]
+    inside = pp(np.minimum(v, end), order) if order else pp(np.minimum(v, end))
+    if order == 0:
+        slope = pp(end, 1)
+        return np.where(v > end, pp(end) + slope * (v - end), inside)
+    if order == 1:
+        return np.where(v > end, pp(end, 1), inside)
+    return np.where(v > end, 0.0, inside)
+
+
+def _pp(v: FloatArray, mu: FloatArray, interpolation: str) -> PPoly:
+    if interpolation == "pchip":
+        return PchipInterpolator(v, mu, extrapolate=True)
+    if interpolation == "cubic":
+        return CubicSpline(v, mu, bc_type="not-a-knot", extrapolate=True)
+    spl = make_smoothing_spline(v, mu)
+    return PPoly.from_spline(spl)
+
+
+class TabulatedLaw(PhysicalLaw):
+    """A physical friction law from a table of the friction coefficient against velocity.
+
+    Parameters
+    ----------
+    v : pint.Quantity (array) or sequence of str
+        Velocities, sorted, starting at 0 (e.g. ``Q_([0, 1, 10, 100], "um/s")``); a
+        second 0 gives the level just after breakaway.
+    mu : array_like
+        Friction coefficients (numbers) at those velocities.
+    static : float, optional
+        Static coefficient, instead of the first row's.
+    interpolation : {"pchip", "cubic", "smoothing"}, optional
+        See the module's notes. Default ``"pchip"``.
+    name : str, optional
+        A name for messages (the file's).
+
+    Raises
+    ------
+    ValueError
+        For a bad table, naming the row.
+
+    """
+
+    __slots__ = ("_pp", "interpolation", "source", "table_mu", "table_v")
+    table_v: FloatArray
+    table_mu: FloatArray
+    interpolation: str
+    source: str
+    _pp: PPoly
+
+    def __init__(
+        self,
+        v: Any,
+        mu: npt.ArrayLike,
+        *,
+        static: float | None = None,
+        interpolation: str = "pchip",
+        name: str = "table",
+    ) -> None:
+        if interpolation not in INTERPOLATIONS:
+            raise ValueError(f"interpolation={interpolation!r}: expected one of {', '.join(INTERPOLATIONS)}")
+        v_si = _velocities(v, name)
+        mu_a = np.asarray(mu, dtype=float)
+        if mu_a.ndim != 1 or mu_a.size != v_si.size:
+            raise ValueError(f"{name}: {mu_a.size} friction values for {v_si.size} velocities")
+        bad = np.flatnonzero(~np.isfinite(mu_a) | (mu_a <= 0))
+        if bad.size:
+            i = int(bad[0])
+            raise ValueError(
+                f"{name}: row {i + 1}: friction coefficient {mu_a[i]!r} is not a positive number"
+            )
+        if v_si.size == 0 or v_si[0] != 0.0:
+            raise ValueError(
+                f"{name}: the table has no row at v = 0: its first row must be the static coefficient (v = 0)"
+            )
+        zero = int(np.sum(v_si == 0.0))
+        if zero > 2:
+            raise ValueError(
+                f"{name}: {zero} rows at v = 0: at most two (static, then the level just after breakaway)"
+            )
+        steps = np.diff(v_si[zero - 1 :])
+        if np.any(steps <= 0):
+            i = int(np.flatnonzero(steps <= 0)[0]) + zero
+            raise ValueError(
+                f"{name}: row {i + 1}: velocity {v_si[i]:.6g} m/s is not above the row before "
+                f"({v_si[i - 1]:.6g} m/s): sort the table by velocity, without repeats"
+            )
+        if v_si.size - zero < MIN_ROWS:
+            raise ValueError(
+                f"{name}: {v_si.size - zero} rows above v = 0: at least {MIN_ROWS} are needed to interpolate"
+            )
+        mu_s = (
+            float(mu_a[0])
+            if static is None
+            else check_number(static, "static", what="a positive static coefficient")
+        )
+        kin_v = v_si[zero - 1 :]
+        kin_mu = mu_a[zero - 1 :]
+        if kin_mu[0] > mu_s * (1.0 + 1e-12):
+            raise ValueError(f"{name}: mu(0+) = {kin_mu[0]:.6g} exceeds the static coefficient {mu_s:.6g}")
+        pp = _pp(kin_v, kin_mu, interpolation)
+        digest = hashlib.sha256(np.ascontiguousarray(np.vstack([pp.x[:-1], pp.c])).tobytes()).hexdigest()[:12]
+        spec = _TableSpec(
+            name="table",
+            title=f"friction coefficient tabulated at {kin_v.size} velocities ({interpolation})",
+            f=f"{name} [{interpolation}, {digest}]",
+            parameters=(
+                Parameter("beta", "beta = sqrt(k m)/(mu_s W) in s/m"),
+                Parameter("mu_s", "static coefficient"),
+            ),
+            to_dimensionless={"beta": "beta", "mu_s": "mu_s"},
+            physical=(),
+            expression=sp.Function("table")(W),
+            source=name,
+        )
+        object.__setattr__(spec, "pp", pp)
+        object.__setattr__(self, "spec", spec)
+        object.__setattr__(self, "mu_s", mu_s)
+        object.__setattr__(self, "_values", ())
+        object.__setattr__(self, "table_v", v_si)
+        object.__setattr__(self, "table_mu", mu_a)
+        object.__setattr__(self, "interpolation", interpolation)
+        object.__setattr__(self, "source", name)
+        object.__setattr__(self, "_pp", pp)
+        fmin = float(np.min(_mu(pp, np.linspace(0.0, kin_v[-1], 4 * kin_v.size + 1))))
+        if fmin <= 0.0:
+            raise ValueError(
+                f"{name}: the {interpolation} interpolant turns negative ({fmin:.3g}) between rows"
+            )
+
+    @classmethod
+    def from_csv(
+        cls,
+        path: str | os.PathLike[str],
+        *,
+        load: Any = None,
+        static: float | None = None,
+        interpolation: str = "pchip",
+    ) -> TabulatedLaw:
+        """Read a table of ``velocity [unit]`` and ``friction coefficient [1]`` (or a friction force).
+
+        The header follows the records': ``velocity [um/s],friction coefficient [1]``, or
+        ``friction force [mN]`` with the normal ``load``.
+
+        Raises
+        ------
+        DataError
+            For a file that cannot be read or a table that cannot be used (naming the file and row).
+
+        """
+        cols = read_table(path, ["velocity"], ["friction coefficient", "friction force", "mu", "friction"])
+        p = os.fspath(path)
+        vel = cols["velocity"]
+        if vel.unit is None or not (1.0 * vel.unit).check("[length] / [time]"):
+            raise DataError(
+                f"{p}: column 'velocity' needs a velocity unit in its header, e.g. 'velocity [um/s]'"
+            )
+        force_col = next((cols[k] for k in ("friction force", "friction") if k in cols), None)
+        coef_col = next((cols[k] for k in ("friction coefficient", "mu") if k in cols), None)
+        if coef_col is not None and (coef_col.unit is None or (1.0 * coef_col.unit).dimensionless):
+            mu = coef_col.values
+        elif force_col is not None and force_col.unit is not None and (1.0 * force_col.unit).check("[force]"):
+            if load is None:
+                raise DataError(
+                    f"{p}: the table gives a friction force: give the normal load (--load) to divide by"
+                )
+            w = parse_quantity(load, "load", "[force]", "196 mN")
+            mu = (Q_(force_col.values, force_col.unit) / w).to("").magnitude
+        else:
+            raise DataError(
+                f"{p}: expected a column 'friction coefficient [1]', or 'friction force [mN]' with a load"
+            )
+        try:
+            return cls(Q_(vel.values, vel.unit), mu, static=static, interpolation=interpolation, name=p)
+        except ValueError as exc:
+            raise DataError(str(exc)) from None
+
+    # ------------------------------------------------------------------ value semantics
+
+    def _key(self) -> tuple[Any, ...]:
+        return ("table", self.spec.f, self.mu_s)
+
+    def __repr__(self) -> str:
+        rows = self.table_v.size
+        return f"TabulatedLaw({self.source!r}, {rows} rows, mu_s={self.mu_s!r}, {self.interpolation})"
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return _rebuild, (self.table_v, self.table_mu, self.mu_s, self.interpolation, self.source)
+
+    def replace(self, **changes: Any) -> TabulatedLaw:
+        """Return a copy with another static coefficient (``mu_s=``); a table has no other parameter."""
+        extra = set(changes) - {"mu_s", "static"}
+        if extra:
+            raise ValueError(f"a tabulated law has no parameter {sorted(extra)[0]!r}")
+        mu_s = changes.get("mu_s", changes.get("static", self.mu_s))
+        return TabulatedLaw(
+            Q_(self.table_v, "m/s"),
+            self.table_mu,
+            static=mu_s,
+            interpolation=self.interpolation,
+            name=self.source,
+        )
+
+    def nondimensionalize(self, beta: Any) -> DimensionlessLaw:
+        """Return ``f(w) = mu(w / beta) / mu_s`` (``beta`` and ``mu_s`` its parameters)."""
+        b = float(parse_quantity(beta, "beta", "[time] / [length]", "42 s/m").to("s/m").magnitude)
+        law = object.__new__(TabulatedDimensionlessLaw)
+        law._set(self.spec, (), {"beta": b, "mu_s": self.mu_s})
+        object.__setattr__(law, "table", self)
+        return law
+
+    def coefficient(self, v: Any) -> FloatArray:
+        """Return ``mu(v)`` (0 at ``v = 0``, odd in ``v``)."""
+        from .base import _velocity
+
+        x = _velocity(v)
+        return np.where(x == 0, 0.0, np.sign(x) * _mu(self._pp, np.abs(x)))
+
+    def describe(self) -> str:
+        """One line: the table, its interpolation and ``mu_s``."""
+        return (
+            f"table: {self.source}, {self.table_v.size} rows up to {self.table_v[-1]:.4g} m/s, "
+            f"{self.interpolation}; mu_s = {self.mu_s:.6g}"
+        )
+
+
+def _rebuild(v: FloatArray, mu: FloatArray, mu_s: float, interpolation: str, name: str) -> TabulatedLaw:
+    return TabulatedLaw(Q_(v, "m/s"), mu, static=mu_s, interpolation=interpolation, name=name)
+
+
+class TabulatedDimensionlessLaw(DimensionlessLaw):
+    """The dimensionless form of a :class:`TabulatedLaw`: ``f(w) = mu(w / beta) / mu_s``."""
+
+    __slots__ = ("table",)
+    table: TabulatedLaw
+
+    def __repr__(self) -> str:
+        return f"TabulatedDimensionlessLaw({self.table!r}, beta={self.beta!r})"
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return _rebuild_nd, (self.table, self.beta)
+
+    def replace(self, **changes: float) -> DimensionlessLaw:
+        """Return a copy with another ``beta`` or ``mu_s``."""
+        table = self.table.replace(mu_s=changes["mu_s"]) if "mu_s" in changes else self.table
+        return table.nondimensionalize(Q_(changes.get("beta", self.beta), "s/m"))
+
+    def range_warning(self, w_max: float) -> str | None:
+        """Say so when a motion reaches beyond the table's last row."""
+        v = w_max / self.beta
+        end = float(self.table.table_v[-1])
+        if math.isfinite(v) and v > end:
+            return (
+                f"the motion reaches v = {v:.4g} m/s, beyond the table's last row ({end:.4g} m/s): "
+                "friction there is the tangent at the last row (extrapolated)"
+            )
+        return None
+
+    def to_physical(self, beta: Any, mu_s: float) -> PhysicalLaw:
+        """Return the table (physical laws of a table do not depend on ``beta``)."""
+        return self.table.replace(mu_s=mu_s) if mu_s != self.table.mu_s else self.table
+
+    def describe(self) -> str:
+        """One line: the table and ``beta``."""
+        return f"{self.table.describe()}; beta = {self.beta:.6g} s/m"
+
+
+def _rebuild_nd(table: TabulatedLaw, beta: float) -> DimensionlessLaw:
+    return table.nondimensionalize(Q_(beta, "s/m"))
+
+
+def _velocities(v: Any, name: str) -> FloatArray:
+    if isinstance(v, pint.Quantity):
+        q = v
+    elif isinstance(v, list | tuple) and v and all(isinstance(x, str) for x in v):
+        q = Q_(
+            np.array(
+                [
+                    parse_quantity(x, "v", "[length] / [time]", "5 um/s", allow_zero=True).to("m/s").magnitude
+                    for x in v
+                ]
+            ),
+            "m/s",
+        )
+    else:
+        raise ValueError(
+            f"{name}: v: expected velocities with units, e.g. Q_([0, 1, 10, 100], 'um/s'), "
+            f"not {type(v).__name__}"
+        )
+    if not q.check("[length] / [time]"):
+        raise ValueError(f"{name}: v has dimension {q.dimensionality}, expected a velocity")
+    arr = np.atleast_1d(np.asarray(q.to("m/s").magnitude, dtype=float))
+    bad = np.flatnonzero(~np.isfinite(arr) | (arr < 0))
+    if bad.size:
+        i = int(bad[0])
+        raise ValueError(f"{name}: row {i + 1}: velocity {arr[i]!r} m/s is not a non-negative number")
+    return arr
+
+
+_ = ureg  # the package's registry (quantities above are made in it)
