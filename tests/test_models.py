@@ -1,6 +1,5 @@
 """Friction laws (one conformance suite for all) and parameters with units."""
 
-import dataclasses
 import math
 
 import numpy as np
