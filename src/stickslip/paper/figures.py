@@ -4,21 +4,18 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from ..plots.figures import draw_phases
-from ..plots.style import plain_log_ticks, pretty_units
+from ..plots.style import plain_log_ticks, pretty_units, subplots
 
 __all__ = ["FIGURES", "make_figures"]
 
 
-def _v0_axis(ax: plt.Axes, ds: xr.Dataset, coord: str) -> None:
+def _v0_axis(ax: Axes, ds: xr.Dataset, coord: str) -> None:
     ax.set_xscale("log")
     ax.set_xlabel(f"driving velocity $v_0$ [{pretty_units(ds[coord].attrs.get('units', ''))}]")
 
@@ -26,7 +23,7 @@ def _v0_axis(ax: plt.Axes, ds: xr.Dataset, coord: str) -> None:
 def fig1_spring_force(ds: xr.Dataset) -> Figure:
     """Fig. 1: spring force against time, zv set-up; slip phases marked, one magnified beside it."""
     zoom = "fig1_zoom_time" in ds
-    fig, axes = plt.subplots(
+    fig, axes = subplots(
         1,
         2 if zoom else 1,
         figsize=(9.0 if zoom else 6.4, 3.8),
@@ -60,7 +57,7 @@ def fig1_spring_force(ds: xr.Dataset) -> Figure:
 
 def _fig2_curves(ds: xr.Dataset, var: str, scale: float, ylabel: str, title: str) -> Figure:
     """One zv curve per b against v0: b = 0 solid, b = 100 s/m dotted, log-log."""
-    fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
+    fig, ax = subplots(figsize=(6.4, 4.0), layout="constrained")
     v = ds["fig2_v0"].values
     for i, b in enumerate(ds["fig2_b"].values):
         ax.plot(
@@ -87,7 +84,7 @@ def fig2_amplitude_v0(ds: xr.Dataset) -> Figure:
 
 def fig3_amplitude_v0(ds: xr.Dataset) -> Figure:
     """Fig. 3: amplitude (units of mu0 W) against v0 for a = 250 s/m, three betas."""
-    fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
+    fig, ax = subplots(figsize=(6.4, 4.0), layout="constrained")
     v = ds["fig3_v0"].values
     for i, beta in enumerate(ds["fig3_beta"].values):
         ax.plot(v, ds["fig3_amplitude_au"].values[i], lw=1.8, label=rf"$\beta$ = {beta:g} s/m")
@@ -106,7 +103,7 @@ def period_v0(ds: xr.Dataset) -> Figure:
 
 def load_dependence(ds: xr.Dataset) -> Figure:
     """Amplitude and period against the normal load, at three driving velocities."""
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4.0), layout="constrained")
+    fig, axes = subplots(1, 2, figsize=(10, 4.0), layout="constrained")
     w = ds["load_W"].values
     for j, v in enumerate(ds["load_v0"].values):
         label = pretty_units(f"$v_0$ = {v:g} {ds['load_v0'].attrs.get('units', '')}")
@@ -134,7 +131,7 @@ def mass_dependence(ds: xr.Dataset) -> Figure:
     unit = ds["mass_mass"].attrs.get("units", "")
     amp = ds["mass_amplitude"].values  # (b, mass, v0)
     b_values = ds["mass_b"].values
-    fig, axes = plt.subplots(1, len(b_values), figsize=(11, 4.2), sharey=True, layout="constrained")
+    fig, axes = subplots(1, len(b_values), figsize=(11, 4.2), sharey=True, layout="constrained")
     for ax, i in zip(np.atleast_1d(axes), range(len(b_values)), strict=True):
         for j, m in enumerate(ds["mass_mass"].values):
             change = amp[i, j, 1:] / amp[i, j, 0] - 1.0
@@ -162,7 +159,7 @@ def mass_dependence(ds: xr.Dataset) -> Figure:
 
 def appendix_phase_portraits(ds: xr.Dataset) -> Figure:
     """Phase portraits of the appendix's system for kappa above, below and at B - A."""
-    fig, axes = plt.subplots(1, 3, figsize=(12, 3.8), layout="constrained")
+    fig, axes = subplots(1, 3, figsize=(12, 3.8), layout="constrained")
     b_minus_a = float(ds.attrs["appendix_B"]) - float(ds.attrs["appendix_A"])
     for ax, k in zip(axes, range(ds.sizes["kappa"]), strict=True):
         kappa = float(ds["kappa"].values[k])
@@ -178,7 +175,7 @@ def appendix_phase_portraits(ds: xr.Dataset) -> Figure:
 
 def appendix_critical_stiffness(ds: xr.Dataset) -> Figure:
     """Growth rate of small perturbations against k/k_c: simulation and linear theory."""
-    fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
+    fig, ax = subplots(figsize=(6.4, 4.0), layout="constrained")
     r = ds["stiffness_ratio"].values
     ax.plot(r, ds["growth_linear"].values, "k-", lw=1.2, label="linear theory")
     ax.plot(r, ds["growth_simulated"].values, "o", color="C3", label="simulated (peak envelope)")
@@ -193,7 +190,7 @@ def appendix_critical_stiffness(ds: xr.Dataset) -> Figure:
 
 def appendix_inertia(ds: xr.Dataset) -> Figure:
     """Inertia: the critical stiffness against the mass, and a limit cycle below it."""
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.0), layout="constrained")
+    fig, axes = subplots(1, 2, figsize=(11, 4.0), layout="constrained")
     eps = ds["inertia_eps"].values
     axes[0].loglog(eps, ds["inertia_kc_ratio"].values - 1.0, "o-", ms=3)
     axes[0].set_xlabel(r"$m v_0^2 / (W A D_0)$")

@@ -6,14 +6,10 @@ import os
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 
 from ..io.output import OutputFolder, emit, generator
-from .style import envelope, plain_log_ticks, pretty_units
+from .style import envelope, plain_log_ticks, pretty_units, subplots
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -65,7 +61,7 @@ def plot_spring_force(traj: Trajectory, *, title: str | None = None) -> Figure:
     matplotlib.figure.Figure
 
     """
-    fig, ax = plt.subplots(figsize=(6.4, 3.6), layout="constrained")
+    fig, ax = subplots(figsize=(6.4, 3.6), layout="constrained")
     if traj.physical:
         draw_phases(ax, traj.time, traj.spring_force * 1e3, traj.phase)
         ax.set_xlabel("time [s]")
@@ -100,16 +96,13 @@ def save_figure(
     stem = os.fspath(stem)
     mark = generator("figure")
     paths = []
-    try:
-        for fmt in formats:
-            key = {"png": "Software", "svg": "Creator", "pdf": "Creator"}.get(fmt)
+    for fmt in formats:
+        key = {"png": "Software", "svg": "Creator", "pdf": "Creator"}.get(fmt)
 
-            def write(path: str, fmt: str = fmt, key: str | None = key) -> None:
-                fig.savefig(path, dpi=200, format=fmt, metadata={key: mark} if key else None)
+        def write(path: str, fmt: str = fmt, key: str | None = key) -> None:
+            fig.savefig(path, dpi=200, format=fmt, metadata={key: mark} if key else None)
 
-            paths.append(emit(f"{stem}.{fmt}", "figure", write, out=out, overwrite=overwrite))
-    finally:
-        plt.close(fig)
+        paths.append(emit(f"{stem}.{fmt}", "figure", write, out=out, overwrite=overwrite))
     return paths
 
 
@@ -122,7 +115,7 @@ def plot_sweep(ds: Any, *, log: bool = False) -> Figure:
     # x: the longest dimension (the range), lines: the next longest
     dims = sorted(ds.amplitude.dims, key=lambda d: -ds.sizes[d])
     x = dims[0]
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), layout="constrained")
+    fig, axes = subplots(1, 2, figsize=(10, 3.8), layout="constrained")
     sel = {d: 0 for d in dims[2:]}
     sub = (ds.isel(sel) if sel else ds).transpose(*dims[:2]) if len(dims) > 1 else ds
     series = (
@@ -153,7 +146,7 @@ def plot_sweep(ds: Any, *, log: bool = False) -> Figure:
 
 def plot_rate_state(ds: Any) -> Figure:
     """Plot a rate-and-state run: friction, slip velocity and state against time."""
-    fig, axes = plt.subplots(3, 1, figsize=(7.0, 7.5), sharex=True, layout="constrained")
+    fig, axes = subplots(3, 1, figsize=(7.0, 7.5), sharex=True, layout="constrained")
     t = ds.time.values
     axes[0].plot(*envelope(t, ds.friction.values), lw=1.2)
     axes[0].set_ylabel("friction coefficient")
@@ -182,7 +175,7 @@ def plot_records(table: Any) -> dict[str, Figure]:
         x = table[key].to_numpy(dtype=float)
         if not np.isfinite(x).any() or np.unique(x[np.isfinite(x)]).size < 2:
             continue
-        fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), layout="constrained")
+        fig, axes = subplots(1, 2, figsize=(10, 3.8), layout="constrained")
         order = np.argsort(x)
         for ax, col, ylabel, yscale in (
             (axes[0], "amplitude", "amplitude [mN]", 1e3),
@@ -228,7 +221,7 @@ def plot_fit_overlay(record: Any, fit: Any, *, cycles: int = 3, max_points: int 
         idx = idx[:: int(np.ceil(idx.size / max_points))]
     tt, ff = t[idx], record.force[idx]
     model = fit.model_force(tt)
-    fig, (ax, ax_r) = plt.subplots(
+    fig, (ax, ax_r) = subplots(
         2, 1, figsize=(7.2, 5.0), sharex=True, height_ratios=[3, 1.3], layout="constrained"
     )
     ax.plot(tt, ff * 1e3, color="0.6", lw=0.7, label="measured")

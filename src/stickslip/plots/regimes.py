@@ -5,16 +5,12 @@ from __future__ import annotations
 import itertools
 from typing import TYPE_CHECKING, Any
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.patches import Patch
 
 from ..core.results import Regime
-from .style import plain_log_ticks
+from .style import plain_log_ticks, subplots
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -62,7 +58,7 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None) -> Figu
         Logarithmic ``nu`` axis; default when the range spans more than a factor 20.
 
     """
-    fig, ax = plt.subplots(figsize=(7.6, 4.2), constrained_layout=True)
+    fig, ax = subplots(figsize=(7.6, 4.2), constrained_layout=True)
     for iv in diagram.intervals:
         ax.axvspan(iv.nu_min, iv.nu_max, color=REGIME_COLORS.get(iv.regime, "#ffffff"), lw=0)
     grid = diagram.branches[0].nu
@@ -152,7 +148,7 @@ def _map_axes(ds: Any, variable: str, codes: dict[str, int], colors: dict[str, s
     cmap = ListedColormap([colors[n] for n in names])
     bounds = [v - 0.5 for v in values] + [values[-1] + 0.5]
     norm = BoundaryNorm(bounds, cmap.N)
-    fig, ax = plt.subplots(figsize=(7.6, 4.4), constrained_layout=True)
+    fig, ax = subplots(figsize=(7.6, 4.4), constrained_layout=True)
     ax.pcolormesh(
         ds.nu.values, ds[param].values, ds[variable].values, cmap=cmap, norm=norm, shading="nearest"
     )

@@ -1,12 +1,31 @@
-"""Shared figure conventions: readable logarithmic axes."""
+"""Shared figure conventions: figures without pyplot, readable logarithmic axes."""
 
 from __future__ import annotations
 
 from typing import Any
 
+from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
-__all__ = ["envelope", "plain_log_ticks", "pretty_units"]
+__all__ = ["envelope", "plain_log_ticks", "pretty_units", "subplots"]
+
+
+def subplots(
+    nrows: int = 1, ncols: int = 1, *, figsize: tuple[float, float], **kwargs: Any
+) -> tuple[Figure, Any]:
+    """Return a new figure and its axes, made without pyplot.
+
+    No backend is chosen and no global figure list grows: importing stickslip leaves
+    matplotlib as the user set it up, and a figure is freed when it is no longer used.
+    ``layout="constrained"`` (the default) and the keywords of
+    :meth:`matplotlib.figure.Figure.subplots` (``sharex``, ``sharey``, ``gridspec_kw``)
+    are accepted.
+    """
+    layout = kwargs.pop("layout", "constrained")
+    if kwargs.pop("constrained_layout", False):
+        layout = "constrained"
+    fig = Figure(figsize=figsize, layout=layout)
+    return fig, fig.subplots(nrows, ncols, **kwargs)
 
 
 def plain_log_ticks(axis: Any) -> None:
