@@ -10,3 +10,6 @@ settings.register_profile(
     derandomize=True,
 )
 settings.load_profile("stickslip")
+
+# the law registered by the tests only (tests/laws_for_tests.py): every conformance test runs on it
+import laws_for_tests  # noqa: E402, F401

@@ -194,7 +194,7 @@ BAD = [
         ["cycle", "--law", "coulomb", "--nu", "0.01", "--kinetic", "0.3", "--c", "2"],
         "--c belongs to --law weakening",
     ),
-    (["cycle", "--law", "stribeck", "--nu", "0.1"], "'stribeck' is not one of"),
+    (["cycle", "--law", "dieterich", "--nu", "0.1"], "'dieterich' is not one of"),
     (
         ["simulate", "--nu", "0.1", "--c", "3", "--duration", "10 s", "--no-plot"],
         "expected a number for dimensionless input",

@@ -31,13 +31,6 @@ def _figure_names(stem: str) -> dict[str, str]:
     return {f"{stem}.png": "figure", f"{stem}.svg": "figure"}
 
 
-def _range_warning(params: DimensionlessParameters | PhysicalParameters, w_max: float) -> None:
-    law = params.dimensionless().law if isinstance(params, PhysicalParameters) else params.law
-    note = law.range_warning(w_max)
-    if note:
-        click.echo(f"warning: {note}", err=True)
-
-
 def register(main: click.Group) -> None:
     """Add the commands to ``main``."""
 
@@ -59,10 +52,6 @@ def register(main: click.Group) -> None:
             res = compute_cycle(params, rtol=opts["rtol"], atol=opts["atol"], probe=not no_probe)
         for w in caught:
             click.echo(f"warning: {w.message}", err=True)
-        w_max = res.peak_velocity / (
-            params.scales.velocity.to("m/s").magnitude if isinstance(params, PhysicalParameters) else 1.0
-        )
-        _range_warning(params, w_max)
         if as_json:
             d = res.as_dict()
             d["parameters"] = describe_parameters(params)

@@ -14,6 +14,7 @@ from __future__ import annotations
 import functools
 import json
 import math
+import warnings
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 from typing import Any
@@ -301,6 +302,10 @@ def cycle(
     distinct = _distinct(keyed)
 
     o = polished[0]
+    reached = polished.w_max[np.isfinite(polished.w_max)]
+    note = law.range_warning(float(reached.max())) if reached.size else None
+    if note:
+        warnings.warn(note, UserWarning, stacklevel=2)
     period = float(o.period[0])
     regime = Regime.from_code(o.regime[0])
     stick_time = float(o.stick_time[0])

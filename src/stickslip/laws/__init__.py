@@ -17,7 +17,11 @@ from .spec import LawSpec, Parameter
 from .table import TabulatedDimensionlessLaw, TabulatedLaw
 from .weakening import PhysicalWeakeningLaw, WeakeningLaw, f1, f2
 
+#: the laws that ship with stickslip (others may be registered at run time)
+BUILTIN_LAWS = ("weakening", "cubic", "coulomb")
+
 __all__ = [
+    "BUILTIN_LAWS",
     "CoulombLaw",
     "CubicLaw",
     "DimensionlessLaw",

@@ -26,7 +26,8 @@ COULOMB = LawSpec(
     to_dimensionless={"kinetic": "mu_k/mu_s"},
     source="C. A. Coulomb (1785); B. N. J. Persson, Sliding Friction (Springer, 2000), ch. 1",
     core_id=LAW_COULOMB,
-    map_parameters=(),  # stick-slip wherever it moves: a map shows nothing
+    map_parameters=(),
+    example={"kinetic": 0.6},  # stick-slip wherever it moves: a map shows nothing
     notes="Friction drops from 1 to the kinetic level at the onset of slip; the cycle has a closed form.",
 )
 

@@ -60,6 +60,7 @@ CUBIC = LawSpec(
     source="J. J. Thomsen and A. Fidlin, Int. J. Non-Linear Mech. 38 (2003) 389-403",
     core_id=LAW_CUBIC,
     check=_warn_negative,
+    example={"alpha": 0.5, "gamma": 1 / 6},
     notes="Friction stays positive for alpha^3 < 27 gamma / 4; a warning says where it does not.",
 )
 

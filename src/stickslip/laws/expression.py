@@ -410,23 +410,32 @@ def _quantity(name: str, x: Any) -> pint.Quantity:
 
 
 def _dimension_check(expr: sp.Expr, quantities: Mapping[str, Any], text: str) -> None:
-    """Evaluate ``mu`` with pint quantities at v = 1 mm/s: the result must be a pure number."""
+    """Check the units: ``mu`` must be a pure number, with ``v`` a velocity or a number of m/s.
+
+    ``v`` is the slip velocity in m/s, so a formula of numbers (``0.46/(1 + 160*v)``) is
+    read in SI; parameters given with units must then combine into a pure number, with
+    ``v`` either as a velocity (``a = 160 s/m`` in ``1 + a*v``) or as a number of m/s.
+    """
     names = sorted(quantities)
     fn = sp.lambdify([V, *[sp.Symbol(n, real=True) for n in names]], expr, modules="numpy")
-    try:
-        out = fn(Q_(1e-3, "m/s"), *[quantities[n] for n in names])
-    except pint.DimensionalityError as exc:
-        raise ValueError(
-            f"mu(v) = {text} is not dimensionally consistent with v in m/s and these parameters ({exc}); "
-            "give parameters with units, e.g. a='160 s/m'"
-        ) from None
-    except Exception:  # a numpy function pint does not wrap: the values check below will tell
+    reasons = []
+    for v in (Q_(1e-3, "m/s"), 1e-3):
+        try:
+            out = fn(v, *[quantities[n] for n in names])
+        except pint.DimensionalityError as exc:
+            reasons.append(str(exc))
+            continue
+        except Exception:  # a numpy function pint does not wrap: the values check will tell
+            return
+        if isinstance(out, pint.Quantity) and not out.dimensionless:
+            reasons.append(f"the result has dimension {out.dimensionality}")
+            continue
         return
-    if isinstance(out, pint.Quantity) and not out.dimensionless:
-        raise ValueError(
-            f"mu(v) = {text} has dimension {out.dimensionality}: a friction coefficient is a pure number "
-            "(v is a velocity in m/s: write e.g. 0.46/(1 + a*v) with a='160 s/m')"
-        )
+    raise ValueError(
+        f"mu(v) = {text} is not dimensionally consistent with v in m/s and these parameters "
+        f"({reasons[0]}): a friction coefficient is a pure number; give parameters with units, "
+        "e.g. a='160 s/m' in 0.46/(1 + a*v)"
+    )
 
 
 def _number(name: str, x: Any) -> float:

@@ -223,6 +223,8 @@ class LawSpec:
         Other names of ``mu_s`` on input (``mu0``, the paper's name).
     notes : str, optional
         A paragraph for the docs.
+    example : mapping, optional
+        Typical dimensionless values (docs, ``--help`` examples, the conformance tests).
     expression : sympy.Expr, optional
         ``f`` already parsed (laws built from a user's formula), used instead of parsing ``f``.
     static_from : callable, optional
@@ -243,6 +245,7 @@ class LawSpec:
     check: Callable[[Mapping[str, FloatArray]], None] | None = None
     static_aliases: tuple[str, ...] = ()
     notes: str = ""
+    example: Mapping[str, float] = field(default_factory=dict)
     expression: sp.Expr | None = field(default=None, compare=False, repr=False)
     static_from: Callable[[Mapping[str, FloatArray]], FloatArray] | None = field(
         default=None, compare=False, repr=False
@@ -380,10 +383,11 @@ class LawSpec:
                     f"dimensionless parameter (it enters {using})"
                 )
             k = using[0]
-            sol = sp.solve(sp.Eq(sp.Symbol(k, real=True), self._mapping[k]), sym, dict=True)
+            nd = sp.Symbol(f"nd_{k}", real=True)  # the dimensionless value (its name may be p.name)
+            sol = sp.solve(sp.Eq(nd, self._mapping[k]), sym, dict=True)
             if len(sol) != 1:
                 raise ValueError(f"law {self.name!r}: cannot solve {k} = {self._mapping[k]} for {p.name}")
-            out[p.name] = sol[0][sym]
+            out[p.name] = sol[0][sym].subs(nd, sp.Symbol(k, real=True))
         return out
 
     @functools.cached_property

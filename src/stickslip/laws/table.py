@@ -105,12 +105,23 @@ def _mu(pp: PPoly, v: npt.ArrayLike, order: int = 0) -> FloatArray:
 
 
 def _pp(v: FloatArray, mu: FloatArray, interpolation: str) -> PPoly:
+    """Return the interpolant as a piecewise cubic in ``v`` (m/s), pieces of positive length only.
+
+    The fit runs on ``v / v_max`` (the smoothing spline's choice of smoothing depends
+    on the scale of the abscissa) and is mapped back.
+    """
+    scale = float(v[-1])
+    x = v / scale
     if interpolation == "pchip":
-        return PchipInterpolator(v, mu, extrapolate=True)
-    if interpolation == "cubic":
-        return CubicSpline(v, mu, bc_type="not-a-knot", extrapolate=True)
-    spl = make_smoothing_spline(v, mu)
-    return PPoly.from_spline(spl)
+        pp: PPoly = PchipInterpolator(x, mu, extrapolate=True)
+    elif interpolation == "cubic":
+        pp = CubicSpline(x, mu, bc_type="not-a-knot", extrapolate=True)
+    else:
+        pp = PPoly.from_spline(make_smoothing_spline(x, mu))
+    keep = np.flatnonzero(np.diff(pp.x) > 0)
+    coefs = pp.c[:, keep] / scale ** np.arange(3, -1, -1)[:, None]  # d/dv = d/dx / scale
+    breaks = np.append(pp.x[keep], pp.x[keep[-1] + 1]) * scale
+    return PPoly(coefs, breaks, extrapolate=True)
 
 
 class TabulatedLaw(PhysicalLaw):
@@ -163,7 +174,7 @@ class TabulatedLaw(PhysicalLaw):
         if bad.size:
             i = int(bad[0])
             raise ValueError(
-                f"{name}: row {i + 1}: friction coefficient {mu_a[i]!r} is not a positive number"
+                f"{name}: row {i + 1}: friction coefficient {float(mu_a[i])!r} is not a positive number"
             )
         if v_si.size == 0 or v_si[0] != 0.0:
             raise ValueError(
@@ -389,7 +400,7 @@ def _velocities(v: Any, name: str) -> FloatArray:
     bad = np.flatnonzero(~np.isfinite(arr) | (arr < 0))
     if bad.size:
         i = int(bad[0])
-        raise ValueError(f"{name}: row {i + 1}: velocity {arr[i]!r} m/s is not a non-negative number")
+        raise ValueError(f"{name}: row {i + 1}: velocity {float(arr[i])!r} m/s is not a non-negative number")
     return arr
 
 

@@ -45,6 +45,7 @@ WEAKENING = LawSpec(
     source="J. Szkutnik and K. Kułakowski, arXiv cond-mat/0506435, eqs. (1)-(2)",
     core_id=LAW_WEAKENING,
     static_aliases=("mu0",),
+    example={"c": 3.8, "p": 0.5},
     notes="The paper's F1 (b = 0) and F2. mu0 is the paper's name of mu_s.",
 )
 

@@ -1,0 +1,269 @@
+"""A user's own friction law: a formula (``--law expr``) or a measured table (``--law table``).
+
+A formula equal to a built-in law gives the built-in law's results to 1e-9, through the
+generated and compiled engine; a dense table of the paper's F1 gives them to 1e-3.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import pickle
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from reference import coulomb_cycle
+
+import stickslip as ss
+from stickslip.cli import main
+from stickslip.dynamics.sweep import sweep
+from stickslip.io.errors import DataError
+from stickslip.laws import ExpressionLaw, PhysicalExpressionLaw, TabulatedLaw
+
+NUMBERS = (
+    "amplitude",
+    "period",
+    "stick_fraction",
+    "stick_time",
+    "slip_distance",
+    "peak_velocity",
+    "max_force",
+    "min_force",
+    "drive_work",
+    "friction_work",
+    "transient_time",
+    "multiplier",
+)
+
+
+def run(*args: str) -> object:
+    return CliRunner().invoke(main, list(args))
+
+
+def _same_numbers(a: dict, b: dict, rel: float) -> None:
+    for k in NUMBERS:
+        x, y = a[k], b[k]
+        if x is None or y is None:
+            assert x is None and y is None, k
+        else:
+            assert x == pytest.approx(y, rel=rel, abs=1e-12), k
+    assert a["regime"] == b["regime"] and a["status"] == b["status"] == "ok"
+
+
+# --------------------------------------------------------------------------- formulas: the issue's commands
+
+
+def test_expression_equals_the_builtin_law_on_the_command_line() -> None:
+    expr = run("cycle", "--law", "expr", "--f", "1/(1 + 3.8*w) + 0.5*w", "--nu", "0.3", "--json")
+    builtin = run("cycle", "--law", "weakening", "--c", "3.8", "--p", "0.5", "--nu", "0.3", "--json")
+    assert expr.exit_code == 0, expr.output
+    assert builtin.exit_code == 0, builtin.output
+    a, b = json.loads(expr.output), json.loads(builtin.output)
+    _same_numbers(a, b, 1e-9)
+    assert a["parameters"]["law"] == "expr"
+
+
+def test_expression_gives_the_same_regimes() -> None:
+    args = ("--nu-min", "0.05", "--nu-max", "2", "--n", "41", "--json")
+    expr = run("regimes", "--law", "expr", "--f", "1/(1 + 3.8*w) + 0.5*w", *args)
+    builtin = run("regimes", "--law", "weakening", "--c", "3.8", "--p", "0.5", *args)
+    assert expr.exit_code == 0, expr.output
+    a, b = json.loads(expr.output), json.loads(builtin.output)
+    assert len(a["hopf"]) == len(b["hopf"]) == 1
+    assert a["hopf"][0]["nu"] == pytest.approx(b["hopf"][0]["nu"], rel=1e-9)
+    # the closed form: f'(nu) = -c/(1 + c nu)^2 + p = 0
+    assert a["hopf"][0]["nu"] == pytest.approx((math.sqrt(3.8 / 0.5) - 1) / 3.8, rel=1e-9)
+    assert a["hopf"][0]["criticality"] == b["hopf"][0]["criticality"]
+    assert [iv["regime"] for iv in a["intervals"]] == [iv["regime"] for iv in b["intervals"]]
+    for x, y in zip(a["intervals"], b["intervals"], strict=True):
+        assert x["nu_min"] == pytest.approx(y["nu_min"], rel=1e-9)
+        assert x["nu_max"] == pytest.approx(y["nu_max"], rel=1e-9)
+
+
+def test_physical_expression_reproduces_the_zv_setup() -> None:
+    expr = run("cycle", "--law", "expr", "--mu", "0.46/(1 + 160*v)", "--preset", "zv", "--json")
+    builtin = run(
+        "cycle", "--law", "weakening", "--mu0", "0.46", "--a", "160 s/m", "--preset", "zv", "--json"
+    )
+    assert expr.exit_code == 0, expr.output
+    _same_numbers(json.loads(expr.output), json.loads(builtin.output), 1e-9)
+
+
+def test_dense_table_of_f1_reproduces_the_zv_setup(tmp_path: Path) -> None:
+    v = np.linspace(0.0, 50.0, 600)  # mm/s: beyond the peak velocity of the zv cycle (14 mm/s)
+    path = tmp_path / "mu_v.csv"
+    path.write_text(
+        "velocity [mm/s],friction coefficient [1]\n"
+        + "".join(f"{float(x)!r},{0.46 / (1 + 160 * float(x) * 1e-3)!r}\n" for x in v)
+    )
+    table = run("cycle", "--law", "table", "--table", str(path), "--preset", "zv", "--json")
+    builtin = run(
+        "cycle", "--law", "weakening", "--mu0", "0.46", "--a", "160 s/m", "--preset", "zv", "--json"
+    )
+    assert table.exit_code == 0, table.output
+    _same_numbers(json.loads(table.output), json.loads(builtin.output), 1e-3)
+
+
+# --------------------------------------------------------------------------- formulas from Python
+
+
+def test_expression_with_parameters_equals_the_builtin_law() -> None:
+    law = ExpressionLaw("1/(1 + c*w) + p*w", c=3.8, p=0.5)
+    assert law.params == {"c": 3.8, "p": 0.5}
+    for nu in (0.01, 0.3):
+        a = ss.cycle(ss.DimensionlessParameters(nu=nu, law=law))
+        b = ss.cycle(ss.DimensionlessParameters(nu=nu, law=ss.WeakeningLaw(c=3.8, p=0.5)))
+        assert a.amplitude == pytest.approx(b.amplitude, rel=1e-9)
+        assert a.period == pytest.approx(b.period, rel=1e-9)
+    # the parameters are values, not code: a sweep over c runs one compiled engine
+    grid = {"nu": [0.01, 0.02], "c": [2.0, 3.8]}
+    ds = sweep(ss.DimensionlessParameters(nu=0.01, law=law), grid, progress=False)
+    ref = sweep(ss.DimensionlessParameters(nu=0.01, law=ss.WeakeningLaw(c=3.8, p=0.5)), grid, progress=False)
+    np.testing.assert_allclose(ds.amplitude.values, ref.amplitude.values, rtol=1e-9)
+
+
+def test_constant_expression_with_a_static_level_is_coulomb_friction() -> None:
+    """``f = 0.5`` with ``static=1``: a drop at the onset, the closed-form Coulomb cycle."""
+    law = ExpressionLaw("0.5", static=1)
+    assert law.kinetic_limit == 0.5
+    r = ss.cycle(ss.DimensionlessParameters(nu=0.05, law=law), probe=False)
+    exact = coulomb_cycle(0.05, 0.5)
+    assert r.amplitude == pytest.approx(exact["amplitude"], rel=1e-9)
+    assert r.period == pytest.approx(exact["period"], rel=1e-9)
+
+
+def test_static_threshold_in_other_units_rescales_the_formula() -> None:
+    """``f = 2/(1 + c w)`` with static 2: in units of the static friction, ``1/(1 + 2 c w)``."""
+    law = ExpressionLaw("2/(1 + c*w)", static=2, c=1.5)
+    w = np.linspace(0, 3, 7)
+    np.testing.assert_allclose(law.forward(w), 1 / (1 + 3.0 * w), rtol=1e-14)
+
+
+@pytest.mark.parametrize(
+    ("text", "params", "message"),
+    [
+        ("__import__('os').system('touch PWNED')", {}, "not an allowed function"),
+        ("w.__class__", {}, "is not allowed in a formula"),
+        ("(lambda: 1)()", {}, "not an allowed function"),
+        ("[1, 2][0] + w", {}, "is not allowed in a formula"),
+        ("'abc'", {}, "is not a number"),
+        ("exp(w, 2)", {}, "takes exactly one argument"),
+        ("foo(w)", {}, "foo(...) is not an allowed function"),
+        ("1/(1 + w", {}, "is not a formula"),
+        ("", {}, "empty"),
+        ("1/(1 + c*w)", {}, "give the value of c"),
+        ("1/(1 + w)", {"c": 1.0}, "has no parameter 'c'"),
+        ("0.5/(1 + w)", {}, "f(0+) = 0.5"),
+        ("2/(1 + w)", {"static": 1}, "exceeds the static"),
+        ("1/(1 - w)", {}, "is not finite at w = 1"),
+        ("1/(1 + c*w)", {"c": math.nan}, "finite number"),
+        ("1/(1 + _c*w)", {}, "leading underscore"),
+    ],
+)
+def test_bad_formulas_get_one_line(
+    text: str, params: dict, message: str, tmp_path: Path, monkeypatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(ValueError, match=None) as err:
+        ExpressionLaw(text, **params)
+    assert message in str(err.value)
+    assert "\n" not in str(err.value)
+    assert not (tmp_path / "PWNED").exists()
+
+
+def test_physical_formula_units_are_checked() -> None:
+    with pytest.raises(ValueError, match="not dimensionally consistent"):
+        PhysicalExpressionLaw("0.46/(1 + a*v)", a="160 m/s")  # (m/s)**2 or m/s added to 1
+    with pytest.raises(ValueError, match="not dimensionally consistent"):
+        PhysicalExpressionLaw("m0*v", m0="1 N")  # a force is not a friction coefficient
+    # numbers are SI: v in m/s, a in s/m
+    bare = PhysicalExpressionLaw("0.46/(1 + a*v)", a=160.0)
+    assert float(bare.coefficient(ss.Q_(1.0, "mm/s"))) == pytest.approx(0.46 / 1.16, rel=1e-14)
+    ok = PhysicalExpressionLaw("m0/(1 + a*v)", m0=0.46, a="160 s/m")
+    assert ok.mu_s == pytest.approx(0.46)
+    np.testing.assert_allclose(ok.coefficient(ss.Q_([0.0, 1e-3], "m/s")), [0.0, 0.46 / 1.16], rtol=1e-14)
+    drop = PhysicalExpressionLaw("0.3", static=0.5)
+    assert drop.mu_s == 0.5 and drop.nondimensionalize("42 s/m").kinetic_limit == pytest.approx(0.6)
+    with pytest.raises(ValueError, match="exceeds static"):
+        PhysicalExpressionLaw("0.6", static=0.5)
+
+
+def test_formula_laws_pickle_and_compare_by_value() -> None:
+    a = ExpressionLaw("1/(1 + c*w) + p*w", c=3.8, p=0.5)
+    assert pickle.loads(pickle.dumps(a)) == a
+    assert a.replace(c=2.0) == ExpressionLaw("1/(1 + c*w) + p*w", c=2.0, p=0.5)
+    b = PhysicalExpressionLaw("0.46/(1 + a*v)", a="160 s/m")
+    assert pickle.loads(pickle.dumps(b)) == b
+    assert "ExpressionLaw" in repr(a) and "mu=" in repr(b)
+
+
+def test_formula_command_line_errors() -> None:
+    cases = [
+        (["--law", "expr", "--nu", "0.1"], "needs one formula"),
+        (["--law", "expr", "--f", "1", "--mu", "1", "--nu", "0.1"], "needs one formula"),
+        (["--law", "expr", "--f", "1/(1+c*w)", "--param", "c", "--nu", "0.1"], "expected NAME=VALUE"),
+        (["--law", "expr", "--f", "1/(1+w)", "--v0", "1 um/s"], "takes --nu and --param only"),
+        (["--law", "weakening", "--c", "3", "--nu", "0.1", "--f", "1"], "--f belongs to --law expr"),
+        (["--law", "expr", "--mu", "0.4", "--nu", "0.1"], "--nu: a physical formula"),
+        (["--law", "table", "--nu", "0.1"], "needs --table"),
+    ]
+    for args, message in cases:
+        res = run("cycle", *args)
+        assert res.exit_code == 2, (args, res.output)
+        assert message in res.output, (args, res.output)
+
+
+# --------------------------------------------------------------------------- tables
+
+
+def _table(tmp_path: Path, rows: str, header: str = "velocity [um/s],friction coefficient [1]") -> Path:
+    p = tmp_path / "t.csv"
+    p.write_text(header + "\n" + rows)
+    return p
+
+
+@pytest.mark.parametrize(
+    ("rows", "message"),
+    [
+        ("0,0.5\n1,0.49\n3,0.48\n2,0.47\n4,0.46\n", "row 4: velocity 2e-06 m/s is not above"),
+        ("0,0.5\n1,0.49\n1,0.48\n3,0.47\n4,0.46\n", "row 3"),
+        ("0,0.5\n1,-0.49\n2,0.48\n3,0.47\n4,0.46\n", "row 2: friction coefficient -0.49"),
+        ("1,0.5\n2,0.49\n3,0.48\n4,0.47\n5,0.46\n", "no row at v = 0"),
+        ("0,0.5\n1,0.49\n2,0.48\n", "2 rows above v = 0: at least 4"),
+        ("0,0.5\n0,0.45\n0,0.4\n1,0.4\n2,0.4\n3,0.4\n4,0.4\n", "3 rows at v = 0"),
+        ("0,0.5\n0,0.6\n1,0.5\n2,0.5\n3,0.5\n4,0.5\n", "exceeds the static coefficient"),
+    ],
+)
+def test_bad_tables_name_the_row(rows: str, message: str, tmp_path: Path) -> None:
+    with pytest.raises(DataError) as err:
+        TabulatedLaw.from_csv(_table(tmp_path, rows))
+    assert message in str(err.value)
+    assert str(tmp_path) in str(err.value)
+
+
+def test_table_conventions(tmp_path: Path) -> None:
+    # a friction force needs the load; a second row at v = 0 is the level just after breakaway
+    rows = "0,98\n0,88.2\n10,88\n20,87\n40,86\n80,85\n"
+    with pytest.raises(DataError, match="give the normal load"):
+        TabulatedLaw.from_csv(_table(tmp_path, rows, "velocity [um/s],friction force [mN]"))
+    law = TabulatedLaw.from_csv(_table(tmp_path, rows, "velocity [um/s],friction force [mN]"), load="196 mN")
+    assert law.mu_s == pytest.approx(0.5)
+    nd = law.nondimensionalize("42 s/m")
+    assert nd.kinetic_limit == pytest.approx(0.9)  # 88.2 / 98
+    # PCHIP passes through the rows; the tangent continues above the last
+    v = ss.Q_([10.0, 20.0, 80.0, 100.0], "um/s")
+    np.testing.assert_allclose(law.coefficient(v)[:3], [88 / 196, 87 / 196, 85 / 196], rtol=1e-12)
+    slope = law.derivative(ss.Q_(80.0, "um/s")).to("s/m").magnitude
+    assert slope < 0
+    assert float(law.coefficient(v)[3]) == pytest.approx(85 / 196 + slope * 20e-6, rel=1e-12)
+    assert nd.range_warning(42.0 * 90e-6) is not None and "beyond the table" in nd.range_warning(42.0 * 90e-6)
+    assert nd.range_warning(42.0 * 50e-6) is None
+    assert pickle.loads(pickle.dumps(law)) == law
+    with pytest.raises(DataError, match="velocity unit"):
+        TabulatedLaw.from_csv(
+            _table(tmp_path, "0,0.5\n1,0.4\n2,0.4\n3,0.4\n4,0.4\n", "velocity [mm],friction coefficient [1]")
+        )
+    with pytest.raises(ValueError, match="interpolation='linear'"):
+        TabulatedLaw(ss.Q_([0, 1, 2, 3, 4], "um/s"), [0.5, 0.4, 0.4, 0.4, 0.4], interpolation="linear")
