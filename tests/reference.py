@@ -9,6 +9,7 @@ Slow, simple and meant to be obviously right.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -125,6 +126,67 @@ def reference_cycle(
         stick = (1.0 - s) / nu
         return RefCycle(max(s_values) - min(s_values), t + stick, stick, s, w_max, n_back)
     raise RuntimeError("reference: no stick after 100 phases")
+
+
+@dataclass
+class RefOrbit:
+    amplitude: float
+    period: float
+    s0: float
+    w_min: float
+    multiplier: float
+
+
+def pure_slip_orbit_reference(
+    f: Callable[[float], float], df: Callable[[float], float], nu: float, guess: tuple[float, float]
+) -> RefOrbit:
+    """Pure-slip periodic orbit by plain SciPy: ``solve_ivp`` + ``root`` on ``(s0, T)`` from ``(s0, w = nu)``.
+
+    The amplitude comes from the event ``w = nu`` crossed downward (the minimum of ``s``), the
+    smallest velocity from ``dw/dt = 0`` crossed upward, and the nontrivial Floquet multiplier
+    from ``exp(-integral of f'(w) dt)`` over the period (Liouville, for a planar flow).
+    """
+    from scipy.optimize import root
+
+    def rhs(_t: float, y: np.ndarray) -> list[float]:
+        return [nu - y[1], y[0] - f(y[1]), df(y[1])]
+
+    def residual(x: np.ndarray) -> np.ndarray:
+        s0, period = x
+        sol = solve_ivp(rhs, (0.0, period), [s0, nu, 0.0], method="DOP853", rtol=1e-13, atol=1e-15)
+        return np.array([sol.y[0, -1] - s0, sol.y[1, -1] - nu])
+
+    sol = root(residual, list(guess), method="hybr", options={"xtol": 1e-14})
+    s0, period = (float(x) for x in sol.x)
+    if np.linalg.norm(residual(sol.x)) > 1e-11:
+        raise RuntimeError(f"reference shooting did not converge: {sol.message}")
+
+    def down(_t: float, y: np.ndarray) -> float:
+        return y[1] - nu
+
+    def w_turn(_t: float, y: np.ndarray) -> float:
+        return y[0] - f(y[1])
+
+    down.direction = -1  # type: ignore[attr-defined]
+    w_turn.direction = 1  # type: ignore[attr-defined]
+    run = solve_ivp(
+        rhs, (0.0, period), [s0, nu, 0.0], method="DOP853", rtol=1e-13, atol=1e-15, events=[down, w_turn]
+    )
+    s_min = float(run.y_events[0][0][0])
+    w_min = float(run.y_events[1][0][1])
+    return RefOrbit(s0 - s_min, period, s0, w_min, math.exp(-float(run.y[2, -1])))
+
+
+def cubic_orbit_reference(nu: float, alpha: float, gamma: float) -> RefOrbit:
+    """The pure-slip orbit of the cubic law ``1 - alpha w + gamma w**3``, from the averaging guess."""
+    a2 = 4.0 * (alpha - 3.0 * gamma * nu * nu) / (3.0 * gamma)
+    f0 = 1.0 - alpha * nu + gamma * nu**3
+    return pure_slip_orbit_reference(
+        lambda w: 1.0 - alpha * w + gamma * w**3,
+        lambda w: -alpha + 3.0 * gamma * w * w,
+        nu,
+        (f0 + math.sqrt(a2), 2.0 * math.pi),
+    )
 
 
 def coulomb_cycle(nu: float, fk: float) -> dict[str, float]:

@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from reference import coulomb_cycle, reference_cycle
 
 from stickslip.cli import main
 
@@ -54,7 +55,11 @@ def test_cycle_json_physical_matches_dimensionless() -> None:
     d = json.loads(res.output)
     assert d["units"] == {"force": "N", "time": "s", "length": "m", "velocity": "m/s", "energy": "J"}
     dim = d["parameters"]["dimensionless"]
-    res2 = run("cycle", "--nu", repr(dim["nu"]), "--c", repr(dim["c"]), "--json")
+    # by hand: beta = sqrt(k m)/(mu_s W), nu = beta v0, c = a / beta
+    beta = (0.231 * 62) ** 0.5 / (0.46 * 0.196)
+    assert dim["nu"] == pytest.approx(beta * 20e-6, rel=1e-12)
+    assert dim["c"] == pytest.approx(160 / beta, rel=1e-12)
+    res2 = run("cycle", "--nu", repr(beta * 20e-6), "--c", repr(160 / beta), "--json")
     d2 = json.loads(res2.output)
     force = 0.46 * 0.196
     time = (0.231 / 62) ** 0.5
@@ -109,6 +114,14 @@ def test_cycle_every_law(args: list[str]) -> None:
     assert res.exit_code == 0, res.output
     d = json.loads(res.output)
     assert d["regime"] in ("stick-slip", "pure-slip", "steady-sliding")
+    if "coulomb" in args and "--nu" in args:  # the closed form (tests/reference.py)
+        exact = coulomb_cycle(0.05, 0.3)
+        assert d["amplitude"] == pytest.approx(exact["amplitude"], rel=1e-9)
+        assert d["period"] == pytest.approx(exact["period"], rel=1e-9)
+    elif "coulomb" in args:  # mu_s W = 0.5 N, beta = sqrt(100 * 1)/0.5 = 20 s/m, sqrt(m/k) = 0.1 s
+        exact = coulomb_cycle(20.0 * 1e-3, 0.3 / 0.5)
+        assert d["amplitude"] == pytest.approx(exact["amplitude"] * 0.5, rel=1e-9)
+        assert d["period"] == pytest.approx(exact["period"] * 0.1, rel=1e-9)
     assert {"regime", "amplitude", "period", "stick_fraction", "units"} <= set(d)
 
 
@@ -271,6 +284,11 @@ def test_sweep_command_dimensionless_and_beta(tmp_path: Path) -> None:
         "--no-plot",
     )
     assert res.exit_code == 0, res.output
+    from stickslip.dynamics.sweep import load_sweep
+
+    ds = load_sweep(tmp_path / "d.nc")
+    ref = reference_cycle("weakening", {"c": 3.8}, 0.001)
+    assert float(ds.amplitude.sel(nu=0.001, c=3.8)) == pytest.approx(ref.amplitude, rel=1e-8)
     res = run(
         "sweep",
         "--preset",
@@ -289,6 +307,12 @@ def test_sweep_command_dimensionless_and_beta(tmp_path: Path) -> None:
         "--no-plot",
     )
     assert res.exit_code == 0, res.output
+    ds = load_sweep(tmp_path / "b.nc")
+    # beta fixes the mass at every point: the dimensionless form is c = a/beta, nu = beta v0 (by hand)
+    for beta in (42.0, 418.0):
+        ref = reference_cycle("weakening", {"c": 250.0 / beta}, beta * 5e-6)
+        amp = float(ds.amplitude.sel(beta=beta, v0=5.0))
+        assert amp == pytest.approx(ref.amplitude * 0.46 * 0.196, rel=1e-8)
 
 
 @pytest.mark.parametrize(

@@ -58,7 +58,13 @@ def test_backward_then_forward_slip() -> None:
     traj = _coulomb_from(nu, fk, s0, 0.0, 12.0, 1e-12)
     kinds = traj.event_kind
     i = kinds.index("stop")
-    assert traj.event_force[i] > 1.0
+    # backward Coulomb slip in closed form, as in test_backward_slip_closed_form
+    y0 = s0 + fk
+    t_stop = 2 * math.atan2(-y0, nu)
+    s_stop = nu * math.sin(t_stop) + y0 * math.cos(t_stop) - fk
+    assert s_stop > 1.0
+    assert traj.event_time[i] == pytest.approx(t_stop, rel=1e-12)
+    assert traj.event_force[i] == pytest.approx(s_stop, abs=1e-11)
     assert kinds[i + 1] == "breakaway"
 
 

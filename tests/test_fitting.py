@@ -157,6 +157,7 @@ def test_fit_json_reports_reduced_chi2(tmp_path: Path) -> None:
     for k, truth in TRUTH.items():
         p = d["parameters"][k]
         assert abs(p["value"] - truth) <= 2 * p["error"], (k, p)
+        assert abs(p["value"] / truth - 1) < 0.02, (k, p)
     assert (tmp_path / "out" / "fit_overlay.png").stat().st_size > 5000
 
 
@@ -185,11 +186,15 @@ def test_f2_record_with_b_fitted() -> None:
     assert g.reduced_chi2 < 1.1
     assert abs(g.values["b"] - 100.0) <= 3 * g.errors["b"]
     assert abs(g.values["a"] - 160.0) <= 3 * g.errors["a"]
+    assert abs(g.values["b"] / 100.0 - 1) < 0.1 and g.errors["b"] < 10.0
+    assert abs(g.values["a"] / 160.0 - 1) < 0.05
 
 
 def test_feature_fit_still_available() -> None:
     f = fit_record(independent_record(1), method="features")
     assert f.method == "features" and f.samples == 5
     assert np.isfinite(f.reduced_chi2)
+    for k, truth in TRUTH.items():
+        assert abs(f.values[k] / truth - 1) < 0.05, (k, f.values[k])
     with pytest.raises(ValueError, match="method"):
         fit_record(independent_record(1), method="spline")

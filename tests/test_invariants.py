@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 from hypothesis import assume, given
 from hypothesis import strategies as st
-from reference import coulomb_cycle
 
 from stickslip import CubicLaw, DimensionlessParameters, WeakeningLaw, cycle, simulate
 from stickslip.core._dop853_unrolled import step2
@@ -88,8 +87,7 @@ def test_dop853_convergence_order_is_eight() -> None:
 
 def test_error_proportional_to_tolerance() -> None:
     """The adaptive engine's global error scales with rtol (slope about 1 in log-log)."""
-    nu, fk = 0.05, 0.3
-    exact = coulomb_cycle(nu, fk)["amplitude"]
+    nu = 0.05
     # a law with curvature, against a very tight solution, to avoid the exactly-harmonic case
     law = WeakeningLaw(c=5.0)
     ref = cycle(DimensionlessParameters(nu=nu, law=law), rtol=1e-14, atol=1e-16, probe=False)
@@ -106,4 +104,3 @@ def test_error_proportional_to_tolerance() -> None:
     slope = np.polyfit(np.log(rtols), np.log(errs), 1)[0]
     assert 0.6 < slope < 1.4, (slope, errs)
     assert np.all(errs < 100 * rtols * ref.period)
-    assert exact > 0

@@ -1,11 +1,10 @@
 """Pure-slip orbits by shooting: against converged transients, Floquet multipliers, averaging."""
 
-import math
-
 import numpy as np
 import pytest
+from reference import cubic_orbit_reference
 
-from stickslip import CubicLaw, DimensionlessParameters, WeakeningLaw, cycle, simulate
+from stickslip import CubicLaw, DimensionlessParameters, WeakeningLaw, simulate
 from stickslip.bifurcation.orbits import pure_slip_orbit
 from stickslip.bifurcation.stability import averaged_amplitude
 
@@ -13,14 +12,15 @@ LAW = CubicLaw(alpha=0.5, gamma=0.5 / 3)  # supercritical Hopf at nu = 1
 
 
 @pytest.mark.parametrize("nu", [0.995, 0.97, 0.95])
-def test_shooting_matches_converged_transients(nu: float) -> None:
-    p = DimensionlessParameters(nu=nu, law=LAW)
-    o = pure_slip_orbit(p)
-    r = cycle(p)  # transient followed until the amplitude changes by < 1e-8 per oscillation
-    assert r.regime == "pure-slip"
-    assert o.amplitude == pytest.approx(r.amplitude, rel=1e-7)
-    assert o.period == pytest.approx(r.period, rel=1e-8)
-    assert o.min_velocity == pytest.approx(r.min_velocity, rel=1e-6)
+def test_shooting_matches_the_scipy_reference(nu: float) -> None:
+    """Compiled shooting against plain SciPy shooting (tests/reference.py), which shares no code."""
+    o = pure_slip_orbit(DimensionlessParameters(nu=nu, law=LAW))
+    ref = cubic_orbit_reference(nu, LAW.alpha, LAW.gamma)
+    assert o.amplitude == pytest.approx(ref.amplitude, rel=1e-8)
+    assert o.period == pytest.approx(ref.period, rel=1e-9)
+    assert o.s0 == pytest.approx(ref.s0, rel=1e-9)
+    assert o.min_velocity == pytest.approx(ref.w_min, rel=1e-7)
+    assert abs(o.multipliers[1]) == pytest.approx(ref.multiplier, rel=1e-7)
     assert o.residual < 1e-10
 
 
@@ -77,4 +77,5 @@ def test_bad_input() -> None:
         pure_slip_orbit(DimensionlessParameters(nu=0.97, law=LAW), tol=1.0)
     with pytest.raises(ValueError, match="params="):
         pure_slip_orbit("nu=0.97")  # type: ignore[arg-type]
-    assert math.isfinite(pure_slip_orbit(DimensionlessParameters(nu=0.97, law=LAW), guess=(1.1, 6.3)).period)
+    guessed = pure_slip_orbit(DimensionlessParameters(nu=0.97, law=LAW), guess=(1.1, 6.3))
+    assert guessed.period == pytest.approx(cubic_orbit_reference(0.97, LAW.alpha, LAW.gamma).period, rel=1e-9)

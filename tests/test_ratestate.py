@@ -114,7 +114,8 @@ def reference(
 ) -> np.ndarray:
     """Plain SciPy, written separately: state Phi itself and the slider position x."""
     a, b, dc, vr, mu0 = 0.01, 0.015, 1e-5, 1e-6, 0.6
-    kw = p.kw.to("1/m").magnitude
+    kw = 600.0  # 0.6 1/mm, typed here (not read back from the parameters under test)
+    assert p.state_law == law
 
     def rhs(t: float, y: np.ndarray) -> list[float]:
         x, ph = y

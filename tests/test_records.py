@@ -1,6 +1,5 @@
 """Measured records: reading, cycle extraction on synthetic records, analyze, bad input."""
 
-import os
 from pathlib import Path
 
 import numpy as np
@@ -59,7 +58,8 @@ def test_stick_slip_record_measured(noise: str, drift: str, rate: str) -> None:
     assert s.stick_fraction == pytest.approx(true.stick_fraction, abs=0.01)
     slip_time = true.period - true.stick_time
     assert 0.3 * slip_time < s.drop_time < slip_time + 2 / float(S.Q_(rate).to("Hz").magnitude)
-    np.testing.assert_allclose(table.rise_time, table.period - table.drop_time, rtol=1e-12)
+    # the rise is the stick (the spring loads at k v0) plus the slow start of the slip
+    assert np.median(table.rise_time) == pytest.approx(true.stick_time, rel=0.25)
     assert s.drift == pytest.approx(float(S.Q_(drift).to("N/s").magnitude), abs=2e-6)
     assert table.amplitude.size == s.n_cycles
 
@@ -216,4 +216,3 @@ def test_too_few_cycles(tmp_path: Path) -> None:
     rec = synthetic_record(p, duration="30 s", rate="50 Hz")
     with pytest.raises(ValueError, match=r"complete cycles|no oscillation"):
         measure_record(rec)
-    assert os.path.exists(tmp_path)

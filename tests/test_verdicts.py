@@ -4,13 +4,11 @@ import json
 import math
 import warnings
 
-import numpy as np
 import pytest
 from click.testing import CliRunner
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from scipy.integrate import solve_ivp
-from scipy.optimize import root
+from reference import cubic_orbit_reference
 
 from stickslip import CubicLaw, DimensionlessParameters, WeakeningLaw, cycle
 from stickslip.bifurcation.regimes import confirm, regimes
@@ -103,32 +101,9 @@ CUBIC = CubicLaw(alpha=0.5, gamma=0.5 / 3)  # supercritical Hopf at nu = 1
 
 
 def scipy_shooting(nu: float, alpha: float, gamma: float) -> tuple[float, float]:
-    """Pure-slip orbit of the cubic law by plain SciPy: solve_ivp + root on (s0, T); amplitude
-    from the event w = nu crossed downward (the minimum of s). Shares no code with stickslip."""
-
-    def f(w: float) -> float:
-        return 1.0 - alpha * w + gamma * w**3
-
-    def rhs(_t: float, y: np.ndarray) -> list[float]:
-        return [nu - y[1], y[0] - f(y[1])]
-
-    def residual(x: np.ndarray) -> np.ndarray:
-        s0, period = x
-        sol = solve_ivp(rhs, (0.0, period), [s0, nu], method="DOP853", rtol=1e-13, atol=1e-15)
-        return np.array([sol.y[0, -1] - s0, sol.y[1, -1] - nu])
-
-    a2 = 4.0 * (alpha - 3.0 * gamma * nu * nu) / (3.0 * gamma)  # averaging guess
-    sol = root(residual, [f(nu) + math.sqrt(a2), 2.0 * math.pi], method="hybr", options={"xtol": 1e-14})
-    s0, period = sol.x
-    assert np.linalg.norm(residual(sol.x)) < 1e-12, sol.message  # hybr may only say xtol is too small
-
-    def down(_t: float, y: np.ndarray) -> float:
-        return y[1] - nu
-
-    down.direction = -1  # type: ignore[attr-defined]
-    run = solve_ivp(rhs, (0.0, period), [s0, nu], method="DOP853", rtol=1e-13, atol=1e-15, events=down)
-    s_min = float(run.y_events[0][0][0])
-    return s0 - s_min, period
+    """Pure-slip orbit of the cubic law by plain SciPy (tests/reference.py): amplitude and period."""
+    ref = cubic_orbit_reference(nu, alpha, gamma)
+    return ref.amplitude, ref.period
 
 
 @pytest.mark.parametrize("fraction", [0.98, 0.995, 0.999])
