@@ -5,12 +5,15 @@ F1, ``f(w) = 1/(1 + c w)``, for random parameter sets with ``nu`` log-uniform
 in [1e-5, 1e-1] and ``c`` uniform in [0.5, 50], at rtol 1e-9.
 
 * stickslip: ``run_attractors`` (the batched compiled engine, all cores);
+* the same law typed as a formula, ``ExpressionLaw("1/(1 + c*w)", c=...)``: the
+  engine generated and compiled for it (``stickslip.laws.compiler``), ``c`` a
+  parameter per row, on the same work;
 * SciPy: ``solve_ivp(method="DOP853")`` from breakaway with events for the stop
   (terminal) and for ``w = nu`` (spring-force extrema), the way one would write
   it by hand; on a random subset, since it is slow.
 
-Prints both rates, their ratio, and the largest relative difference in
-amplitude between the two on the subset. Usage::
+Prints the rates, their ratios, and the largest relative differences in
+amplitude. Usage::
 
     python benchmarks/bench_cycles.py [--n 200000] [--n-scipy 200] [--seed 0]
 """
@@ -25,8 +28,8 @@ import time
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from stickslip.core import engine
 from stickslip.core.api import run_attractors
+from stickslip.laws import ExpressionLaw, WeakeningLaw
 
 RTOL = 1e-9
 ATOL = 1e-12
@@ -66,24 +69,40 @@ def main() -> None:
     rng = np.random.default_rng(args.seed)
     nu = 10 ** rng.uniform(-5, -1, args.n)
     c = rng.uniform(0.5, 50.0, args.n)
-    lp = np.zeros((args.n, 3))
-    lp[:, 0] = c
+    lp = c[:, None]
+    builtin = WeakeningLaw(c=1.0).kernel
+    formula = ExpressionLaw("1/(1 + c*w)", c=1.0).kernel  # generated, compiled once, cached
 
-    def engine_run(k: int | None = None) -> np.ndarray:
+    def engine_run(kernel, k: int | None = None):  # type: ignore[no-untyped-def]
         sl = slice(None) if k is None else slice(0, k)
         return run_attractors(
-            0, lp[sl], nu[sl], from_breakaway=True, rtol=RTOL, atol=ATOL, max_slip_time=1e4, conv_tol=1e-8
+            kernel,
+            lp[sl],
+            nu[sl],
+            from_breakaway=True,
+            rtol=RTOL,
+            atol=ATOL,
+            max_slip_time=1e4,
+            conv_tol=1e-8,
         )
 
     t0 = time.perf_counter()
-    engine_run(4)
+    engine_run(builtin, 4)
     t_compile = time.perf_counter() - t0
     t0 = time.perf_counter()
-    out = engine_run()
+    engine_run(formula, 4)
+    t_compile_formula = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    out = engine_run(builtin)
     t_engine = time.perf_counter() - t0
-    ok = out[:, engine.O_STATUS] == engine.ST_OK
-    stick = out[:, engine.O_REGIME] == engine.RG_STICK_SLIP
+    t0 = time.perf_counter()
+    out_formula = engine_run(formula)
+    t_formula = time.perf_counter() - t0
+    ok = out.ok
+    stick = out.regime == 0
     rate_engine = args.n / t_engine
+    rate_formula = args.n / t_formula
+    diff_formula = np.max(np.abs(out_formula.amplitude - out.amplitude) / out.amplitude)
 
     idx = rng.choice(args.n, size=min(args.n_scipy, args.n), replace=False)
     t0 = time.perf_counter()
@@ -91,7 +110,7 @@ def main() -> None:
     t_scipy = time.perf_counter() - t0
     rate_scipy = len(idx) / t_scipy
 
-    amp_engine = out[idx, engine.O_AMPLITUDE]
+    amp_engine = out.amplitude[idx]
     rel = np.abs(amp_engine - amp_scipy) / np.abs(amp_scipy)
     # accuracy of each against a tight SciPy solution, on the first 50 of the subset
     tight = np.array([scipy_cycle(nu[i], c[i], 1e-13, 1e-15) for i in idx[:50]])
@@ -112,9 +131,15 @@ def main() -> None:
     )
     print(
         f"  status ok {ok.mean():.4f}, stick-slip {stick.mean():.4f}, mean steps "
-        f"{out[:, engine.O_NSTEP].mean():.1f} accepted + {out[:, engine.O_NREJECT].mean():.1f} "
+        f"{out.n_steps.mean():.1f} accepted + {out.n_rejected.mean():.1f} "
         "rejected per cycle"
     )
+    print(
+        f"formula law       : {args.n:8d} cycles in {t_formula:8.3f} s = {rate_formula:12.0f} cycles/s"
+        f"  (first call incl. compile/cache load {t_compile_formula:.2f} s); "
+        f"{rate_formula / rate_engine:.3f} of the built-in law's rate"
+    )
+    print(f"  amplitude, largest relative difference formula vs built-in: {diff_formula:.3e}")
     print(f"scipy solve_ivp   : {len(idx):8d} cycles in {t_scipy:8.3f} s = {rate_scipy:12.1f} cycles/s")
     print(f"speed-up          : {rate_engine / rate_scipy:12.0f} x")
     print(

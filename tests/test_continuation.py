@@ -13,10 +13,11 @@ from scipy.integrate import solve_ivp
 
 from stickslip import CoulombLaw, CubicLaw, DimensionlessParameters, WeakeningLaw
 from stickslip.bifurcation.averaging import averaging_table, thomsen_fidlin
-from stickslip.bifurcation.orbits import flow, law_arrays, pure_slip_orbit, saltation, stick_slip_orbit
+from stickslip.bifurcation.orbits import law_arrays, pure_slip_orbit, saltation, stick_slip_orbit
 from stickslip.bifurcation.regime_map import criterion_table, criterion_trial, regime_map
 from stickslip.bifurcation.regimes import _fold, confirm, pure_slip_orbits_at, regimes
 from stickslip.cli import main
+from stickslip.core.api import run_flow
 
 CUBIC = CubicLaw(alpha=0.5, gamma=0.5 / 3)  # supercritical Hopf at nu = 1
 F2 = WeakeningLaw(c=3.8, p=0.5)  # subcritical Hopf at nu = 0.4623
@@ -57,7 +58,7 @@ def test_compiled_variational_flow_matches_scipy(law, nu: float, s0: float) -> N
     sol = solve_ivp(rhs, (0, period), y0, method="DOP853", rtol=1e-13, atol=1e-15)
     ref = sol.y[:, -1]
     kernel, lp = law_arrays(law)
-    y = flow(kernel, lp, nu, s0, nu, period, 1e-12).state
+    y = run_flow(kernel, lp, nu, s0, nu, period, rtol=1e-12).state
     assert sol.y[1].min() > 0  # the comparison stays in forward slip
     np.testing.assert_allclose(y, ref, rtol=1e-9, atol=1e-11)
 

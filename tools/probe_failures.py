@@ -187,7 +187,7 @@ CASES = [
     Case(
         "options", "reversed nu range", ["regimes", "--c", "3", "--nu-min", "1", "--nu-max", "0.1"], "error"
     ),
-    Case("options", "dulac with one of three", ["dulac", "--A", "0.01"], "error"),
+    Case("options", "dulac with one of three", ["dulac", "--a", "0.01"], "error"),
     Case(
         "options",
         "ratestate without protocol",

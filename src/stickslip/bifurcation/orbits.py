@@ -29,7 +29,7 @@ import numpy as np
 
 from ..core.api import Kernel, run_attractors, run_flow, run_shooting, run_trajectory
 from ..core.laws import N_LAW_PARAMS
-from ..core.results import EventKind, FlowResult, Regime, ShootingRows, ShootStatus, Status
+from ..core.results import EventKind, Regime, ShootingRows, ShootStatus, Status
 from ..laws import DimensionlessLaw
 from ..models.parameters import DimensionlessParameters
 from .stability import averaged_amplitude
@@ -95,30 +95,6 @@ def law_arrays(law: DimensionlessLaw) -> tuple[Kernel, np.ndarray]:
     return law.kernel, lp
 
 
-def flow(
-    kernel: Kernel,
-    lp: np.ndarray,
-    nu: float,
-    s0: float,
-    w0: float,
-    period: float,
-    rtol: float,
-    measure: bool = False,
-    max_steps: int = 200_000,
-) -> FlowResult:
-    """Integrate the slip flow and its variational equations over ``[0, period]``.
-
-    See :func:`~stickslip.core.api.run_flow`.
-
-    Raises
-    ------
-    RuntimeError
-        When the integration fails (step budget, non-finite state).
-
-    """
-    return run_flow(kernel, lp, nu, s0, w0, period, rtol=rtol, measure=measure, max_steps=max_steps)
-
-
 def pure_slip_orbit(
     params: DimensionlessParameters,
     *,
@@ -154,7 +130,7 @@ def pure_slip_orbit(
     if not (isinstance(tol, float) and 1e-13 <= tol <= 1e-3):
         raise ValueError(f"tol={tol!r}: expected a tolerance between 1e-13 and 1e-3")
     law, nu = params.law, params.nu
-    f_nu = float(law.forward(np.array([nu]))[0])
+    f_nu = law.at(nu)
     if guess is None:
         a = averaged_amplitude(law, nu)
         if not math.isfinite(a):
@@ -392,9 +368,9 @@ def stick_slip_orbit(params: DimensionlessParameters, *, tol: float = 1e-10) -> 
     period = float(o.period[0])
     stick = float(o.stick_time[0])
     slip = period - stick
-    fl = flow(kernel, lp, nu, 1.0, 0.0, slip, tol * 1e-2)
+    fl = run_flow(kernel, lp, nu, 1.0, 0.0, slip, rtol=tol * 1e-2)
     s_stop = fl.s
-    f0 = float(params.law.forward(np.array([0.0]))[0])
+    f0 = params.law.at(0.0)
     phi_slip = fl.monodromy
     s_stop_m = saltation(np.array([nu, s_stop - f0]), np.array([nu, 0.0]), np.array([0.0, 1.0]))
     s_break = saltation(np.array([nu, 0.0]), np.array([nu, 1.0 - f0]), np.array([1.0, 0.0]))

@@ -44,14 +44,14 @@ from typing import Any
 import numpy as np
 
 from .. import defaults
-from ..core.api import run_attractors
+from ..core.api import run_attractors, run_flow
 from ..core.results import AttractorRows, Regime
 from ..io.jsonable import json_clean
 from ..laws import DimensionlessLaw, require_dimensionless_law
 from ..models.parameters import DimensionlessParameters
 from ..units import check_number
 from .attractors import OrbitKey, distinct, orbit_key, polish_rows, same_orbit
-from .orbits import PeriodicOrbit, flow, law_arrays, pure_slip_orbit
+from .orbits import PeriodicOrbit, law_arrays, pure_slip_orbit
 from .stability import Hopf, hopf_points
 
 __all__ = [
@@ -228,7 +228,7 @@ class _Shooter:
         self.rtol = rtol
 
     def f(self, nu: float, order: int = 0) -> float:
-        return float(self.law.forward(np.array([nu]), order)[0])
+        return self.law.at(nu, order)
 
     def residual(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Return ``G(x)`` and its 2 x 3 Jacobian."""
@@ -243,7 +243,12 @@ class _Shooter:
         """One integration: residual, Jacobian and (with ``measure``) the orbit's measurements."""
         a, period, nu = float(x[0]), float(x[1]), float(x[2])
         s0 = self.f(nu) + a
-        fl = flow(self.kernel, self.lp, nu, s0, nu, period, self.rtol, measure=measure)
+        if not (math.isfinite(s0) and math.isfinite(period) and period > 0 and 0 < nu < 1e12):
+            raise RuntimeError(f"continuation left the domain (nu={nu!r}, period={period!r})")
+        # inside Newton's loop: values of our own, checked just above
+        fl = run_flow(
+            self.kernel, self.lp, nu, s0, nu, period, rtol=self.rtol, measure=measure, checked=False
+        )
         y = fl.state
         g = np.array([y[0] - s0, y[1] - nu])
         phi = fl.monodromy
@@ -489,18 +494,27 @@ def _empty_branch(end: str) -> Branch:
 # ----------------------------------------------------------------------------- stick slip
 
 
-def _stick_slip_rows(law: DimensionlessLaw, nu: np.ndarray) -> AttractorRows:
+def _engine(
+    law: DimensionlessLaw, nu: np.ndarray, s0: np.ndarray | None = None, conv_tol: float = defaults.CONV_TOL
+) -> AttractorRows:
+    """Run the engine with the defaults: from breakaway, or from ``(s0, w = nu)`` when ``s0`` is given."""
     kernel, lp = law_arrays(law)
     return run_attractors(
         kernel,
         lp,
         nu,
-        from_breakaway=True,
+        s0,
+        None if s0 is None else nu,
+        from_breakaway=s0 is None,
         rtol=defaults.RTOL,
         atol=defaults.ATOL,
         max_slip_time=defaults.MAX_SLIP_TIME,
-        conv_tol=defaults.CONV_TOL,
+        conv_tol=conv_tol,
     )
+
+
+def _stick_slip_rows(law: DimensionlessLaw, nu: np.ndarray) -> AttractorRows:
+    return _engine(law, nu)
 
 
 def _is_stick_slip(rows: AttractorRows) -> np.ndarray:
@@ -774,22 +788,10 @@ CUT_RTOL = 1e-7
 
 def _probe_rows(law: DimensionlessLaw, nu: np.ndarray, pushes: Sequence[float]) -> tuple[AttractorRows, ...]:
     """Engine rows from ``(f(nu) + push, nu)``, polished: one set of rows (one per ``nu``) per push."""
-    kernel, lp = law_arrays(law)
     f_nu = np.asarray(law.forward(nu), dtype=float)
     nus = np.repeat(nu, len(pushes))
     s0 = (f_nu[:, None] + np.asarray(pushes, dtype=float)[None, :]).ravel()
-    rows = run_attractors(
-        kernel,
-        lp,
-        nus,
-        s0,
-        nus,
-        from_breakaway=False,
-        rtol=defaults.RTOL,
-        atol=defaults.ATOL,
-        max_slip_time=defaults.MAX_SLIP_TIME,
-        conv_tol=defaults.CONV_TOL,
-    )
+    rows = _engine(law, nus, s0)
     polished, _ = polish_rows(law, nus, rows)
     k = len(pushes)
     return tuple(polished[np.arange(nu.size) * k + i] for i in range(k))
@@ -934,29 +936,17 @@ def confirm(diagram: RegimeDiagram) -> list[Confirmation]:
     polished into its periodic orbit, and the distinct orbits are counted.
     """
     law = diagram.law
-    kernel, lp = law_arrays(law)
     out = []
     for iv in diagram.intervals:
         nu = _midpoint(iv.nu_min, iv.nu_max)
-        f_nu = float(law.forward(np.array([nu]))[0])
+        f_nu = law.at(nu)
         amps = [o.amplitude for o in pure_slip_orbits_at(diagram, nu)]
         pushes = [1e-3, 0.3, 2.0, 6.0] + [k * a / 2 for a in amps for k in (0.9, 1.1)]
         s0 = np.array([f_nu + p for p in pushes])
         rows = AttractorRows.concat(
             [
                 _stick_slip_rows(law, np.array([nu])),
-                run_attractors(
-                    kernel,
-                    lp,
-                    np.full(s0.size, nu),
-                    s0,
-                    np.full(s0.size, nu),
-                    from_breakaway=False,
-                    rtol=defaults.RTOL,
-                    atol=defaults.ATOL,
-                    max_slip_time=defaults.MAX_SLIP_TIME,
-                    conv_tol=1e-10,
-                ),
+                _engine(law, np.full(s0.size, nu), s0, conv_tol=1e-10),
             ]
         )
         polished, _ = polish_rows(law, np.full(len(rows), nu), rows)

@@ -56,7 +56,7 @@ class Hopf:
 
 
 def _d(law: DimensionlessLaw, nu: float, order: int) -> float:
-    return float(law.derivative(np.array([nu]), order)[0])
+    return law.at(nu, order) if nu > 0 else float(law.derivative(np.array([nu]), order)[0])
 
 
 def steady_sliding_eigenvalues(law: DimensionlessLaw, nu: float) -> tuple[complex, complex]:

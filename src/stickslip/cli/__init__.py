@@ -8,6 +8,9 @@ the options of a parameter set are built from the law registry (:mod:`~.options`
 
 from __future__ import annotations
 
+import warnings
+from typing import Any
+
 import click
 
 from . import bifurcation, data, dynamics, paper, ratestate
@@ -20,6 +23,12 @@ __all__ = ["build_parameters", "describe_parameters", "main"]
 @click.version_option(package_name="stickslip")
 def main() -> None:
     """Friction oscillators: the one-block spring-slider, exact and fast."""
+    warnings.showwarning = _one_line_warning
+
+
+def _one_line_warning(message: Any, category: Any, filename: str, lineno: int, *args: Any, **kw: Any) -> None:
+    """Print a warning as one ``warning:`` line on standard error (no file, no source line)."""
+    click.echo(f"warning: {message}", err=True)
 
 
 for _family in (dynamics, paper, ratestate, data, bifurcation):

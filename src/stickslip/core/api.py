@@ -194,6 +194,8 @@ def _laws(kernel: Kernel, lp: npt.ArrayLike, n: int) -> tuple[npt.NDArray[np.int
         )
     if k < N_LAW_PARAMS:  # the trailing parameters of a law with fewer are unused: zeros
         lp_c = np.concatenate([lp_c, np.zeros((*lp_c.shape[:-1], N_LAW_PARAMS - k))], axis=-1)
+    if lp_c.shape == (n, N_LAW_PARAMS) and lp_c.flags.c_contiguous and lp_c.flags.writeable:
+        return law_a, lp_c  # already what the kernels take: no copy
     lp_a = _broadcast("lp", lp_c, (n, N_LAW_PARAMS))
     return law_a, lp_a
 
@@ -332,6 +334,7 @@ def run_flow(
     rtol: float,
     measure: bool = False,
     max_steps: int = 200_000,
+    checked: bool = True,
 ) -> FlowResult:
     """Integrate the forward slip flow and its variational equations over ``[0, period]``.
 
@@ -349,6 +352,10 @@ def run_flow(
         Record the spring force where ``w`` crosses ``nu`` downward and the extremes of ``w``.
     max_steps : int, optional
         Step budget.
+    checked : bool, optional
+        Check every argument (default). An inner loop that calls this hundreds of
+        times with values it made itself (Newton iterations) may skip the checks;
+        ``lp`` must then be a float array of length ``N_LAW_PARAMS``.
 
     Raises
     ------
@@ -357,19 +364,22 @@ def run_flow(
 
     """
     kernel = _kernel(law)
-    _, lp_2d = _laws(kernel, lp, 1)
-    nu = float(_nu(nu))
-    s0 = checks.state("s0", s0)
-    w0 = checks.state("w0", w0)
-    period = checks.positive("period", period, upper=1e12)
-    rtol, _ = checks.tolerances(rtol, rtol * 1e-2)
-    max_steps = checks.integer("max_steps", max_steps, lo=10, hi=10**9)
+    if checked:
+        _, lp_2d = _laws(kernel, lp, 1)
+        lp_a = np.array(lp_2d[0], order="C")
+        nu = float(_nu(nu))
+        s0 = checks.state("s0", s0)
+        w0 = checks.state("w0", w0)
+        period = checks.positive("period", period, upper=1e12)
+        rtol, _ = checks.tolerances(rtol, rtol * 1e-2)
+        max_steps = checks.integer("max_steps", max_steps, lo=10, hi=10**9)
+    else:
+        lp_a = np.asarray(lp, dtype=np.float64)
     va = kernel.variational
     y = np.zeros(va.NVAR)
     y[0], y[1], y[2], y[5] = s0, w0, 1.0, 1.0
     kv = np.empty((12, 7))
     extras = np.zeros(va.NX)
-    lp_a = np.array(lp_2d[0], order="C")
     va.flow_variational(kernel.law_id, lp_a, nu, y, period, rtol, rtol * 1e-2, max_steps, measure, kv, extras)
     if extras[va.X_STATUS] != va.VS_OK:
         why = (

@@ -46,6 +46,7 @@ from ..core.results import AttractorRows, EventKind, Regime, Status
 from ..io.errors import DataError
 from ..io.records import Record
 from ..laws import PhysicalWeakeningLaw
+from ..laws.weakening import WEAKENING
 from ..models.parameters import PhysicalParameters
 from ..units import Q_
 from .records import CycleTable, RecordSummary, clean_force, measure_record, noise_level
@@ -170,10 +171,24 @@ class FitResult:
         }
 
 
+def _cycle(c: float, p: float, nu: float, rtol: float = 1e-10) -> AttractorRows:
+    """Return the steady stick-slip cycle of the paper's law (``c``, ``p``) at ``nu``, from breakaway."""
+    return run_attractors(
+        WEAKENING.kernel(),
+        [c, p],
+        [nu],
+        from_breakaway=True,
+        rtol=rtol,
+        atol=1e-12,
+        max_slip_time=1e4,
+        conv_tol=1e-8,
+    )
+
+
 def _fall_time_model(c: float, p: float, nu: float, t_slip: float, time_scale: float) -> float:
     """90%-10% fall time (s) of the model's force drop, from a dense trajectory of the slip."""
     tau = np.linspace(0.0, t_slip, 600)
-    y, _, _, status = run_trajectory(0, [c, p], nu, 1.0, 0.0, tau, rtol=1e-9, atol=1e-12)
+    y, _, _, status = run_trajectory(WEAKENING.kernel(), [c, p], nu, 1.0, 0.0, tau, rtol=1e-9, atol=1e-12)
     if status != Status.OK:
         return math.nan
     s = y[:, 0]
@@ -214,9 +229,7 @@ def _model_features(
     beta = math.sqrt(k * m) / force
     nu = beta * v0
     c, p = a / beta, b / beta
-    out = run_attractors(
-        0, [c, p], [nu], from_breakaway=True, rtol=1e-9, atol=1e-12, max_slip_time=1e4, conv_tol=1e-8
-    )
+    out = _cycle(c, p, nu, rtol=1e-9)
     if not out.is_regime(Regime.STICK_SLIP)[0]:
         return np.full(len(FEATURES), np.nan)
     ts = math.sqrt(m / k)
@@ -528,9 +541,7 @@ def model_waveform(
     nu, c, p = ph["nu"], ph["c"], ph["p"]
     if not all(math.isfinite(x) and x >= 0.0 for x in (nu, c, p)) or nu == 0.0:
         return np.full(t.shape, np.nan)
-    row = run_attractors(
-        0, [c, p], [nu], from_breakaway=True, rtol=1e-10, atol=1e-12, max_slip_time=1e4, conv_tol=1e-8
-    )
+    row = _cycle(c, p, nu)
     if not row.is_regime(Regime.STICK_SLIP)[0]:
         return np.full(t.shape, np.nan)
     period = float(row.period[0])
@@ -541,7 +552,9 @@ def model_waveform(
     if slip.any():
         idx = np.flatnonzero(slip)
         order = np.argsort(tau[idx], kind="stable")
-        y, _, _, status = run_trajectory(0, [c, p], nu, 1.0, 0.0, tau[idx[order]], rtol=1e-10, atol=1e-12)
+        y, _, _, status = run_trajectory(
+            WEAKENING.kernel(), [c, p], nu, 1.0, 0.0, tau[idx[order]], rtol=1e-10, atol=1e-12
+        )
         if status != Status.OK:
             return np.full(t.shape, np.nan)
         s[idx[order]] = y[:, 0]
@@ -579,17 +592,7 @@ def _fit_waveform(
         raise DataError(f"{record.name}: the record has no measurable noise; cannot weight a waveform fit")
     # first breakaway: where the model's first peak falls on the data's first peak
     ph = _physical(theta0, names, v0, load, fixed_b)
-    row = run_attractors(
-        0,
-        [ph["c"], ph["p"]],
-        [ph["nu"]],
-        from_breakaway=True,
-        rtol=1e-10,
-        atol=1e-12,
-        max_slip_time=1e4,
-        conv_tol=1e-8,
-    )
-    tau_peak = _time_of_max(ph, row)
+    tau_peak = _time_of_max(ph, _cycle(ph["c"], ph["p"], ph["nu"]))
     # the phase is anchored at the peak in the middle of the window: every drop sits at
     # t_ref + j T, and with j centred the phase and the period are not correlated (as a
     # regression centres its abscissa); anchored at the first drop they are, and the cost
@@ -715,23 +718,15 @@ def _first_breakaway(
 ) -> float:
     """Breakaway time (s) that puts the model's force maximum on a measured peak at ``t_peak``."""
     ph = _physical(theta, names, v0, load)
-    row = run_attractors(
-        0,
-        [ph["c"], ph["p"]],
-        [ph["nu"]],
-        from_breakaway=True,
-        rtol=1e-10,
-        atol=1e-12,
-        max_slip_time=1e4,
-        conv_tol=1e-8,
-    )
-    return t_peak - _time_of_max(ph, row) * ph["time"]
+    return t_peak - _time_of_max(ph, _cycle(ph["c"], ph["p"], ph["nu"])) * ph["time"]
 
 
 def _time_of_max(ph: dict[str, float], row: AttractorRows) -> float:
     """Dimensionless time from breakaway to the spring-force maximum (w = nu, on the dense output)."""
     t_slip = float(row.period[0] - row.stick_time[0])
     tau = np.linspace(0.0, t_slip, 2001)
-    _, _, ev, _ = run_trajectory(0, [ph["c"], ph["p"]], ph["nu"], 1.0, 0.0, tau[-1:], rtol=1e-10, atol=1e-12)
+    _, _, ev, _ = run_trajectory(
+        WEAKENING.kernel(), [ph["c"], ph["p"]], ph["nu"], 1.0, 0.0, tau[-1:], rtol=1e-10, atol=1e-12
+    )
     hit = ev[ev[:, 1] == EventKind.FORCE_MAXIMUM.code]
     return float(hit[0, 0]) if hit.size else 0.0

@@ -252,8 +252,8 @@ def cycle(
     law = dp.law
     nu = dp.nu
     kernel, lp = law_arrays(law)
-    dfnu = float(law.forward(np.array([nu]), 1)[0])
-    fnu = float(law.forward(np.array([nu]))[0])
+    dfnu = law.at(nu, 1)
+    fnu = law.at(nu)
     steady_stable = dfnu > 0.0
 
     run = functools.partial(

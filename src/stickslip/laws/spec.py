@@ -299,14 +299,31 @@ class LawSpec:
         """``f_+^(n)(w, *params)`` as a vectorised numpy function."""
         return sp.lambdify((W, *self.symbols), self.derivative(order), modules="numpy")
 
+    @functools.cache  # noqa: B019
+    def scalar_function(self, order: int) -> Callable[..., float]:
+        """``f_+^(n)(w, *params)`` for Python floats (``math``; no array overhead)."""
+        return sp.lambdify((W, *self.symbols), self.derivative(order), modules="math")
+
+    def evaluate_scalar(self, w: float, values: Sequence[float], order: int = 0) -> float:
+        """Return ``f_+^(n)(w)`` at one velocity (NaN where the formula is not defined)."""
+        try:
+            return float(self.scalar_function(order)(float(w), *values))
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+            return float(self.evaluate(np.array([w]), values, order)[0])
+
     def evaluate(self, w: npt.ArrayLike, values: Sequence[Any], order: int = 0) -> FloatArray:
         """Return ``f_+^(n)(w)`` for parameter values (scalars or arrays that broadcast with ``w``)."""
         w = np.asarray(w, dtype=float)
-        with np.errstate(all="ignore"):
-            out = self.numpy_function(order)(w, *values)
-        return np.asarray(
-            np.broadcast_to(out, np.broadcast_shapes(w.shape, *(np.shape(v) for v in values))), dtype=float
-        )
+        old = np.seterr(all="ignore")  # a formula may overflow where the caller does not look
+        try:
+            out = np.asarray(self.numpy_function(order)(w, *values), dtype=float)
+        finally:
+            np.seterr(**old)
+        if all(isinstance(v, float | int) for v in values):
+            shape = w.shape
+        else:
+            shape = np.broadcast_shapes(w.shape, *(np.shape(v) for v in values))
+        return out if out.shape == shape else np.broadcast_to(out, shape).copy()
 
     @functools.cached_property
     def continuation(self) -> sp.Expr:

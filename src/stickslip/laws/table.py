@@ -76,6 +76,9 @@ class _TableSpec(LawSpec):
         v = w / beta
         return np.asarray(_mu(self.pp, v, order) / (mu_s * beta**order), dtype=float)
 
+    def evaluate_scalar(self, w: float, values: Any, order: int = 0) -> float:
+        return float(self.evaluate(np.array([w]), values, order)[0])
+
     @functools.cached_property
     def continuation(self) -> sp.Expr:  # the first cubic piece, not a Taylor polynomial
         return sp.Integer(0)

@@ -48,7 +48,7 @@ def run_trials(*, quick: bool = False, progress: bool | None = False) -> dict[st
         with warnings.catch_warnings():
             # the cubic map runs on past alpha**3 = 27 gamma / 4, where the friction turns
             # negative (said in the report): no warning per map row
-            warnings.filterwarnings("ignore", message="CubicLaw.*turns negative", category=UserWarning)
+            warnings.filterwarnings("ignore", message="cubic law.*turns negative", category=UserWarning)
             out[m.key] = _trial(m, quick, progress)
     return out
 
