@@ -24,6 +24,9 @@ def forward_branch(law: str, params: dict[str, float], w: float) -> float:
         return 1.0 - params["alpha"] * w + params["gamma"] * w**3
     if law == "coulomb":
         return params["kinetic"]
+    if law == "carlson-langer":
+        r = 1.0 - params["sigma"]
+        return r / (1.0 + 2.0 * params["alpha"] * w / r)
     if law == "stribeck":
         kin, ws = params["kin"], params["ws"]
         return kin + (1.0 - kin) * math.exp(-w / ws) + params.get("eta", 0.0) * w

@@ -16,7 +16,7 @@ from typing import NamedTuple
 import numpy as np
 import numpy.typing as npt
 
-from . import checks, engine, variational
+from . import chain, checks, engine, variational
 from .laws import BUILTIN_LAWS, N_LAW_PARAMS
 from .memory import check_memory
 from .results import AttractorRows, FlowResult, ShootingRows, Status
@@ -39,6 +39,9 @@ class Kernel:
         compiled with a law's generated kernel (:mod:`stickslip.laws.compiler`).
     name : str
         The law, for messages.
+    chain : module or None
+        The chain engine (:mod:`stickslip.core.chain` or its copy); None: the
+        built-in one.
 
     """
 
@@ -46,14 +49,20 @@ class Kernel:
     engine: ModuleType
     variational: ModuleType
     name: str = ""
+    chain: ModuleType | None = None
+
+    @property
+    def chain_engine(self) -> ModuleType:
+        """The chain engine compiled with this law."""
+        return self.chain if self.chain is not None else chain
 
 
-_BUILTIN_NAMES = {0: "weakening", 1: "cubic", 2: "coulomb"}
+_BUILTIN_NAMES = {0: "weakening", 1: "cubic", 2: "coulomb", 3: "carlson-langer"}
 
 
 def builtin_kernel(law_id: int) -> Kernel:
     """Return the kernel of a built-in law (id ``LAW_*`` of :mod:`stickslip.core.laws`)."""
-    return Kernel(int(law_id), engine, variational, _BUILTIN_NAMES.get(int(law_id), ""))
+    return Kernel(int(law_id), engine, variational, _BUILTIN_NAMES.get(int(law_id), ""), chain)
 
 
 def _kernel(law: Kernel | int | npt.ArrayLike) -> Kernel:
@@ -63,10 +72,13 @@ def _kernel(law: Kernel | int | npt.ArrayLike) -> Kernel:
         ids = np.unique(np.asarray(law, dtype=np.int64))
     except (TypeError, ValueError):
         raise TypeError(
-            f"law={law!r}: expected a Kernel or a built-in law id 0 (weakening), 1 (cubic) or 2 (coulomb)"
+            f"law={law!r}: expected a Kernel or a built-in law id 0 (weakening), 1 (cubic), 2 (coulomb) "
+            "or 3 (carlson-langer)"
         ) from None
     if ids.size != 1 or int(ids[0]) not in BUILTIN_LAWS:
-        raise ValueError(f"law={law!r}: expected one law id: 0 (weakening), 1 (cubic) or 2 (coulomb)")
+        raise ValueError(
+            f"law={law!r}: expected one law id: 0 (weakening), 1 (cubic), 2 (coulomb) or 3 (carlson-langer)"
+        )
     return builtin_kernel(int(ids[0]))
 
 

@@ -16,17 +16,23 @@ import math
 
 from numba import njit
 
-from ._dop853_tableau import N_STAGES, N_STAGES_EXTENDED
+from ._dop853_tableau import E3, E5, N_STAGES, N_STAGES_EXTENDED, A, B
 from .laws import friction_scalar, params
 
 __all__ = [
     "N_STAGES",
     "N_STAGES_EXTENDED",
     "dense_eval",
+    "dense_slope",
+    "illinois_propose",
     "illinois_sw",
+    "illinois_update",
     "initial_step",
     "poly7",
     "rhs",
+    "vec_advance",
+    "vec_error",
+    "vec_stage",
 ]
 
 @njit(cache=True)
@@ -106,6 +112,44 @@ def poly7(c, y0, x):  # type: ignore[no-untyped-def]
     return y0 + acc
 
 
+# The Illinois iteration in two halves, shared by every event locator (this
+# module's ``illinois_sw`` for one block, the chain engine's for each block):
+# the caller evaluates its own function at the proposed point in between.
+
+
+@njit(cache=True, inline="always")
+def illinois_propose(xa, ga, xb, gb):  # type: ignore[no-untyped-def]
+    """Return the next point of the Illinois (modified regula falsi) iteration on ``[xa, xb]``."""
+    xc = (xa * gb - xb * ga) / (gb - ga)
+    if not (xa < xc < xb):
+        xc = 0.5 * (xa + xb)
+    return xc
+
+
+@njit(cache=True, inline="always")
+def illinois_update(xa, ga, xb, gb, side, xc, gc):  # type: ignore[no-untyped-def]
+    """Shrink the bracket with the value ``gc`` at ``xc``.
+
+    Returns ``(xa, ga, xb, gb, side, done)``; ``done`` when ``gc`` is zero or the
+    bracket is as small as double precision allows (the root is then ``xc``).
+    """
+    if gc == 0.0:
+        return xa, ga, xb, gb, side, True
+    if (gc > 0.0) == (gb > 0.0):
+        xb = xc
+        gb = gc
+        if side == -1:
+            ga *= 0.5
+        side = -1
+    else:
+        xa = xc
+        ga = gc
+        if side == 1:
+            gb *= 0.5
+        side = 1
+    return xa, ga, xb, gb, side, xb - xa <= 4e-16 * max(1.0, abs(xc))
+
+
 @njit(cache=True)
 def illinois_sw(law, P, d, cs, s0, cw, w0, what, level, xa, ga, xb, gb):  # type: ignore[no-untyped-def]
     """Find a root by the Illinois method on the interpolants of ``s`` and ``w``.
@@ -123,27 +167,93 @@ def illinois_sw(law, P, d, cs, s0, cw, w0, what, level, xa, ga, xb, gb):  # type
     side = 0
     xc = xb
     for _ in range(200):
-        xc = (xa * gb - xb * ga) / (gb - ga)
-        if not (xa < xc < xb):
-            xc = 0.5 * (xa + xb)
+        xc = illinois_propose(xa, ga, xb, gb)
         if what == 1:
             gc = poly7(cw, w0, xc) - level
         else:
             gc = poly7(cs, s0, xc) - friction_scalar(law, P, d, poly7(cw, w0, xc))
-        if gc == 0.0:
-            return xc
-        if (gc > 0.0) == (gb > 0.0):
-            xb = xc
-            gb = gc
-            if side == -1:
-                ga *= 0.5
-            side = -1
-        else:
-            xa = xc
-            ga = gc
-            if side == 1:
-                gb *= 0.5
-            side = 1
-        if xb - xa <= 4e-16 * max(1.0, abs(xc)):
+        xa, ga, xb, gb, side, done = illinois_update(xa, ga, xb, gb, side, xc, gc)
+        if done:
             break
     return xc
+
+
+# ---------------------------------------------------------------- any dimension
+# The same DOP853 step for a state of any length, in three parts between which
+# the caller evaluates its own vector field (stage ``j`` of the step is
+# ``K[j] = f(t + C[j] h, y + h sum_i A[j, i] K[i])``). The chain engine uses them;
+# the one-block engine uses the same tableau written out for ``(s, w)``.
+
+
+@njit(cache=True)
+def vec_stage(y, K, h, j, n, out):  # type: ignore[no-untyped-def]
+    """Fill ``out[:n]`` with the state of stage ``j``: ``y + h sum_i A[j, i] K[i]``."""
+    for c in range(n):
+        acc = 0.0
+        for i in range(j):
+            a = A[j, i]
+            if a != 0.0:
+                acc += a * K[i, c]
+        out[c] = y[c] + h * acc
+
+
+@njit(cache=True)
+def vec_advance(y, K, h, n, out):  # type: ignore[no-untyped-def]
+    """Fill ``out[:n]`` with the 8th-order solution at the end of the step."""
+    for c in range(n):
+        acc = 0.0
+        for i in range(N_STAGES):
+            b = B[i]
+            if b != 0.0:
+                acc += b * K[i, c]
+        out[c] = y[c] + h * acc
+
+
+@njit(cache=True)
+def vec_error(y, y_new, K, h, n, rtol, atol):  # type: ignore[no-untyped-def]
+    """Return the DOP853 error norm of the step over ``y[:n]`` (``K[12]`` filled at the end).
+
+    As ``scipy.integrate.DOP853``: the 5th- and 3rd-order estimates combined, RMS
+    over the components, scaled by ``atol + rtol max(|y|, |y_new|)``.
+    """
+    e5 = 0.0
+    e3 = 0.0
+    for c in range(n):
+        sc = atol + rtol * max(abs(y[c]), abs(y_new[c]))
+        a5 = 0.0
+        a3 = 0.0
+        for i in range(N_STAGES + 1):
+            a5 += E5[i] * K[i, c]
+            a3 += E3[i] * K[i, c]
+        a5 /= sc
+        a3 /= sc
+        e5 += a5 * a5
+        e3 += a3 * a3
+    if e5 == 0.0 and e3 == 0.0:
+        return 0.0
+    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
+
+
+@njit(cache=True, inline="always")
+def dense_slope(F, x, i):  # type: ignore[no-untyped-def]
+    """Return d/dx of component ``i`` of the interpolant (see :func:`dense_eval`) at ``x``.
+
+    Divide by the step to get the time derivative.
+    """
+    # y = y0 + x(F0 + x1(F1 + x(F2 + x1(F3 + x(F4 + x1(F5 + x F6))))))
+    x1 = 1.0 - x
+    p6 = F[6, i]
+    q6 = 0.0
+    p5 = F[5, i] + x * p6
+    q5 = p6 + x * q6
+    p4 = F[4, i] + x1 * p5
+    q4 = -p5 + x1 * q5
+    p3 = F[3, i] + x * p4
+    q3 = p4 + x * q4
+    p2 = F[2, i] + x1 * p3
+    q2 = -p3 + x1 * q3
+    p1 = F[1, i] + x * p2
+    q1 = p2 + x * q2
+    p0 = F[0, i] + x1 * p1
+    q0 = -p1 + x1 * q1
+    return p0 + x * q0

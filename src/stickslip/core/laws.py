@@ -26,6 +26,9 @@ Laws (see :mod:`stickslip.laws` for sources):
     ``f_+(w) = 1 - alpha w + gamma w**3`` (Thomsen and Fidlin).
 ``LAW_COULOMB`` (``P = (kinetic, ...)``)
     ``f_+(w) = kinetic``, with ``0 <= kinetic < 1``.
+``LAW_CARLSON_LANGER`` (``P = (alpha, sigma, ...)``)
+    ``f_+(w) = (1 - sigma) / (1 + 2 alpha w / (1 - sigma))`` (Carlson and Langer):
+    a drop ``sigma`` at the onset of slip, then weakening.
 """
 
 from __future__ import annotations
@@ -35,8 +38,9 @@ from numba import njit
 LAW_WEAKENING = 0
 LAW_CUBIC = 1
 LAW_COULOMB = 2
+LAW_CARLSON_LANGER = 3
 #: ids of the laws compiled into this module
-BUILTIN_LAWS = (LAW_WEAKENING, LAW_CUBIC, LAW_COULOMB)
+BUILTIN_LAWS = (LAW_WEAKENING, LAW_CUBIC, LAW_COULOMB, LAW_CARLSON_LANGER)
 #: length of a law's parameter vector (unused entries are 0)
 N_LAW_PARAMS = 8
 STATIC_THRESHOLD = 1.0
@@ -65,6 +69,16 @@ def f_plus(law, P, w):  # type: ignore[no-untyped-def]
         return acc + P[1] * w
     if law == LAW_CUBIC:
         return 1.0 - P[0] * w + P[1] * w * w * w
+    if law == LAW_CARLSON_LANGER:
+        r = 1.0 - P[1]
+        if w >= 0.0:
+            return r / (1.0 + 2.0 * P[0] * w / r)
+        # no pole past a stop: the Taylor polynomial of degree 10, as for the weakening law
+        x = -2.0 * P[0] * w / r
+        acc = 1.0
+        for _ in range(10):
+            acc = 1.0 + x * acc
+        return r * acc
     return P[0]
 
 
@@ -76,6 +90,9 @@ def df_plus(law, P, w):  # type: ignore[no-untyped-def]
         return -P[0] / (q * q) + P[1]
     if law == LAW_CUBIC:
         return -P[0] + 3.0 * P[1] * w * w
+    if law == LAW_CARLSON_LANGER:
+        q = 1.0 + 2.0 * P[0] * w / (1.0 - P[1])
+        return -2.0 * P[0] / (q * q)
     return 0.0
 
 

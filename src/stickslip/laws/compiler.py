@@ -39,7 +39,14 @@ from ..core.api import Kernel
 __all__ = ["cache_dir", "compile_kernel", "law_module_source", "piecewise_module_source"]
 
 #: the engine's modules copied into each law's package (the law module is generated)
-ENGINE_MODULES = ("_dop853_tableau.py", "_dop853_unrolled.py", "dop853.py", "engine.py", "variational.py")
+ENGINE_MODULES = (
+    "_dop853_tableau.py",
+    "_dop853_unrolled.py",
+    "dop853.py",
+    "engine.py",
+    "variational.py",
+    "chain.py",
+)
 
 _LOCK = threading.Lock()
 _LOADED: dict[str, Kernel] = {}
@@ -276,6 +283,7 @@ def compile_kernel(law_source: str, name: str) -> Kernel:
             importlib.import_module(f"{pkg}.engine"),
             importlib.import_module(f"{pkg}.variational"),
             name,
+            importlib.import_module(f"{pkg}.chain"),
         )
         _LOADED[key] = kernel
         return kernel

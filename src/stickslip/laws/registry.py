@@ -79,12 +79,18 @@ def register(
     global version
     if spec.name in _LAWS and _LAWS[spec.name].spec is not spec:
         raise ValueError(f"a law named {spec.name!r} is already registered")
-    if not spec.name.isidentifier() or spec.name in ("expr", "table"):
-        raise ValueError(f"law name {spec.name!r}: expected an identifier other than 'expr' and 'table'")
+    if (
+        not spec.name.replace("-", "_").isidentifier()
+        or spec.name.startswith("-")
+        or spec.name in ("expr", "table")
+    ):
+        raise ValueError(
+            f"law name {spec.name!r}: expected an identifier (hyphens allowed) other than 'expr' and 'table'"
+        )
     for p in (*spec.parameters, *spec.physical):
         if p.name in RESERVED:
             raise ValueError(f"law {spec.name!r}: the parameter name {p.name!r} is reserved")
-    title = "".join(part.capitalize() for part in spec.name.split("_"))
+    title = "".join(part.capitalize() for part in spec.name.replace("-", "_").split("_"))
     if dimensionless is None:
         dimensionless = type(f"{title}Law", (DimensionlessLaw,), {"__slots__": (), "_spec": spec})
     if physical is None:
