@@ -98,9 +98,11 @@ BATCH = 4096
 BYTES_PER_ROW = 8.0 * (21 + 1 + 8 + 3) * 1.5
 
 __all__ = [
+    "ChainState",
     "Kernel",
     "TrajectoryResult",
     "builtin_kernel",
+    "chain_advance",
     "run_attractors",
     "run_flow",
     "run_shooting",
@@ -401,3 +403,98 @@ def run_flow(
         )
         raise RuntimeError(f"slip flow from (s, w) = ({s0:.6g}, {w0:.6g}) over tau = {period:.6g}: {why}")
     return FlowResult(y, extras)
+
+
+# ----------------------------------------------------------------------------- chains
+
+
+@dataclass
+class ChainState:
+    """The whole state of a chain between two calls of the chain engine (arrays updated in place).
+
+    Attributes
+    ----------
+    x, v : array of float
+        Positions and velocities of the blocks.
+    mode : array of int
+        0 stuck, +1 slipping forward, -1 slipping backward.
+    sc : array of float
+        Time, step size, the event in progress and counters (``chain.S_*``).
+    ev_x0, ev_flag, ev_list : arrays
+        Work arrays of the event in progress.
+
+    """
+
+    x: FloatArray
+    v: FloatArray
+    mode: npt.NDArray[np.int64]
+    sc: FloatArray
+    ev_x0: FloatArray
+    ev_flag: npt.NDArray[np.int8]
+    ev_list: npt.NDArray[np.int64]
+
+    @classmethod
+    def at_rest(cls, x: npt.ArrayLike, t: float = 0.0) -> ChainState:
+        """Return the state of blocks at rest at positions ``x`` at time ``t``."""
+        xa = np.array(x, dtype=np.float64)
+        n = xa.shape[0]
+        sc = np.zeros(chain.NSC)
+        sc[chain.S_T] = t
+        return cls(
+            xa, np.zeros(n), np.zeros(n, dtype=np.int64), sc, np.zeros(n), np.zeros(n, dtype=np.int8),
+            np.zeros(n, dtype=np.int64),
+        )  # fmt: skip
+
+    @property
+    def t(self) -> float:
+        """Time of the state."""
+        return float(self.sc[chain.S_T])
+
+    @property
+    def in_event(self) -> bool:
+        """Whether an event is in progress."""
+        return bool(self.sc[chain.S_IN_EVENT])
+
+    def copy(self) -> ChainState:
+        """Return an independent copy."""
+        return ChainState(*(np.array(a) for a in (
+            self.x, self.v, self.mode, self.sc, self.ev_x0, self.ev_flag, self.ev_list
+        )))  # fmt: skip
+
+
+def chain_advance(
+    kernel: Kernel,
+    lp: npt.ArrayLike,
+    nu: float,
+    ell2: float,
+    periodic: bool,
+    backward: bool,
+    phi: npt.ArrayLike,
+    state: ChainState,
+    *,
+    max_events: int,
+    t_max: float = np.inf,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    max_steps: int = 2_000_000,
+    slip_rows: int = 0,
+) -> tuple[FloatArray, FloatArray, int]:
+    """Advance a chain (``state``, updated in place) by up to ``max_events`` complete events.
+
+    Returns ``(catalogue rows (events x chain.NCAT), slips (first slip_rows events x N), status)``
+    with a ``chain.CH_*`` status; ``CH_PAUSED`` means the step budget of this call
+    ran out: call again to go on (the state is exact, not an approximation).
+    """
+    n = state.x.shape[0]
+    lpa = np.zeros(N_LAW_PARAMS)
+    lp_in = np.asarray(lp, dtype=np.float64).ravel()
+    lpa[: lp_in.size] = lp_in
+    phia = np.ascontiguousarray(phi, dtype=np.float64)
+    cat = np.zeros((max(int(max_events), 0), kernel.chain_engine.NCAT))
+    slips = np.zeros((min(int(slip_rows), max(int(max_events), 0)), n))
+    written, status = kernel.chain_engine.chain_run(
+        kernel.law_id, lpa, float(nu), float(ell2), bool(periodic), bool(backward), phia,
+        state.x, state.v, state.mode, state.sc, state.ev_x0, state.ev_flag, state.ev_list,
+        int(max_events), float(t_max), float(rtol), float(atol), int(max_steps), cat, slips,
+    )  # fmt: skip
+    return cat[:written], slips[: min(written, slips.shape[0])], int(status)

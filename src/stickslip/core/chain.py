@@ -345,9 +345,41 @@ def _event_begin(sc, x, v, t, j, nu, ell2, periodic):  # type: ignore[no-untyped
 
 
 @njit(cache=True)
-def _start_slip(j, d, t, x, v, mode, sc, ev_x0, ev_flag, ev_list):  # type: ignore[no-untyped-def]
+def _slip_on(j, x, idx, pos, ws):  # type: ignore[no-untyped-def]
+    """Insert block ``j`` into the sorted set of slipping blocks (``ws = [m, sum of stuck x]``)."""
+    if pos[j] >= 0:
+        return
+    k = int(ws[0])
+    while k > 0 and idx[k - 1] > j:
+        idx[k] = idx[k - 1]
+        pos[idx[k]] = k
+        k -= 1
+    idx[k] = j
+    pos[j] = k
+    ws[0] += 1.0
+    ws[1] -= x[j]
+
+
+@njit(cache=True)
+def _slip_off(j, x, idx, pos, ws):  # type: ignore[no-untyped-def]
+    """Remove block ``j`` (now stuck at ``x[j]``) from the set of slipping blocks."""
+    k = pos[j]
+    if k < 0:
+        return
+    m = int(ws[0])
+    for i in range(k, m - 1):
+        idx[i] = idx[i + 1]
+        pos[idx[i]] = i
+    pos[j] = -1
+    ws[0] -= 1.0
+    ws[1] += x[j]
+
+
+@njit(cache=True)
+def _start_slip(j, d, t, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws):  # type: ignore[no-untyped-def]
     mode[j] = d
     v[j] = 0.0
+    _slip_on(j, x, idx, pos, ws)
     if ev_flag[j] == 0:
         ev_flag[j] = 1
         nb = int(sc[S_EV_N])
@@ -391,39 +423,70 @@ def _event_end(sc, x, t, nu, ell2, periodic, ev_x0, ev_flag, ev_list, cat, row, 
 
 
 @njit(cache=True)
-def _break_ready(x, v, mode, phi, t, nu, ell2, periodic, backward, tree, size, sc, ev_x0, ev_flag, ev_list):  # type: ignore[no-untyped-def]
-    """Break away every stuck block at (or within BREAK_TOL of) its threshold at time ``t``.
+def _break_near(
+    j0,
+    t,
+    x,
+    v,
+    mode,
+    phi,
+    nu,
+    ell2,
+    periodic,
+    backward,
+    tree,
+    size,
+    sc,
+    ev_x0,
+    ev_flag,
+    ev_list,
+    idx,
+    pos,
+    ws,
+    stack,
+):  # type: ignore[no-untyped-def]
+    """Break away the stuck blocks at (or within BREAK_TOL of) their threshold around block ``j0``.
 
-    Blocks are taken in index order, repeatedly until none is left (a breakaway
-    moves nothing at once, so one pass over the candidates normally suffices).
-    Returns the number of blocks that broke away.
+    A change of block ``j0`` can only bring its neighbours to their threshold; a
+    breakaway moves nothing at once, so the cascade goes on from each block that
+    breaks (in index order of the neighbours). Then every closed-form breakaway
+    time already reached is taken. Returns the number of blocks that broke away.
     """
     n = x.shape[0]
+    tol = BREAK_TOL * (1.0 + abs(nu * t))
     count = 0
-    changed = True
-    while changed:
-        changed = False
-        for j in range(n):
-            if mode[j] != STUCK:
-                continue
-            e = stuck_force(x, j, t, nu, ell2, periodic)
-            tol = BREAK_TOL * (1.0 + abs(nu * t))
-            d = 0
-            if e >= phi[j] - tol:
-                d = 1
-            elif backward and e <= -phi[j] + tol:
-                d = -1
-            if d != 0:
-                _start_slip(j, d, t, x, v, mode, sc, ev_x0, ev_flag, ev_list)
-                _tree_refresh(tree, size, x, mode, phi, j, nu, ell2, periodic)
-                count += 1
-                changed = True
-        while tree[1] <= t:  # a closed-form time reached (rounding aside)
-            j = _tree_argmin(tree, size)
-            _start_slip(j, 1, t, x, v, mode, sc, ev_x0, ev_flag, ev_list)
-            _tree_refresh(tree, size, x, mode, phi, j, nu, ell2, periodic)
-            count += 1
-            changed = True
+    top = 0
+    if j0 >= 0:
+        stack[0] = j0
+        top = 1
+    while True:
+        while top > 0:
+            top -= 1
+            jc = stack[top]
+            for j in (_left(jc, n, periodic), jc, _right(jc, n, periodic)):
+                if mode[j] != STUCK:
+                    continue
+                e = stuck_force(x, j, t, nu, ell2, periodic)
+                d = 0
+                if e >= phi[j] - tol:
+                    d = 1
+                elif backward and e <= -phi[j] + tol:
+                    d = -1
+                if d != 0:
+                    _start_slip(j, d, t, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws)
+                    _tree_refresh(tree, size, x, mode, phi, j, nu, ell2, periodic)
+                    count += 1
+                    stack[top] = j
+                    top += 1
+        if tree[1] > t:
+            break
+        # a closed-form time reached (rounding aside)
+        j = _tree_argmin(tree, size)
+        _start_slip(j, 1, t, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws)
+        _tree_refresh(tree, size, x, mode, phi, j, nu, ell2, periodic)
+        count += 1
+        stack[0] = j
+        top = 1
     return count
 
 
@@ -472,34 +535,33 @@ def chain_run(  # type: ignore[no-untyped-def]
     idx = np.empty(n, dtype=np.int64)
     pos = np.full(n, -1, dtype=np.int64)
     adj = np.empty(n, dtype=np.int64)
+    mark = np.zeros(n, dtype=np.int8)
+    stack = np.empty(n + 1, dtype=np.int64)
+    ws = np.zeros(2)  # slipping blocks, sum of the stuck blocks' positions
+    for j in range(n):
+        if mode[j] != STUCK:
+            idx[int(ws[0])] = j
+            pos[j] = int(ws[0])
+            ws[0] += 1.0
+        else:
+            ws[1] += x[j]
     nv = 2 * n + 2
     y = np.empty(nv)
     y_new = np.empty(nv)
     ytmp = np.empty(nv)
     K = np.empty((N_STAGES_EXTENDED, nv))
     F = np.empty((7, nv))
-    ev_x = np.empty(n)
-    ev_k = np.empty(n, dtype=np.int64)
-    ev_kind = np.empty(n, dtype=np.int64)
+    ev_x = np.empty(2 * n)
+    ev_k = np.empty(2 * n, dtype=np.int64)
+    ev_kind = np.empty(2 * n, dtype=np.int64)
     pk_x = np.empty(n)
     pk_v = np.empty(n)
     written = 0
     steps = 0
     t = sc[S_T]
     while True:
-        # ---------------------------------------------------------- who slips
-        m = 0
-        n_stuck = 0
-        s_stuck = 0.0
-        for j in range(n):
-            if mode[j] != STUCK:
-                idx[m] = j
-                pos[j] = m
-                m += 1
-            else:
-                pos[j] = -1
-                n_stuck += 1
-                s_stuck += nu * t - x[j]
+        m = int(ws[0])
+        n_stuck = n - m
         if m == 0:
             if sc[S_IN_EVENT] != 0.0:
                 _event_end(sc, x, t, nu, ell2, periodic, ev_x0, ev_flag, ev_list, cat, written, slips)
@@ -515,26 +577,43 @@ def chain_run(  # type: ignore[no-untyped-def]
                 t = tb
             j0 = _tree_argmin(tree, size)
             _event_begin(sc, x, v, t, j0, nu, ell2, periodic)
-            _start_slip(j0, 1, t, x, v, mode, sc, ev_x0, ev_flag, ev_list)
+            _start_slip(j0, 1, t, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws)
             _tree_refresh(tree, size, x, mode, phi, j0, nu, ell2, periodic)
-            _break_ready(
-                x, v, mode, phi, t, nu, ell2, periodic, backward, tree, size, sc, ev_x0, ev_flag, ev_list
+            _break_near(
+                j0,
+                t,
+                x,
+                v,
+                mode,
+                phi,
+                nu,
+                ell2,
+                periodic,
+                backward,
+                tree,
+                size,
+                sc,
+                ev_x0,
+                ev_flag,
+                ev_list,
+                idx,
+                pos,
+                ws,
+                stack,
             )
             continue
+        s_stuck = n_stuck * nu * t - ws[1]
         # stuck blocks next to slipping ones: their forces are watched step by step
         na = 0
         for k in range(m):
             j = idx[k]
             for jj in (_left(j, n, periodic), _right(j, n, periodic)):
-                if mode[jj] == STUCK:
-                    seen = False
-                    for i in range(na):
-                        if adj[i] == jj:
-                            seen = True
-                            break
-                    if not seen:
-                        adj[na] = jj
-                        na += 1
+                if mode[jj] == STUCK and mark[jj] == 0:
+                    mark[jj] = 1
+                    adj[na] = jj
+                    na += 1
+        for i in range(na):
+            mark[adj[i]] = 0
         for k in range(m):
             j = idx[k]
             y[2 * k] = x[j]
@@ -547,6 +626,7 @@ def chain_run(  # type: ignore[no-untyped-def]
         _rhs(law, P, nu, ell2, periodic, phi, x, mode, idx, m, pos, t, y, K[0], s_stuck, n_stuck, t_ref)
         h = sc[S_H] if sc[S_H] > 0.0 else H_FIRST
         done = False
+        nev = 0
         # ------------------------------------------------------------- steps
         while True:
             if steps >= max_steps:
@@ -993,23 +1073,39 @@ def chain_run(  # type: ignore[no-untyped-def]
             sc[S_EV_WD] += y[2 * m]
             sc[S_EV_WF] += y[2 * m + 1]
             done = True
-            for jb in range(n):  # simultaneous events, in block order
-                for i in range(nev):
-                    if ev_k[i] != jb or ev_x[i] > xs + SIMULTANEOUS:
-                        continue
-                    j = jb
-                    if ev_kind[i] == 0:  # a stop
-                        v[j] = 0.0
-                        e = stuck_force(x, j, t, nu, ell2, periodic)
-                        if backward and e < -phi[j]:
-                            mode[j] = -1
-                        elif e >= phi[j]:
-                            mode[j] = 1
-                        else:
-                            mode[j] = STUCK
+            # the simultaneous events, in block order (insertion sort: a handful)
+            ns = 0
+            for i in range(nev):
+                if ev_x[i] <= xs + SIMULTANEOUS:
+                    ev_k[ns] = ev_k[i]
+                    ev_kind[ns] = ev_kind[i]
+                    ns += 1
+            for i in range(1, ns):
+                kk = ev_k[i]
+                kd = ev_kind[i]
+                q = i
+                while q > 0 and ev_k[q - 1] > kk:
+                    ev_k[q] = ev_k[q - 1]
+                    ev_kind[q] = ev_kind[q - 1]
+                    q -= 1
+                ev_k[q] = kk
+                ev_kind[q] = kd
+            for i in range(ns):
+                j = ev_k[i]
+                if ev_kind[i] == 0:  # a stop
+                    v[j] = 0.0
+                    e = stuck_force(x, j, t, nu, ell2, periodic)
+                    if backward and e < -phi[j]:
+                        mode[j] = -1
+                    elif e >= phi[j]:
+                        mode[j] = 1
                     else:
-                        _start_slip(j, ev_kind[i], t, x, v, mode, sc, ev_x0, ev_flag, ev_list)
-                    _tree_refresh(tree, size, x, mode, phi, j, nu, ell2, periodic)
+                        mode[j] = STUCK
+                        _slip_off(j, x, idx, pos, ws)
+                elif mode[j] == STUCK:
+                    _start_slip(j, ev_kind[i], t, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws)
+                _tree_refresh(tree, size, x, mode, phi, j, nu, ell2, periodic)
+            nev = ns
             break
         # the segment ended: events, a closed-form breakaway, or the time limit
         if not done:
@@ -1021,6 +1117,50 @@ def chain_run(  # type: ignore[no-untyped-def]
         sc[S_T] = t
         if t >= t_max:
             return written, CH_T_MAX
-        _break_ready(
-            x, v, mode, phi, t, nu, ell2, periodic, backward, tree, size, sc, ev_x0, ev_flag, ev_list
-        )
+        if done:
+            for i in range(nev):
+                _break_near(
+                    ev_k[i],
+                    t,
+                    x,
+                    v,
+                    mode,
+                    phi,
+                    nu,
+                    ell2,
+                    periodic,
+                    backward,
+                    tree,
+                    size,
+                    sc,
+                    ev_x0,
+                    ev_flag,
+                    ev_list,
+                    idx,
+                    pos,
+                    ws,
+                    stack,
+                )
+        else:
+            _break_near(
+                -1,
+                t,
+                x,
+                v,
+                mode,
+                phi,
+                nu,
+                ell2,
+                periodic,
+                backward,
+                tree,
+                size,
+                sc,
+                ev_x0,
+                ev_flag,
+                ev_list,
+                idx,
+                pos,
+                ws,
+                stack,
+            )

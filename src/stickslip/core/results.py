@@ -20,11 +20,12 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from . import engine
+from . import chain, engine
 from . import variational as va
 
 __all__ = [
     "AttractorRows",
+    "ChainStatus",
     "EventKind",
     "FlowResult",
     "Regime",
@@ -331,3 +332,33 @@ class FlowResult:
     def integral_dfdw(self) -> float:
         """Integral of ``f'(w)`` over the flow."""
         return float(self.state[8])
+
+
+class ChainStatus(_Labelled):
+    """How a chain simulation ended."""
+
+    OK = "ok", chain.CH_EVENTS, "finished: every requested event simulated"
+    TIME_LIMIT = (
+        "time-limit",
+        chain.CH_T_MAX,
+        "the time limit came before the requested number of events (in a pure-slip or steady-sliding "
+        "regime an event never ends)",
+    )
+    PAUSED = "paused", chain.CH_PAUSED, "stopped between two calls of the engine (internal)"
+    SLIDING = (
+        "sliding",
+        -1,
+        "an event lasted longer than max_event_duration: the blocks never all stick again "
+        "(a sliding state of the chain: pure slip or steady sliding of some blocks)",
+    )
+    STEP_TOO_SMALL = (
+        "step-size-too-small",
+        chain.CH_STEP_TOO_SMALL,
+        "the integration step fell below the resolution of the time: the friction law is singular "
+        "or not finite where the motion went",
+    )
+    NONFINITE = (
+        "not-finite",
+        chain.CH_NONFINITE,
+        "the motion left the range of floating-point numbers (a law that drives the blocks?)",
+    )

@@ -1,0 +1,29 @@
+"""Chains of blocks: the Burridge-Knopoff model with N blocks, every block's stick exact.
+
+* :mod:`.model`: the set-up (:class:`ChainParameters`), thresholds, initial positions;
+* :mod:`.run`: :func:`chain`, events streamed to a NetCDF catalogue;
+* :mod:`.catalog`: the catalogue on disk;
+* :mod:`.statistics`: b-value, completeness, recurrence;
+* :mod:`.lyapunov`: the event map and its largest Lyapunov exponent.
+"""
+
+from .catalog import open_catalog
+from .model import Boundary, ChainParameters, Init, initial_positions, static_thresholds
+from .run import ChainResult, chain
+from .statistics import BValue, b_value, completeness_magnitude, magnitude_frequency, recurrence_times
+
+__all__ = [
+    "BValue",
+    "Boundary",
+    "ChainParameters",
+    "ChainResult",
+    "Init",
+    "b_value",
+    "chain",
+    "completeness_magnitude",
+    "initial_positions",
+    "magnitude_frequency",
+    "open_catalog",
+    "recurrence_times",
+    "static_thresholds",
+]

@@ -1,0 +1,190 @@
+"""Event catalogues on disk: NetCDF written event by event, and read back with xarray.
+
+A catalogue is a NetCDF file with an unlimited ``event`` dimension; rows are
+appended as the chain produces them, so a catalogue of millions of events never
+sits in memory. After every chunk the file also holds the chain's exact state
+(``state_*`` variables) and is flushed: a run that is killed can be continued
+from its last chunk (:func:`stickslip.chains.chain` with ``resume=True``), and
+gives the same catalogue as an uninterrupted run.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+import netCDF4
+import numpy as np
+import numpy.typing as npt
+import xarray as xr
+
+from ..core import chain as ce
+from ..core.api import ChainState
+from ..io.errors import DataError
+from ..io.output import generator
+
+__all__ = ["COLUMNS", "CatalogWriter", "open_catalog", "read_state"]
+
+KIND = "chain-catalog"
+
+#: the catalogue's variables: (column of the engine's rows, dtype, units, description)
+COLUMNS: dict[str, tuple[int, str, str, str]] = {
+    "t_start": (ce.C_T0, "f8", "time", "start of the event: a block breaks away while all stick"),
+    "t_end": (ce.C_T1, "f8", "time", "end of the event: all blocks stick again"),
+    "epicentre": (ce.C_EPI, "i4", "1", "the block that broke away first (0-based)"),
+    "n_blocks": (ce.C_NB, "i4", "1", "number of blocks that slipped"),
+    "moment": (ce.C_MOMENT, "f8", "length", "sum of the blocks' slips during the event"),
+    "peak_velocity": (ce.C_PEAK, "f8", "velocity", "largest block speed during the event"),
+    "first_block": (ce.C_LO, "i4", "1", "lowest index of a block that slipped"),
+    "last_block": (ce.C_HI, "i4", "1", "highest index of a block that slipped"),
+    "driver_work": (ce.C_WD, "f8", "energy", "work of the driver on the loading springs"),
+    "friction_work": (ce.C_WF, "f8", "energy", "energy dissipated by friction"),
+    "elastic_change": (ce.C_DE, "f8", "energy", "change of the springs' elastic energy"),
+}
+_STATE = ("x", "v", "mode", "sc", "ev_x0", "ev_flag", "ev_list")
+
+
+class CatalogWriter:
+    """Append events to a NetCDF catalogue and keep the chain's state in it.
+
+    Parameters
+    ----------
+    path : str
+        The file, created (or, with ``resume``, opened to continue).
+    blocks : int
+        Number of blocks.
+    attrs : mapping
+        Global attributes: the set-up (compared on resume).
+    units : mapping
+        Unit of ``time``, ``length``, ``velocity`` and ``energy`` (``"1"`` when dimensionless).
+    slip_rows : int
+        How many events' per-block slips to keep (``slip(recorded_event, block)``, for the
+        space-time diagram).
+
+    """
+
+    def __init__(
+        self,
+        path: str,
+        blocks: int,
+        attrs: dict[str, Any],
+        units: dict[str, str],
+        slip_rows: int = 0,
+        *,
+        resume: bool = False,
+    ) -> None:
+        self.path = path
+        if resume:
+            try:
+                self.ds = netCDF4.Dataset(path, "a")
+            except OSError as exc:
+                raise OSError(
+                    f"{path}: cannot open the catalogue to continue it ({exc}); is it open elsewhere?"
+                ) from None
+            setup = self.ds.getncattr("setup")
+            if setup != attrs["setup"]:
+                self.ds.close()
+                raise DataError(
+                    f"{path}: this catalogue was made with another set-up; resuming needs the same "
+                    "command (or write to a new file)"
+                )
+            return
+        ds = netCDF4.Dataset(path, "w", format="NETCDF4")
+        self.ds = ds
+        ds.createDimension("event", None)
+        ds.createDimension("block", blocks)
+        ds.createDimension("recorded_event", slip_rows)
+        ds.createDimension("scalar", ce.NSC)
+        for name, (_, dtype, unit, desc) in COLUMNS.items():
+            var = ds.createVariable(name, dtype, ("event",), zlib=True, complevel=1, chunksizes=(65536,))
+            var.units = units.get(unit, unit)
+            var.long_name = desc
+        ds.createVariable("slip", "f8", ("recorded_event", "block"), zlib=True, complevel=1)
+        ds["slip"].units = units["length"]
+        ds["slip"].long_name = "slip of each block in the first recorded events"
+        for name in _STATE:
+            dims = ("scalar",) if name == "sc" else ("block",)
+            dtype = {"mode": "i8", "ev_flag": "i1", "ev_list": "i8"}.get(name, "f8")
+            ds.createVariable(f"state_{name}", dtype, dims)
+        ds.setncatts({k: v for k, v in attrs.items()})
+        ds.setncattr("stickslip_output", KIND)
+        ds.setncattr("stickslip_generator", generator(KIND))
+        ds.setncattr("complete", 0)
+        ds.setncattr("slip_recorded", 0)
+
+    @property
+    def n_events(self) -> int:
+        """Events written so far."""
+        return len(self.ds.dimensions["event"])
+
+    @property
+    def slip_recorded(self) -> int:
+        """Events whose per-block slips are stored."""
+        return int(self.ds.getncattr("slip_recorded"))
+
+    def append(self, rows: npt.NDArray[np.float64], slips: npt.NDArray[np.float64]) -> None:
+        """Append catalogue rows (``chain.NCAT`` columns) and the slips of the first events."""
+        k = self.n_events
+        m = rows.shape[0]
+        if m:
+            for name, (col, dtype, _, _) in COLUMNS.items():
+                data = rows[:, col]
+                self.ds[name][k : k + m] = data.astype(np.int32) if dtype == "i4" else data
+        r = self.slip_recorded
+        take = min(slips.shape[0], len(self.ds.dimensions["recorded_event"]) - r)
+        if take > 0:
+            self.ds["slip"][r : r + take, :] = slips[:take]
+            self.ds.setncattr("slip_recorded", r + take)
+
+    def save_state(self, state: ChainState, extra: dict[str, Any] | None = None) -> None:
+        """Store the chain's state (exact) and flush the file to disk."""
+        for name in _STATE:
+            self.ds[f"state_{name}"][:] = getattr(state, name)
+        for k, v in (extra or {}).items():
+            self.ds.setncattr(k, v)
+        self.ds.sync()
+
+    def close(self, complete: bool) -> None:
+        """Mark the catalogue complete (or not) and close it."""
+        if complete:
+            self.ds.setncattr("complete", 1)
+        self.ds.close()
+
+
+def read_state(path: str) -> tuple[ChainState, int, dict[str, Any]]:
+    """Return the state stored in a catalogue, its number of events and its attributes."""
+    with netCDF4.Dataset(path, "r") as ds:
+        arrays = [np.array(ds[f"state_{n}"][:]) for n in _STATE]
+        n = len(ds.dimensions["event"])
+        attrs = {k: ds.getncattr(k) for k in ds.ncattrs()}
+    state = ChainState(
+        arrays[0].astype(np.float64), arrays[1].astype(np.float64), arrays[2].astype(np.int64),
+        arrays[3].astype(np.float64), arrays[4].astype(np.float64), arrays[5].astype(np.int8),
+        arrays[6].astype(np.int64),
+    )  # fmt: skip
+    return state, n, attrs
+
+
+def open_catalog(path: str | os.PathLike[str]) -> xr.Dataset:
+    """Open a catalogue with xarray (lazily: a variable is read when used), with ``magnitude`` added.
+
+    Raises
+    ------
+    DataError
+        When the file is not a stickslip chain catalogue.
+
+    """
+    p = os.fspath(path)
+    try:
+        ds = xr.open_dataset(p, engine="netcdf4")
+    except (OSError, ValueError) as exc:
+        raise DataError(f"{p}: cannot read a NetCDF catalogue ({exc})") from None
+    if ds.attrs.get("stickslip_output") != KIND:
+        ds.close()
+        raise DataError(f"{p}: not a stickslip chain catalogue (no stickslip_output = {KIND!r})")
+    opened = ds
+    ds = ds.drop_vars([f"state_{n}" for n in _STATE])
+    ds.set_close(opened.close)  # closing the result closes the file
+    ds["magnitude"] = np.log10(ds["moment"].where(ds["moment"] > 0))
+    ds["magnitude"].attrs = {"units": "1", "long_name": "log10 of the moment (in its units)"}
+    return ds

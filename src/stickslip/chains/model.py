@@ -1,0 +1,204 @@
+"""The chain's set-up: N blocks, a friction law, the coupling, the ends, the thresholds.
+
+Dimensionless form (``docs/chain.md``): the one-block scaling with ``k = k_p``
+(length ``F_s/k_p``, time ``sqrt(m/k_p)``, velocity ``F_s/sqrt(k_p m)``) and
+``ell**2 = k_c/k_p``. For one block it is exactly the one-block model.
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from ..laws import DimensionlessLaw, PhysicalLaw
+from ..models import DimensionlessParameters, PhysicalParameters, Scales
+from ..units import check_number, parse_quantity
+
+__all__ = ["Boundary", "ChainParameters", "Init", "initial_positions", "static_thresholds"]
+
+FloatArray = npt.NDArray[np.float64]
+
+
+class Boundary(enum.StrEnum):
+    """The ends of the chain."""
+
+    FREE = "free"  # x_0 = x_1, x_{N+1} = x_N
+    PERIODIC = "periodic"  # x_0 = x_N, x_{N+1} = x_1
+
+
+class Init(enum.StrEnum):
+    """How the blocks start (all at rest)."""
+
+    UNIFORM = "uniform"  # identical blocks at the same position
+    RANDOM = "random"  # small seeded displacements
+
+
+#: laws whose authors forbid backward slip (friction at rest bounded only from above)
+_NO_BACKSLIP = frozenset({"carlson-langer"})
+
+
+@dataclass(frozen=True)
+class ChainParameters:
+    """A dimensionless Burridge-Knopoff chain.
+
+    Parameters
+    ----------
+    blocks : int
+        Number of blocks ``N >= 1``.
+    law : DimensionlessLaw
+        Friction of every block, in units of its static friction force.
+    nu : float
+        Dimensionless driving velocity (> 0).
+    ell : float
+        Coupling ``ell = sqrt(k_c/k_p)`` (>= 0; 0 uncouples the blocks).
+    boundary : {"free", "periodic"}
+        The ends. Default free.
+    thresholds : array of float, optional
+        Each block's static threshold in units of the mean (all 1 by default);
+        see :func:`static_thresholds` for seeded heterogeneous ones.
+    backslip : bool, optional
+        Whether a block may slip backward. Default: yes, except for the
+        Carlson-Langer law, whose authors forbid it.
+    scales : Scales, optional
+        Units of the dimensionless model when the chain was made from physical
+        input (:meth:`from_physical`); None otherwise.
+
+    """
+
+    blocks: int
+    law: DimensionlessLaw
+    nu: float
+    ell: float
+    boundary: Boundary = Boundary.FREE
+    thresholds: FloatArray | None = field(default=None, compare=False, repr=False)
+    backslip: bool | None = None
+    scales: Scales | None = field(default=None, compare=False, repr=False)
+
+    def __post_init__(self) -> None:
+        n = self.blocks
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1 or n > 10_000_000:
+            raise ValueError(f"blocks={n!r}: expected a whole number of blocks from 1 to 10**7")
+        object.__setattr__(self, "blocks", int(n))
+        # the one-block model's checks of nu and of the law
+        DimensionlessParameters(nu=self.nu, law=self.law)
+        object.__setattr__(self, "nu", float(self.nu))
+        object.__setattr__(
+            self, "ell", check_number(self.ell, "ell", allow_zero=True, upper=1e6, what="a coupling ell >= 0")
+        )
+        try:
+            object.__setattr__(self, "boundary", Boundary(self.boundary))
+        except ValueError:
+            raise ValueError(f"boundary={self.boundary!r}: expected 'free' or 'periodic'") from None
+        if self.thresholds is not None:
+            phi = np.array(self.thresholds, dtype=float)
+            if phi.shape != (self.blocks,):
+                raise ValueError(
+                    f"thresholds: expected {self.blocks} values (one per block), got shape {phi.shape}"
+                )
+            if not np.all(np.isfinite(phi)) or np.any(phi <= 0.0):
+                raise ValueError("thresholds: expected positive finite static thresholds")
+            phi.setflags(write=False)
+            object.__setattr__(self, "thresholds", phi)
+        if self.backslip is None:
+            object.__setattr__(self, "backslip", self.law.name not in _NO_BACKSLIP)
+
+    @property
+    def ell2(self) -> float:
+        """``ell**2 = k_c/k_p``."""
+        return self.ell * self.ell
+
+    @property
+    def phi(self) -> FloatArray:
+        """The static thresholds (a copy; all 1 for a uniform chain)."""
+        return np.ones(self.blocks) if self.thresholds is None else np.array(self.thresholds)
+
+    @classmethod
+    def from_physical(
+        cls,
+        params: PhysicalParameters,
+        *,
+        blocks: int,
+        coupling: Any,
+        boundary: Boundary | str = Boundary.FREE,
+        thresholds: npt.ArrayLike | None = None,
+        backslip: bool | None = None,
+    ) -> ChainParameters:
+        """Return the chain of ``blocks`` copies of the one-block set-up ``params``.
+
+        Parameters
+        ----------
+        params : PhysicalParameters
+            Mass, loading spring ``k_p`` (``stiffness``), load, driving velocity and law of each block.
+        blocks : int
+            Number of blocks.
+        coupling : pint.Quantity or str
+            Stiffness ``k_c`` of the springs between neighbours, e.g. ``"100 N/m"``.
+        boundary, thresholds, backslip
+            As for :class:`ChainParameters`.
+
+        """
+        if not isinstance(params, PhysicalParameters):
+            raise ValueError(f"params={params!r}: expected PhysicalParameters")
+        kc = parse_quantity(coupling, "coupling", "[mass] / [time] ** 2", "100 N/m")
+        kp = params.stiffness.to("N/m").magnitude
+        ratio = float(kc.to("N/m").magnitude) / float(kp)
+        if not np.isfinite(ratio) or ratio < 0.0:
+            raise ValueError(f"coupling={coupling!r}: expected a stiffness >= 0 N/m")
+        d = params.dimensionless()
+        return cls(
+            blocks=blocks,
+            law=d.law,
+            nu=d.nu,
+            ell=float(np.sqrt(ratio)),
+            boundary=Boundary(boundary),
+            thresholds=None if thresholds is None else np.asarray(thresholds, dtype=float),
+            backslip=backslip,
+            scales=params.scales,
+        )
+
+
+def static_thresholds(blocks: int, spread: float, seed: int | None) -> FloatArray | None:
+    """Return seeded heterogeneous static thresholds ``1 + spread * U(-1, 1)``, or None for ``spread = 0``.
+
+    Raises
+    ------
+    ValueError
+        For ``spread`` outside ``[0, 1)``.
+
+    """
+    s = float(spread)
+    if not (0.0 <= s < 1.0):
+        raise ValueError(f"spread={spread!r}: expected a threshold spread in [0, 1)")
+    if s == 0.0:
+        return None
+    rng = np.random.default_rng(seed)
+    return 1.0 + s * rng.uniform(-1.0, 1.0, blocks)
+
+
+def initial_positions(blocks: int, init: Init | str, seed: int | None, amplitude: float = 0.01) -> FloatArray:
+    """Return the blocks' initial positions (units of ``F_s/k_p``), all at rest.
+
+    ``uniform``: all at 0 (identical blocks in identical states); ``random``:
+    seeded displacements uniform in ``[0, amplitude)``.
+    """
+    try:
+        kind = Init(init)
+    except ValueError:
+        raise ValueError(f"init={init!r}: expected 'uniform' or 'random'") from None
+    if kind is Init.UNIFORM:
+        return np.zeros(blocks)
+    a = check_number(amplitude, "amplitude", what="a positive displacement amplitude")
+    return np.random.default_rng(seed).uniform(0.0, a, blocks)
+
+
+def require_law(law: Any) -> DimensionlessLaw:
+    """Return ``law`` if dimensionless; say how to convert a physical one."""
+    if isinstance(law, PhysicalLaw):
+        raise ValueError(
+            f"law={law!r}: a physical law needs the physical set-up: use ChainParameters.from_physical"
+        )
+    return law  # type: ignore[no-any-return]

@@ -1,0 +1,337 @@
+"""Simulate a chain: events streamed to a NetCDF catalogue, statistics on the way out."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import tempfile
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+import xarray as xr
+
+from .. import defaults
+from ..core import chain as ce
+from ..core.api import ChainState, chain_advance
+from ..core.results import ChainStatus
+from ..dynamics.cycle import validate_tolerances
+from ..io.errors import DataError
+from ..io.progress import progress_bar
+from .catalog import COLUMNS, CatalogWriter, open_catalog, read_state
+from .model import ChainParameters, Init, initial_positions
+from .statistics import BValue, b_value
+
+__all__ = ["ChainResult", "chain"]
+
+#: steps per call of the compiled engine (about a second of work): progress and Ctrl-C in between
+STEPS_PER_CALL = 2_000_000
+#: events per call (and per append to the catalogue)
+EVENTS_PER_CHUNK = 20_000
+
+
+@dataclass(frozen=True)
+class ChainResult:
+    """The outcome of :func:`chain`.
+
+    Attributes
+    ----------
+    params : ChainParameters
+        The set-up.
+    catalog : xarray.Dataset
+        The events (``t_start``, ``t_end``, ``epicentre``, ``n_blocks``,
+        ``moment``, ``magnitude``, ``peak_velocity``, ...), lazily read from
+        ``path`` when there is one.
+    path : str or None
+        The NetCDF catalogue, when written to disk.
+    status : ChainStatus
+        How the run ended.
+    simulated_time : float
+        Time reached (units of the catalogue: s for physical input).
+    state : ChainState
+        The final state (continue with ``chain(..., state=result.state)``).
+    b : BValue
+        Gutenberg-Richter fit of the magnitudes (see :func:`~.statistics.b_value`).
+
+    """
+
+    params: ChainParameters
+    catalog: xr.Dataset = field(repr=False)
+    path: str | None
+    status: ChainStatus
+    simulated_time: float
+    state: ChainState = field(repr=False)
+    b: BValue
+    units: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def events(self) -> int:
+        """Number of events in the catalogue."""
+        return int(self.catalog.sizes["event"])
+
+    def summary(self) -> dict[str, Any]:
+        """Return the numbers of ``stickslip chain --json``."""
+        t0 = self.catalog["t_start"].values
+        moment = self.catalog["moment"].values
+        nb = self.catalog["n_blocks"].values
+        return {
+            "blocks": self.params.blocks,
+            "events": self.events,
+            "simulated_time": self.simulated_time,
+            "mean_recurrence": float(np.mean(np.diff(t0))) if t0.size > 1 else math.nan,
+            "mean_moment": float(np.mean(moment)) if moment.size else math.nan,
+            "largest_event_blocks": int(np.max(nb)) if nb.size else 0,
+            "b_value": self.b.b,
+            "b_value_err": self.b.error,
+            "completeness_magnitude": self.b.mc,
+            "status": str(self.status),
+            "units": dict(self.units),
+        }
+
+
+def _units(params: ChainParameters) -> tuple[dict[str, str], npt.NDArray[np.float64]]:
+    """Units of the catalogue and the factor of each engine column."""
+    factor = np.ones(ce.NCAT)
+    if params.scales is None:
+        return {"time": "1", "length": "1", "velocity": "1", "energy": "1"}, factor
+    sc = params.scales
+    conv = {
+        "time": sc.time.to("s").magnitude,
+        "length": sc.length.to("m").magnitude,
+        "velocity": sc.velocity.to("m/s").magnitude,
+        "energy": sc.energy.to("J").magnitude,
+    }
+    for _, (col, _, unit, _) in COLUMNS.items():
+        if unit in conv:
+            factor[col] = conv[unit]
+    return {"time": "s", "length": "m", "velocity": "m/s", "energy": "J"}, factor
+
+
+def _setup(params: ChainParameters, init: str, seed: int | None, amplitude: float, rtol: float) -> str:
+    return json.dumps(
+        {
+            "blocks": params.blocks,
+            "law": params.law.name,
+            "law_params": params.law.params,
+            "nu": params.nu,
+            "ell": params.ell,
+            "boundary": str(params.boundary),
+            "backslip": params.backslip,
+            "thresholds": None if params.thresholds is None else [float(p) for p in params.thresholds],
+            "init": init,
+            "seed": seed,
+            "amplitude": amplitude,
+            "rtol": rtol,
+        },
+        sort_keys=True,
+    )
+
+
+def chain(
+    params: ChainParameters,
+    events: int,
+    *,
+    init: Init | str = Init.RANDOM,
+    seed: int | None = 0,
+    amplitude: float = 0.01,
+    state: ChainState | None = None,
+    transient: int = 0,
+    out: str | os.PathLike[str] | None = None,
+    resume: bool = False,
+    record_slip: int = 2000,
+    t_max: float = math.inf,
+    rtol: float = defaults.RTOL,
+    atol: float = defaults.ATOL,
+    mc: float | None = None,
+    m_max: float | None = None,
+    max_event_duration: float | None = None,
+    progress: bool | None = None,
+) -> ChainResult:
+    """Simulate a chain of blocks event by event, exactly (stick in closed form for every block).
+
+    Parameters
+    ----------
+    params : ChainParameters
+        The chain.
+    events : int
+        Events to record (an event: from a breakaway while all blocks stick to
+        the moment all stick again).
+    init : {"random", "uniform"}
+        Blocks at rest at seeded random positions in ``[0, amplitude)`` (units
+        of ``F_s/k_p``), or all at the same position.
+    seed : int, optional
+        Seed of the initial positions.
+    amplitude : float
+        Range of the random initial positions (units of ``F_s/k_p``).
+    state : ChainState, optional
+        Start from this state instead (e.g. ``result.state`` of an earlier run).
+    transient : int
+        Events simulated first and not recorded.
+    out : path, optional
+        Stream the catalogue to this NetCDF file (nothing held in memory);
+        default: in memory.
+    resume : bool
+        Continue the catalogue ``out`` of an interrupted run of the same set-up.
+    record_slip : int
+        Keep each block's slip for this many first events (space-time diagram).
+    t_max : float
+        Stop at this time (units of ``sqrt(m/k_p)``) if the events are not complete.
+    rtol, atol : float
+        Tolerances of the slip integration.
+    mc, m_max : float, optional
+        Completeness and upper magnitude of the b-value fit.
+    max_event_duration : float, optional
+        An event longer than this (units of ``sqrt(m/k_p)``) ends the run with
+        status ``sliding``: the blocks never all stick again. Default
+        ``1000 / nu + 1000``, a thousand loading times.
+    progress : bool, optional
+        Progress bar on events (default: on a terminal).
+
+    Returns
+    -------
+    ChainResult
+
+    Raises
+    ------
+    ValueError
+        For a bad argument, named.
+
+    """
+    if not isinstance(params, ChainParameters):
+        raise ValueError(f"params={params!r}: expected ChainParameters")
+    if isinstance(events, bool) or not isinstance(events, (int, np.integer)) or events < 1:
+        raise ValueError(f"events={events!r}: expected a positive whole number of events")
+    if isinstance(transient, bool) or not isinstance(transient, (int, np.integer)) or transient < 0:
+        raise ValueError(f"transient={transient!r}: expected a whole number of events >= 0")
+    rtol, atol = validate_tolerances(rtol, atol)
+    if not (t_max > 0):
+        raise ValueError(f"t_max={t_max!r}: expected a positive time")
+    try:
+        init_s = str(Init(init)) if state is None else "state"
+    except ValueError:
+        raise ValueError(f"init={init!r}: expected 'uniform' or 'random'") from None
+    n = params.blocks
+    kernel = params.law.kernel
+    lp = params.law.core_params()
+    units, factor = _units(params)
+    setup = _setup(params, init_s, seed, amplitude, rtol)
+    attrs = {"setup": setup, "blocks": n, "law": params.law.name, "nu": params.nu, "ell": params.ell}
+    path = None if out is None else os.fspath(out)
+    done = 0
+    if path is not None and resume and os.path.exists(path):
+        st, done, fattrs = read_state(path)
+        if fattrs.get("setup") != setup:
+            raise DataError(f"{path}: made with another set-up; resume needs the same set-up")
+        writer: CatalogWriter | None = CatalogWriter(path, n, attrs, units, resume=True)
+        transient = 0
+        state = st
+    else:
+        if state is None:
+            state = ChainState.at_rest(initial_positions(n, init, seed, amplitude))
+        else:
+            state = state.copy()
+        if state.x.shape != (n,):
+            raise ValueError(f"state: expected {n} blocks, got {state.x.shape[0]}")
+        if path is None:
+            writer = None
+        else:
+            folder = os.path.dirname(os.path.abspath(path))
+            if not os.path.isdir(folder):
+                raise ValueError(f"out={path!r}: the folder {folder} does not exist")
+            writer = CatalogWriter(path, n, attrs, units, slip_rows=record_slip)
+    longest = 1000.0 / params.nu + 1000.0 if max_event_duration is None else float(max_event_duration)
+    if not longest > 0:
+        raise ValueError(f"max_event_duration={max_event_duration!r}: expected a positive duration")
+    phi = params.phi
+    args = (
+        kernel,
+        lp,
+        params.nu,
+        params.ell2,
+        str(params.boundary) == "periodic",
+        bool(params.backslip),
+        phi,
+    )
+    rows_mem: list[npt.NDArray[np.float64]] = []
+    slips_mem: list[npt.NDArray[np.float64]] = []
+    n_slips = 0
+    status = ChainStatus.OK
+    bar = progress_bar(events, unit="event", desc="chain", progress=progress)
+    if bar is not None and done:
+        bar.update(done)
+    try:
+        # the transient: events not recorded
+        left = int(transient)
+        while left > 0:
+            cat, _, code = chain_advance(
+                *args, state, max_events=min(left, EVENTS_PER_CHUNK), t_max=t_max, rtol=rtol, atol=atol,
+                max_steps=STEPS_PER_CALL,
+            )  # fmt: skip
+            left -= cat.shape[0]
+            if code not in (ce.CH_EVENTS, ce.CH_PAUSED):
+                status = ChainStatus.from_code(code)
+                break
+            if state.in_event and state.t - state.sc[ce.S_EV_T0] > longest:
+                status = ChainStatus.SLIDING
+                break
+        while status is ChainStatus.OK and done < events:
+            want_slips = max(0, record_slip - (writer.slip_recorded if writer else n_slips))
+            cat, slips, code = chain_advance(
+                *args, state, max_events=min(events - done, EVENTS_PER_CHUNK), t_max=t_max, rtol=rtol,
+                atol=atol, max_steps=STEPS_PER_CALL, slip_rows=want_slips,
+            )  # fmt: skip
+            cat = cat * factor
+            slips = slips * factor[ce.C_MOMENT]
+            if writer is not None:
+                writer.append(cat, slips)
+                writer.save_state(state)
+            else:
+                rows_mem.append(cat)
+                if slips.shape[0]:
+                    slips_mem.append(slips)
+                    n_slips += slips.shape[0]
+            done += cat.shape[0]
+            if bar is not None:
+                bar.update(cat.shape[0])
+            if code not in (ce.CH_EVENTS, ce.CH_PAUSED):
+                status = ChainStatus.from_code(code)
+            elif state.in_event and state.t - state.sc[ce.S_EV_T0] > longest:
+                status = ChainStatus.SLIDING
+    finally:
+        if bar is not None:
+            bar.close()
+        if writer is not None:
+            writer.close(complete=status is ChainStatus.OK)
+    t_end = state.t * (factor[ce.C_T0])
+    if writer is not None and path is not None:
+        ds = open_catalog(path)
+    else:
+        ds = _in_memory(rows_mem, slips_mem, n, attrs, units)
+    mags = ds["magnitude"].values
+    fit = b_value(mags, mc=mc, m_max=m_max)
+    return ChainResult(params, ds, path, status, float(t_end), state, fit, units)
+
+
+def _in_memory(
+    rows: list[npt.NDArray[np.float64]],
+    slips: list[npt.NDArray[np.float64]],
+    n: int,
+    attrs: dict[str, Any],
+    units: dict[str, str],
+) -> xr.Dataset:
+    """Return the catalogue as a Dataset, through the same NetCDF writer (one code path for both)."""
+    fd, tmp = tempfile.mkstemp(suffix=".nc")
+    os.close(fd)
+    try:
+        allrows = np.concatenate(rows) if rows else np.zeros((0, ce.NCAT))
+        allslips = np.concatenate(slips) if slips else np.zeros((0, n))
+        w = CatalogWriter(tmp, n, attrs, units, slip_rows=allslips.shape[0])
+        w.append(allrows, allslips)
+        w.close(complete=True)
+        ds = open_catalog(tmp).load()
+        ds.close()
+    finally:
+        os.remove(tmp)
+    return ds

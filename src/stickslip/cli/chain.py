@@ -1,0 +1,226 @@
+"""Command of the chains family: ``chain``."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from typing import Any
+
+import click
+
+from .errors import handle_errors
+from .options import build_parameters, law_command, overwrite_option
+
+__all__ = ["register"]
+
+_FIGURES = ("magnitude_frequency", "space_time", "recurrence")
+
+
+def register(main: click.Group) -> None:
+    """Add the command to ``main``."""
+
+    @law_command(main)
+    @click.option("--blocks", type=int, required=True, help="Number of blocks N.")
+    @click.option("--events", type=int, default=1000, show_default=True, help="Events to record.")
+    @click.option(
+        "--ell", type=float, default=None, help="Coupling ell = sqrt(k_c/k_p) (dimensionless input)."
+    )
+    @click.option(
+        "--coupling", default=None, help="Coupling stiffness k_c with units, e.g. '100 N/m' (physical input)."
+    )
+    @click.option(
+        "--seed", type=int, default=0, show_default=True, help="Seed of the initial positions and thresholds."
+    )
+    @click.option(
+        "--init",
+        type=click.Choice(["random", "uniform"]),
+        default="random",
+        show_default=True,
+        help="random: small seeded displacements; uniform: identical blocks at rest.",
+    )
+    @click.option(
+        "--amplitude",
+        type=float,
+        default=0.01,
+        show_default=True,
+        help="Range of the random initial displacements (units of F_s/k_p).",
+    )
+    @click.option("--boundary", type=click.Choice(["free", "periodic"]), default="free", show_default=True)
+    @click.option(
+        "--threshold-spread",
+        type=float,
+        default=0.0,
+        show_default=True,
+        help="Heterogeneous static thresholds 1 + s U(-1, 1), seeded.",
+    )
+    @click.option(
+        "--backslip/--no-backslip",
+        default=None,
+        help="Allow backward slip (default: yes, except for the Carlson-Langer law).",
+    )
+    @click.option(
+        "--transient", type=int, default=0, show_default=True, help="Events simulated first, not recorded."
+    )
+    @click.option(
+        "--mc",
+        type=float,
+        default=None,
+        help="Completeness magnitude of the b-value (default: maximum curvature).",
+    )
+    @click.option("--m-max", type=float, default=None, help="Upper magnitude of the b-value fit.")
+    @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+    @click.option(
+        "--out",
+        "out_dir",
+        type=click.Path(file_okay=False),
+        default=None,
+        help="Write catalog.nc (streamed), summary.json and the figures into this folder.",
+    )
+    @click.option("--resume", is_flag=True, help="Continue the interrupted run in --out (same command).")
+    @click.option("--no-plot", is_flag=True, help="No figures.")
+    @click.option("--quiet", is_flag=True, help="No progress bar.")
+    @overwrite_option
+    @handle_errors
+    def chain(
+        blocks: int,
+        events: int,
+        ell: float | None,
+        coupling: str | None,
+        seed: int,
+        init: str,
+        amplitude: float,
+        boundary: str,
+        threshold_spread: float,
+        backslip: bool | None,
+        transient: int,
+        mc: float | None,
+        m_max: float | None,
+        as_json: bool,
+        out_dir: str | None,
+        resume: bool,
+        no_plot: bool,
+        quiet: bool,
+        overwrite: bool,
+        **opts: Any,
+    ) -> None:
+        """Simulate a Burridge-Knopoff chain of N blocks, exactly; an event catalogue and its statistics.
+
+        Every block sticks in closed form or slips (integrated); events are located
+        on the dense output. Dimensionless input (--nu, --ell) gives dimensionless
+        output; physical input (--v0 --mass --stiffness --load --coupling) gives s and m.
+        """
+        from ..chains import ChainParameters, static_thresholds
+        from ..chains import chain as run_chain
+        from ..io.output import OutputFolder
+        from ..models import PhysicalParameters
+
+        params1 = build_parameters(opts)
+        phi = static_thresholds(blocks, threshold_spread, seed) if blocks >= 1 else None
+        if isinstance(params1, PhysicalParameters):
+            if coupling is None:
+                raise click.UsageError("physical input needs --coupling (the stiffness between blocks)")
+            if ell is not None:
+                raise click.UsageError(
+                    "--ell is for dimensionless input; give --coupling with physical input"
+                )
+            params = ChainParameters.from_physical(
+                params1,
+                blocks=blocks,
+                coupling=coupling,
+                boundary=boundary,
+                thresholds=phi,
+                backslip=backslip,
+            )
+        else:
+            if coupling is not None:
+                raise click.UsageError("--coupling is for physical input; give --ell with --nu")
+            params = ChainParameters(
+                blocks,
+                params1.law,
+                params1.nu,
+                1.0 if ell is None else ell,
+                boundary=boundary,
+                thresholds=phi,
+                backslip=backslip,
+            )
+        kw: dict[str, Any] = dict(
+            init=init,
+            seed=seed,
+            amplitude=amplitude,
+            transient=transient,
+            rtol=opts["rtol"],
+            atol=opts["atol"],
+            mc=mc,
+            m_max=m_max,
+            progress=False if quiet else None,
+        )
+        if out_dir is None:
+            if resume:
+                raise click.UsageError("--resume needs --out (the folder of the interrupted run)")
+            res = run_chain(params, events, **kw)
+            _report(res, as_json)
+            return
+        os.makedirs(out_dir, exist_ok=True)
+        partial = os.path.join(out_dir, ".catalog.partial.nc")
+        names = {"catalog.nc": "chain-catalog", "summary.json": "summary"}
+        if not no_plot:
+            names |= {f"{f}.{ext}": "figure" for f in _FIGURES for ext in ("png", "svg")}
+        with OutputFolder(out_dir, "chain", overwrite=overwrite) as out:
+            out.expect(names)
+            res = run_chain(params, events, out=partial, resume=resume and os.path.exists(partial), **kw)
+            summary = res.summary()
+            cat = res.catalog
+            figs: list[Any] = []
+            if not no_plot:
+                from ..plots.chains import plot_magnitude_frequency, plot_recurrence, plot_space_time
+
+                figs = [
+                    ("magnitude_frequency", plot_magnitude_frequency(cat, res.b)),
+                    ("space_time", plot_space_time(cat)),
+                    ("recurrence", plot_recurrence(cat)),
+                ]
+            cat.close()
+            out.write("catalog.nc", "chain-catalog", lambda path: os.replace(partial, path))
+            from ..io.output import json_writer
+
+            out.write("summary.json", "summary", json_writer(_jsonable(summary), "summary"))
+            if figs:
+                from ..plots.figures import save_figure
+
+                for stem, fig in figs:
+                    save_figure(fig, stem, out=out)
+        _report(res, as_json, out_dir)
+
+    _ = chain
+
+
+def _jsonable(d: dict[str, Any]) -> dict[str, Any]:
+    return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in d.items()}
+
+
+def _report(res: Any, as_json: bool, out_dir: str | None = None) -> None:
+    s = _jsonable(res.summary())
+    if as_json:
+        click.echo(json.dumps(s, indent=2))
+    else:
+        u = s["units"]
+        click.echo(f"blocks               {s['blocks']}")
+        click.echo(f"events               {s['events']}")
+        click.echo(f"simulated time       {s['simulated_time']:.10g} [{u['time']}]")
+        click.echo(f"mean recurrence      {s['mean_recurrence']} [{u['time']}]")
+        click.echo(f"mean moment          {s['mean_moment']} [{u['length']}]")
+        click.echo(f"largest event        {s['largest_event_blocks']} blocks")
+        click.echo(
+            f"b-value              {s['b_value']} ± {s['b_value_err']} (Mc = {s['completeness_magnitude']})"
+        )
+        click.echo(f"status               {s['status']}")
+        if out_dir:
+            click.echo(f"wrote {out_dir}/catalog.nc, summary.json and figures")
+    if s["status"] != "ok":
+        from ..core.results import ChainStatus
+
+        click.echo(
+            f"stickslip: the chain did not finish: {ChainStatus.from_label(s['status']).message}", err=True
+        )
+        raise SystemExit(1)

@@ -1,0 +1,281 @@
+"""Chains of blocks: the exact event-driven engine against references, not against itself."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from chain_reference import reference_chain
+
+import stickslip as ss
+from stickslip.chains import (
+    ChainParameters,
+    b_value,
+    chain,
+    completeness_magnitude,
+    open_catalog,
+    static_thresholds,
+)
+from stickslip.chains.lyapunov import event_map, lyapunov_exponent
+from stickslip.laws import CarlsonLangerLaw, CubicLaw, WeakeningLaw
+
+TIGHT = {"rtol": 1e-11, "atol": 1e-13}
+
+
+def _one_block_period(law: ss.DimensionlessLaw, nu: float) -> float:
+    r = ss.cycle(ss.DimensionlessParameters(nu, law), probe=False, **TIGHT)
+    assert r.regime == "stick-slip"
+    return float(r.period)
+
+
+@pytest.mark.parametrize(
+    ("law", "nu"),
+    [(WeakeningLaw(c=3.8), 0.5), (WeakeningLaw(c=3.8, p=0.5), 0.2), (CubicLaw(alpha=1.2, gamma=0.3), 0.1)],
+    ids=["F1", "F2", "cubic"],
+)
+def test_one_block_chain_is_the_one_block_model(law: ss.DimensionlessLaw, nu: float) -> None:
+    period = _one_block_period(law, nu)
+    r = chain(ChainParameters(1, law, nu, ell=3.0), 12, init="uniform", progress=False, **TIGHT)
+    t0 = r.catalog["t_start"].values
+    rec = np.diff(t0)[-5:]
+    np.testing.assert_allclose(rec, period, rtol=1e-9, atol=0)
+    np.testing.assert_allclose(r.catalog["moment"].values[-5:], nu * period, rtol=1e-9)
+    assert r.summary()["largest_event_blocks"] == 1
+
+
+@pytest.mark.parametrize("boundary", ["free"])
+def test_identical_blocks_move_as_one(boundary: str) -> None:
+    law = WeakeningLaw(c=3.8)
+    nu = 0.5
+    period = _one_block_period(law, nu)
+    r = chain(ChainParameters(7, law, nu, ell=2.0, boundary=boundary), 8, init="uniform", progress=False, **TIGHT)
+    assert (r.catalog["n_blocks"].values == 7).all()
+    np.testing.assert_allclose(np.diff(r.catalog["t_start"].values)[-4:], period, rtol=1e-9, atol=0)
+    np.testing.assert_allclose(r.catalog["moment"].values[-4:], 7 * nu * period, rtol=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("law", "backslip"),
+    [(WeakeningLaw(c=3.8, p=0.2), True), (CarlsonLangerLaw(alpha=2.5, sigma=0.05), None)],
+    ids=["weakening", "carlson-langer"],
+)
+def test_energy_balance_per_event(law: ss.DimensionlessLaw, backslip: bool | None) -> None:
+    p = ChainParameters(6, law, 0.05, ell=1.4, backslip=backslip)
+    r = chain(p, 40, seed=3, amplitude=0.5, progress=False)
+    c = r.catalog
+    wd, wf, de = c["driver_work"].values, c["friction_work"].values, c["elastic_change"].values
+    assert np.all(wf > 0.0)
+    scale = np.maximum(np.abs(wd), 1.0)
+    assert np.max(np.abs(wd - wf - de) / scale) < 1e-8
+
+
+def _compare(n: int, law: WeakeningLaw, nu: float, ell: float, x0: np.ndarray, events: int, **kw: bool) -> None:
+    c, p = law.params["c"], law.params["p"]
+
+    def f(w: float) -> float:
+        return 1.0 / (1.0 + c * w) + p * w
+
+    ref = reference_chain(f, x0, nu, ell * ell, events, periodic=kw.get("periodic", False))
+    params = ChainParameters(n, law, nu, ell, boundary="periodic" if kw.get("periodic") else "free")
+    state = ss.core.api.ChainState.at_rest(x0)
+    r = chain(params, events, state=state, progress=False, **TIGHT)
+    cat = r.catalog
+    assert r.events == len(ref) == events
+    np.testing.assert_allclose(cat["t_start"].values, [e["t_start"] for e in ref], rtol=0, atol=1e-7)
+    np.testing.assert_allclose(cat["t_end"].values, [e["t_end"] for e in ref], rtol=0, atol=1e-7)
+    np.testing.assert_allclose(cat["moment"].values, [e["moment"] for e in ref], rtol=0, atol=1e-7)
+    np.testing.assert_array_equal(cat["n_blocks"].values, [e["n_blocks"] for e in ref])
+    # the epicentre is defined where one block breaks first (synchronised blocks break together)
+    single = cat["n_blocks"].values == 1
+    assert single.sum() >= 4
+    np.testing.assert_array_equal(cat["epicentre"].values[single], np.array([e["epicentre"] for e in ref])[single])
+    slips = cat["slip"].values[:events]
+    np.testing.assert_allclose(slips, np.array([e["slips"] for e in ref]), rtol=0, atol=1e-7)
+
+
+def test_two_blocks_against_the_scipy_reference() -> None:
+    _compare(2, WeakeningLaw(c=3.8), 0.01, 1.0, np.array([0.0, 0.3]), 50)
+
+
+def test_three_blocks_against_the_scipy_reference() -> None:
+    _compare(3, WeakeningLaw(c=0.1), 0.01, 1.0, np.array([0.0, 0.3, 0.1]), 50)
+
+
+def test_three_periodic_blocks_against_the_scipy_reference() -> None:
+    _compare(3, WeakeningLaw(c=0.1), 0.01, 1.0, np.array([0.0, 0.3, 0.1]), 30, periodic=True)
+
+
+def test_a_chain_that_never_sticks_again_stops_with_a_status() -> None:
+    """Three blocks that end up sliding (no event ends): the run stops, says why, keeps its events."""
+    p = ChainParameters(3, WeakeningLaw(c=1.0, p=0.3), 0.05, 0.8)
+    r = chain(p, 50, state=ss.core.api.ChainState.at_rest(np.array([0.1, 0.45, -0.2])), progress=False,
+              max_event_duration=2000.0)  # fmt: skip
+    assert r.status == "sliding" and 0 < r.events < 50
+
+
+def test_krakow_three_blocks_lateral_synchrony_and_chaos() -> None:
+    """Szkutnik, Kawecka-Magiera, Kułakowski (arXiv nlin/0310030): periodic with the outer blocks in
+    step below a critical weakening, chaotic above (largest Lyapunov exponent of the event map)."""
+    u0 = [0.0, 0.3, 0.1]
+    weak = lyapunov_exponent(ChainParameters(3, WeakeningLaw(c=0.1), 0.01, 1.0), u0, events=150, transient=150)
+    strong = lyapunov_exponent(ChainParameters(3, WeakeningLaw(c=2.0), 0.01, 1.0), u0, events=150, transient=150)
+    assert weak.exponent < -3 * weak.error and weak.exponent < 0.0
+    assert weak.lateral_gap < 1e-9
+    assert strong.exponent > 3 * strong.error and strong.exponent > 0.1
+
+
+def test_event_map_is_shift_invariant() -> None:
+    p = ChainParameters(3, WeakeningLaw(c=1.0), 0.05, 1.0)
+    u = np.array([0.0, 0.3, 0.1])
+    a = event_map(p, u)
+    b = event_map(p, u + 0.25)  # all positions shifted: the same event, later
+    np.testing.assert_allclose(a, b, atol=1e-9)
+
+
+def test_b_value_of_a_gutenberg_richter_sample() -> None:
+    rng = np.random.default_rng(1)
+    b_true = 1.0
+    m = 2.0 + rng.exponential(1.0 / (b_true * math.log(10)), 20000)
+    fit = b_value(m, mc=2.0, n_boot=100)
+    assert abs(fit.b - b_true) < 3 * fit.error
+    assert fit.error == pytest.approx(fit.shi_bolt, rel=0.3)
+    # a sample truncated at 3: the untruncated estimate is biased, the truncated one is not
+    mt = m[m <= 3.0]
+    assert abs(b_value(mt, mc=2.0, m_max=3.0, n_boot=50).b - b_true) < 0.05
+    assert b_value(mt, mc=2.0, n_boot=0).b > 1.2
+
+
+def test_completeness_by_maximum_curvature() -> None:
+    rng = np.random.default_rng(2)
+    m = 1.0 + rng.exponential(1.0 / math.log(10), 50000)
+    # detection falls off below 1: keep a fraction
+    small = rng.uniform(0.0, 1.0, 20000)
+    m = np.concatenate([m, small[rng.uniform(size=small.size) < small]])
+    assert completeness_magnitude(m) == pytest.approx(1.0, abs=0.11)
+
+
+def test_catalogue_streams_to_netcdf_and_resumes(tmp_path: Path) -> None:
+    p = ChainParameters(20, CarlsonLangerLaw(alpha=2.5, sigma=0.01), 0.01, 3.0)
+    whole = chain(p, 120, out=tmp_path / "whole.nc", progress=False)
+    part = chain(p, 50, out=tmp_path / "part.nc", progress=False)
+    assert part.events == 50
+    part.catalog.close()  # an open file cannot be appended to (HDF5 locks it)
+    more = chain(p, 120, out=tmp_path / "part.nc", resume=True, progress=False)
+    a = open_catalog(tmp_path / "whole.nc")
+    b = open_catalog(tmp_path / "part.nc")
+    assert more.events == 120 == a.sizes["event"] == b.sizes["event"]
+    for name in ("t_start", "t_end", "epicentre", "n_blocks", "moment", "peak_velocity"):
+        np.testing.assert_array_equal(a[name].values, b[name].values)
+    np.testing.assert_allclose(a["driver_work"].values, b["driver_work"].values, rtol=1e-12)
+    assert whole.summary() == more.summary()
+    # another set-up: a clear error, the file untouched
+    a.close()
+    b.close()
+    more.catalog.close()
+    other = ChainParameters(20, CarlsonLangerLaw(alpha=2.0, sigma=0.01), 0.01, 3.0)
+    with pytest.raises(ValueError, match="another set-up"):
+        chain(other, 130, out=tmp_path / "part.nc", resume=True, progress=False)
+    assert open_catalog(tmp_path / "part.nc").sizes["event"] == 120
+
+
+def test_carlson_langer_blocks_never_slip_backward() -> None:
+    law = CarlsonLangerLaw(alpha=2.5, sigma=0.01)
+    assert ChainParameters(5, law, 0.01, 3.0).backslip is False
+    assert ChainParameters(5, WeakeningLaw(c=1.0), 0.01, 3.0).backslip is True
+    r = chain(ChainParameters(50, law, 0.01, 3.0), 300, progress=False)
+    assert np.all(r.catalog["slip"].values >= 0.0)
+
+
+def test_heterogeneous_thresholds_are_seeded() -> None:
+    a = static_thresholds(10, 0.1, seed=4)
+    b = static_thresholds(10, 0.1, seed=4)
+    assert a is not None and b is not None
+    np.testing.assert_array_equal(a, b)
+    assert np.all(np.abs(a - 1.0) <= 0.1)
+    r = chain(ChainParameters(10, WeakeningLaw(c=2.0), 0.05, 1.0, thresholds=a), 30, progress=False)
+    assert r.status == "ok" and r.events == 30
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"blocks": 0}, "blocks=0"),
+        ({"blocks": 2.5}, "blocks=2.5"),
+        ({"ell": -1.0}, "ell"),
+        ({"nu": 0.0}, "nu"),
+        ({"boundary": "open"}, "boundary='open'"),
+        ({"thresholds": np.ones(3)}, "thresholds: expected 4 values"),
+        ({"thresholds": -np.ones(4)}, "thresholds: expected positive"),
+    ],
+)
+def test_bad_parameters_are_named(kwargs: dict[str, object], message: str) -> None:
+    base: dict[str, object] = {"blocks": 4, "law": WeakeningLaw(c=1.0), "nu": 0.1, "ell": 1.0}
+    base.update(kwargs)
+    with pytest.raises(ValueError, match=message):
+        ChainParameters(**base)  # type: ignore[arg-type]
+
+
+def test_bad_run_arguments_are_named(tmp_path: Path) -> None:
+    p = ChainParameters(3, WeakeningLaw(c=1.0), 0.1, 1.0)
+    with pytest.raises(ValueError, match="events=0"):
+        chain(p, 0)
+    with pytest.raises(ValueError, match="init='sideways'"):
+        chain(p, 5, init="sideways")
+    with pytest.raises(ValueError, match="does not exist"):
+        chain(p, 5, out=tmp_path / "no" / "such.nc")
+
+
+def test_physical_chain_has_units() -> None:
+    phys = ss.PhysicalParameters(
+        law=ss.f1(0.46, "160 s/m"), mass="1 kg", stiffness="62 N/m", load="196 mN", v0="5 mm/s"
+    )
+    p = ChainParameters.from_physical(phys, blocks=3, coupling="62 N/m")
+    assert p.ell == pytest.approx(1.0)
+    assert p.nu == pytest.approx(phys.nu)
+    r = chain(p, 10, progress=False)
+    assert r.catalog["t_start"].attrs["units"] == "s"
+    assert r.catalog["moment"].attrs["units"] == "m"
+    d = chain(ChainParameters(3, p.law, p.nu, p.ell), 10, progress=False)
+    t_unit = phys.scales.time.to("s").magnitude
+    np.testing.assert_allclose(r.catalog["t_start"].values, d.catalog["t_start"].values * t_unit, rtol=1e-12)
+    with pytest.raises(ValueError, match="coupling"):
+        ChainParameters.from_physical(phys, blocks=3, coupling="3 m")
+
+
+def test_command_line_json(tmp_path: Path) -> None:
+    from click.testing import CliRunner
+
+    from stickslip.cli import main
+
+    res = CliRunner().invoke(
+        main,
+        ["chain", "--blocks", "8", "--events", "60", "--law", "carlson-langer", "--alpha", "2.5",
+         "--sigma", "0.01", "--nu", "0.01", "--ell", "3", "--seed", "2", "--json", "--out", str(tmp_path)],
+    )  # fmt: skip
+    assert res.exit_code == 0, res.output
+    out = json.loads(res.output)
+    for key in ("blocks", "events", "simulated_time", "mean_recurrence", "mean_moment",
+                "largest_event_blocks", "b_value", "b_value_err", "status"):  # fmt: skip
+        assert key in out
+    assert out["blocks"] == 8 and out["events"] == 60 and out["status"] == "ok"
+    cat = open_catalog(tmp_path / "catalog.nc")
+    assert cat.sizes["event"] == 60
+    assert float(np.mean(np.diff(cat["t_start"].values))) == pytest.approx(out["mean_recurrence"])
+    assert json.loads((tmp_path / "summary.json").read_text())["events"] == 60
+    for fig in ("magnitude_frequency.png", "space_time.png", "recurrence.png"):
+        assert (tmp_path / fig).stat().st_size > 1000
+
+
+def test_command_line_bad_input() -> None:
+    from click.testing import CliRunner
+
+    from stickslip.cli import main
+
+    res = CliRunner().invoke(main, ["chain", "--blocks", "0", "--events", "5", "--c", "1", "--nu", "0.1"])
+    assert res.exit_code == 2 and "blocks" in res.output
+    res = CliRunner().invoke(main, ["chain", "--blocks", "3", "--events", "5", "--c", "1", "--nu", "0.1",
+                                    "--boundary", "open"])  # fmt: skip
+    assert res.exit_code == 2 and "boundary" in res.output
