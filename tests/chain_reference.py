@@ -84,6 +84,7 @@ def reference_chain(
         funcs = []
         for j in range(n):
             if m[j] != 0:
+
                 def stop(tt: float, y: np.ndarray, j: int = j, d: int = int(m[j])) -> float:
                     return d * y[n + j]
 
@@ -91,6 +92,7 @@ def reference_chain(
                 stop.direction = -1  # type: ignore[attr-defined]
                 funcs.append(stop)
             else:
+
                 def brk(tt: float, y: np.ndarray, j: int = j) -> float:
                     return force(y[:n], tt, j) - 1.0
 
@@ -98,6 +100,7 @@ def reference_chain(
                 brk.direction = 1  # type: ignore[attr-defined]
                 funcs.append(brk)
                 if backward:
+
                     def brk_back(tt: float, y: np.ndarray, j: int = j) -> float:
                         return -1.0 - force(y[:n], tt, j)
 
@@ -108,8 +111,9 @@ def reference_chain(
         if not mode.any():
             t_next = min((1.0 - force(x, t, j)) / nu for j in range(n)) + t
             t = max(t, t_next - 1e-3)
-        sol = solve_ivp(rhs, (t, t + 1e4), np.concatenate([x, v]), method="DOP853", rtol=rtol,
-                        atol=atol, events=funcs)  # fmt: skip
+        sol = solve_ivp(
+            rhs, (t, t + 1e4), np.concatenate([x, v]), method="DOP853", rtol=rtol, atol=atol, events=funcs
+        )
         if sol.status != 1:
             raise RuntimeError("reference: no event")
         hit = min(te[0] for te in sol.t_events if len(te))
@@ -136,9 +140,11 @@ def reference_chain(
         if current is not None and not mode.any():
             slips = {j: x[j] - x0j for j, x0j in start_x.items()}
             current.update(
-                t_end=t, n_blocks=len(slips), moment=sum(slips.values()),
+                t_end=t,
+                n_blocks=len(slips),
+                moment=sum(slips.values()),
                 slips=np.array([slips.get(j, 0.0) for j in range(n)]),
-            )  # fmt: skip
+            )
             events.append(current)
             current = None
         if current is None and not mode.any():

@@ -51,7 +51,9 @@ def test_identical_blocks_move_as_one(boundary: str) -> None:
     law = WeakeningLaw(c=3.8)
     nu = 0.5
     period = _one_block_period(law, nu)
-    r = chain(ChainParameters(7, law, nu, ell=2.0, boundary=boundary), 8, init="uniform", progress=False, **TIGHT)
+    r = chain(
+        ChainParameters(7, law, nu, ell=2.0, boundary=boundary), 8, init="uniform", progress=False, **TIGHT
+    )
     assert (r.catalog["n_blocks"].values == 7).all()
     np.testing.assert_allclose(np.diff(r.catalog["t_start"].values)[-4:], period, rtol=1e-9, atol=0)
     np.testing.assert_allclose(r.catalog["moment"].values[-4:], 7 * nu * period, rtol=1e-9)
@@ -72,7 +74,9 @@ def test_energy_balance_per_event(law: ss.DimensionlessLaw, backslip: bool | Non
     assert np.max(np.abs(wd - wf - de) / scale) < 1e-8
 
 
-def _compare(n: int, law: WeakeningLaw, nu: float, ell: float, x0: np.ndarray, events: int, **kw: bool) -> None:
+def _compare(
+    n: int, law: WeakeningLaw, nu: float, ell: float, x0: np.ndarray, events: int, **kw: bool
+) -> None:
     c, p = law.params["c"], law.params["p"]
 
     def f(w: float) -> float:
@@ -91,7 +95,9 @@ def _compare(n: int, law: WeakeningLaw, nu: float, ell: float, x0: np.ndarray, e
     # the epicentre is defined where one block breaks first (synchronised blocks break together)
     single = cat["n_blocks"].values == 1
     assert single.sum() >= 4
-    np.testing.assert_array_equal(cat["epicentre"].values[single], np.array([e["epicentre"] for e in ref])[single])
+    np.testing.assert_array_equal(
+        cat["epicentre"].values[single], np.array([e["epicentre"] for e in ref])[single]
+    )
     slips = cat["slip"].values[:events]
     np.testing.assert_allclose(slips, np.array([e["slips"] for e in ref]), rtol=0, atol=1e-7)
 
@@ -111,8 +117,13 @@ def test_three_periodic_blocks_against_the_scipy_reference() -> None:
 def test_a_chain_that_never_sticks_again_stops_with_a_status() -> None:
     """Three blocks that end up sliding (no event ends): the run stops, says why, keeps its events."""
     p = ChainParameters(3, WeakeningLaw(c=1.0, p=0.3), 0.05, 0.8)
-    r = chain(p, 50, state=ss.core.api.ChainState.at_rest(np.array([0.1, 0.45, -0.2])), progress=False,
-              max_event_duration=2000.0)  # fmt: skip
+    r = chain(
+        p,
+        50,
+        state=ss.core.api.ChainState.at_rest(np.array([0.1, 0.45, -0.2])),
+        progress=False,
+        max_event_duration=2000.0,
+    )
     assert r.status == "sliding" and 0 < r.events < 50
 
 
@@ -120,8 +131,12 @@ def test_krakow_three_blocks_lateral_synchrony_and_chaos() -> None:
     """Szkutnik, Kawecka-Magiera, Kułakowski (arXiv nlin/0310030): periodic with the outer blocks in
     step below a critical weakening, chaotic above (largest Lyapunov exponent of the event map)."""
     u0 = [0.0, 0.3, 0.1]
-    weak = lyapunov_exponent(ChainParameters(3, WeakeningLaw(c=0.1), 0.01, 1.0), u0, events=150, transient=150)
-    strong = lyapunov_exponent(ChainParameters(3, WeakeningLaw(c=2.0), 0.01, 1.0), u0, events=150, transient=150)
+    weak = lyapunov_exponent(
+        ChainParameters(3, WeakeningLaw(c=0.1), 0.01, 1.0), u0, events=150, transient=150
+    )
+    strong = lyapunov_exponent(
+        ChainParameters(3, WeakeningLaw(c=2.0), 0.01, 1.0), u0, events=150, transient=150
+    )
     assert weak.exponent < -3 * weak.error and weak.exponent < 0.0
     assert weak.lateral_gap < 1e-9
     assert strong.exponent > 3 * strong.error and strong.exponent > 0.1
@@ -252,13 +267,42 @@ def test_command_line_json(tmp_path: Path) -> None:
 
     res = CliRunner().invoke(
         main,
-        ["chain", "--blocks", "8", "--events", "60", "--law", "carlson-langer", "--alpha", "2.5",
-         "--sigma", "0.01", "--nu", "0.01", "--ell", "3", "--seed", "2", "--json", "--out", str(tmp_path)],
-    )  # fmt: skip
+        [
+            "chain",
+            "--blocks",
+            "8",
+            "--events",
+            "60",
+            "--law",
+            "carlson-langer",
+            "--alpha",
+            "2.5",
+            "--sigma",
+            "0.01",
+            "--nu",
+            "0.01",
+            "--ell",
+            "3",
+            "--seed",
+            "2",
+            "--json",
+            "--out",
+            str(tmp_path),
+        ],
+    )
     assert res.exit_code == 0, res.output
     out = json.loads(res.output)
-    for key in ("blocks", "events", "simulated_time", "mean_recurrence", "mean_moment",
-                "largest_event_blocks", "b_value", "b_value_err", "status"):  # fmt: skip
+    for key in (
+        "blocks",
+        "events",
+        "simulated_time",
+        "mean_recurrence",
+        "mean_moment",
+        "largest_event_blocks",
+        "b_value",
+        "b_value_err",
+        "status",
+    ):
         assert key in out
     assert out["blocks"] == 8 and out["events"] == 60 and out["status"] == "ok"
     cat = open_catalog(tmp_path / "catalog.nc")
@@ -276,6 +320,7 @@ def test_command_line_bad_input() -> None:
 
     res = CliRunner().invoke(main, ["chain", "--blocks", "0", "--events", "5", "--c", "1", "--nu", "0.1"])
     assert res.exit_code == 2 and "blocks" in res.output
-    res = CliRunner().invoke(main, ["chain", "--blocks", "3", "--events", "5", "--c", "1", "--nu", "0.1",
-                                    "--boundary", "open"])  # fmt: skip
+    res = CliRunner().invoke(
+        main, ["chain", "--blocks", "3", "--events", "5", "--c", "1", "--nu", "0.1", "--boundary", "open"]
+    )
     assert res.exit_code == 2 and "boundary" in res.output

@@ -166,7 +166,10 @@ BAD = [
     (["cycle", "--nu", "inf", "--c", "3"], "nu=inf is infinite"),
     (["cycle", "--nu", "0.01", "--c", "0"], "c=0.0 must be positive"),
     (["cycle", "--nu", "0.01", "--c", "3", "--p", "-1"], "p=-1.0 must be non-negative"),
-    (["cycle", "--nu", "0.01", "--alpha", "1"], "--alpha belongs to --law carlson-langer/cubic, not --law weakening"),
+    (
+        ["cycle", "--nu", "0.01", "--alpha", "1"],
+        "--alpha belongs to --law carlson-langer/cubic, not --law weakening",
+    ),
     (["cycle", "--law", "cubic", "--nu", "0.01", "--alpha", "1"], "needs --gamma"),
     (
         ["cycle", "--law", "cubic", "--nu", "0.01", "--alpha", "1", "--gamma", "0"],

@@ -201,4 +201,4 @@ def require_law(law: Any) -> DimensionlessLaw:
         raise ValueError(
             f"law={law!r}: a physical law needs the physical set-up: use ChainParameters.from_physical"
         )
-    return law  # type: ignore[no-any-return]
+    return law

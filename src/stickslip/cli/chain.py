@@ -110,7 +110,7 @@ def register(main: click.Group) -> None:
         on the dense output. Dimensionless input (--nu, --ell) gives dimensionless
         output; physical input (--v0 --mass --stiffness --load --coupling) gives s and m.
         """
-        from ..chains import ChainParameters, static_thresholds
+        from ..chains import Boundary, ChainParameters, static_thresholds
         from ..chains import chain as run_chain
         from ..io.output import OutputFolder
         from ..models import PhysicalParameters
@@ -128,7 +128,7 @@ def register(main: click.Group) -> None:
                 params1,
                 blocks=blocks,
                 coupling=coupling,
-                boundary=boundary,
+                boundary=Boundary(boundary),
                 thresholds=phi,
                 backslip=backslip,
             )
@@ -140,7 +140,7 @@ def register(main: click.Group) -> None:
                 params1.law,
                 params1.nu,
                 1.0 if ell is None else ell,
-                boundary=boundary,
+                boundary=Boundary(boundary),
                 thresholds=phi,
                 backslip=backslip,
             )

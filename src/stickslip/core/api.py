@@ -457,9 +457,10 @@ class ChainState:
 
     def copy(self) -> ChainState:
         """Return an independent copy."""
-        return ChainState(*(np.array(a) for a in (
-            self.x, self.v, self.mode, self.sc, self.ev_x0, self.ev_flag, self.ev_list
-        )))  # fmt: skip
+        return ChainState(
+            self.x.copy(), self.v.copy(), self.mode.copy(), self.sc.copy(), self.ev_x0.copy(),
+            self.ev_flag.copy(), self.ev_list.copy(),
+        )  # fmt: skip
 
 
 def chain_advance(

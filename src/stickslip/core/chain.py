@@ -281,7 +281,7 @@ def _root(what, F, y, k, sign, level, x, j, nu, ell2, periodic, pos, t0, h, xa, 
 
 
 @njit(cache=True)
-def _dense(
+def _dense(  # type: ignore[no-untyped-def]
     law,
     P,
     nu,
@@ -304,7 +304,7 @@ def _dense(
     s_stuck,
     n_stuck,
     t_ref,
-):  # type: ignore[no-untyped-def]
+):
     for j in range(N_STAGES + 1, N_STAGES_EXTENDED):
         vec_stage(y, K, h, j, nvar, ytmp)
         _rhs(
@@ -423,7 +423,7 @@ def _event_end(sc, x, t, nu, ell2, periodic, ev_x0, ev_flag, ev_list, cat, row, 
 
 
 @njit(cache=True)
-def _break_near(
+def _break_near(  # type: ignore[no-untyped-def]
     j0,
     t,
     x,
@@ -444,7 +444,7 @@ def _break_near(
     pos,
     ws,
     stack,
-):  # type: ignore[no-untyped-def]
+):
     """Break away the stuck blocks at (or within BREAK_TOL of) their threshold around block ``j0``.
 
     A change of block ``j0`` can only bring its neighbours to their threshold; a
