@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from ..laws import DimensionlessLaw, PhysicalLaw
+from ..laws import DimensionlessLaw
 from ..models import DimensionlessParameters, PhysicalParameters, Scales
 from ..units import check_number, parse_quantity
 
@@ -193,12 +193,3 @@ def initial_positions(blocks: int, init: Init | str, seed: int | None, amplitude
         return np.zeros(blocks)
     a = check_number(amplitude, "amplitude", what="a positive displacement amplitude")
     return np.random.default_rng(seed).uniform(0.0, a, blocks)
-
-
-def require_law(law: Any) -> DimensionlessLaw:
-    """Return ``law`` if dimensionless; say how to convert a physical one."""
-    if isinstance(law, PhysicalLaw):
-        raise ValueError(
-            f"law={law!r}: a physical law needs the physical set-up: use ChainParameters.from_physical"
-        )
-    return law

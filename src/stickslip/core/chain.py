@@ -191,8 +191,9 @@ def _tree_refresh(tree, size, x, mode, phi, j, nu, ell2, periodic):  # type: ign
 
 
 @njit(cache=True)
-def _rhs(law, P, nu, ell2, periodic, phi, x, mode, idx, m, pos, t, y, out, s_stuck, n_stuck, t_ref):  # type: ignore[no-untyped-def]
+def _rhs(ctx, t, y, out):  # type: ignore[no-untyped-def]
     """Vector field of the slipping blocks; ``y = (x, v) per slipping block, W_drive, W_friction``."""
+    law, P, nu, ell2, periodic, phi, x, mode, idx, m, pos, s_stuck, n_stuck, t_ref = ctx
     n = x.shape[0]
     drive = s_stuck + n_stuck * nu * (t - t_ref)
     fric = 0.0
@@ -281,51 +282,11 @@ def _root(what, F, y, k, sign, level, x, j, nu, ell2, periodic, pos, t0, h, xa, 
 
 
 @njit(cache=True)
-def _dense(  # type: ignore[no-untyped-def]
-    law,
-    P,
-    nu,
-    ell2,
-    periodic,
-    phi,
-    x,
-    mode,
-    idx,
-    m,
-    pos,
-    t,
-    y,
-    y_new,
-    h,
-    K,
-    F,
-    ytmp,
-    nvar,
-    s_stuck,
-    n_stuck,
-    t_ref,
-):
+def _dense(ctx, t, y, y_new, h, K, F, ytmp, nvar):  # type: ignore[no-untyped-def]
+    """Fill ``F`` with the interpolant of the step just taken (3 more stages in ``K``)."""
     for j in range(N_STAGES + 1, N_STAGES_EXTENDED):
         vec_stage(y, K, h, j, nvar, ytmp)
-        _rhs(
-            law,
-            P,
-            nu,
-            ell2,
-            periodic,
-            phi,
-            x,
-            mode,
-            idx,
-            m,
-            pos,
-            t + C[j] * h,
-            ytmp,
-            K[j],
-            s_stuck,
-            n_stuck,
-            t_ref,
-        )
+        _rhs(ctx, t + C[j] * h, ytmp, K[j])
     for c in range(nvar):
         dense_coeffs(y, y_new, h, K, F, c)
 
@@ -623,7 +584,8 @@ def chain_run(  # type: ignore[no-untyped-def]
         y[2 * m] = 0.0
         y[2 * m + 1] = 0.0
         t_ref = t
-        _rhs(law, P, nu, ell2, periodic, phi, x, mode, idx, m, pos, t, y, K[0], s_stuck, n_stuck, t_ref)
+        ctx = (law, P, nu, ell2, periodic, phi, x, mode, idx, m, pos, s_stuck, n_stuck, t_ref)
+        _rhs(ctx, t, y, K[0])
         h = sc[S_H] if sc[S_H] > 0.0 else H_FIRST
         done = False
         nev = 0
@@ -648,45 +610,9 @@ def chain_run(  # type: ignore[no-untyped-def]
                 break  # a closed-form breakaway (or the time limit) now
             for s in range(1, N_STAGES):
                 vec_stage(y, K, h, s, nvar, ytmp)
-                _rhs(
-                    law,
-                    P,
-                    nu,
-                    ell2,
-                    periodic,
-                    phi,
-                    x,
-                    mode,
-                    idx,
-                    m,
-                    pos,
-                    t + C[s] * h,
-                    ytmp,
-                    K[s],
-                    s_stuck,
-                    n_stuck,
-                    t_ref,
-                )
+                _rhs(ctx, t + C[s] * h, ytmp, K[s])
             vec_advance(y, K, h, nvar, y_new)
-            _rhs(
-                law,
-                P,
-                nu,
-                ell2,
-                periodic,
-                phi,
-                x,
-                mode,
-                idx,
-                m,
-                pos,
-                t + h,
-                y_new,
-                K[N_STAGES],
-                s_stuck,
-                n_stuck,
-                t_ref,
-            )
+            _rhs(ctx, t + h, y_new, K[N_STAGES])
             err = vec_error(y, y_new, K, h, nctl, rtol, atol)
             steps += 1
             sc[S_NSTEP] += 1.0
@@ -719,30 +645,7 @@ def chain_run(  # type: ignore[no-untyped-def]
                 pk_v[k] = 0.0
                 if a0 > 0.0 and a1 < 0.0:  # a speed maximum inside the step
                     if not have_dense:
-                        _dense(
-                            law,
-                            P,
-                            nu,
-                            ell2,
-                            periodic,
-                            phi,
-                            x,
-                            mode,
-                            idx,
-                            m,
-                            pos,
-                            t,
-                            y,
-                            y_new,
-                            h,
-                            K,
-                            F,
-                            ytmp,
-                            nvar,
-                            s_stuck,
-                            n_stuck,
-                            t_ref,
-                        )
+                        _dense(ctx, t, y, y_new, h, K, F, ytmp, nvar)
                         have_dense = True
                     xm = _root(
                         G_VEL_SLOPE,
@@ -768,30 +671,7 @@ def chain_run(  # type: ignore[no-untyped-def]
                     pk_v[k] = abs(dense_eval(F, y, xm, 2 * k + 1))
                 if g1 <= 0.0:
                     if not have_dense:
-                        _dense(
-                            law,
-                            P,
-                            nu,
-                            ell2,
-                            periodic,
-                            phi,
-                            x,
-                            mode,
-                            idx,
-                            m,
-                            pos,
-                            t,
-                            y,
-                            y_new,
-                            h,
-                            K,
-                            F,
-                            ytmp,
-                            nvar,
-                            s_stuck,
-                            n_stuck,
-                            t_ref,
-                        )
+                        _dense(ctx, t, y, y_new, h, K, F, ytmp, nvar)
                         have_dense = True
                     if g0 > 0.0:
                         xe = _root(
@@ -810,30 +690,7 @@ def chain_run(  # type: ignore[no-untyped-def]
                         )
                 elif a0 < 0.0 and a1 > 0.0:  # a speed minimum inside the step: a dip to 0?
                     if not have_dense:
-                        _dense(
-                            law,
-                            P,
-                            nu,
-                            ell2,
-                            periodic,
-                            phi,
-                            x,
-                            mode,
-                            idx,
-                            m,
-                            pos,
-                            t,
-                            y,
-                            y_new,
-                            h,
-                            K,
-                            F,
-                            ytmp,
-                            nvar,
-                            s_stuck,
-                            n_stuck,
-                            t_ref,
-                        )
+                        _dense(ctx, t, y, y_new, h, K, F, ytmp, nvar)
                         have_dense = True
                     xm = _root(
                         G_VEL_SLOPE,
@@ -888,30 +745,7 @@ def chain_run(  # type: ignore[no-untyped-def]
                     xe = -1.0
                     if gb >= 0.0:
                         if not have_dense:
-                            _dense(
-                                law,
-                                P,
-                                nu,
-                                ell2,
-                                periodic,
-                                phi,
-                                x,
-                                mode,
-                                idx,
-                                m,
-                                pos,
-                                t,
-                                y,
-                                y_new,
-                                h,
-                                K,
-                                F,
-                                ytmp,
-                                nvar,
-                                s_stuck,
-                                n_stuck,
-                                t_ref,
-                            )
+                            _dense(ctx, t, y, y_new, h, K, F, ytmp, nvar)
                             have_dense = True
                         xe = _root(
                             G_FORCE,
@@ -935,30 +769,7 @@ def chain_run(  # type: ignore[no-untyped-def]
                         )
                     elif sgn * de0 > 0.0 and sgn * de1 < 0.0:  # an extremum of the force inside
                         if not have_dense:
-                            _dense(
-                                law,
-                                P,
-                                nu,
-                                ell2,
-                                periodic,
-                                phi,
-                                x,
-                                mode,
-                                idx,
-                                m,
-                                pos,
-                                t,
-                                y,
-                                y_new,
-                                h,
-                                K,
-                                F,
-                                ytmp,
-                                nvar,
-                                s_stuck,
-                                n_stuck,
-                                t_ref,
-                            )
+                            _dense(ctx, t, y, y_new, h, K, F, ytmp, nvar)
                             have_dense = True
                         xm = _root(
                             G_FORCE_SLOPE,
@@ -1032,30 +843,7 @@ def chain_run(  # type: ignore[no-untyped-def]
                 break  # a closed-form breakaway or the time limit: the controller's size is kept
             # ------------------------------------------------- the earliest events
             if not have_dense:
-                _dense(
-                    law,
-                    P,
-                    nu,
-                    ell2,
-                    periodic,
-                    phi,
-                    x,
-                    mode,
-                    idx,
-                    m,
-                    pos,
-                    t,
-                    y,
-                    y_new,
-                    h,
-                    K,
-                    F,
-                    ytmp,
-                    nvar,
-                    s_stuck,
-                    n_stuck,
-                    t_ref,
-                )
+                _dense(ctx, t, y, y_new, h, K, F, ytmp, nvar)
                 have_dense = True
             for c in range(nvar):
                 y[c] = dense_eval(F, y, xs, c) if xs < 1.0 else y_new[c]
