@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 from matplotlib.collections import LineCollection
+from matplotlib.colors import LogNorm
 from matplotlib.figure import Figure
 
 from ..chains.statistics import BValue, magnitude_frequency, recurrence_times
@@ -53,22 +54,36 @@ def plot_space_time(catalog: Any, *, max_events: int = 3000) -> Figure:
     ncol = 2 if rec > 0 else 1
     fig, axes = subplots(1, ncol, figsize=(5.2 * ncol, 4.4), squeeze=False)
     ax = axes[0, 0]
-    segs = [((a - 0.4, t), (b + 0.4, t)) for a, b, t in zip(lo, hi, t0, strict=True)]
-    lc = LineCollection(segs, cmap="viridis", linewidths=1.2)
-    lc.set_array(np.nan_to_num(mag, nan=np.nanmin(mag) if np.isfinite(mag).any() else 0.0))
-    ax.add_collection(lc)
+    vmin = float(np.nanmin(mag)) if np.isfinite(mag).any() else 0.0
+    if rec > 0:
+        # the blocks that slipped (an event may join separate patches: never draw its whole extent)
+        kk = min(rec, k)
+        ev, blk = np.nonzero(catalog["slip"].values[:kk] != 0.0)
+        sc = ax.scatter(blk, t0[ev], c=mag[ev], s=2.0, marker="s", linewidths=0, cmap="viridis")
+        ax.set_title("blocks that slipped in each event", fontsize=10)
+        t_top = t0[kk - 1] if kk else 1.0
+    else:
+        whole = (hi - lo + 1) == catalog["n_blocks"].values[:k]  # contiguous ruptures only
+        segs = [((a - 0.4, t), (b + 0.4, t)) for a, b, t in zip(lo[whole], hi[whole], t0[whole], strict=True)]
+        sc = LineCollection(segs, cmap="viridis", linewidths=1.2)
+        sc.set_array(np.nan_to_num(mag[whole], nan=vmin))
+        ax.add_collection(sc)
+        ax.set_title("contiguous ruptures", fontsize=10)
+        t_top = t0[-1] if k else 1.0
     ax.set_xlim(-0.5, n - 0.5)
     if k:
-        ax.set_ylim(t0[0], t0[-1] if t0[-1] > t0[0] else t0[0] + 1.0)
+        ax.set_ylim(t0[0], t_top if t_top > t0[0] else t0[0] + 1.0)
     ax.set_xlabel("block")
     ax.set_ylabel(f"time [{catalog['t_start'].attrs.get('units', '1')}]")
-    ax.set_title("ruptured blocks of each event", fontsize=10)
-    fig.colorbar(lc, ax=ax, label="magnitude")
+    fig.colorbar(sc, ax=ax, label="magnitude")
     if rec > 0:
         ax2 = axes[0, 1]
         slip = catalog["slip"].values[: min(rec, k)]
+        positive = slip[slip > 0.0]
+        norm = LogNorm(vmin=float(positive.min()), vmax=float(positive.max())) if positive.size else None
         im = ax2.imshow(
-            slip,
+            np.where(slip > 0.0, slip, np.nan),
+            norm=norm,
             aspect="auto",
             origin="lower",
             cmap="magma_r",
