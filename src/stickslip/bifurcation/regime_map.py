@@ -16,18 +16,23 @@ actually reached.
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 import xarray as xr
 
 from ..core.results import AttractorRows, Regime
 from ..io.progress import show_progress
 from ..laws import DimensionlessLaw, require_dimensionless_law
-from .regimes import RegimeDiagram, pure_slip_orbits_at, regimes
+from ..scale.progress import ProgressLike
+from ..scale.store import Block, Layout, Variable
+from .regimes import RegimeDiagram, _grid, pure_slip_orbits_at, regimes
 
-__all__ = ["REGIME_CODES", "criterion_table", "criterion_trial", "regime_map"]
+__all__ = ["REGIME_CODES", "RegimeMapJob", "criterion_table", "criterion_trial", "regime_map"]
 
 #: integer codes of the ``regime`` variable (CF ``flag_values``): the codes of :class:`Regime`
 REGIME_CODES = {
@@ -61,7 +66,10 @@ def regime_map(
     nu_max: float,
     *,
     n_nu: int = 201,
-    progress: bool | None = None,
+    progress: ProgressLike = None,
+    store: str | os.PathLike[str] | None = None,
+    scheduler: Any = None,
+    workers: int | None = None,
 ) -> xr.Dataset:
     """Compute the regimes over the plane (``param``, ``nu``).
 
@@ -78,8 +86,15 @@ def regime_map(
         Range of ``nu`` (a logarithmic grid when it spans more than a factor 20).
     n_nu : int, optional
         Points of the ``nu`` grid.
-    progress : bool, optional
-        Progress bar (None: on a terminal, for long maps).
+    progress : bool or callable, optional
+        Progress bar (None: on a terminal, for long maps); a callable receives a
+        :class:`~stickslip.scale.ProgressInfo` after each row.
+    store : path, optional
+        Write the map row by row to this Zarr store; run again after an
+        interruption and only the missing rows are computed.
+    scheduler, workers : optional
+        Run the rows on a Dask cluster (address or ``distributed.Client``) or on a
+        ``LocalCluster`` of ``workers`` processes (see :func:`stickslip.dynamics.sweep`).
 
     Returns
     -------
@@ -96,61 +111,156 @@ def regime_map(
     if vals.ndim != 1 or vals.size < 1 or not np.all(np.isfinite(vals)):
         raise ValueError(f"values={values!r}: expected a 1-d sequence of finite numbers")
     _with(law, param, float(vals[0]))  # checks the name
-    from tqdm.auto import tqdm
+    if not (0 < nu_min < nu_max) or not math.isfinite(nu_max):
+        raise ValueError(f"nu_min={nu_min!r}, nu_max={nu_max!r}: expected 0 < nu_min < nu_max")
+    if isinstance(n_nu, bool) or not isinstance(n_nu, int | np.integer) or n_nu < 3:
+        raise ValueError(f"n_nu={n_nu!r}: expected a whole number of nu points >= 3")
+    job = RegimeMapJob(law, param, vals, float(nu_min), float(nu_max), int(n_nu))
+    layout = job.layout()
+    from ..scale import ChunkStore, run_blocks
 
-    show = show_progress(progress) if progress is not None else (show_progress(None) and vals.size > 4)
-    regime = np.empty((vals.size, n_nu), dtype=np.int8)
-    observed = np.empty((vals.size, n_nu), dtype=np.int8)
-    amplitude = np.empty((vals.size, n_nu))
-    ends = {k: np.full(vals.size, math.nan) for k in ("hopf", "fold", "grazing", "stick_slip_onset")}
-    grid = None
-    for i, v in enumerate(tqdm(vals, desc=f"regimes over {param}", disable=not show)):
-        d = regimes(_with(law, param, float(v)), nu_min, nu_max, n_grid=n_nu)
-        steady = d.branches[0]
-        grid = steady.nu
-        regime[i], observed[i], amplitude[i] = _rows(d)
-        for p in d.points:
-            key = p.kind.replace("-", "_")
-            if key in ends and math.isnan(ends[key][i]):
-                ends[key][i] = p.nu
-    assert grid is not None
-    ds = xr.Dataset(
-        {
-            "regime": (
-                (param, "nu"),
-                regime,
-                {
-                    "long_name": "set of attractors",
-                    "flag_values": list(REGIME_CODES.values()),
-                    "flag_meanings": " ".join(REGIME_CODES),
-                },
-            ),
-            "observed": (
-                (param, "nu"),
-                observed,
-                {
-                    "long_name": "attractor reached from rest",
-                    "flag_values": list(OBSERVED_CODES.values()),
-                    "flag_meanings": " ".join(OBSERVED_CODES),
-                },
-            ),
-            "amplitude": (
-                (param, "nu"),
-                amplitude,
-                {"long_name": "spring-force range of the attractor reached from rest", "units": "mu_s W"},
-            ),
-            **{
-                k: ((param,), a, {"long_name": f"{k.replace('_', ' ')} (dimensionless nu)"})
-                for k, a in ends.items()
-            },
-        },
-        coords={
-            param: (param, vals, {"long_name": f"{law.name} law parameter {param}"}),
-            "nu": ("nu", grid, {"long_name": "dimensionless driving velocity beta*v0"}),
-        },
-        attrs={"law": law.name, **{k: float(x) for k, x in law.params.items() if k != param}},
+    chunks = ChunkStore.open(store, layout) if store is not None else None
+    if chunks is not None:
+        layout = chunks.layout
+    show: ProgressLike = progress
+    if progress is None:
+        show = show_progress(None) and vals.size > 4
+    arrays, report = run_blocks(
+        job,
+        layout,
+        store=chunks,
+        scheduler=scheduler,
+        workers=workers,
+        progress=show,
+        desc=f"regimes over {param}",
     )
-    return ds
+    if chunks is not None:
+        ds = chunks.open_dataset().load()
+        ds.attrs["run"] = report.to_json()
+        return ds
+    assert arrays is not None
+    return job.dataset(arrays)
+
+
+_ENDS = ("hopf", "fold", "grazing", "stick_slip_onset")
+
+
+@dataclass(frozen=True)
+class RegimeMapJob:
+    """A regime map cut into rows (one value of the mapped parameter per block)."""
+
+    law: DimensionlessLaw
+    param: str
+    values: npt.NDArray[np.float64]
+    nu_min: float
+    nu_max: float
+    n_nu: int
+
+    @property
+    def nu(self) -> npt.NDArray[np.float64]:
+        """The ``nu`` grid (the one :func:`~.regimes.regimes` uses)."""
+        return _grid(self.nu_min, self.nu_max, self.n_nu)
+
+    def task(self, block: Block) -> _RegimeRows:
+        """Return the computation of one block of rows."""
+        return _RegimeRows(
+            self.law, self.param, self.values[block.slices[0]], self.nu_min, self.nu_max, self.n_nu
+        )
+
+    def layout(self) -> Layout:
+        """Return the store's layout: rows of ``(param, nu)``, one row per block."""
+        dims = (self.param, "nu")
+        variables = [
+            Variable("regime", dims, "int8", _REGIME_ATTRS),
+            Variable("observed", dims, "int8", _OBSERVED_ATTRS),
+            Variable("amplitude", dims, "float64", _AMPLITUDE_ATTRS),
+            *(
+                Variable(
+                    k, (self.param,), "float64", {"long_name": f"{k.replace('_', ' ')} (dimensionless nu)"}
+                )
+                for k in _ENDS
+            ),
+        ]
+        return Layout(
+            kind="regime-map",
+            dims=dims,
+            shape=(self.values.size, self.n_nu),
+            chunks=(1, self.n_nu),
+            coords=self._coords(),
+            variables=tuple(variables),
+            identity={
+                "law": self.law.describe(),
+                "param": self.param,
+                "values": self.values,
+                "nu": [self.nu_min, self.nu_max, self.n_nu],
+            },
+            attrs=self._attrs(),
+            describe=(
+                f"a regime map of the {self.law.name} law over {self.param} ({self.values.size} values "
+                f"{self.values[0]:.4g}..{self.values[-1]:.4g}) and nu ({self.n_nu} values "
+                f"{self.nu_min:.4g}..{self.nu_max:.4g})"
+            ),
+        )
+
+    def _coords(self) -> dict[str, Any]:
+        return {
+            self.param: (
+                (self.param,),
+                self.values,
+                {"long_name": f"{self.law.name} law parameter {self.param}"},
+            ),
+            "nu": (("nu",), self.nu, {"long_name": "dimensionless driving velocity beta*v0"}),
+        }
+
+    def _attrs(self) -> dict[str, Any]:
+        return {"law": self.law.name, **{k: float(x) for k, x in self.law.params.items() if k != self.param}}
+
+    def dataset(self, arrays: dict[str, Any]) -> xr.Dataset:
+        """Return the map's Dataset from its arrays."""
+        layout = self.layout()
+        data = {v.name: (v.dims, arrays[v.name], dict(v.attrs)) for v in layout.variables}
+        coords = {k: (d, vals, dict(a)) for k, (d, vals, a) in layout.coords.items()}
+        return xr.Dataset(data, coords=coords, attrs=self._attrs())
+
+
+_REGIME_ATTRS = {
+    "long_name": "set of attractors",
+    "flag_values": list(REGIME_CODES.values()),
+    "flag_meanings": " ".join(REGIME_CODES),
+}
+_OBSERVED_ATTRS = {
+    "long_name": "attractor reached from rest",
+    "flag_values": list(OBSERVED_CODES.values()),
+    "flag_meanings": " ".join(OBSERVED_CODES),
+}
+_AMPLITUDE_ATTRS = {"long_name": "spring-force range of the attractor reached from rest", "units": "mu_s W"}
+
+
+@dataclass(frozen=True)
+class _RegimeRows:
+    """Rows of a regime map: what one task computes."""
+
+    law: DimensionlessLaw
+    param: str
+    values: npt.NDArray[np.float64]
+    nu_min: float
+    nu_max: float
+    n_nu: int
+
+    def __call__(self) -> dict[str, Any]:
+        k = self.values.size
+        regime = np.empty((k, self.n_nu), dtype=np.int8)
+        observed = np.empty((k, self.n_nu), dtype=np.int8)
+        amplitude = np.empty((k, self.n_nu))
+        ends = {key: np.full(k, math.nan) for key in _ENDS}
+        for i, v in enumerate(self.values):
+            d = regimes(_with(self.law, self.param, float(v)), self.nu_min, self.nu_max, n_grid=self.n_nu)
+            regime[i], observed[i], amplitude[i] = _rows(d)
+            for p in d.points:
+                key = p.kind.replace("-", "_")
+                if key in ends and math.isnan(ends[key][i]):
+                    ends[key][i] = p.nu
+        return {"regime": regime, "observed": observed, "amplitude": amplitude, **ends}
 
 
 def _rows(d: RegimeDiagram) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -4,10 +4,12 @@
 * :mod:`.run`: :func:`chain`, events streamed to a NetCDF catalogue;
 * :mod:`.catalog`: the catalogue on disk;
 * :mod:`.statistics`: b-value, completeness, recurrence;
-* :mod:`.lyapunov`: the event map and its largest Lyapunov exponent.
+* :mod:`.lyapunov`: the event map and its largest Lyapunov exponent;
+* :mod:`.ensemble`: many seeds of one set-up (:func:`chain_ensemble`), on Dask and in a store.
 """
 
 from .catalog import open_catalog
+from .ensemble import chain_ensemble
 from .model import Boundary, ChainParameters, Init, initial_positions, static_thresholds
 from .run import ChainResult, chain
 from .statistics import BValue, b_value, completeness_magnitude, magnitude_frequency, recurrence_times
@@ -20,6 +22,7 @@ __all__ = [
     "Init",
     "b_value",
     "chain",
+    "chain_ensemble",
     "completeness_magnitude",
     "initial_positions",
     "magnitude_frequency",

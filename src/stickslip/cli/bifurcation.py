@@ -10,7 +10,7 @@ import numpy as np
 
 from ..models.parameters import PhysicalParameters
 from .errors import handle_errors
-from .options import build_parameters, law_command, overwrite_option, parse_axis
+from .options import build_parameters, law_command, overwrite_option, parse_axis, scale_options, scale_report
 
 __all__ = ["register"]
 
@@ -45,6 +45,7 @@ def register(main: click.Group) -> None:
         help="Write regimes.json, bifurcation.png/.svg (and regime_map.nc, regime_map.png, "
         "criterion_map.png with --map) to this folder.",
     )
+    @scale_options
     @overwrite_option
     @handle_errors
     def regimes(
@@ -56,6 +57,9 @@ def register(main: click.Group) -> None:
         map_spec: str | None,
         map_n: int,
         out_dir: str | None,
+        store: str | None,
+        scheduler: str | None,
+        workers: int | None,
         overwrite: bool,
         **opts: Any,
     ) -> None:
@@ -71,6 +75,9 @@ def register(main: click.Group) -> None:
         from ..bifurcation.regimes import confirm
         from ..bifurcation.regimes import regimes as compute_regimes
         from ..io.jsonable import json_clean
+
+        if map_spec is None and (store or scheduler or workers):
+            raise click.UsageError("--store, --scheduler and --workers go with --map (the regime map)")
 
         if opts.get("nu") is not None:
             raise click.UsageError("--nu: 'regimes' scans nu; give --nu-min and --nu-max instead")
@@ -128,7 +135,20 @@ def register(main: click.Group) -> None:
                 values = [float(v) for v in parse_axis(p, name, rng.strip(), map_n, False)]
             except ValueError as exc:
                 raise click.UsageError(f"--map: {exc}") from None
-            ds = regime_map(law, name, values, nu_min, nu_max, n_nu=n_grid)
+            ds = regime_map(
+                law,
+                name,
+                values,
+                nu_min,
+                nu_max,
+                n_nu=n_grid,
+                store=store,
+                scheduler=scheduler,
+                workers=workers,
+            )
+            if store is not None:
+                scale_report(ds)
+                del ds.attrs["run"]
             trial = criterion_trial(ds)
             result["criterion"] = criterion_table(trial)
         result = json_clean(result)  # NaN (no pure-slip attractor, no criterion verdict) -> null

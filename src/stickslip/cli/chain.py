@@ -8,9 +8,10 @@ import os
 from typing import Any
 
 import click
+import numpy as np
 
 from .errors import handle_errors
-from .options import build_parameters, law_command, overwrite_option
+from .options import build_parameters, law_command, overwrite_option, scale_options, scale_report
 
 __all__ = ["register"]
 
@@ -80,6 +81,14 @@ def register(main: click.Group) -> None:
     @click.option("--resume", is_flag=True, help="Continue the interrupted run in --out (same command).")
     @click.option("--no-plot", is_flag=True, help="No figures.")
     @click.option("--quiet", is_flag=True, help="No progress bar.")
+    @click.option(
+        "--seeds",
+        default=None,
+        metavar="A..B|A,B,C",
+        help="An ensemble: one chain per seed (A..B includes both ends); each member's statistics, "
+        "with --store (catalogues kept in it), --workers or --scheduler.",
+    )
+    @scale_options
     @overwrite_option
     @handle_errors
     def chain(
@@ -101,6 +110,10 @@ def register(main: click.Group) -> None:
         resume: bool,
         no_plot: bool,
         quiet: bool,
+        seeds: str | None,
+        store: str | None,
+        scheduler: str | None,
+        workers: int | None,
         overwrite: bool,
         **opts: Any,
     ) -> None:
@@ -116,7 +129,7 @@ def register(main: click.Group) -> None:
         from ..models import PhysicalParameters
 
         params1 = build_parameters(opts)
-        phi = static_thresholds(blocks, threshold_spread, seed) if blocks >= 1 else None
+        phi = static_thresholds(blocks, threshold_spread, seed) if blocks >= 1 and seeds is None else None
         if isinstance(params1, PhysicalParameters):
             if coupling is None:
                 raise click.UsageError("physical input needs --coupling (the stiffness between blocks)")
@@ -144,6 +157,12 @@ def register(main: click.Group) -> None:
                 thresholds=phi,
                 backslip=backslip,
             )
+        if seeds is not None:
+            _ensemble(params, events, seeds, threshold_spread, init, amplitude, transient, opts, store,
+                      scheduler, workers, quiet, as_json, out_dir, overwrite)  # fmt: skip
+            return
+        if store or scheduler or workers:
+            raise click.UsageError("--store, --scheduler and --workers go with --seeds (an ensemble)")
         kw: dict[str, Any] = dict(
             init=init,
             seed=seed,
@@ -223,4 +242,85 @@ def _report(res: Any, as_json: bool, out_dir: str | None = None) -> None:
         click.echo(
             f"stickslip: the chain did not finish: {ChainStatus.from_label(s['status']).message}", err=True
         )
+        raise SystemExit(1)
+
+
+def _seeds(text: str) -> list[int]:
+    try:
+        if ".." in text:
+            a, b = (int(x) for x in text.split(".."))
+            if b < a:
+                raise ValueError
+            return list(range(a, b + 1))
+        return [int(x) for x in text.split(",")]
+    except ValueError:
+        raise click.UsageError(f"--seeds={text!r}: expected A..B (A <= B) or A,B,C (whole numbers)") from None
+
+
+def _ensemble(
+    params: Any,
+    events: int,
+    seeds: str,
+    spread: float,
+    init: str,
+    amplitude: float,
+    transient: int,
+    opts: dict[str, Any],
+    store: str | None,
+    scheduler: str | None,
+    workers: int | None,
+    quiet: bool,
+    as_json: bool,
+    out_dir: str | None,
+    overwrite: bool,
+) -> None:
+    """``stickslip chain --seeds``: an ensemble, one member per seed."""
+    from ..chains import chain_ensemble
+    from ..core.results import ChainStatus
+
+    ds = chain_ensemble(
+        params, events, _seeds(seeds), threshold_spread=spread, init=init, amplitude=amplitude,
+        transient=transient, rtol=opts["rtol"], atol=opts["atol"], store=store, scheduler=scheduler,
+        workers=workers, progress=False if quiet else None,
+    )  # fmt: skip
+    if store is not None:
+        scale_report(ds)
+        del ds.attrs["run"]
+    if out_dir is not None:
+        from ..io.output import OutputFolder, netcdf_writer
+
+        os.makedirs(out_dir, exist_ok=True)
+        with OutputFolder(out_dir, "chain ensemble", overwrite=overwrite) as out:
+            out.write("ensemble.nc", "chain-ensemble", netcdf_writer(ds, "chain-ensemble"))
+    names = {m.code: m.value for m in ChainStatus}
+    members = [
+        {
+            "seed": int(s),
+            **{k: (v.item() if np.isfinite(v) else None) for k in ds.data_vars if k != "status"
+               for v in [ds[k].sel(seed=s).values]},
+            "status": names[int(ds["status"].sel(seed=s))],
+        }
+        for s in ds.seed.values
+    ]  # fmt: skip
+    b = ds["b_value"].values
+    summary = {
+        "members": len(members),
+        "b_value_mean": float(np.nanmean(b)) if np.isfinite(b).any() else None,
+        "b_value_std": float(np.nanstd(b)) if np.isfinite(b).sum() > 1 else None,
+        "events": int(ds["events"].sum()),
+        "per_member": members,
+    }
+    if as_json:
+        click.echo(json.dumps(summary, indent=2))
+    else:
+        click.echo(f"members              {summary['members']}")
+        click.echo(f"events               {summary['events']}")
+        click.echo(
+            f"b-value              {summary['b_value_mean']} (spread {summary['b_value_std']} over seeds)"
+        )
+        if out_dir:
+            click.echo(f"wrote {out_dir}/ensemble.nc")
+    bad = [m["seed"] for m in members if m["status"] != "ok"]
+    if bad:
+        click.echo(f"stickslip: {len(bad)} members did not finish (seeds {bad[:10]})", err=True)
         raise SystemExit(1)

@@ -21,6 +21,8 @@ from .options import (
     out_dir_option,
     overwrite_option,
     parse_axis,
+    scale_options,
+    scale_report,
 )
 
 __all__ = ["register"]
@@ -146,24 +148,42 @@ def register(main: click.Group) -> None:
         "--out",
         "out_path",
         type=click.Path(dir_okay=False),
-        default="results/sweep.nc",
-        show_default=True,
-        help="NetCDF output; the plot goes beside it (.png, .svg).",
+        default=None,
+        help="NetCDF output; the plot goes beside it (.png, .svg). Default results/sweep.nc, "
+        "or none with --store (the store is the output).",
     )
     @click.option("--no-plot", is_flag=True, help="Write the NetCDF file only.")
     @click.option("--quiet", is_flag=True, help="No progress bar.")
+    @click.option(
+        "--block-points",
+        type=click.IntRange(min=1),
+        default=None,
+        help="Points per block (one task, one chunk of the store); default 32768.",
+    )
+    @scale_options
     @overwrite_option
     @handle_errors
     def sweep(
-        num: int, log_spacing: bool, out_path: str, no_plot: bool, quiet: bool, overwrite: bool, **opts: Any
+        num: int,
+        log_spacing: bool,
+        out_path: str | None,
+        no_plot: bool,
+        quiet: bool,
+        block_points: int | None,
+        store: str | None,
+        scheduler: str | None,
+        workers: int | None,
+        overwrite: bool,
+        **opts: Any,
     ) -> None:
         """Sweep parameters over ranges ('A..B') or lists ('A,B,C'); write NetCDF and a plot.
 
         Any parameter of the set-up or the law can be swept (a formula's with --param
-        'c=1..10'); the others are fixed as in 'stickslip cycle'.
+        'c=1..10'); the others are fixed as in 'stickslip cycle'. --store streams the
+        result to a Zarr store, resumably; --workers/--scheduler run it on Dask.
         Example: stickslip sweep --preset zv --v0 "5 um/s..1000 um/s" --num 60 --log
         """
-        from ..dynamics.sweep import check_sweep_size, save_sweep
+        from ..dynamics.sweep import check_sweep_size, load_sweep, save_sweep
         from ..dynamics.sweep import sweep as run_sweep
         from ..io.output import OutputFolder
         from ..plots.figures import plot_sweep, save_figure
@@ -176,7 +196,8 @@ def register(main: click.Group) -> None:
         ranged.update({k: v for k, v in params_of(opts).items() if is_axis(v)})
         # the grid's size from the options, before any axis is built
         sizes = [axis_count(v, num) for v in ranged.values()]
-        check_sweep_size(int(np.prod(sizes, dtype=np.float64)) if sizes else 0, "this sweep")
+        if store is None:  # a store streams: no grid in memory
+            check_sweep_size(int(np.prod(sizes, dtype=np.float64)) if sizes else 0, "this sweep")
         if not ranged:
             raise click.UsageError(
                 "nothing to sweep: give a range such as --v0 '5 um/s..1000 um/s' "
@@ -197,24 +218,48 @@ def register(main: click.Group) -> None:
             # a fixed beta must hold at every point: a one-value axis, so that the mass follows the
             # swept load, stiffness or friction coefficient
             grid["beta"] = [opts["beta"]]
+        kw: dict[str, Any] = dict(
+            rtol=float(opts["rtol"]),
+            atol=float(opts["atol"]),
+            progress=False if quiet else None,
+            store=store,
+            scheduler=scheduler,
+            workers=workers,
+            block_points=block_points,
+        )
+        if store is not None and out_path is None:
+            ds = run_sweep(params, grid, **kw)
+            scale_report(ds)
+            _regime_counts(ds)
+            return
+        out_path = out_path or "results/sweep.nc"
         folder, name = os.path.split(out_path)
         stem = os.path.splitext(name)[0]
         with OutputFolder(folder or ".", f"sweep {stem}", overwrite=overwrite) as out:
             # the outputs are checked before the (possibly long) sweep starts
             out.expect({name: "sweep"} | ({} if no_plot else _figure_names(stem)))
-            ds = run_sweep(
-                params,
-                grid,
-                rtol=float(opts["rtol"]),
-                atol=float(opts["atol"]),
-                progress=False if quiet else None,
-            )
+            ds = run_sweep(params, grid, **kw)
+            if store is not None:
+                scale_report(ds)
+                ds = load_sweep(store)
             written = save_sweep(ds, name, out=out)
             paths = [] if no_plot else save_figure(plot_sweep(ds, log=log_spacing), stem, out=out)
         click.echo(f"wrote {written} ({ds.amplitude.size} points, dimensions {dict(ds.sizes)})")
         if paths:
             click.echo("wrote " + ", ".join(paths))
-        counts = {
-            str(k): int(v) for k, v in zip(*np.unique(ds.regime.values, return_counts=True), strict=True)
-        }
-        click.echo(f"regimes: {counts}")
+        _regime_counts(ds)
+
+
+def _regime_counts(ds: Any) -> None:
+    """Print how many points reached each regime (counted block by block: a store may be large)."""
+    from ..core.results import Regime
+
+    codes: dict[str, int] = {}
+    values = ds.regime
+    step = max(1, values.shape[0] // 64) if values.ndim else 1
+    for lo in range(0, values.shape[0] if values.ndim else 1, step):
+        part = np.asarray(values[lo : lo + step].values if values.ndim else values.values)
+        for k, v in zip(*np.unique(part, return_counts=True), strict=True):
+            label = str(Regime.from_code(k)) if part.dtype.kind in "iu" else str(k)
+            codes[label] = codes.get(label, 0) + int(v)
+    click.echo(f"regimes: {dict(sorted(codes.items()))}")

@@ -49,6 +49,8 @@ __all__ = [
     "out_dir_option",
     "overwrite_option",
     "parse_axis",
+    "scale_options",
+    "scale_report",
 ]
 
 #: the set-up's options (physical), besides the law's
@@ -264,6 +266,49 @@ def out_dir_option(help_text: str) -> Any:
         show_default=True,
         help=help_text,
     )
+
+
+def scale_options(func: Callable[..., Any]) -> Any:
+    """Add ``--store``, ``--scheduler``, ``--workers``: a resumable store and a Dask backend."""
+    for deco in reversed(
+        [
+            click.option(
+                "--store",
+                default=None,
+                type=click.Path(dir_okay=True, file_okay=False),
+                help="Zarr store (PATH.zarr): results written block by block as they finish; "
+                "run the same command again after an interruption and only the missing blocks run.",
+            ),
+            click.option(
+                "--scheduler",
+                default=None,
+                metavar="ADDRESS",
+                help="Run on an existing Dask distributed cluster, e.g. tcp://10.0.0.1:8786.",
+            ),
+            click.option(
+                "--workers",
+                type=click.IntRange(min=1),
+                default=None,
+                help="Run on a Dask LocalCluster of this many worker processes.",
+            ),
+        ]
+    ):
+        func = deco(func)
+    return func
+
+
+def scale_report(ds: Any) -> None:
+    """Print (on standard error) what a run with a store did: blocks reused and computed."""
+    import json
+
+    run = ds.attrs.get("run")
+    if run:
+        r = json.loads(run)
+        click.echo(
+            f"store: {r['blocks']} blocks, {r['reused']} already there, {r['computed']} computed "
+            f"({r['points']} points in {r['seconds']:.3g} s, {r['backend']})",
+            err=True,
+        )
 
 
 def overwrite_option(func: Callable[..., Any]) -> Any:

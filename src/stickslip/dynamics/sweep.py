@@ -35,9 +35,8 @@ from ..bifurcation.attractors import polish_rows
 from ..core.api import Kernel, run_attractors
 from ..core.laws import N_LAW_PARAMS
 from ..core.memory import check_memory
-from ..core.results import AttractorRows, Regime
+from ..core.results import AttractorRows, Regime, Status
 from ..io.output import OutputFolder, emit, netcdf_writer, package_version
-from ..io.progress import progress_bar
 from ..laws import PhysicalLaw
 from ..laws.spec import STATIC, Parameter
 from ..models.parameters import (
@@ -46,10 +45,22 @@ from ..models.parameters import (
     dimensionless_from_si,
     mass_for_beta,
 )
+from ..scale.progress import Progress, ProgressLike
+from ..scale.store import Block, Layout, Variable
 from ..units import parse_quantity
 from .cycle import DIMENSIONLESS_UNITS, validate_tolerances
 
-__all__ = ["SETUP", "Axis", "axes", "check_sweep_size", "load_sweep", "save_sweep", "sweep", "sweepable"]
+__all__ = [
+    "SETUP",
+    "Axis",
+    "SweepPlan",
+    "axes",
+    "check_sweep_size",
+    "load_sweep",
+    "save_sweep",
+    "sweep",
+    "sweepable",
+]
 
 #: memory one point of a sweep takes in process (engine output, the grid, the dataset with
 #: its labels), measured on 1e5-point sweeps and rounded up
@@ -172,7 +183,11 @@ def sweep(
     atol: float = defaults.ATOL,
     max_slip_time: float = defaults.MAX_SLIP_TIME,
     conv_tol: float = defaults.CONV_TOL,
-    progress: bool | None = None,
+    progress: ProgressLike = None,
+    store: str | os.PathLike[str] | None = None,
+    scheduler: Any = None,
+    workers: int | None = None,
+    block_points: int | None = None,
 ) -> xr.Dataset:
     """Compute the steady oscillation reached from rest at every point of a grid.
 
@@ -187,9 +202,30 @@ def sweep(
         :func:`sweepable` lists the names.
     rtol, atol, max_slip_time, conv_tol : float, optional
         As in :func:`stickslip.cycle`.
-    progress : bool, optional
+    progress : bool or callable, optional
         Show a progress bar: None (default) shows one on a terminal for sweeps
-        that take more than half a second; False never; True always.
+        that take more than half a second; False never; True always. A callable
+        is called after each block with a :class:`~stickslip.scale.ProgressInfo`
+        (points done, points per second, seconds left).
+    store : path, optional
+        Stream the result block by block to this Zarr store and make the sweep
+        resumable: run the same sweep again after an interruption and only the
+        missing blocks are computed. A store made for another grid or other fixed
+        parameters is refused (:class:`~stickslip.scale.StoreError`). The sweep
+        then returns the store, lazily read, with ``regime`` and ``status`` as CF
+        flag variables (integer codes) and the run's report (blocks reused and
+        computed) as JSON in its ``run`` attribute; :func:`load_sweep` reads it
+        in the form returned without a store.
+    scheduler : str or distributed.Client, optional
+        Run the blocks on this Dask distributed cluster (its scheduler's address).
+    workers : int, optional
+        Run the blocks on a ``LocalCluster`` of this many processes, started for
+        the sweep. With neither ``scheduler`` nor ``workers`` the sweep runs in
+        this process and Dask is not imported.
+    block_points : int, optional
+        Points per block (one task, one chunk of the store); default
+        :data:`~stickslip.scale.SWEEP_BLOCK_POINTS`, whole trailing dimensions
+        first (:func:`~stickslip.scale.chunk_shape`). An existing store keeps its own.
 
     Returns
     -------
@@ -227,25 +263,205 @@ def sweep(
         shown, si, unit = _grid_values(dataclasses.replace(p, name=name), name, values)
         coords[p.name] = (shown, unit, p.help)
         si_axes[p.name] = si
-    shape = tuple(len(v) for v in si_axes.values())
-    check_sweep_size(int(np.prod(shape, dtype=np.float64)))
-    mesh = dict(zip(si_axes, np.meshgrid(*si_axes.values(), indexing="ij"), strict=True))
-    flat = {k: v.ravel() for k, v in mesh.items()}
-    n = int(np.prod(shape))
+    plan = SweepPlan(base, coords, si_axes, rtol, atol, max_slip_time, conv_tol)
+    if store is None and scheduler is None and workers is None:
+        # in process, the grid in memory (no Dask imported)
+        check_sweep_size(plan.points)
+        arrays = plan.compute(si_axes, progress=progress)
+        return plan.dataset(arrays)
+    from ..scale import SWEEP_BLOCK_POINTS, ChunkStore, chunk_shape, run_blocks
 
-    if isinstance(base, PhysicalParameters):
-        nu, law_nd, scales = _physical_to_dimensionless(base, flat, n)
-    else:
-        nu, law_nd = _dimensionless_arrays(base, flat, n)
-        scales = None
-    spec = base.law.spec
-    spec.validate(law_nd)
-    lp = np.zeros((n, N_LAW_PARAMS))
-    for j, p in enumerate(spec.parameters):
-        lp[:, j] = law_nd[p.name]
-    kernel = base.law.kernel if isinstance(base, DimensionlessParameters) else spec.kernel()
-    out, mult = _run_chunks(kernel, lp, nu, rtol, atol, max_slip_time, conv_tol, progress)
-    return _dataset(base, coords, shape, out, mult, nu, law_nd, scales, rtol, atol)
+    if block_points is not None and (
+        isinstance(block_points, bool) or not isinstance(block_points, int) or block_points < 1
+    ):
+        raise ValueError(f"block_points={block_points!r}: expected a whole number of points >= 1")
+    layout = plan.layout(chunk_shape(plan.shape, block_points or SWEEP_BLOCK_POINTS))
+    if store is None:
+        check_sweep_size(plan.points)
+    chunks = ChunkStore.open(store, layout) if store is not None else None
+    if chunks is not None:
+        layout = chunks.layout
+    # every point validated before anything runs, block by block (bounded memory)
+    for block in layout.blocks():
+        plan.inputs(plan.sub_axes(block))
+    result, report = run_blocks(plan, layout, store=chunks, scheduler=scheduler, workers=workers,
+                                progress=progress, desc="sweep")  # fmt: skip
+    if chunks is not None:
+        ds = chunks.open_dataset()
+        ds.attrs["run"] = report.to_json()
+        return ds
+    assert result is not None
+    return plan.dataset(result)
+
+
+@dataclass(frozen=True)
+class SweepPlan:
+    """A validated sweep: the base set-up, the grid, the tolerances; computes any block of it.
+
+    Picklable and small (a block carries only its own coordinates), so that Dask
+    workers compute blocks from it.
+    """
+
+    base: DimensionlessParameters | PhysicalParameters
+    coords: dict[str, tuple[FloatArray, str, str]]
+    si_axes: dict[str, FloatArray]
+    rtol: float
+    atol: float
+    max_slip_time: float
+    conv_tol: float
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """Shape of the grid."""
+        return tuple(len(v) for v in self.si_axes.values())
+
+    @property
+    def points(self) -> int:
+        """Points of the grid."""
+        return int(np.prod(self.shape, dtype=np.int64))
+
+    def sub_axes(self, block: Block) -> dict[str, FloatArray]:
+        """Return the SI values of each axis within ``block``."""
+        return {k: v[s] for (k, v), s in zip(self.si_axes.items(), block.slices, strict=True)}
+
+    def task(self, block: Block) -> _SweepTask:
+        """Return the computation of one block (what a worker runs)."""
+        light = dataclasses.replace(self, coords={}, si_axes={k: v[:0] for k, v in self.si_axes.items()})
+        return _SweepTask(light, self.sub_axes(block))
+
+    def inputs(
+        self, axes: dict[str, FloatArray]
+    ) -> tuple[FloatArray, dict[str, FloatArray], dict[str, FloatArray] | None, FloatArray]:
+        """Return (nu, law's dimensionless parameters, scales, core parameters) on the mesh of ``axes``.
+
+        Raises
+        ------
+        ValueError
+            For a point where the law or the set-up is not valid (named).
+
+        """
+        mesh = np.meshgrid(*axes.values(), indexing="ij")
+        flat = {k: v.ravel() for k, v in zip(axes, mesh, strict=True)}
+        n = int(np.prod([len(v) for v in axes.values()], dtype=np.int64))
+        base = self.base
+        if isinstance(base, PhysicalParameters):
+            nu, law_nd, scales = _physical_to_dimensionless(base, flat, n)
+        else:
+            nu, law_nd = _dimensionless_arrays(base, flat, n)
+            scales = None
+        spec = base.law.spec
+        spec.validate(law_nd)
+        lp = np.zeros((n, N_LAW_PARAMS))
+        for j, p in enumerate(spec.parameters):
+            lp[:, j] = law_nd[p.name]
+        return nu, law_nd, scales, lp
+
+    def compute(self, axes: dict[str, FloatArray], progress: ProgressLike = False) -> dict[str, FloatArray]:
+        """Run the engine on the mesh of ``axes``; return the result's arrays (shape of the mesh)."""
+        nu, law_nd, scales, lp = self.inputs(axes)
+        base = self.base
+        kernel = base.law.kernel if isinstance(base, DimensionlessParameters) else base.law.spec.kernel()
+        out, mult = _run_chunks(
+            kernel, lp, nu, self.rtol, self.atol, self.max_slip_time, self.conv_tol, progress
+        )
+        shape = tuple(len(v) for v in axes.values())
+        return _variables(out, mult, nu, law_nd, scales, shape, self.coords_names)
+
+    @property
+    def coords_names(self) -> tuple[str, ...]:
+        """The swept parameters."""
+        return tuple(self.si_axes)
+
+    def variables(self) -> list[Variable]:
+        """Return the result's arrays as stored: names, dtypes, attributes (labels as CF flag codes)."""
+        dims = self.coords_names
+        out = []
+        for key, (_, kind, desc) in _VALUES.items():
+            out.append(Variable(key, dims, "float64", {"units": self._unit(kind), "long_name": desc}))
+        out.append(Variable("multiplier", dims, "float64", _MULTIPLIER_ATTRS))
+        out.append(Variable("regime", dims, "int8", {**_REGIME_ATTRS, **_flags(Regime)}))
+        out.append(Variable("status", dims, "int8", {**_STATUS_ATTRS, **_flags(Status)}))
+        out.append(Variable("steady_sliding_stable", dims, "bool", _STABLE_ATTRS))
+        for key, attrs in self._extra_attrs().items():
+            out.append(Variable(key, dims, "float64", attrs))
+        return out
+
+    def _unit(self, kind: str) -> str:
+        if kind == "1":
+            return "1"
+        return _SI[kind] if isinstance(self.base, PhysicalParameters) else DIMENSIONLESS_UNITS[kind]
+
+    def _extra_attrs(self) -> dict[str, dict[str, str]]:
+        """``nu`` and the law's dimensionless parameters, unless swept."""
+        spec = self.base.law.spec
+        names = {p.name for p in spec.parameters}
+        out = {}
+        if "nu" not in self.si_axes:
+            out["nu"] = {"units": "1", "long_name": "nu = beta v0"}
+        for key in (p.name for p in spec.parameters):
+            if key not in self.si_axes:
+                out[key] = {"units": "1", "long_name": spec.parameter(key).help if key in names else key}
+        return out
+
+    def layout(self, chunks: tuple[int, ...]) -> Layout:
+        """Return the store's layout of this sweep with blocks of shape ``chunks``."""
+        coords = {
+            name: ((name,), vals, {"units": unit or "1", "long_name": desc})
+            for name, (vals, unit, desc) in self.coords.items()
+        }
+        identity = {
+            "grid": {k: v for k, v in self.si_axes.items()},
+            "units": {k: u for k, (_, u, _) in self.coords.items()},
+            "shown": {k: v for k, (v, _, _) in self.coords.items()},
+            "base": repr(self.base),
+            "law": self.base.law.describe(),
+            "tolerances": [self.rtol, self.atol, self.max_slip_time, self.conv_tol],
+        }
+        grid = ", ".join(
+            f"{k} ({len(v)} values {v[0]:.4g}..{v[-1]:.4g}{' ' + u if u else ''})"
+            for k, (v, u, _) in self.coords.items()
+        )
+        return Layout(
+            kind="sweep",
+            dims=self.coords_names,
+            shape=self.shape,
+            chunks=chunks,
+            coords=coords,
+            variables=tuple(self.variables()),
+            identity=identity,
+            attrs=self.attrs(),
+            describe=f"a sweep of the {self.base.law.name} law over {grid}",
+        )
+
+    def attrs(self) -> dict[str, Any]:
+        """Attributes of the result."""
+        base = self.base
+        return {
+            "title": "stickslip parameter sweep: steady oscillation reached from rest",
+            "law": base.law.name,
+            "law_description": base.law.describe(),
+            "kind": "physical" if isinstance(base, PhysicalParameters) else "dimensionless",
+            "base_parameters": repr(base),
+            "rtol": self.rtol,
+            "atol": self.atol,
+            "stickslip_version": package_version(),
+            "Conventions": "CF-1.8",
+        }
+
+    def dataset(self, arrays: Mapping[str, npt.NDArray[Any]]) -> xr.Dataset:
+        """Return the sweep's Dataset from its arrays (regime and status codes named)."""
+        return _assemble(self, arrays)
+
+
+@dataclass(frozen=True)
+class _SweepTask:
+    """One block of a sweep: the plan (without its grid) and the block's axes."""
+
+    plan: SweepPlan
+    axes: dict[str, FloatArray]
+
+    def __call__(self) -> dict[str, FloatArray]:
+        return self.plan.compute(self.axes)
 
 
 def _physical_to_dimensionless(
@@ -289,7 +505,7 @@ def _run_chunks(
     atol: float,
     max_slip_time: float,
     conv_tol: float,
-    progress: bool | None,
+    progress: ProgressLike,
 ) -> tuple[AttractorRows, FloatArray]:
     n = nu.shape[0]
     out = AttractorRows.empty(n)
@@ -297,7 +513,7 @@ def _run_chunks(
     chunk = max(256, min(20_000, n // 50 + 1))
     bounds = [*range(0, n, chunk), n]
     pairs = list(itertools.pairwise(bounds))
-    bar = progress_bar(n, unit="pt", desc="sweep", progress=progress)
+    bar = Progress(n, len(pairs), progress, desc="sweep") if progress is not False else None
     for lo, hi in pairs:
         rows = run_attractors(
             kernel,
@@ -317,97 +533,96 @@ def _run_chunks(
     return out, mult
 
 
-def _dataset(
-    base: DimensionlessParameters | PhysicalParameters,
-    coords: dict[str, tuple[FloatArray, str, str]],
-    shape: tuple[int, ...],
+_VALUES = {
+    "amplitude": ("amplitude", "force", "range of the spring force over one steady cycle"),
+    "period": ("period", "time", "period of the steady oscillation"),
+    "stick_time": ("stick_time", "time", "duration of the stick phase per cycle"),
+    "stick_fraction": ("stick_fraction", "1", "fraction of the period at rest"),
+    "slip_distance": ("slip_distance", "length", "distance slipped per cycle"),
+    "peak_velocity": ("w_max", "velocity", "largest block velocity over the cycle"),
+}
+_SI = {"force": "N", "time": "s", "length": "m", "velocity": "m/s", "1": "1"}
+_MULTIPLIER_ATTRS = {
+    "units": "1",
+    "long_name": "nontrivial Floquet multiplier of the attractor (0 stick-slip, NaN steady sliding)",
+}
+_REGIME_ATTRS = {
+    "long_name": "regime reached from rest",
+    "values": "stick-slip, pure-slip, steady-sliding, unknown",
+}
+_STATUS_ATTRS = {"long_name": "ok, or why the point failed"}
+_STABLE_ATTRS = {"long_name": "steady sliding linearly stable, f'(nu) > 0"}
+
+
+def _flags(enum: Any) -> dict[str, Any]:
+    return {"flag_values": [m.code for m in enum], "flag_meanings": " ".join(m.value for m in enum)}
+
+
+def _variables(
     out: AttractorRows,
     mult: FloatArray,
     nu: FloatArray,
     law_nd: dict[str, FloatArray],
     scales: dict[str, FloatArray] | None,
-    rtol: float,
-    atol: float,
-) -> xr.Dataset:
-    dims = tuple(coords)
+    shape: tuple[int, ...],
+    swept: tuple[str, ...],
+) -> dict[str, Any]:
+    """Return the result's arrays on a block of the grid (regime and status as integer codes)."""
     bad = ~out.ok
     period = out.period
     stick = out.stick_time
     steady = out.regime == Regime.STEADY_SLIDING.code
     with np.errstate(invalid="ignore", divide="ignore"):
         stick_fraction = np.where(steady, 0.0, stick / period)
-    slip_distance = np.where(steady, np.nan, nu * period)
-    values = {
-        "amplitude": (out.amplitude, "force", "range of the spring force over one steady cycle"),
-        "period": (period, "time", "period of the steady oscillation"),
-        "stick_time": (stick, "time", "duration of the stick phase per cycle"),
-        "stick_fraction": (stick_fraction, "1", "fraction of the period at rest"),
-        "slip_distance": (slip_distance, "length", "distance slipped per cycle"),
-        "peak_velocity": (out.w_max, "velocity", "largest block velocity over the cycle"),
+    raw = {
+        "amplitude": out.amplitude,
+        "period": period,
+        "stick_time": stick,
+        "stick_fraction": stick_fraction,
+        "slip_distance": np.where(steady, np.nan, nu * period),
+        "w_max": out.w_max,
     }
-    si = {"force": "N", "time": "s", "length": "m", "velocity": "m/s", "1": "1"}
     data: dict[str, Any] = {}
-    for key, (v, kind, desc) in values.items():
+    for key, (field_, kind, _) in _VALUES.items():
+        v = raw[field_]
         if scales is not None and kind != "1":
             v = v * scales[kind]
-            unit = si[kind]
-        else:
-            unit = "1" if kind == "1" else DIMENSIONLESS_UNITS[kind]
-        v = np.where(bad, np.nan, v)
-        data[key] = (dims, v.reshape(shape), {"units": unit, "long_name": desc})
-    # plain str arrays (numpy picks the width), so that NetCDF round-trips them exactly
-    regimes = np.array([str(r) for r in out.regimes()])
-    data["multiplier"] = (
-        dims,
-        np.where(bad, np.nan, mult).reshape(shape),
-        {
-            "units": "1",
-            "long_name": "nontrivial Floquet multiplier of the attractor (0 stick-slip, NaN steady sliding)",
-        },
-    )
-    data["regime"] = (
-        dims,
-        regimes.reshape(shape),
-        {"long_name": "regime reached from rest", "values": "stick-slip, pure-slip, steady-sliding, unknown"},
-    )
-    data["status"] = (
-        dims,
-        np.array([str(st) for st in out.statuses()]).reshape(shape),
-        {"long_name": "ok, or why the point failed"},
-    )
-    data["steady_sliding_stable"] = (
-        dims,
-        (out.dfnu > 0.0).reshape(shape),
-        {"long_name": "steady sliding linearly stable, f'(nu) > 0"},
-    )
-    # the dimensionless form of every point (unless it is itself a swept coordinate)
-    base_spec = base.law.spec
-    names = {p.name for p in base_spec.parameters}
-    if "nu" not in coords:
-        data["nu"] = (dims, nu.reshape(shape), {"units": "1", "long_name": "nu = beta v0"})
+        data[key] = np.where(bad, np.nan, v).reshape(shape)
+    data["multiplier"] = np.where(bad, np.nan, mult).reshape(shape)
+    data["regime"] = np.where(bad, Regime.UNKNOWN.code, out.regime).astype(np.int8).reshape(shape)
+    data["status"] = np.asarray(out.status).astype(np.int8).reshape(shape)
+    data["steady_sliding_stable"] = (out.dfnu > 0.0).reshape(shape)
+    if "nu" not in swept:
+        data["nu"] = nu.reshape(shape)
     for key, v in law_nd.items():
-        if key not in coords:
-            data[key] = (
-                dims,
-                v.reshape(shape),
-                {"units": "1", "long_name": base_spec.parameter(key).help if key in names else key},
-            )
+        if key not in swept:
+            data[key] = v.reshape(shape)
+    return data
+
+
+def _labels(codes: npt.NDArray[Any], enum: Any) -> npt.NDArray[np.str_]:
+    """Integer codes to their labels (plain str arrays: numpy picks the width, NetCDF round-trips)."""
+    names = {m.code: str(m) for m in enum}
+    flat = np.asarray(codes).ravel()
+    return np.array([names[int(c)] for c in flat]).reshape(np.shape(codes))
+
+
+def _assemble(plan: SweepPlan, arrays: Mapping[str, Any]) -> xr.Dataset:
+    dims = plan.coords_names
+    data: dict[str, Any] = {}
+    for v in plan.variables():
+        a = arrays[v.name]
+        attrs = {k: x for k, x in v.attrs.items() if k not in ("flag_values", "flag_meanings")}
+        if v.name == "regime":
+            a = _labels(a, Regime)
+        elif v.name == "status":
+            a = _labels(a, Status)
+        data[v.name] = (dims, np.asarray(a), attrs)
     coord_vars = {
         name: (name, vals, {"units": unit or "1", "long_name": desc})
-        for name, (vals, unit, desc) in coords.items()
+        for name, (vals, unit, desc) in plan.coords.items()
     }
-    attrs = {
-        "title": "stickslip parameter sweep: steady oscillation reached from rest",
-        "law": base.law.name,
-        "law_description": base.law.describe(),
-        "kind": "physical" if isinstance(base, PhysicalParameters) else "dimensionless",
-        "base_parameters": repr(base),
-        "rtol": rtol,
-        "atol": atol,
-        "stickslip_version": package_version(),
-        "Conventions": "CF-1.8",
-    }
-    return xr.Dataset(data, coords=coord_vars, attrs=attrs)
+    return xr.Dataset(data, coords=coord_vars, attrs=plan.attrs())
 
 
 def save_sweep(
@@ -428,7 +643,10 @@ def save_sweep(
 
 
 def load_sweep(path: str | os.PathLike[str]) -> xr.Dataset:
-    """Read a sweep written by :func:`save_sweep` (fully loaded, file closed).
+    """Read a sweep written by :func:`save_sweep`, or a sweep's store, fully loaded.
+
+    A store (``sweep(..., store=path)``) is returned as the sweep without a store
+    returns it: ``regime`` and ``status`` as labels, the same attributes.
 
     Raises
     ------
@@ -438,10 +656,26 @@ def load_sweep(path: str | os.PathLike[str]) -> xr.Dataset:
     """
     if not os.path.exists(path):
         raise ValueError(f"path={os.fspath(path)!r}: no such file")
+    from ..scale import is_store
+
+    if is_store(path):
+        return _load_store(path)
     try:
         ds = xr.load_dataset(path, engine="netcdf4")
     except Exception as exc:  # netCDF4 raises OSError/RuntimeError/ValueError variously
         raise ValueError(f"path={os.fspath(path)!r} is not a readable NetCDF file ({exc})") from None
     for key in ("stickslip_output", "stickslip_generator"):  # the file's marks, not the data's
         ds.attrs.pop(key, None)
+    return ds
+
+
+def _load_store(path: str | os.PathLike[str]) -> xr.Dataset:
+    import xarray as xr_
+
+    ds = xr_.open_zarr(os.fspath(path), consolidated=True, chunks=None).load()
+    ds.attrs.pop("stickslip_store", None)
+    for name, enum in (("regime", Regime), ("status", Status)):
+        if name in ds:
+            attrs = {k: x for k, x in ds[name].attrs.items() if k not in ("flag_values", "flag_meanings")}
+            ds[name] = (ds[name].dims, _labels(ds[name].values, enum), attrs)
     return ds

@@ -1,0 +1,235 @@
+"""Ensembles of chains: many seeds of one set-up, each member's statistics, on Dask and in a store.
+
+One member is one :func:`~.run.chain` run: its seed sets the initial positions
+and, with ``threshold_spread``, the static thresholds. The ensemble's result is a
+Dataset over ``seed`` of each member's numbers (events, recurrence, moment,
+b-value, status). With a store, each member's catalogue is streamed to
+``STORE/catalogs/seed-S.nc`` and the member's numbers written to the store when
+it finishes; a killed run resumes, members half done continuing their catalogue
+from its saved state.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+import xarray as xr
+
+from .. import defaults
+from ..core.results import ChainStatus
+from ..scale.progress import ProgressLike
+from ..scale.store import Block, Layout, Variable
+from .model import ChainParameters, static_thresholds
+from .run import chain
+
+__all__ = ["EnsembleJob", "chain_ensemble"]
+
+#: each member's numbers: name -> (dtype, long name); "status" as ChainStatus codes
+_FIELDS: dict[str, tuple[str, str]] = {
+    "events": ("int64", "events recorded"),
+    "simulated_time": ("float64", "time reached"),
+    "mean_recurrence": ("float64", "mean time between event starts"),
+    "mean_moment": ("float64", "mean moment (sum of the blocks' slips) per event"),
+    "largest_event_blocks": ("int64", "blocks that slipped in the largest event"),
+    "b_value": ("float64", "Gutenberg-Richter b-value (Aki-Utsu maximum likelihood)"),
+    "b_value_err": ("float64", "b-value standard error (bootstrap)"),
+    "completeness_magnitude": ("float64", "completeness magnitude Mc (maximum curvature)"),
+    "status": ("int8", "how the run ended"),
+}
+
+
+def chain_ensemble(
+    params: ChainParameters,
+    events: int,
+    seeds: Sequence[int],
+    *,
+    threshold_spread: float = 0.0,
+    init: str = "random",
+    amplitude: float = 0.01,
+    transient: int = 0,
+    rtol: float = defaults.RTOL,
+    atol: float = defaults.ATOL,
+    store: str | os.PathLike[str] | None = None,
+    scheduler: Any = None,
+    workers: int | None = None,
+    progress: ProgressLike = None,
+) -> xr.Dataset:
+    """Run one chain per seed; return each member's statistics over a ``seed`` dimension.
+
+    Parameters
+    ----------
+    params : ChainParameters
+        The set-up shared by every member (its thresholds are replaced by each
+        seed's when ``threshold_spread`` > 0).
+    events : int
+        Events recorded per member.
+    seeds : sequence of int
+        One member per seed (initial positions and thresholds).
+    threshold_spread : float
+        Heterogeneous thresholds ``1 + s U(-1, 1)`` drawn with each member's seed.
+    init, amplitude, transient, rtol, atol
+        As in :func:`~.run.chain`.
+    store : path, optional
+        Zarr store of the members' numbers, with each member's catalogue in
+        ``catalogs/``; resumable.
+    scheduler, workers : optional
+        Run the members on a Dask cluster or a ``LocalCluster`` (see
+        :func:`stickslip.dynamics.sweep`).
+    progress : bool or callable, optional
+        Progress over members.
+
+    Returns
+    -------
+    xarray.Dataset
+        Variables ``events``, ``simulated_time``, ``mean_recurrence``,
+        ``mean_moment``, ``largest_event_blocks``, ``b_value``, ``b_value_err``,
+        ``completeness_magnitude``, ``status`` (codes, named in ``flag_meanings``),
+        over ``seed``.
+
+    """
+    if not isinstance(params, ChainParameters):
+        raise ValueError(f"params={params!r}: expected ChainParameters")
+    try:
+        seed_arr = np.array([int(s) for s in seeds], dtype=np.int64)
+    except (TypeError, ValueError):
+        raise ValueError(f"seeds={seeds!r}: expected a sequence of whole numbers") from None
+    if seed_arr.size == 0 or np.unique(seed_arr).size != seed_arr.size:
+        raise ValueError(f"seeds={seeds!r}: expected at least one seed, each once")
+    static_thresholds(params.blocks, threshold_spread, 0)  # checks the spread
+    job = EnsembleJob(params, int(events), seed_arr, float(threshold_spread), str(init), float(amplitude),
+                      int(transient), float(rtol), float(atol), None)  # fmt: skip
+    from ..scale import ChunkStore, run_blocks
+
+    layout = job.layout()
+    chunks = ChunkStore.open(store, layout) if store is not None else None
+    if chunks is not None:
+        os.makedirs(os.path.join(chunks.path, "catalogs"), exist_ok=True)
+        job = dataclasses.replace(job, catalogs=os.path.join(chunks.path, "catalogs"))
+    arrays, report = run_blocks(
+        job, layout, store=chunks, scheduler=scheduler, workers=workers, progress=progress, desc="ensemble"
+    )
+    if chunks is not None:
+        ds = chunks.open_dataset().load()
+        ds.attrs["run"] = report.to_json()
+        return ds
+    assert arrays is not None
+    return job.dataset(arrays)
+
+
+@dataclass(frozen=True)
+class EnsembleJob:
+    """An ensemble cut into members (one per block)."""
+
+    params: ChainParameters
+    events: int
+    seeds: npt.NDArray[np.int64]
+    threshold_spread: float
+    init: str
+    amplitude: float
+    transient: int
+    rtol: float
+    atol: float
+    catalogs: str | None
+
+    def task(self, block: Block) -> _Member:
+        """Return the computation of one member."""
+        return _Member(self, int(self.seeds[block.slices[0]][0]))
+
+    def layout(self) -> Layout:
+        """Return the store's layout: one block per seed."""
+        variables = [
+            Variable(k, ("seed",), dtype, {"long_name": desc, **self._units(k)})
+            for k, (dtype, desc) in _FIELDS.items()
+        ]
+        status = variables[-1]
+        variables[-1] = dataclasses.replace(
+            status,
+            attrs={
+                **status.attrs,
+                "flag_values": [m.code for m in ChainStatus],
+                "flag_meanings": " ".join(m.value for m in ChainStatus),
+            },
+        )
+        p = self.params
+        return Layout(
+            kind="chain-ensemble",
+            dims=("seed",),
+            shape=(self.seeds.size,),
+            chunks=(1,),
+            coords={"seed": (("seed",), self.seeds, {"long_name": "seed of the member"})},
+            variables=tuple(variables),
+            identity={
+                "params": repr(p),
+                "thresholds": p.thresholds if p.thresholds is not None else "uniform",
+                "seeds": self.seeds,
+                "run": [self.events, self.threshold_spread, self.init, self.amplitude, self.transient],
+                "tolerances": [self.rtol, self.atol],
+            },
+            attrs=self._attrs(),
+            describe=(
+                f"an ensemble of {self.seeds.size} chains of {p.blocks} blocks ({p.law.name} law, "
+                f"nu={p.nu:g}, ell={p.ell:g}), {self.events} events each"
+            ),
+        )
+
+    def _units(self, name: str) -> dict[str, str]:
+        time = "s" if self.params.scales is not None else "sqrt(m/k_p)"
+        length = "m" if self.params.scales is not None else "F_s/k_p"
+        return {"simulated_time": {"units": time}, "mean_recurrence": {"units": time},
+                "mean_moment": {"units": length}}.get(name, {})  # fmt: skip
+
+    def _attrs(self) -> dict[str, Any]:
+        p = self.params
+        return {
+            "title": "stickslip chain ensemble: one chain per seed",
+            "law": p.law.name,
+            "blocks": p.blocks,
+            "nu": p.nu,
+            "ell": p.ell,
+            "boundary": str(p.boundary),
+            "events_per_member": self.events,
+            "threshold_spread": self.threshold_spread,
+        }
+
+    def dataset(self, arrays: dict[str, Any]) -> xr.Dataset:
+        """Return the ensemble's Dataset from its arrays."""
+        layout = self.layout()
+        data = {v.name: (v.dims, arrays[v.name], dict(v.attrs)) for v in layout.variables}
+        return xr.Dataset(data, coords={"seed": ("seed", self.seeds, {"long_name": "seed of the member"})},
+                          attrs=self._attrs())  # fmt: skip
+
+
+@dataclass(frozen=True)
+class _Member:
+    """One member of an ensemble: what one task runs."""
+
+    job: EnsembleJob
+    seed: int
+
+    def __call__(self) -> dict[str, Any]:
+        job = self.job
+        p = job.params
+        phi = static_thresholds(p.blocks, job.threshold_spread, self.seed)
+        if phi is not None:
+            p = dataclasses.replace(p, thresholds=phi)
+        out = None if job.catalogs is None else os.path.join(job.catalogs, f"seed-{self.seed}.nc")
+        res = chain(
+            p, job.events, init=job.init, seed=self.seed, amplitude=job.amplitude, transient=job.transient,
+            out=out, resume=out is not None, rtol=job.rtol, atol=job.atol, progress=False,
+        )  # fmt: skip
+        s = res.summary()
+        res.catalog.close()
+        row: dict[str, Any] = {}
+        for k, (dtype, _) in _FIELDS.items():
+            v = ChainStatus.from_label(s[k]).code if k == "status" else s[k]
+            if dtype == "float64" and v is None:
+                v = math.nan
+            row[k] = np.array([v], dtype=dtype)
+        return row

@@ -1,0 +1,259 @@
+"""Run a job's blocks in process or on a Dask distributed cluster, into a store or into memory.
+
+A *job* is anything with a ``task(block)`` method that returns a picklable
+callable computing that block's arrays (a mapping from variable name to an
+array of the block's shape). The blocks run
+
+- in process, one after the other (each one parallel inside, on numba's threads),
+  when neither ``scheduler`` nor ``workers`` is given: no Dask is imported;
+- on an existing Dask cluster (``scheduler``: its address, or a
+  ``distributed.Client``);
+- on a ``LocalCluster`` of ``workers`` processes started for the run, one task
+  at a time per worker, numba's threads shared out among them.
+
+With a store, each block is written where it was computed (workers write their
+own blocks: the store must be on a file system they all see) and only the
+blocks not yet in the store run. Without one, the arrays come back to the
+caller. At most a few blocks per worker are in flight, so memory stays bounded
+however many blocks there are.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from .progress import Progress, ProgressLike
+from .store import Block, ChunkStore, Layout
+
+__all__ = ["RunReport", "local_threads", "run_blocks"]
+
+Arrays = Mapping[str, npt.NDArray[Any]]
+
+
+@dataclass(frozen=True)
+class RunReport:
+    """What a run did.
+
+    Attributes
+    ----------
+    blocks : int
+        Blocks of the job.
+    reused : int
+        Blocks found finished in the store (verified), not computed again.
+    computed : int
+        Blocks computed by this run.
+    points : int
+        Grid points computed by this run.
+    seconds : float
+        Wall time of the run.
+    backend : str
+        ``in-process``, ``local-cluster (N workers)`` or the scheduler's address.
+
+    """
+
+    blocks: int
+    reused: int
+    computed: int
+    points: int
+    seconds: float
+    backend: str
+
+    def as_dict(self) -> dict[str, Any]:
+        """Return the report as plain numbers (``--json``)."""
+        return dict(self.__dict__)
+
+    def to_json(self) -> str:
+        """Return the report as JSON (the ``run`` attribute of a result read from its store)."""
+        import json
+
+        return json.dumps(self.as_dict())
+
+
+def local_threads(workers: int) -> int:
+    """Numba threads for each of ``workers`` processes on this machine (cores shared out)."""
+    cores = os.cpu_count() or 1
+    return max(1, cores // max(1, workers))
+
+
+def run_blocks(
+    job: Any,
+    layout: Layout,
+    *,
+    store: ChunkStore | None = None,
+    scheduler: Any = None,
+    workers: int | None = None,
+    progress: ProgressLike = None,
+    desc: str = "",
+) -> tuple[dict[str, npt.NDArray[Any]] | None, RunReport]:
+    """Compute every block of ``job`` not already in ``store``.
+
+    Parameters
+    ----------
+    job : object
+        Has ``task(block) -> callable`` (the callable returns the block's arrays).
+    layout : Layout
+        The result's shape and blocks (the store's, when there is one).
+    store : ChunkStore, optional
+        Write each block there as it finishes; skip the blocks already there.
+    scheduler : str or distributed.Client, optional
+        Run on this Dask cluster.
+    workers : int, optional
+        Start a LocalCluster of this many worker processes for the run.
+    progress : bool, callable or None
+        Progress bar (see :class:`~.progress.Progress`).
+    desc : str
+        Label of the progress bar.
+
+    Returns
+    -------
+    arrays : dict or None
+        Without a store, the full arrays of every variable; with one, None.
+    report : RunReport
+
+    """
+    t0 = time.perf_counter()
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise ValueError(f"workers={workers!r}: expected a whole number of worker processes >= 1")
+    if scheduler is not None and workers is not None:
+        raise ValueError("give either scheduler (an existing cluster) or workers (a local one), not both")
+    done = store.finished() if store is not None else set()
+    todo = [b for b in layout.blocks() if b.index not in done]
+    arrays = None if store is not None else _allocate(layout)
+    bar = Progress(
+        total_points=sum(b.points for b in todo),
+        total_blocks=len(todo),
+        progress=progress,
+        desc=desc or layout.kind,
+    )
+
+    def finish(block: Block, result: Arrays | None) -> None:
+        if arrays is not None and result is not None:
+            for v in layout.variables:
+                arrays[v.name][layout.region(v.name, block)] = result[v.name]
+        bar.update(block.points)
+
+    try:
+        if scheduler is None and workers is None:
+            backend = "in-process"
+            for block in todo:
+                result = job.task(block)()
+                if store is not None:
+                    store.write_block(block, result)
+                    result = None
+                finish(block, result)
+        else:
+            backend = _run_dask(job, layout, todo, store, scheduler, workers, finish)
+    finally:
+        bar.close()
+    report = RunReport(
+        blocks=layout.n_blocks,
+        reused=len(done),
+        computed=len(todo),
+        points=sum(b.points for b in todo),
+        seconds=time.perf_counter() - t0,
+        backend=backend,
+    )
+    return arrays, report
+
+
+def _allocate(layout: Layout) -> dict[str, npt.NDArray[Any]]:
+    out = {}
+    for v in layout.variables:
+        shape = layout.shape[: len(v.dims)]
+        out[v.name] = np.full(shape, v.fill, dtype=v.dtype)
+    return out
+
+
+def _block_task(
+    task: Callable[[], Arrays], block: Block, store: ChunkStore | None
+) -> tuple[int, Arrays | None]:
+    """Run on a worker: compute one block and write it (with a store) or send it back."""
+    result = task()
+    if store is not None:
+        store.write_block(block, result)
+        return block.index, None
+    return block.index, result
+
+
+def _run_dask(
+    job: Any,
+    layout: Layout,
+    todo: list[Block],
+    store: ChunkStore | None,
+    scheduler: Any,
+    workers: int | None,
+    finish: Callable[[Block, Arrays | None], None],
+) -> str:
+    from distributed import Client, LocalCluster, as_completed
+
+    cluster = None
+    own_client = False
+    if workers is not None:
+        cluster = LocalCluster(
+            n_workers=workers,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            silence_logs=logging.ERROR,
+            env={"NUMBA_NUM_THREADS": str(local_threads(workers))},
+        )
+        client = Client(cluster)
+        own_client = True
+        backend = f"local-cluster ({workers} workers)"
+    elif isinstance(scheduler, Client):
+        client = scheduler
+        backend = f"dask {scheduler.scheduler.address}" if scheduler.scheduler else "dask"
+    else:
+        try:
+            client = Client(str(scheduler), timeout="30s")
+        except (OSError, TimeoutError) as exc:
+            raise ValueError(
+                f"scheduler={scheduler!r}: cannot reach a Dask scheduler there ({exc})"
+            ) from None
+        own_client = True
+        backend = f"dask {scheduler}"
+    try:
+        threads = sum(client.nthreads().values()) or 1
+        in_flight = 2 * threads + 2
+        by_index = {b.index: b for b in todo}
+        pending = iter(todo)
+        ac = as_completed()
+        token = f"{layout.kind}-{os.getpid()}-{time.monotonic_ns()}"
+
+        def submit(block: Block) -> None:
+            ac.add(
+                client.submit(
+                    _block_task,
+                    job.task(block),
+                    block,
+                    store,
+                    key=f"stickslip-{token}-{block.index}",
+                    pure=False,
+                )
+            )
+
+        for block in pending:
+            submit(block)
+            if ac.count() >= in_flight:
+                break
+        for fut in ac:
+            index, result = fut.result()
+            fut.release()
+            finish(by_index[index], result)
+            nxt = next(pending, None)
+            if nxt is not None:
+                submit(nxt)
+    finally:
+        if own_client:
+            client.close()
+        if cluster is not None:
+            cluster.close()
+    return backend

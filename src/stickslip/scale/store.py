@@ -1,0 +1,509 @@
+"""A resumable on-disk store for long jobs: a Zarr group written chunk by chunk.
+
+A long job (a sweep, a regime map, an ensemble of chains) is cut into *blocks*:
+hyper-rectangles of its grid that are exactly the chunks of the store's arrays,
+so that two blocks never touch the same chunk file and no lock is needed, from
+threads, processes or machines. A block is written in two steps: its data (every
+variable's region, each chunk file written atomically by Zarr), then a marker
+holding a digest of what was written. On a second run only the blocks without a
+valid marker are computed; a marker whose digest no longer matches the data (a
+truncated, corrupt or deleted chunk file) is dropped and its block recomputed.
+
+The store's attributes hold the job's *identity* (the grid, the fixed
+parameters, the tolerances): opening a store for another job is a one-line
+:class:`StoreError`, never an overwrite. The store is a plain Zarr (format 3)
+group with consolidated metadata: ``xarray.open_zarr(path)`` reads it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import errno
+import functools
+import hashlib
+import itertools
+import json
+import math
+import os
+import shutil
+import tempfile
+import warnings
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from ..io.errors import DataError
+
+__all__ = ["Block", "ChunkStore", "Layout", "StoreError", "Variable", "chunk_shape", "is_store"]
+
+#: attribute of the group that marks a stickslip store (and holds the job's identity)
+MARK = "stickslip_store"
+#: folder (inside the store) of the markers of finished blocks
+DONE = ".stickslip-done"
+
+
+class StoreError(DataError):
+    """A store cannot be used: another job's, unreadable, or the disk refuses writes (one line).
+
+    A :class:`~stickslip.io.errors.DataError` (so a :class:`ValueError`): the command
+    line prints it as one ``Error:`` line.
+    """
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One array of a job's result.
+
+    Attributes
+    ----------
+    name : str
+        Variable name.
+    dims : tuple of str
+        Its dimensions: the job's dimensions, or a leading subset of them whose
+        trailing dimensions are never split into blocks.
+    dtype : str
+        numpy dtype (``float64``, ``int8``, ``bool``, ``int64``).
+    attrs : mapping
+        Attributes (``units``, ``long_name``, CF ``flag_values``/``flag_meanings``).
+
+    """
+
+    name: str
+    dims: tuple[str, ...]
+    dtype: str
+    attrs: Mapping[str, Any] = field(default_factory=dict)
+
+    @property
+    def fill(self) -> Any:
+        """Value of a chunk never written (NaN for floats)."""
+        kind = np.dtype(self.dtype).kind
+        return math.nan if kind == "f" else (False if kind == "b" else -1)
+
+
+@dataclass(frozen=True)
+class Block:
+    """One block of a job: its number, its region in the grid and its size in points."""
+
+    index: int
+    slices: tuple[slice, ...]
+
+    @property
+    def points(self) -> int:
+        """Grid points in the block."""
+        return int(np.prod([s.stop - s.start for s in self.slices], dtype=np.int64))
+
+
+@dataclass(frozen=True)
+class Layout:
+    """The shape of a job's result and how it is cut into blocks.
+
+    Attributes
+    ----------
+    kind : str
+        ``sweep``, ``regime-map``, ``chain-ensemble``.
+    dims, shape : tuple
+        The grid.
+    chunks : tuple of int
+        Block (and chunk) shape.
+    coords : mapping
+        Coordinate name to ``(dims, values, attrs)``.
+    variables : tuple of Variable
+        The result's arrays.
+    identity : mapping
+        What defines the values (JSON-able): compared with an existing store's.
+    attrs : mapping
+        Other attributes of the result.
+    describe : str
+        One line naming the job, for messages.
+
+    """
+
+    kind: str
+    dims: tuple[str, ...]
+    shape: tuple[int, ...]
+    chunks: tuple[int, ...]
+    coords: Mapping[str, tuple[tuple[str, ...], npt.NDArray[Any], Mapping[str, Any]]]
+    variables: tuple[Variable, ...]
+    identity: Mapping[str, Any]
+    attrs: Mapping[str, Any]
+    describe: str
+
+    def __post_init__(self) -> None:
+        if len(self.chunks) != len(self.shape) or any(c < 1 for c in self.chunks):
+            raise ValueError(f"chunks={self.chunks}: expected one positive size per dimension {self.dims}")
+        for v in self.variables:
+            k = len(v.dims)
+            if v.dims != self.dims[:k] or any(
+                c < s for c, s in zip(self.chunks[k:], self.shape[k:], strict=True)
+            ):
+                raise ValueError(f"variable {v.name} {v.dims}: blocks would split it")
+
+    @property
+    def n_blocks(self) -> int:
+        """Number of blocks."""
+        return int(np.prod(self.grid_of_blocks, dtype=np.int64))
+
+    @property
+    def grid_of_blocks(self) -> tuple[int, ...]:
+        """Blocks along each dimension."""
+        return tuple(-(-s // c) for s, c in zip(self.shape, self.chunks, strict=True))
+
+    @property
+    def points(self) -> int:
+        """Grid points in all."""
+        return int(np.prod(self.shape, dtype=np.int64))
+
+    def blocks(self) -> Iterator[Block]:
+        """Yield every block in row-major order."""
+        ranges = [range(n) for n in self.grid_of_blocks]
+        for i, idx in enumerate(itertools.product(*ranges)):
+            yield Block(
+                i,
+                tuple(
+                    slice(j * c, min((j + 1) * c, s))
+                    for j, c, s in zip(idx, self.chunks, self.shape, strict=True)
+                ),
+            )
+
+    def region(self, name: str, block: Block) -> tuple[slice, ...]:
+        """Return the region of variable ``name`` that ``block`` writes."""
+        v = self.variable(name)
+        return block.slices[: len(v.dims)]
+
+    def variable(self, name: str) -> Variable:
+        """Return the variable called ``name``."""
+        for v in self.variables:
+            if v.name == name:
+                return v
+        raise KeyError(name)
+
+    @functools.cached_property
+    def identity_digest(self) -> str:
+        """A digest of the identity (arrays by their bytes): equal for the same job only."""
+        text = json.dumps({"kind": self.kind, **self.identity}, sort_keys=True, default=_hashable)
+        return hashlib.sha256(text.encode()).hexdigest()
+
+    def light(self) -> Layout:
+        """Return the same layout without its coordinates (what a worker needs to write a block)."""
+        out = dataclasses.replace(self, coords={}, identity={})
+        out.__dict__["identity_digest"] = self.identity_digest
+        return out
+
+
+def _hashable(x: Any) -> Any:
+    if isinstance(x, np.ndarray):
+        a = np.ascontiguousarray(x)
+        return f"array {a.dtype} {a.shape} " + hashlib.blake2b(a.tobytes(), digest_size=16).hexdigest()
+    if isinstance(x, np.generic):
+        return x.item()
+    raise TypeError(f"{type(x).__name__} is not JSON-able")
+
+
+def _jsonable(x: Any) -> Any:
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    if isinstance(x, np.generic):
+        return x.item()
+    raise TypeError(f"{type(x).__name__} is not JSON-able")
+
+
+def chunk_shape(shape: tuple[int, ...], target: int) -> tuple[int, ...]:
+    """Return a block shape of about ``target`` points: whole trailing dimensions, the rest split.
+
+    From the last dimension backward, whole dimensions are kept while the block
+    stays within ``target`` points; the next dimension is cut to fit; the
+    leading ones have blocks of one. A block is then one contiguous run of the
+    grid's C order (or a few), so it maps to one region without gaps.
+    """
+    if target < 1:
+        raise ValueError(f"chunk size {target!r}: expected at least one point")
+    out = [1] * len(shape)
+    size = 1
+    for d in range(len(shape) - 1, -1, -1):
+        if size * shape[d] <= target:
+            out[d] = shape[d]
+            size *= shape[d]
+        else:
+            out[d] = max(1, target // size)
+            break
+    return tuple(out)
+
+
+def is_store(path: str | os.PathLike[str]) -> bool:
+    """Return whether ``path`` is a stickslip store (a Zarr group marked as one)."""
+    meta = os.path.join(os.fspath(path), "zarr.json")
+    try:
+        with open(meta, encoding="utf-8") as f:
+            return MARK in json.load(f).get("attributes", {})
+    except (OSError, ValueError):
+        return False
+
+
+def _digest(arrays: Mapping[str, npt.NDArray[Any]], names: list[str]) -> str:
+    h = hashlib.blake2b(digest_size=16)
+    for name in names:
+        a = np.ascontiguousarray(arrays[name])
+        h.update(name.encode())
+        h.update(str(a.dtype).encode())
+        h.update(str(a.shape).encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
+def _disk_error(exc: BaseException) -> OSError | None:
+    """Return the OSError behind ``exc`` (zarr may wrap it), or None."""
+    seen: BaseException | None = exc
+    while seen is not None:
+        if isinstance(seen, OSError):
+            return seen
+        if isinstance(seen, BaseExceptionGroup):
+            for sub in seen.exceptions:
+                found = _disk_error(sub)
+                if found is not None:
+                    return found
+        seen = seen.__cause__ or seen.__context__
+    return None
+
+
+def _why(err: OSError) -> str:
+    if err.errno in (errno.ENOSPC, errno.EDQUOT):
+        return "the disk is full"
+    if err.errno in (errno.EACCES, errno.EPERM):
+        return "permission denied"
+    if err.errno == errno.EROFS:
+        return "the file system is read-only"
+    return err.strerror or str(err)
+
+
+class ChunkStore:
+    """A job's store on disk: create or reopen, find the finished blocks, write a block.
+
+    Use :meth:`open` (the client, once) and :meth:`write_block` (any process,
+    for one block). A store is only ever written block by block, each block's
+    region being whole chunks of every array.
+    """
+
+    def __init__(self, path: str, layout: Layout) -> None:
+        self.path = path
+        self.layout = layout
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # sent to every worker with each block: without the coordinates
+        return (ChunkStore, (self.path, self.layout.light()))
+
+    # ------------------------------------------------------------------ opening
+
+    @classmethod
+    def open(cls, path: str | os.PathLike[str], layout: Layout) -> ChunkStore:
+        """Open the store of ``layout`` at ``path``, creating it if there is none.
+
+        An existing store must hold the same job (same :attr:`Layout.identity`);
+        its block shape is kept (a second run may use other workers or another
+        chunk size: the store's blocks win).
+
+        Raises
+        ------
+        StoreError
+            ``path`` exists and is not a stickslip store, or holds another job,
+            or cannot be created.
+
+        """
+        p = os.path.abspath(os.fspath(path))
+        if os.path.exists(p):
+            return cls._reopen(p, layout)
+        parent = os.path.dirname(p)
+        if not os.path.isdir(parent):
+            raise StoreError(f"store={os.fspath(path)!r}: the folder {parent} does not exist")
+        try:
+            cls._create(p, layout)
+        except Exception as exc:
+            err = _disk_error(exc)
+            shutil.rmtree(p, ignore_errors=True)
+            if err is None:
+                raise
+            raise StoreError(f"store={os.fspath(path)!r}: cannot create it: {_why(err)}") from None
+        return cls(p, layout)
+
+    @classmethod
+    def _reopen(cls, p: str, layout: Layout) -> ChunkStore:
+        if not is_store(p):
+            raise StoreError(
+                f"store={p!r} exists and is not a stickslip store: refusing to overwrite it (give a new path)"
+            )
+        with open(os.path.join(p, "zarr.json"), encoding="utf-8") as f:
+            attrs = json.load(f)["attributes"]
+        mark = attrs[MARK]
+        theirs = mark.get("identity")
+        if theirs != layout.identity_digest:
+            raise StoreError(
+                f"store={p!r} holds another job ({mark.get('describe', '?')}); this one is "
+                f"{layout.describe}: give another --store path, or delete that one"
+            )
+        chunks = tuple(int(c) for c in mark["chunks"])
+        if chunks != layout.chunks:
+            layout = dataclasses.replace(layout, chunks=chunks)
+        return cls(p, layout)
+
+    @staticmethod
+    def _create(p: str, layout: Layout) -> None:
+        import zarr
+
+        # built in a temporary folder beside it, then renamed: a store is there whole or not at all
+        tmp = tempfile.mkdtemp(prefix=".creating-", dir=os.path.dirname(p))
+        try:
+            attrs = {
+                **{
+                    k: _jsonable(v) if isinstance(v, np.generic | np.ndarray) else v
+                    for k, v in layout.attrs.items()
+                },
+                MARK: {
+                    "kind": layout.kind,
+                    "identity": layout.identity_digest,
+                    "describe": layout.describe,
+                    "chunks": list(layout.chunks),
+                    "shape": list(layout.shape),
+                    "dims": list(layout.dims),
+                },
+            }
+            g = zarr.open_group(tmp, mode="w", zarr_format=3, attributes=attrs)
+            for name, (dims, values, vattrs) in layout.coords.items():
+                vals = np.asarray(values)
+                g.create_array(
+                    name, data=vals, chunks=vals.shape, dimension_names=dims, attributes=dict(vattrs)
+                )
+            for v in layout.variables:
+                k = len(v.dims)
+                g.create_array(
+                    v.name,
+                    shape=layout.shape[:k],
+                    chunks=layout.chunks[:k],
+                    dtype=v.dtype,
+                    fill_value=v.fill,
+                    dimension_names=v.dims,
+                    attributes=dict(v.attrs),
+                )
+            with warnings.catch_warnings():  # "not part of the format 3 spec": xarray reads it
+                warnings.simplefilter("ignore")
+                zarr.consolidate_metadata(tmp)
+            os.makedirs(os.path.join(tmp, DONE))
+            os.rename(tmp, p)
+        except BaseException:
+            shutil.rmtree(tmp, ignore_errors=True)
+            raise
+
+    # ------------------------------------------------------------------ finished blocks
+
+    def _marker(self, index: int) -> str:
+        return os.path.join(self.path, DONE, f"{index:09d}")
+
+    def marked(self) -> set[int]:
+        """Return the blocks with a marker (finished, not yet verified)."""
+        folder = os.path.join(self.path, DONE)
+        try:
+            names = os.listdir(folder)
+        except FileNotFoundError:
+            return set()
+        return {int(n) for n in names if n.isdigit()}
+
+    def finished(self, *, verify: bool = True) -> set[int]:
+        """Return the blocks already written, checked against their digests.
+
+        A block whose data cannot be read back, or whose digest differs (a
+        truncated, corrupt or missing chunk file), loses its marker and is not
+        returned, so that it is computed again.
+        """
+        marked = self.marked()
+        if not verify or not marked:
+            return marked
+        import zarr
+
+        g = zarr.open_group(self.path, mode="r")
+        names = [v.name for v in self.layout.variables]
+        arrays: dict[str, Any] = {n: g[n] for n in names}
+        good = set()
+        for block in self.layout.blocks():
+            if block.index not in marked:
+                continue
+            try:
+                with open(self._marker(block.index), encoding="ascii") as f:
+                    want = f.read().strip()
+                data = {n: np.asarray(arrays[n][self.layout.region(n, block)]) for n in names}
+                ok = _digest(data, names) == want
+            except Exception:  # an unreadable chunk: compute the block again
+                ok = False
+            if ok:
+                good.add(block.index)
+            else:
+                try:
+                    os.remove(self._marker(block.index))
+                except OSError:
+                    pass
+        return good
+
+    # ------------------------------------------------------------------ writing
+
+    def write_block(self, block: Block, arrays: Mapping[str, npt.NDArray[Any]]) -> str:
+        """Write one block's arrays to their regions, then its marker; return the digest.
+
+        Raises
+        ------
+        StoreError
+            The disk refused the write (full, read-only, no permission); the
+            blocks written before are intact, and this one has no marker.
+
+        """
+        names = [v.name for v in self.layout.variables]
+        g = _group(self.path, self.layout.identity_digest)
+        try:
+            for v in self.layout.variables:
+                a = np.asarray(arrays[v.name], dtype=v.dtype)
+                g[v.name][self.layout.region(v.name, block)] = a
+            typed = {n: np.asarray(arrays[n], dtype=self.layout.variable(n).dtype) for n in names}
+            digest = _digest(typed, names)
+            marker = self._marker(block.index)
+            fd, tmp = tempfile.mkstemp(prefix=".tmp-", dir=os.path.dirname(marker))
+            try:
+                with os.fdopen(fd, "w", encoding="ascii") as f:
+                    f.write(digest)
+                os.replace(tmp, marker)
+            except BaseException:
+                if os.path.exists(tmp):
+                    os.remove(tmp)
+                raise
+        except Exception as exc:
+            err = _disk_error(exc)
+            if err is None:
+                raise
+            raise StoreError(
+                f"store={self.path!r}: cannot write block {block.index} of {self.layout.n_blocks}: "
+                f"{_why(err)}; the blocks written before are intact: fix that and run the same "
+                "command again"
+            ) from None
+        return digest
+
+    # ------------------------------------------------------------------ reading
+
+    def open_dataset(self) -> Any:
+        """Return the store as a lazily read ``xarray.Dataset``."""
+        import xarray as xr
+
+        ds = xr.open_zarr(self.path, consolidated=True, chunks=None)
+        ds.attrs.pop(MARK, None)
+        return ds
+
+
+_GROUPS: dict[tuple[str, str], Any] = {}
+
+
+def _group(path: str, identity: str) -> Any:
+    """Return the store's group opened for writing, once per process and job."""
+    g = _GROUPS.get((path, identity))
+    if g is None:
+        import zarr
+
+        g = zarr.open_group(path, mode="r+", use_consolidated=False)
+        _GROUPS[(path, identity)] = g
+    return g

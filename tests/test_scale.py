@@ -1,0 +1,431 @@
+"""Scale-out: the resumable store, the Dask backend, kills, corrupt chunks, full disks (issue 14).
+
+Every result is compared bit for bit with the in-process run of the same job.
+The cluster is a real ``distributed.LocalCluster`` of worker processes.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import hashlib
+import json
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import stickslip as ss
+from stickslip.bifurcation.regime_map import regime_map
+from stickslip.chains import ChainParameters, chain_ensemble
+from stickslip.dynamics.sweep import load_sweep, sweep
+from stickslip.laws import WeakeningLaw
+from stickslip.scale import ProgressInfo, StoreError, chunk_shape
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _grid(n_v0: int = 24, n_k: int = 10) -> dict[str, Any]:
+    return {
+        "v0": ss.Q_(np.geomspace(5, 1000, n_v0), "um/s"),
+        "stiffness": ss.Q_(np.linspace(30, 90, n_k), "N/m"),
+    }
+
+
+@pytest.fixture(scope="module")
+def base() -> Any:
+    return ss.zv_parameters()
+
+
+@pytest.fixture(scope="module")
+def reference(base: Any) -> xr.Dataset:
+    return sweep(base, _grid(), progress=False)
+
+
+def assert_same(a: xr.Dataset, b: xr.Dataset) -> None:
+    """Bit for bit: every variable, coordinate and attribute."""
+    b = b.copy()
+    b.attrs.pop("run", None)
+    xr.testing.assert_identical(a, b)
+    for k in a.variables:
+        x, y = a[k].values, b[k].values
+        assert x.dtype == y.dtype, k
+        if x.dtype.kind == "f":
+            assert np.array_equal(x.view(np.int64), y.view(np.int64)), k  # NaN payloads included
+        else:
+            assert np.array_equal(x, y), k
+
+
+def tree_digest(path: Path) -> str:
+    h = hashlib.sha256()
+    for p in sorted(path.rglob("*")):
+        h.update(str(p.relative_to(path)).encode())
+        if p.is_file():
+            h.update(p.read_bytes())
+    return h.hexdigest()
+
+
+def run_of(ds: xr.Dataset) -> dict[str, Any]:
+    out: dict[str, Any] = json.loads(ds.attrs["run"])
+    return out
+
+
+# ----------------------------------------------------------------------------- blocks and the store
+
+
+def test_chunk_shape_keeps_trailing_dimensions_whole() -> None:
+    assert chunk_shape((24, 10), 50) == (5, 10)
+    assert chunk_shape((10**7,), 32768) == (32768,)
+    assert chunk_shape((5, 3, 10**6), 10**4) == (1, 1, 10**4)
+    assert chunk_shape((4, 4), 10**6) == (4, 4)
+    with pytest.raises(ValueError, match="at least one point"):
+        chunk_shape((4,), 0)
+
+
+def test_store_equals_in_process_bit_for_bit(base: Any, reference: xr.Dataset, tmp_path: Path) -> None:
+    store = tmp_path / "s.zarr"
+    ds = sweep(base, _grid(), progress=False, store=store, block_points=40)
+    run = run_of(ds)
+    assert run == run | {"blocks": 6, "reused": 0, "computed": 6, "points": 240, "backend": "in-process"}
+    # the store read lazily: regime and status as CF flags
+    assert ds["regime"].dtype == np.int8 and "flag_meanings" in ds["regime"].attrs
+    assert_same(reference, load_sweep(store))
+    # and by any Zarr reader
+    raw = xr.open_zarr(store)
+    assert np.array_equal(raw["amplitude"].values, reference["amplitude"].values, equal_nan=True)
+    # a second run computes nothing
+    again = sweep(base, _grid(), progress=False, store=store, block_points=40)
+    assert run_of(again)["computed"] == 0 and run_of(again)["reused"] == 6
+
+
+def test_default_run_imports_no_distributed() -> None:
+    code = (
+        "import sys, numpy as np, stickslip as ss\n"
+        "from stickslip.dynamics.sweep import sweep\n"
+        "sweep(ss.zv_parameters(), {'v0': ss.Q_(np.geomspace(5, 1000, 4), 'um/s')}, progress=False)\n"
+        "print(sorted(m for m in sys.modules if m.split('.')[0] in ('distributed', 'zarr')))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
+
+
+def test_another_grid_is_a_one_line_error_and_the_store_is_untouched(base: Any, tmp_path: Path) -> None:
+    store = tmp_path / "s.zarr"
+    sweep(base, _grid(), progress=False, store=store, block_points=80)
+    before = tree_digest(store)
+    with pytest.raises(StoreError) as err:
+        sweep(base, _grid(n_v0=25), progress=False, store=store)
+    msg = str(err.value)
+    assert "\n" not in msg and "holds another job" in msg and "25 values" in msg
+    # other fixed parameters, other tolerances: refused as well
+    with pytest.raises(StoreError, match="holds another job"):
+        sweep(ss.zv_parameters(b="10 s/m"), _grid(), progress=False, store=store)
+    with pytest.raises(StoreError, match="holds another job"):
+        sweep(base, _grid(), progress=False, store=store, rtol=1e-8)
+    assert tree_digest(store) == before
+    # from the command line: one Error line, exit status 2 or 1, store untouched
+    cmd = _sweep_cmd(store, n_v0=25, n_k=10)
+    res = subprocess.run(cmd, capture_output=True, text=True, cwd=tmp_path)
+    assert res.returncode != 0
+    errors = [ln for ln in res.stderr.splitlines() if ln.strip()]
+    assert len(errors) == 1 and errors[0].startswith("Error:") and "holds another job" in errors[0], (
+        res.stderr
+    )
+    assert tree_digest(store) == before
+
+
+def test_a_path_that_is_not_a_store_is_never_overwritten(base: Any, tmp_path: Path) -> None:
+    folder = tmp_path / "data.zarr"
+    folder.mkdir()
+    (folder / "precious.txt").write_text("keep me")
+    with pytest.raises(StoreError, match="not a stickslip store"):
+        sweep(base, _grid(), progress=False, store=folder)
+    assert (folder / "precious.txt").read_text() == "keep me"
+    with pytest.raises(StoreError, match="does not exist"):
+        sweep(base, _grid(), progress=False, store=tmp_path / "missing" / "s.zarr")
+
+
+def test_corrupt_truncated_and_missing_chunks_are_recomputed(
+    base: Any, reference: xr.Dataset, tmp_path: Path
+) -> None:
+    store = tmp_path / "s.zarr"
+    sweep(base, _grid(), progress=False, store=store, block_points=40)
+    # block 1: amplitude's chunk truncated; block 3: period's chunk garbled; block 4: stick_time's deleted
+    amp = store / "amplitude" / "c" / "1" / "0"
+    amp.write_bytes(amp.read_bytes()[: amp.stat().st_size // 2])
+    per = store / "period" / "c" / "3" / "0"
+    data = bytearray(per.read_bytes())
+    data[len(data) // 2] ^= 0xFF
+    per.write_bytes(bytes(data))
+    (store / "stick_time" / "c" / "4" / "0").unlink()
+    ds = sweep(base, _grid(), progress=False, store=store)
+    assert run_of(ds)["reused"] == 3 and run_of(ds)["computed"] == 3
+    assert_same(reference, load_sweep(store))
+
+
+def test_progress_from_python(base: Any, tmp_path: Path) -> None:
+    seen: list[ProgressInfo] = []
+    sweep(base, _grid(), progress=seen.append, store=tmp_path / "s.zarr", block_points=40)
+    assert len(seen) == 6
+    assert [p.blocks for p in seen] == list(range(1, 7))
+    assert seen[-1].points == seen[-1].total_points == 240 and seen[-1].fraction == 1.0
+    assert all(p.rate > 0 for p in seen) and seen[-1].eta == 0.0
+    assert np.isfinite(seen[0].eta)
+    # in process, without a store, too
+    seen.clear()
+    sweep(base, _grid(), progress=seen.append)
+    assert seen and seen[-1].points == 240
+
+
+# ----------------------------------------------------------------------------- full and read-only disks
+
+
+@contextlib.contextmanager
+def tmpfs(path: Path, size: str, *extra: str) -> Any:
+    path.mkdir(parents=True, exist_ok=True)
+    opts = ",".join([f"size={size}", *extra])
+    res = subprocess.run(["mount", "-t", "tmpfs", "-o", opts, "tmpfs", str(path)], capture_output=True)
+    if res.returncode != 0:
+        pytest.skip(f"cannot mount a small tmpfs here (needs root): {res.stderr.decode().strip()}")
+    try:
+        yield path
+    finally:
+        subprocess.run(["umount", "-l", str(path)], capture_output=True)
+
+
+def test_full_disk_is_a_clear_error_and_earlier_blocks_stay(
+    base: Any, reference: xr.Dataset, tmp_path: Path
+) -> None:
+    # measure what the finished store takes on a tmpfs, then give it a third of that
+    with tmpfs(tmp_path / "big", "64m") as big:
+        sweep(base, _grid(), progress=False, store=big / "s.zarr", block_points=10)
+        used = os.statvfs(big).f_bsize * (os.statvfs(big).f_blocks - os.statvfs(big).f_bfree)
+    with tmpfs(tmp_path / "small", f"{used // 3}") as small:
+        store = small / "s.zarr"
+        with pytest.raises(StoreError) as err:
+            sweep(base, _grid(), progress=False, store=store, block_points=10)
+        msg = str(err.value)
+        assert "the disk is full" in msg and "intact" in msg and "\n" not in msg
+        done = [int(n) for n in os.listdir(store / ".stickslip-done") if n.isdigit()]
+        assert 0 < len(done) < 24
+        # the blocks written before the disk filled are right
+        partial = xr.open_zarr(store, chunks=None)
+        rows = sorted(done)
+        for b in rows:
+            sl = slice(b, b + 1)  # blocks of 10 points: one v0 row each
+            assert np.array_equal(
+                partial["amplitude"].values[sl], reference["amplitude"].values[sl], equal_nan=True
+            )
+        # room again: the same command completes and only the missing blocks run
+        subprocess.run(["mount", "-o", "remount,size=64m", str(small)], check=True)
+        ds = sweep(base, _grid(), progress=False, store=store, block_points=10)
+        assert run_of(ds)["reused"] == len(done) and run_of(ds)["computed"] == 24 - len(done)
+        assert_same(reference, load_sweep(store))
+
+
+def test_read_only_disk_is_a_clear_error(base: Any, tmp_path: Path) -> None:
+    with tmpfs(tmp_path / "ro", "4m", "ro") as ro:
+        with pytest.raises(StoreError, match=r"cannot create it: the file system is read-only"):
+            sweep(base, _grid(), progress=False, store=ro / "s.zarr")
+
+
+def test_a_refused_marker_write_keeps_the_earlier_blocks(
+    base: Any, reference: xr.Dataset, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Without root (no tmpfs): the disk refuses the fourth block's marker."""
+    import stickslip.scale.store as st
+
+    calls = {"n": 0}
+    real = os.replace
+
+    def failing(src: Any, dst: Any) -> None:
+        if st.DONE in str(dst):
+            calls["n"] += 1
+            if calls["n"] == 4:
+                raise OSError(errno.ENOSPC, "No space left on device")
+        real(src, dst)
+
+    monkeypatch.setattr(st.os, "replace", failing)
+    store = tmp_path / "s.zarr"
+    with pytest.raises(
+        StoreError, match=r"block 3 of 6: the disk is full; the blocks written before are intact"
+    ):
+        sweep(base, _grid(), progress=False, store=store, block_points=40)
+    monkeypatch.setattr(st.os, "replace", real)
+    assert sorted(os.listdir(store / st.DONE)) == ["000000000", "000000001", "000000002"]
+    ds = sweep(base, _grid(), progress=False, store=store)
+    assert run_of(ds)["computed"] == 3
+    assert_same(reference, load_sweep(store))
+
+
+# ----------------------------------------------------------------------------- killing the client
+
+
+def _sweep_cmd(store: Path, n_v0: int, n_k: int, block_points: int = 40) -> list[str]:
+    return [
+        sys.executable, "-m", "stickslip", "sweep", "--preset", "zv",
+        "--v0", "5 um/s..1000 um/s", "--num", str(n_v0), "--log",
+        "--stiffness", ",".join(f"{k:.6g} N/m" for k in np.linspace(30, 90, n_k)),
+        "--store", str(store), "--block-points", str(block_points), "--quiet",
+    ]  # fmt: skip
+
+
+def test_sigkill_of_the_client_then_the_same_command_completes(base: Any, tmp_path: Path) -> None:
+    n_v0, n_k = 120, 60  # 7200 points in 120 blocks of one v0 row
+    store = tmp_path / "s.zarr"
+    cmd = _sweep_cmd(store, n_v0, n_k, block_points=60)
+    proc = subprocess.Popen(cmd, cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    done_dir = store / ".stickslip-done"
+    deadline = time.monotonic() + 240
+    killed_at = 0
+    while time.monotonic() < deadline and proc.poll() is None:
+        if done_dir.is_dir():
+            killed_at = len(os.listdir(done_dir))
+            if killed_at >= 5:
+                proc.send_signal(signal.SIGKILL)
+                break
+        time.sleep(0.002)
+    proc.wait(timeout=60)
+    assert proc.returncode == -signal.SIGKILL, "the sweep ended before it could be killed"
+    before = len([n for n in os.listdir(done_dir) if n.isdigit()])
+    assert 5 <= before < 120
+    res = subprocess.run(cmd, cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    assert res.returncode == 0, res.stderr
+    m = re.search(r"store: (\d+) blocks, (\d+) already there, (\d+) computed", res.stderr)
+    assert m, res.stderr
+    blocks, reused, computed = (int(x) for x in m.groups())
+    assert blocks == 120 and reused == before and computed == 120 - before
+    grid = {
+        "v0": ss.Q_(np.geomspace(5, 1000, n_v0), "um/s"),
+        "stiffness": [f"{k:.6g} N/m" for k in np.linspace(30, 90, n_k)],
+    }
+    # the command's base set-up is the grid's first point: all else is the same
+    ref, got = sweep(base, grid, progress=False), load_sweep(store)
+    assert ref.attrs.pop("base_parameters") != got.attrs.pop("base_parameters")
+    assert_same(ref, got)
+
+
+# ----------------------------------------------------------------------------- a LocalCluster
+
+
+@pytest.fixture(scope="module")
+def client() -> Any:
+    import logging
+
+    from distributed import Client, LocalCluster
+
+    cluster = LocalCluster(
+        n_workers=2,
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=None,
+        silence_logs=logging.CRITICAL,
+        env={"NUMBA_NUM_THREADS": "1"},
+    )
+    c = Client(cluster)
+    yield c
+    c.close()
+    cluster.close()
+
+
+def _signatures() -> int:
+    from stickslip.core import engine
+
+    return len(engine.attractor_batch.signatures)
+
+
+def test_cluster_equals_in_process_and_compiles_once_per_worker(
+    base: Any, reference: xr.Dataset, client: Any
+) -> None:
+    ds = sweep(base, _grid(), progress=False, scheduler=client, block_points=20)  # 12 tasks
+    assert_same(reference, ds)
+    # one compiled specialisation of the engine per worker process, however many tasks it ran
+    assert set(client.run(_signatures).values()) == {1}
+
+
+def test_sigkill_of_a_worker_mid_sweep(base: Any, reference: xr.Dataset, client: Any, tmp_path: Path) -> None:
+    pids = client.run(os.getpid)
+    victim = sorted(pids.values())[0]
+    killed: list[int] = []
+
+    def kill_after_first(info: ProgressInfo) -> None:
+        if not killed:
+            os.kill(victim, signal.SIGKILL)
+            killed.append(victim)
+
+    store = tmp_path / "s.zarr"
+    ds = sweep(base, _grid(), progress=kill_after_first, scheduler=client, store=store, block_points=10)
+    assert killed and victim not in client.run(os.getpid).values()
+    assert run_of(ds)["computed"] == 24
+    assert_same(reference, load_sweep(store))
+    # and without a store: the results come back over the network
+    victim = sorted(client.run(os.getpid).values())[-1]
+    killed.clear()
+    assert_same(reference, sweep(base, _grid(), progress=kill_after_first, scheduler=client, block_points=10))
+    assert killed
+
+
+def test_workers_option_starts_a_local_cluster(base: Any, tmp_path: Path) -> None:
+    out = tmp_path / "s.nc"
+    res = subprocess.run(
+        [*_sweep_cmd(tmp_path / "s.zarr", 24, 10, 40), "--workers", "2", "--out", str(out), "--no-plot"],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=600,
+    )
+    assert res.returncode == 0, res.stderr
+    assert "local-cluster (2 workers)" in res.stderr
+    grid = {
+        "v0": ss.Q_(np.geomspace(5, 1000, 24), "um/s"),
+        "stiffness": [f"{k:.6g} N/m" for k in np.linspace(30, 90, 10)],
+    }
+    ref = sweep(base, grid, progress=False)
+    got = load_sweep(out)
+    for key in ("stickslip_version", "base_parameters"):  # the command's base: the grid's first point
+        ref.attrs.pop(key)
+        got.attrs.pop(key)
+    assert_same(ref, got)
+
+
+# ------------------------------------------------------------------- regime maps and chain ensembles
+
+
+def test_regime_map_through_the_store_and_the_cluster(client: Any, tmp_path: Path) -> None:
+    law = WeakeningLaw(c=3.8, p=0.3)
+    args = (law, "p", [0.1, 0.3, 0.6], 0.05, 2.0)
+    ref = regime_map(*args, n_nu=41, progress=False)
+    store = tmp_path / "m.zarr"
+    got = regime_map(*args, n_nu=41, progress=False, store=store, scheduler=client)
+    assert run_of(got)["blocks"] == 3 and run_of(got)["computed"] == 3
+    assert_same(ref, got)
+    os.remove(store / ".stickslip-done" / "000000001")
+    again = regime_map(*args, n_nu=41, progress=False, store=store)
+    assert run_of(again)["reused"] == 2 and run_of(again)["computed"] == 1
+    assert_same(ref, again)
+    with pytest.raises(StoreError, match="holds another job"):
+        regime_map(law, "p", [0.1, 0.3], 0.05, 2.0, n_nu=41, progress=False, store=store)
+
+
+def test_chain_ensemble_through_the_store_and_the_cluster(client: Any, tmp_path: Path) -> None:
+    params = ChainParameters(6, WeakeningLaw(c=3.0, p=0.0), 0.01, 2.0)
+    kw: dict[str, Any] = dict(threshold_spread=0.1, progress=False)
+    ref = chain_ensemble(params, 60, [1, 2, 3], **kw)
+    assert (ref["events"].values == 60).all() and (ref["status"].values == 0).all()
+    assert len(set(ref["mean_moment"].values.tolist())) == 3  # the seeds differ
+    store = tmp_path / "e.zarr"
+    got = chain_ensemble(params, 60, [1, 2, 3], store=store, scheduler=client, **kw)
+    assert_same(ref, got)
+    assert sorted(os.listdir(store / "catalogs")) == ["seed-1.nc", "seed-2.nc", "seed-3.nc"]
+    os.remove(store / ".stickslip-done" / "000000002")
+    again = chain_ensemble(params, 60, [1, 2, 3], store=store, **kw)
+    assert run_of(again)["computed"] == 1
+    assert_same(ref, again)
