@@ -429,3 +429,36 @@ def test_chain_ensemble_through_the_store_and_the_cluster(client: Any, tmp_path:
     again = chain_ensemble(params, 60, [1, 2, 3], store=store, **kw)
     assert run_of(again)["computed"] == 1
     assert_same(ref, again)
+
+
+def _cli(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "stickslip", *args], capture_output=True, text=True, cwd=cwd, timeout=600
+    )
+
+
+def test_cli_regime_map_and_chain_ensemble_resume_from_their_stores(tmp_path: Path) -> None:
+    law = ["--law", "weakening", "--c", "3.8", "--p", "0.3"]
+    rm = [*law, "--nu-min", "0.05", "--nu-max", "2", "--n", "31", "--map", "p=0.1..0.6", "--map-n", "3"]
+    first = _cli("regimes", *rm, "--json", "--store", "m.zarr", cwd=tmp_path)
+    assert first.returncode == 0, first.stderr
+    assert "store: 3 blocks, 0 already there, 3 computed" in first.stderr
+    again = _cli("regimes", *rm, "--json", "--store", "m.zarr", cwd=tmp_path)
+    assert "store: 3 blocks, 3 already there, 0 computed" in again.stderr
+    assert json.loads(first.stdout)["criterion"] == json.loads(again.stdout)["criterion"]
+    ch = ["--law", "weakening", "--c", "3", "--p", "0", "--nu", "0.01", "--ell", "2", "--blocks", "6"]
+    ens = [*ch, "--events", "40", "--threshold-spread", "0.1", "--seeds", "1..3", "--json", "--quiet"]
+    res = _cli("chain", *ens, "--store", "e.zarr", cwd=tmp_path)
+    assert res.returncode == 0, res.stderr
+    out = json.loads(res.stdout)
+    assert out["members"] == 3 and out["events"] == 120
+    assert [m["seed"] for m in out["per_member"]] == [1, 2, 3]
+    # one member's catalogue matches a single run of that seed
+    single = _cli(
+        "chain", *ch, "--events", "40", "--threshold-spread", "0.1", "--seed", "2", "--json", cwd=tmp_path
+    )
+    assert json.loads(single.stdout)["mean_moment"] == out["per_member"][1]["mean_moment"]
+    res2 = _cli("chain", *ens, "--store", "e.zarr", cwd=tmp_path)
+    assert "3 already there, 0 computed" in res2.stderr and json.loads(res2.stdout) == out
+    bad = _cli("chain", *ch, "--events", "40", "--store", "e.zarr", cwd=tmp_path)
+    assert bad.returncode != 0 and "--seeds" in bad.stderr
