@@ -15,6 +15,7 @@ actually reached.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 from collections.abc import Sequence
@@ -116,30 +117,13 @@ def regime_map(
     if isinstance(n_nu, bool) or not isinstance(n_nu, int | np.integer) or n_nu < 3:
         raise ValueError(f"n_nu={n_nu!r}: expected a whole number of nu points >= 3")
     job = RegimeMapJob(law, param, vals, float(nu_min), float(nu_max), int(n_nu))
-    layout = job.layout()
-    from ..scale import ChunkStore, run_blocks
+    from ..scale import run_job
 
-    chunks = ChunkStore.open(store, layout) if store is not None else None
-    if chunks is not None:
-        layout = chunks.layout
     show: ProgressLike = progress
     if progress is None:
         show = show_progress(None) and vals.size > 4
-    arrays, report = run_blocks(
-        job,
-        layout,
-        store=chunks,
-        scheduler=scheduler,
-        workers=workers,
-        progress=show,
-        desc=f"regimes over {param}",
-    )
-    if chunks is not None:
-        ds = chunks.open_dataset().load()
-        ds.attrs["run"] = report.to_json()
-        return ds
-    assert arrays is not None
-    return job.dataset(arrays)
+    return run_job(job, job.layout(), store=store, scheduler=scheduler, workers=workers, progress=show,
+                   desc=f"regimes over {param}")  # fmt: skip
 
 
 _ENDS = ("hopf", "fold", "grazing", "stick_slip_onset")
@@ -163,9 +147,7 @@ class RegimeMapJob:
 
     def task(self, block: Block) -> _RegimeRows:
         """Return the computation of one block of rows."""
-        return _RegimeRows(
-            self.law, self.param, self.values[block.slices[0]], self.nu_min, self.nu_max, self.n_nu
-        )
+        return _RegimeRows(dataclasses.replace(self, values=self.values[block.slices[0]]))
 
     def layout(self) -> Layout:
         """Return the store's layout: rows of ``(param, nu)``, one row per block."""
@@ -238,23 +220,19 @@ _AMPLITUDE_ATTRS = {"long_name": "spring-force range of the attractor reached fr
 
 @dataclass(frozen=True)
 class _RegimeRows:
-    """Rows of a regime map: what one task computes."""
+    """Rows of a regime map: what one task computes (the job restricted to its rows)."""
 
-    law: DimensionlessLaw
-    param: str
-    values: npt.NDArray[np.float64]
-    nu_min: float
-    nu_max: float
-    n_nu: int
+    job: RegimeMapJob
 
     def __call__(self) -> dict[str, Any]:
-        k = self.values.size
-        regime = np.empty((k, self.n_nu), dtype=np.int8)
-        observed = np.empty((k, self.n_nu), dtype=np.int8)
-        amplitude = np.empty((k, self.n_nu))
+        job = self.job
+        k = job.values.size
+        regime = np.empty((k, job.n_nu), dtype=np.int8)
+        observed = np.empty((k, job.n_nu), dtype=np.int8)
+        amplitude = np.empty((k, job.n_nu))
         ends = {key: np.full(k, math.nan) for key in _ENDS}
-        for i, v in enumerate(self.values):
-            d = regimes(_with(self.law, self.param, float(v)), self.nu_min, self.nu_max, n_grid=self.n_nu)
+        for i, v in enumerate(job.values):
+            d = regimes(_with(job.law, job.param, float(v)), job.nu_min, job.nu_max, n_grid=job.n_nu)
             regime[i], observed[i], amplitude[i] = _rows(d)
             for p in d.points:
                 key = p.kind.replace("-", "_")

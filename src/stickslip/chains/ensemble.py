@@ -103,24 +103,13 @@ def chain_ensemble(
     if seed_arr.size == 0 or np.unique(seed_arr).size != seed_arr.size:
         raise ValueError(f"seeds={seeds!r}: expected at least one seed, each once")
     static_thresholds(params.blocks, threshold_spread, 0)  # checks the spread
+    catalogs = None if store is None else os.path.join(os.path.abspath(os.fspath(store)), "catalogs")
     job = EnsembleJob(params, int(events), seed_arr, float(threshold_spread), str(init), float(amplitude),
-                      int(transient), float(rtol), float(atol), None)  # fmt: skip
-    from ..scale import ChunkStore, run_blocks
+                      int(transient), float(rtol), float(atol), catalogs)  # fmt: skip
+    from ..scale import run_job
 
-    layout = job.layout()
-    chunks = ChunkStore.open(store, layout) if store is not None else None
-    if chunks is not None:
-        os.makedirs(os.path.join(chunks.path, "catalogs"), exist_ok=True)
-        job = dataclasses.replace(job, catalogs=os.path.join(chunks.path, "catalogs"))
-    arrays, report = run_blocks(
-        job, layout, store=chunks, scheduler=scheduler, workers=workers, progress=progress, desc="ensemble"
-    )
-    if chunks is not None:
-        ds = chunks.open_dataset().load()
-        ds.attrs["run"] = report.to_json()
-        return ds
-    assert arrays is not None
-    return job.dataset(arrays)
+    return run_job(job, job.layout(), store=store, scheduler=scheduler, workers=workers, progress=progress,
+                   desc="ensemble")  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -219,7 +208,10 @@ class _Member:
         phi = static_thresholds(p.blocks, job.threshold_spread, self.seed)
         if phi is not None:
             p = dataclasses.replace(p, thresholds=phi)
-        out = None if job.catalogs is None else os.path.join(job.catalogs, f"seed-{self.seed}.nc")
+        out = None
+        if job.catalogs is not None:
+            os.makedirs(job.catalogs, exist_ok=True)
+            out = os.path.join(job.catalogs, f"seed-{self.seed}.nc")
         res = chain(
             p, job.events, init=job.init, seed=self.seed, amplitude=job.amplitude, transient=job.transient,
             out=out, resume=out is not None, rtol=job.rtol, atol=job.atol, progress=False,

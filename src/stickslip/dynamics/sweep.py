@@ -269,7 +269,7 @@ def sweep(
         check_sweep_size(plan.points)
         arrays = plan.compute(si_axes, progress=progress)
         return plan.dataset(arrays)
-    from ..scale import SWEEP_BLOCK_POINTS, ChunkStore, chunk_shape, run_blocks
+    from ..scale import SWEEP_BLOCK_POINTS, chunk_shape, run_job
 
     if block_points is not None and (
         isinstance(block_points, bool) or not isinstance(block_points, int) or block_points < 1
@@ -278,20 +278,11 @@ def sweep(
     layout = plan.layout(chunk_shape(plan.shape, block_points or SWEEP_BLOCK_POINTS))
     if store is None:
         check_sweep_size(plan.points)
-    chunks = ChunkStore.open(store, layout) if store is not None else None
-    if chunks is not None:
-        layout = chunks.layout
     # every point validated before anything runs, block by block (bounded memory)
     for block in layout.blocks():
         plan.inputs(plan.sub_axes(block))
-    result, report = run_blocks(plan, layout, store=chunks, scheduler=scheduler, workers=workers,
-                                progress=progress, desc="sweep")  # fmt: skip
-    if chunks is not None:
-        ds = chunks.open_dataset()
-        ds.attrs["run"] = report.to_json()
-        return ds
-    assert result is not None
-    return plan.dataset(result)
+    return run_job(plan, layout, store=store, scheduler=scheduler, workers=workers, progress=progress,
+                   desc="sweep", load=False)  # fmt: skip
 
 
 @dataclass(frozen=True)

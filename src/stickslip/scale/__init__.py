@@ -8,7 +8,7 @@ distributed cluster. See ``docs/scale.md``.
 
 from __future__ import annotations
 
-from .backend import RunReport, local_threads, run_blocks
+from .backend import RunReport, local_threads, run_blocks, run_job
 from .progress import Progress, ProgressInfo, ProgressLike
 from .store import Block, ChunkStore, Layout, StoreError, Variable, chunk_shape, is_store
 
@@ -26,6 +26,7 @@ __all__ = [
     "is_store",
     "local_threads",
     "run_blocks",
+    "run_job",
 ]
 
 #: points per block of a sweep by default: a task of a fraction of a second on one core,

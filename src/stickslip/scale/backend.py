@@ -33,7 +33,7 @@ import numpy.typing as npt
 from .progress import Progress, ProgressLike
 from .store import Block, ChunkStore, Layout
 
-__all__ = ["RunReport", "local_threads", "run_blocks"]
+__all__ = ["RunReport", "local_threads", "run_blocks", "run_job"]
 
 Arrays = Mapping[str, npt.NDArray[Any]]
 
@@ -257,3 +257,40 @@ def _run_dask(
         if cluster is not None:
             cluster.close()
     return backend
+
+
+def run_job(
+    job: Any,
+    layout: Layout,
+    *,
+    store: str | os.PathLike[str] | None,
+    scheduler: Any,
+    workers: int | None,
+    progress: ProgressLike,
+    desc: str,
+    load: bool = True,
+) -> Any:
+    """Run a job (in process or on Dask, into its store or into memory); return its Dataset.
+
+    Without a store: ``job.dataset(arrays)``. With one: the store read back
+    (loaded when ``load``, lazily otherwise), with the run's :class:`RunReport`
+    as JSON in its ``run`` attribute.
+    """
+    chunks = ChunkStore.open(store, layout) if store is not None else None
+    arrays, report = run_blocks(
+        job,
+        chunks.layout if chunks is not None else layout,
+        store=chunks,
+        scheduler=scheduler,
+        workers=workers,
+        progress=progress,
+        desc=desc,
+    )
+    if chunks is None:
+        assert arrays is not None
+        return job.dataset(arrays)
+    ds = chunks.open_dataset()
+    if load:
+        ds = ds.load()
+    ds.attrs["run"] = report.to_json()
+    return ds
