@@ -1,119 +1,554 @@
-"""Rate-and-state spring-slider: compiled right-hand sides and Jacobians (numbers only).
+"""Rate-and-state spring-slider: compiled vector fields, Jacobians and integrator (numbers only).
 
-Quasi-static model (the paper's appendix, PHYSICS.md §5), SI units:
+Friction with any number ``n`` of state variables (SI units, friction per normal
+load or normal stress):
 
-    mu = (k/W) (x_lp - x) = mu0 + A ln(v/V_r) + B ln(Phi V_r / D0)
+    f = mu0 + A ln(v/V_r) + sum_i B_i theta_i                         (form LOG)
+    f = A asinh(v/(2 V_r) exp((mu0 + sum_i B_i theta_i)/A))            (form REGULARIZED)
 
-with state ``theta = ln(Phi V_r / D0)`` (so ``Phi`` stays positive over any
-number of decades) and friction ``mu`` as variables:
+with the log-states ``theta_i = ln(Phi_i V_r / L_i)``, where ``Phi_i`` is the state
+(a time), ``L_i = D_c,i`` for the aging, slip and Nagata laws and ``L_i = 2 D_c,i``
+for the Perrin-Rice-Zheng law, so that steady sliding at ``v`` is always
+``theta_i = ln(V_r / v)`` and the log-state stays finite over any number of decades.
+Evolution laws (``Phi`` forms in the docstring of :func:`state_rate`): aging
+(Dieterich), slip (Ruina), Perrin-Rice-Zheng, Nagata.
 
-    v      = V_r exp((mu - mu0 - B theta)/A)
-    mu'    = kw (v_lp - v)                       (kw = k/W, 1/m)
-    theta' = (V_r/D0) exp(-theta) - v/D0          aging (Dieterich) law
-    theta' = -(v/D0) (ln(v/V_r) + theta)          slip (Ruina) law
+Quasi-static or quasi-dynamic slider (``mu_s`` is the spring's stress per normal
+stress, ``kw = k/W`` in 1/m, ``eta`` the radiation damping per normal stress in s/m):
 
-Inertial model (``m x'' = k (x_lp - x) - W mu``), variables ``(mu_s, v, theta)``
-with the spring's friction-equivalent ``mu_s = (k/W)(x_lp - x)`` and the
-regularised friction ``mu = A asinh(v/(2 V_r) exp((mu0 + B theta)/A))``, equal to
-the logarithmic law for ``v >> V_r exp(-(mu0 + B theta)/A)`` and defined at
-``v <= 0`` (Rice and Ben-Zion 1996).
+    mu_s = f(v, theta) + eta v              (solved for v; closed form for LOG and eta = 0)
+    mu_s' = kw (v_lp - v)
 
-Parameter vector ``p = (A, B, D0, V_r, mu0, kw, W/m)``; law 0 = aging, 1 = slip.
+Inertial slider (``wm = W/m`` in m/s^2; always the regularized form, defined at v <= 0):
+
+    v' = wm (mu_s - f(v, theta) - eta v),   mu_s' = kw (v_lp - v)
+
+Parameter vector ``P = (A, V_r, mu0, kw, wm, eta, form)``; state table ``S`` (n x 4):
+``(B_i, D_c,i, law_i, c_i)`` with ``c_i`` Nagata's coefficient.
 """
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
+
+from ._dop853_tableau import C, N_STAGES, N_STAGES_EXTENDED
+from ._dop853_unrolled import dense_coeffs
+from .dop853 import dense_eval, illinois_propose, illinois_update, vec_advance, vec_error, vec_stage
+from .engine import MAX_FACTOR, MIN_FACTOR, SAFETY, _root8
 
 AGING = 0
 SLIP = 1
+PRZ = 2
+NAGATA = 3
+
+LOG = 0
+REGULARIZED = 1
+
+P_A, P_VR, P_MU0, P_KW, P_WM, P_ETA, P_FORM = range(7)
+N_QUAD = 4  # slip, friction work, radiated energy, load work (per normal stress)
+
+# integrator outcomes
+RS_OK = 0
+RS_RUNAWAY = 1
+RS_MAX_STEPS = 2
+RS_STEP_TOO_SMALL = 3
+RS_NONFINITE = 4
+RS_EVENTS_FULL = 5
+
+# event kinds
+EV_SPRING_PEAK = 0
+EV_UP = 1
+EV_DOWN = 2
+EV_VELOCITY_PEAK = 3
+EV_RUNAWAY = 4
 
 
 @njit(cache=True)
-def qs_rhs(y, p, law, v_lp, out):  # type: ignore[no-untyped-def]
-    """Quasi-static right-hand side for ``y = (mu, theta)`` at load-point velocity ``v_lp``."""
-    a, b, dc, vr, mu0, kw = p[0], p[1], p[2], p[3], p[4], p[5]
-    mu, th = y[0], y[1]
-    lnv = (mu - mu0 - b * th) / a  # ln(v / V_r)
-    v = vr * math.exp(lnv)
-    out[0] = kw * (v_lp - v)
-    if law == AGING:
-        out[1] = (vr / dc) * math.exp(-th) - v / dc
-    else:
-        out[1] = -(v / dc) * (lnv + th)
+def psi(y, S, off, n):  # type: ignore[no-untyped-def]
+    """Return ``sum_i B_i theta_i`` over the log-states ``y[off:off + n]``."""
+    acc = 0.0
+    for i in range(n):
+        acc += S[i, 0] * y[off + i]
+    return acc
 
 
 @njit(cache=True)
-def qs_jac(y, p, law, out):  # type: ignore[no-untyped-def]
-    """Jacobian of :func:`qs_rhs` with respect to ``(mu, theta)``."""
-    a, b, dc, vr, mu0, kw = p[0], p[1], p[2], p[3], p[4], p[5]
-    mu, th = y[0], y[1]
-    lnv = (mu - mu0 - b * th) / a
-    v = vr * math.exp(lnv)
-    out[0, 0] = -kw * v / a
-    out[0, 1] = kw * b * v / a
-    if law == AGING:
-        out[1, 0] = -v / (a * dc)
-        out[1, 1] = -(vr / dc) * math.exp(-th) + b * v / (a * dc)
-    else:
-        ln_l = lnv + th
-        out[1, 0] = -(v / (a * dc)) * (ln_l + 1.0)
-        out[1, 1] = (v / dc) * ((b / a) * ln_l + b / a - 1.0)
+def _reg(w):  # type: ignore[no-untyped-def]
+    """Return ``(asinh(exp(w)/2), d/dw)`` without overflow."""
+    if w > 40.0:
+        return w, 1.0
+    if w < -300.0:
+        return 0.5 * math.exp(w), 0.5 * math.exp(w)
+    e = math.exp(w)
+    return math.asinh(0.5 * e), 0.5 * e / math.sqrt(1.0 + 0.25 * e * e)
 
 
 @njit(cache=True)
-def qs_velocity(mu, th, p):  # type: ignore[no-untyped-def]
-    """Slip velocity (m/s) of the quasi-static model."""
-    return p[3] * math.exp((mu - p[4] - p[1] * th) / p[0])
+def qs_lnv(mu_s, ps, P):  # type: ignore[no-untyped-def]
+    """Return ``(u, r, D)``: ``u = ln(v/V_r)`` solving ``mu_s = f + eta v``, ``r = df/dpsi``, ``D = d mu_s/du``.
+
+    ``ps`` is ``mu0 + sum_i B_i theta_i``. Closed form for the log form without
+    damping; otherwise a safeguarded Newton iteration in ``u`` (``mu_s`` is
+    increasing in ``u``). ``u`` is NaN where no positive velocity solves it.
+    """
+    a = P[P_A]
+    vr = P[P_VR]
+    eta = P[P_ETA]
+    reg = P[P_FORM] == REGULARIZED
+    if not reg and eta == 0.0:
+        return (mu_s - ps) / a, 1.0, a
+    if reg and mu_s <= 0.0:
+        return math.nan, 1.0, a
+    u = (mu_s - ps) / a
+    if eta > 0.0 and mu_s > 0.0:
+        u = min(u, math.log(mu_s / (eta * vr)))  # a bound for the regularized form, a guess for LOG
+    lo = -math.inf
+    hi = math.inf
+    r = 1.0
+    d = a
+    for _ in range(200):
+        ev = math.exp(u)
+        if reg:
+            g, r = _reg(u + ps / a)
+            f = a * g
+            df = a * r
+        else:
+            f = ps + a * u
+            r = 1.0
+            df = a
+        fv = f + eta * vr * ev - mu_s
+        d = df + eta * vr * ev
+        if fv > 0.0:
+            hi = u
+        else:
+            lo = u
+        step = fv / d
+        un = u - step
+        if not (lo < un < hi):
+            if math.isinf(lo):
+                un = max(un, u - 50.0)
+                if not un < hi:
+                    un = hi - 1.0
+            elif math.isinf(hi):
+                un = min(un, u + 50.0)
+                if not un > lo:
+                    un = lo + 1.0
+            else:
+                un = 0.5 * (lo + hi)
+        if abs(un - u) <= 1e-15 * max(1.0, abs(u)) or fv == 0.0:
+            u = un
+            break
+        u = un
+    return u, r, d
 
 
 @njit(cache=True)
-def inertial_friction(v, th, p):  # type: ignore[no-untyped-def]
-    """Regularised rate-and-state friction ``A asinh(v/(2 V_r) exp((mu0 + B theta)/A))``."""
-    a, b, vr, mu0 = p[0], p[1], p[3], p[4]
-    return a * math.asinh(v / (2.0 * vr) * math.exp((mu0 + b * th) / a))
+def state_rate(law, b, dc, c, th, u, v, vr, dmu):  # type: ignore[no-untyped-def]
+    """Rate of the log-state ``theta`` (1/s) at ``u = ln(v/V_r)``.
+
+    In terms of ``Phi`` (``L = D_c``, PRZ ``L = 2 D_c``):
+    aging ``Phi' = 1 - v Phi/D_c``; slip ``Phi' = -(v Phi/D_c) ln(v Phi/D_c)``;
+    PRZ ``Phi' = 1 - (v Phi/(2 D_c))^2``; Nagata ``Phi' = 1 - v Phi/D_c - (c/B) Phi mu'``
+    with ``mu'`` the rate of the spring's stress per normal stress.
+    """
+    if law == SLIP:
+        return -(v / dc) * (u + th)
+    if law == PRZ:
+        return (vr / (2.0 * dc)) * math.exp(-th) - (v * v / (2.0 * dc * vr)) * math.exp(th)
+    r = (vr / dc) * math.exp(-th) - v / dc
+    if law == NAGATA:
+        r -= (c / b) * dmu
+    return r
 
 
 @njit(cache=True)
-def in_rhs(y, p, law, v_lp, out):  # type: ignore[no-untyped-def]
-    """Inertial right-hand side for ``y = (mu_s, v, theta)``."""
-    dc, vr, kw, wm = p[2], p[3], p[5], p[6]
-    mus, v, th = y[0], y[1], y[2]
-    out[0] = kw * (v_lp - v)
-    out[1] = wm * (mus - inertial_friction(v, th, p))
-    av = abs(v)
-    if law == AGING:
-        out[2] = (vr / dc) * math.exp(-th) - av / dc
-    else:
-        av = max(av, 1e-300)
-        out[2] = -(av / dc) * (math.log(av / vr) + th)
+def _state_partials(law, b, dc, c, th, u, v, vr, kw):  # type: ignore[no-untyped-def]
+    """Return ``(d rate/du, d rate/dtheta)`` of :func:`state_rate` (``mu' = kw (v_lp - v)``)."""
+    if law == SLIP:
+        return -(v / dc) * (u + th + 1.0), -v / dc
+    if law == PRZ:
+        e = math.exp(th)
+        return -(v * v / (dc * vr)) * e, -(vr / (2.0 * dc)) / e - (v * v / (2.0 * dc * vr)) * e
+    gu = -v / dc
+    if law == NAGATA:
+        gu += (c / b) * kw * v
+    return gu, -(vr / dc) * math.exp(-th)
 
 
 @njit(cache=True)
-def in_jac(y, p, law, out):  # type: ignore[no-untyped-def]
-    """Jacobian of :func:`in_rhs` with respect to ``(mu_s, v, theta)``."""
-    a, b, dc, vr, mu0, kw, wm = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
-    v, th = y[1], y[2]
-    e = math.exp((mu0 + b * th) / a) / (2.0 * vr)
+def qs_rhs(y, P, S, n, v_lp, out):  # type: ignore[no-untyped-def]
+    """Quasi-static right-hand side of ``y = (mu_s, theta_1..n[, quadratures])``; returns ``u``.
+
+    With ``out`` longer than ``1 + n`` also the rates of the slip, the friction
+    work ``int f v dt``, the radiated energy ``int eta v^2 dt`` and the load
+    work ``int mu_s v_lp dt`` (per normal stress).
+    """
+    vr = P[P_VR]
+    kw = P[P_KW]
+    mu_s = y[0]
+    u, _, _ = qs_lnv(mu_s, P[P_MU0] + psi(y, S, 1, n), P)
+    v = vr * math.exp(u)
+    dmu = kw * (v_lp - v)
+    out[0] = dmu
+    for i in range(n):
+        out[1 + i] = state_rate(int(S[i, 2]), S[i, 0], S[i, 1], S[i, 3], y[1 + i], u, v, vr, dmu)
+    if out.shape[0] > 1 + n:
+        eta = P[P_ETA]
+        out[1 + n] = v
+        out[2 + n] = (mu_s - eta * v) * v
+        out[3 + n] = eta * v * v
+        out[4 + n] = mu_s * v_lp
+    return u
+
+
+@njit(cache=True)
+def qs_jac(y, P, S, n, out):  # type: ignore[no-untyped-def]
+    """Jacobian of :func:`qs_rhs` with respect to ``(mu_s, theta_1..n)``."""
+    vr = P[P_VR]
+    kw = P[P_KW]
+    u, r, d = qs_lnv(y[0], P[P_MU0] + psi(y, S, 1, n), P)
+    v = vr * math.exp(u)
+    out[0, 0] = -kw * v / d
+    for j in range(n):
+        out[0, 1 + j] = kw * v * r * S[j, 0] / d
+    for i in range(n):
+        gu, gt = _state_partials(int(S[i, 2]), S[i, 0], S[i, 1], S[i, 3], y[1 + i], u, v, vr, kw)
+        out[1 + i, 0] = gu / d
+        for j in range(n):
+            out[1 + i, 1 + j] = -gu * r * S[j, 0] / d
+        out[1 + i, 1 + i] += gt
+
+
+@njit(cache=True)
+def qs_velocity(mu_s, y, S, n, P):  # type: ignore[no-untyped-def]
+    """Slip velocity (m/s) of the quasi-static slider at spring stress ``mu_s`` and log-states ``y[1:]``."""
+    u, _, _ = qs_lnv(mu_s, P[P_MU0] + psi(y, S, 1, n), P)
+    return P[P_VR] * math.exp(u)
+
+
+@njit(cache=True)
+def in_friction(v, y, S, n, P):  # type: ignore[no-untyped-def]
+    """Regularised friction ``A asinh(v/(2 V_r) exp(psi/A))`` of the inertial slider (log-states ``y[2:]``)."""
+    a = P[P_A]
+    ps = P[P_MU0] + psi(y, S, 2, n)
+    return a * math.asinh(v / (2.0 * P[P_VR]) * math.exp(ps / a))
+
+
+@njit(cache=True)
+def in_rhs(y, P, S, n, v_lp, out):  # type: ignore[no-untyped-def]
+    """Inertial right-hand side of ``y = (mu_s, v, theta_1..n)``."""
+    vr = P[P_VR]
+    kw = P[P_KW]
+    mus = y[0]
+    v = y[1]
+    dmu = kw * (v_lp - v)
+    out[0] = dmu
+    out[1] = P[P_WM] * (mus - in_friction(v, y, S, n, P) - P[P_ETA] * v)
+    av = max(abs(v), 1e-300)
+    u = math.log(av / vr)
+    for i in range(n):
+        out[2 + i] = state_rate(int(S[i, 2]), S[i, 0], S[i, 1], S[i, 3], y[2 + i], u, av, vr, dmu)
+
+
+@njit(cache=True)
+def in_jac(y, P, S, n, out):  # type: ignore[no-untyped-def]
+    """Jacobian of :func:`in_rhs` with respect to ``(mu_s, v, theta_1..n)``."""
+    a = P[P_A]
+    vr = P[P_VR]
+    kw = P[P_KW]
+    wm = P[P_WM]
+    v = y[1]
+    ps = P[P_MU0] + psi(y, S, 2, n)
+    e = math.exp(ps / a) / (2.0 * vr)
     z = v * e
     s = 1.0 / math.sqrt(1.0 + z * z)
-    dmu_dv = a * e * s
-    dmu_dth = a * s * z * (b / a)
-    out[0, 0] = 0.0
+    for i in range(n + 2):
+        for j in range(n + 2):
+            out[i, j] = 0.0
     out[0, 1] = -kw
-    out[0, 2] = 0.0
     out[1, 0] = wm
-    out[1, 1] = -wm * dmu_dv
-    out[1, 2] = -wm * dmu_dth
-    av = abs(v)
+    out[1, 1] = -wm * (a * e * s + P[P_ETA])
+    for j in range(n):
+        out[1, 2 + j] = -wm * s * z * S[j, 0]
+    av = max(abs(v), 1e-300)
     sg = 1.0 if v >= 0 else -1.0
-    out[2, 0] = 0.0
-    if law == AGING:
-        out[2, 1] = -sg / dc
-        out[2, 2] = -(vr / dc) * math.exp(-th)
-    else:
-        av = max(av, 1e-300)
-        out[2, 1] = -sg * (math.log(av / vr) + th + 1.0) / dc
-        out[2, 2] = -av / dc
+    u = math.log(av / vr)
+    for i in range(n):
+        gu, gt = _state_partials(int(S[i, 2]), S[i, 0], S[i, 1], S[i, 3], y[2 + i], u, av, vr, kw)
+        out[2 + i, 1] = sg * gu / av
+        out[2 + i, 2 + i] = gt
+
+
+# ------------------------------------------------------------------ integrator
+
+
+@njit(cache=True)
+def _dense(P, S, n, v_lp, t, y, y_new, h, K, F, ytmp, nvar):  # type: ignore[no-untyped-def]
+    """Fill ``F`` with the 7th-order interpolant of the step just taken (3 more stages)."""
+    for j in range(N_STAGES + 1, N_STAGES_EXTENDED):
+        vec_stage(y, K, h, j, nvar, ytmp)
+        qs_rhs(ytmp, P, S, n, v_lp, K[j])
+    for c in range(nvar):
+        dense_coeffs(y, y_new, h, K, F, c)
+
+
+@njit(cache=True)
+def _interp(F, y, x, nvar, out):  # type: ignore[no-untyped-def]
+    for c in range(nvar):
+        out[c] = dense_eval(F, y, x, c)
+
+
+@njit(cache=True)
+def _g(kind, P, S, n, v_lp, level, F, y, x, nvar, ytmp, ftmp):  # type: ignore[no-untyped-def]
+    """Event function ``kind`` at ``x`` in [0, 1] of the step (``level`` a ``ln(v/V_r)``)."""
+    _interp(F, y, x, nvar, ytmp)
+    if kind == EV_VELOCITY_PEAK:
+        qs_rhs(ytmp, P, S, n, v_lp, ftmp)
+        return ftmp[0] - psi(ftmp, S, 1, n)
+    u, _, _ = qs_lnv(ytmp[0], P[P_MU0] + psi(ytmp, S, 1, n), P)
+    return u - level
+
+
+@njit(cache=True)
+def _locate(kind, P, S, n, v_lp, level, F, y, ga, gb, nvar, ytmp, ftmp):  # type: ignore[no-untyped-def]
+    """Root in [0, 1] of event function ``kind`` by the Illinois method on the interpolant."""
+    xa = 0.0
+    xb = 1.0
+    if ga == 0.0:
+        return xa
+    if gb == 0.0:
+        return xb
+    side = 0
+    xc = xb
+    for _ in range(200):
+        xc = illinois_propose(xa, ga, xb, gb)
+        gc = _g(kind, P, S, n, v_lp, level, F, y, xc, nvar, ytmp, ftmp)
+        xa, ga, xb, gb, side, done = illinois_update(xa, ga, xb, gb, side, xc, gc)
+        if done:
+            break
+    return xc
+
+
+@njit(cache=True)
+def _record(ev, nev, kind, t, u, yv, nvar):  # type: ignore[no-untyped-def]
+    if nev >= ev.shape[0]:
+        return nev
+    ev[nev, 0] = kind
+    ev[nev, 1] = t
+    ev[nev, 2] = u
+    for c in range(nvar):
+        ev[nev, 3 + c] = yv[c]
+    return nev + 1
+
+
+@njit(cache=True)
+def _peak_fn(K, S, n, row):  # type: ignore[no-untyped-def]
+    """Sign of ``d ln v/dt``: ``mu_s' - sum_i B_i theta_i'`` from a stage's rates."""
+    return K[row, 0] - psi(K[row], S, 1, n)
+
+
+@njit(cache=True)
+def integrate_qs(  # type: ignore[no-untyped-def]
+    P, S, n, seg_end, seg_v, y0, t0, samples, rtol, atol, h_max, max_steps,
+    v_cap, v_event, peaks, sample_out, ev, rec, rec_every,
+):
+    """Integrate the quasi-static (or quasi-dynamic) slider through a load-point history.
+
+    Parameters
+    ----------
+    P, S, n : arrays, int
+        Parameters, state table and number of state variables.
+    seg_end, seg_v : arrays
+        End times (s) and load-point velocities (m/s) of the piecewise-constant history.
+    y0 : array
+        ``(mu_s, theta_1..n)`` followed by ``N_QUAD`` quadratures (usually zero) at ``t0``;
+        overwritten with the state at the returned time (to resume after ``RS_MAX_STEPS``).
+    samples : array
+        Increasing times (s) at which to write ``(y, u)`` from the dense output.
+    rtol, atol, h_max, max_steps : float, float, float, int
+        Tolerances (error control on ``mu_s`` and the log-states only), largest step, work bound.
+    v_cap : float
+        The integration stops (``RS_RUNAWAY``) when ``v`` exceeds it.
+    v_event : float
+        Record upward and downward crossings of this velocity and the velocity peaks above it (0: none).
+    peaks : bool
+        Record the spring-stress maxima (``v`` crossing ``v_lp`` upward).
+    sample_out, ev, rec : arrays
+        Outputs: ``len(samples) x (nvar + 1)``; events ``(kind, t, u, y...)``; every
+        ``rec_every``-th accepted step ``(t, u, y...)`` (as many as ``rec`` holds).
+
+    Returns
+    -------
+    status, t, n_samples, n_events, n_rec, steps, rejected
+
+    """
+    nvar = y0.shape[0]
+    nctl = 1 + n
+    K = np.zeros((N_STAGES_EXTENDED, nvar))
+    F = np.zeros((7, nvar))
+    y = y0.copy()
+    y_new = np.zeros(nvar)
+    ytmp = np.zeros(nvar)
+    ftmp = np.zeros(nvar)
+    ns = samples.shape[0]
+    js = 0
+    nev = 0
+    nrec = 0
+    steps = 0
+    rejected = 0
+    accepted = 0
+    t = t0
+    ln_cap = math.log(v_cap / P[P_VR]) if v_cap > 0.0 else math.inf
+    ln_ev = math.log(v_event / P[P_VR]) if v_event > 0.0 else math.nan
+    kseg = 0
+    nseg = seg_end.shape[0]
+    while kseg < nseg and seg_end[kseg] <= t:
+        kseg += 1
+    v_lp = seg_v[min(kseg, nseg - 1)]
+    u = qs_rhs(y, P, S, n, v_lp, K[0])
+    while js < ns and samples[js] <= t:
+        for c in range(nvar):
+            sample_out[js, c] = y[c]
+        sample_out[js, nvar] = u
+        js += 1
+    if rec.shape[0] > 0:
+        rec[0, 0] = t
+        rec[0, 1] = u
+        for c in range(nvar):
+            rec[0, 2 + c] = y[c]
+        nrec = 1
+    if kseg >= nseg:
+        return RS_OK, t, js, nev, nrec, steps, rejected
+    # first step (Hairer, Norsett and Wanner, Sec. II.4)
+    d0 = 0.0
+    d1 = 0.0
+    for c in range(nctl):
+        sc = atol + abs(y[c]) * rtol
+        d0 += (y[c] / sc) ** 2
+        d1 += (K[0, c] / sc) ** 2
+    d0 = math.sqrt(d0 / nctl)
+    d1 = math.sqrt(d1 / nctl)
+    h = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+    h = min(h, h_max, seg_end[kseg] - t)
+    status = RS_OK
+    while True:
+        if steps >= max_steps:
+            status = RS_MAX_STEPS
+            break
+        limit = seg_end[kseg] - t
+        hit = False
+        if h >= limit:
+            h = limit
+            hit = True
+        for s in range(1, N_STAGES):
+            vec_stage(y, K, h, s, nvar, ytmp)
+            qs_rhs(ytmp, P, S, n, v_lp, K[s])
+        vec_advance(y, K, h, nvar, y_new)
+        u_new = qs_rhs(y_new, P, S, n, v_lp, K[N_STAGES])
+        err = vec_error(y, y_new, K, h, nctl, rtol, atol)
+        steps += 1
+        if not math.isfinite(err) or not math.isfinite(u_new) or err > 1.0:
+            rejected += 1
+            if math.isfinite(err) and math.isfinite(u_new):
+                h *= max(MIN_FACTOR, SAFETY / _root8(err))
+            else:
+                h *= MIN_FACTOR
+            if h < 1e-14 * max(1.0, abs(t)):
+                status = RS_STEP_TOO_SMALL if math.isfinite(err) else RS_NONFINITE
+                break
+            continue
+        t_new = seg_end[kseg] if hit else t + h
+        _dense(P, S, n, v_lp, t, y, y_new, h, K, F, ytmp, nvar)
+        # ------------------------------------------------ events in the step
+        stop = False
+        if peaks and v_lp > 0.0:
+            lvl = math.log(v_lp / P[P_VR])
+            ga = u - lvl
+            gb = u_new - lvl
+            if ga < 0.0 <= gb:
+                x = _locate(EV_UP, P, S, n, v_lp, lvl, F, y, ga, gb, nvar, ytmp, ftmp)
+                _interp(F, y, x, nvar, ytmp)
+                uu, _, _ = qs_lnv(ytmp[0], P[P_MU0] + psi(ytmp, S, 1, n), P)
+                nev = _record(ev, nev, EV_SPRING_PEAK, t + x * h, uu, ytmp, nvar)
+        if v_event > 0.0:
+            ga = u - ln_ev
+            gb = u_new - ln_ev
+            if (ga < 0.0 <= gb) or (ga > 0.0 >= gb):
+                kind = EV_UP if gb >= 0.0 else EV_DOWN
+                x = _locate(EV_UP, P, S, n, v_lp, ln_ev, F, y, ga, gb, nvar, ytmp, ftmp)
+                _interp(F, y, x, nvar, ytmp)
+                uu, _, _ = qs_lnv(ytmp[0], P[P_MU0] + psi(ytmp, S, 1, n), P)
+                nev = _record(ev, nev, kind, t + x * h, uu, ytmp, nvar)
+            if max(u, u_new) > ln_ev:
+                pa = _peak_fn(K, S, n, 0)
+                pb = _peak_fn(K, S, n, N_STAGES)
+                if pa > 0.0 >= pb:
+                    x = _locate(EV_VELOCITY_PEAK, P, S, n, v_lp, 0.0, F, y, pa, pb, nvar, ytmp, ftmp)
+                    _interp(F, y, x, nvar, ytmp)
+                    uu, _, _ = qs_lnv(ytmp[0], P[P_MU0] + psi(ytmp, S, 1, n), P)
+                    nev = _record(ev, nev, EV_VELOCITY_PEAK, t + x * h, uu, ytmp, nvar)
+        if u_new > ln_cap:
+            x = _locate(EV_UP, P, S, n, v_lp, ln_cap, F, y, u - ln_cap, u_new - ln_cap, nvar, ytmp, ftmp)
+            _interp(F, y, x, nvar, ytmp)
+            nev = _record(ev, nev, EV_RUNAWAY, t + x * h, ln_cap, ytmp, nvar)
+            t_stop = t + x * h
+            while js < ns and samples[js] <= t_stop:
+                _interp(F, y, (samples[js] - t) / h, nvar, ytmp)
+                for c in range(nvar):
+                    sample_out[js, c] = ytmp[c]
+                sample_out[js, nvar], _, _ = qs_lnv(ytmp[0], P[P_MU0] + psi(ytmp, S, 1, n), P)
+                js += 1
+            t = t_stop
+            status = RS_RUNAWAY
+            stop = True
+            for c in range(nvar):
+                y[c] = ev[min(nev, ev.shape[0]) - 1, 3 + c] if nev > 0 else y[c]
+        if stop:
+            break
+        if nev >= ev.shape[0]:
+            status = RS_EVENTS_FULL
+        # ------------------------------------------------ samples in the step
+        while js < ns and samples[js] <= t_new:
+            x = (samples[js] - t) / h
+            if samples[js] >= t_new:
+                for c in range(nvar):
+                    sample_out[js, c] = y_new[c]
+                sample_out[js, nvar] = u_new
+            else:
+                _interp(F, y, x, nvar, ytmp)
+                for c in range(nvar):
+                    sample_out[js, c] = ytmp[c]
+                sample_out[js, nvar], _, _ = qs_lnv(ytmp[0], P[P_MU0] + psi(ytmp, S, 1, n), P)
+            js += 1
+        # ------------------------------------------------ accept
+        accepted += 1
+        for c in range(nvar):
+            y[c] = y_new[c]
+            K[0, c] = K[N_STAGES, c]
+        t = t_new
+        u = u_new
+        if rec_every > 0 and accepted % rec_every == 0 and nrec < rec.shape[0]:
+            rec[nrec, 0] = t
+            rec[nrec, 1] = u
+            for c in range(nvar):
+                rec[nrec, 2 + c] = y[c]
+            nrec += 1
+        if status != RS_OK:
+            break
+        if err == 0.0:
+            factor = MAX_FACTOR
+        else:
+            factor = min(MAX_FACTOR, SAFETY / _root8(err))
+        h = min(h * factor, h_max)
+        if hit:
+            kseg += 1
+            if kseg >= nseg:
+                break
+            v_lp = seg_v[kseg]
+            u = qs_rhs(y, P, S, n, v_lp, K[0])
+    for c in range(nvar):
+        y0[c] = y[c]
+    return status, t, js, nev, nrec, steps, rejected

@@ -158,11 +158,12 @@ def _critical_check(ratios: tuple[float, ...], n_points: int) -> xr.Dataset:
 
 def _inertial_growth(kw: float, mass_kg: float, v0: float) -> float:
     p = _params(kw, f"{mass_kg} kg")
-    pv = p.core_params()
+    P, S = p.core_arrays()
     theta = math.log(Q_(VR).to("m/s").magnitude / v0)
-    y = np.array([core.inertial_friction(v0, theta, pv), v0, theta])
+    y = np.array([0.0, v0, theta])
+    y[0] = core.in_friction(v0, y, S, 1, P)
     jac = np.empty((3, 3))
-    core.in_jac(y, pv, 0, jac)
+    core.in_jac(y, P, S, 1, jac)
     return float(np.max(np.linalg.eigvals(jac).real))
 
 

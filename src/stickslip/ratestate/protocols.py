@@ -21,12 +21,13 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
+import pint
 import xarray as xr
 from scipy.integrate import solve_ivp
 
 from ..core import ratestate as core
 from ..units import Q_, parse_quantity
-from .model import RateStateParameters
+from .model import RateStateParameters, steady_log_states
 
 __all__ = [
     "Stability",
@@ -63,13 +64,35 @@ def _history(history: Any) -> list[tuple[float, float]]:
 
 def _steady_state(params: RateStateParameters, v: float) -> FloatArray:
     """Steady sliding at load-point velocity ``v`` (m/s) in the core's variables."""
-    vr = params.v_ref.to("m/s").magnitude
-    theta = math.log(vr / v)
-    mu = params.mu0 + (params.a - params.b) * math.log(v / vr)
+    P, S = params.core_arrays()
+    theta = steady_log_states(params, v)
     if not params.inertial:
-        return np.array([mu, theta])
-    p = params.core_params()
-    return np.array([core.inertial_friction(v, theta, p), v, theta])
+        # the spring carries friction plus the damping stress
+        mu = float(params.steady_state_friction(Q_(v, "m/s"))) + P[core.P_ETA] * v
+        return np.concatenate([[mu], theta])
+    mu_s = core.in_friction(v, np.concatenate([[0.0, v], theta]), S, params.n_states, P) + P[core.P_ETA] * v
+    return np.concatenate([[mu_s, v], theta])
+
+
+def sample_times(sample: Any, total: float) -> FloatArray:
+    """Times (s) from ``sample``: a step (``"1 s"``: 0, 1, 2, ... up to ``total``) or a sequence of times."""
+    if isinstance(sample, str) or isinstance(sample, pint.Quantity) and np.ndim(sample.magnitude) == 0:
+        dt = float(parse_quantity(sample, "sample", "[time]", "1 s").to("s").magnitude)
+        n = int(math.floor(total / dt * (1.0 + 1e-12))) + 1
+        if n > 50_000_000:
+            raise ValueError(f"sample={sample!r}: {n} samples over {total:g} s, more than 5e7; give a longer step")
+        return np.arange(n) * dt
+    if isinstance(sample, pint.Quantity):
+        t = np.asarray(sample.to("s").magnitude, dtype=float)
+    else:
+        t = np.asarray(sample, dtype=float)
+    if t.ndim != 1 or t.size == 0 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0) or t[0] < 0:
+        raise ValueError(
+            f"sample={sample!r}: expected a step such as '1 s' or increasing times (s) from 0"
+        )
+    if t[-1] > total * (1.0 + 1e-12):
+        raise ValueError(f"sample: the last time {t[-1]:g} s is after the end of the history ({total:g} s)")
+    return t
 
 
 def simulate_rate_state(
@@ -78,8 +101,10 @@ def simulate_rate_state(
     *,
     initial: str | tuple[float, Any] = "steady",
     n_points: int = 400,
+    sample: Any = None,
     rtol: float = 1e-10,
-    max_steps: int = 200_000,
+    atol: float = 1e-12,
+    max_steps: int = 2_000_000,
     max_seconds: float = 60.0,
 ) -> xr.Dataset:
     """Follow the slider through a history of load-point velocities.
@@ -93,27 +118,41 @@ def simulate_rate_state(
         ``[("100 s", "1 um/s"), ("10 s", "10 um/s")]``; a velocity of 0 is a hold.
     initial : "steady" or (friction, state)
         Start in steady sliding at the first velocity (default), or from a
-        friction value and a state ``Phi`` (a time, e.g. ``(0.6, "10 s")``).
+        spring friction value and a state ``Phi`` (a time, e.g. ``(0.6, "10 s")``;
+        a sequence of times with several state variables).
     n_points : int, optional
-        Samples per segment of the history.
-    rtol : float, optional
-        Relative tolerance of the integration.
+        Samples per segment of the history (without ``sample``).
+    sample : time or sequence of times, optional
+        Output at exactly these times from the integrator's dense output:
+        ``"1 s"`` gives 0, 1, 2, ... s to the end; or the times themselves (s).
+    rtol, atol : float, optional
+        Relative and absolute tolerances (on the spring friction and the log-states).
     max_steps, max_seconds : optional
         Bounds on the work: beyond them the integration stops with an error.
 
     Returns
     -------
     xarray.Dataset
-        Over ``time`` (s): ``friction``, ``slip_velocity`` (m/s), ``state`` (Phi, s),
-        ``slider_displacement`` and ``load_point_displacement`` (m, from the start),
-        ``load_point_velocity`` (m/s); for the inertial model also ``spring_friction``.
+        Over ``time`` (s): ``friction``, ``slip_velocity`` (m/s), ``state`` (Phi of the
+        first state variable, s; ``state_2``, ... for the others), ``slider_displacement``
+        and ``load_point_displacement`` (m, from the start), ``load_point_velocity``
+        (m/s), ``spring_friction`` (spring force / W); the spring-force maxima located on
+        the dense output (``spring_peak_*``) and, with inertia, the velocity maxima.
 
     Raises
     ------
     ValueError
-        Malformed history or initial state.
+        Malformed history, samples or initial state.
     RuntimeError
         The solver failed or exceeded its bounds (the message says which).
+
+    Notes
+    -----
+    The quasi-static slider is integrated by the compiled DOP853 of
+    :func:`stickslip.core.ratestate.integrate_qs` (error control on the spring
+    friction and the log-states, events located on the 7th-order dense output,
+    each change of the load-point velocity a step boundary); the inertial slider,
+    stiff at low velocity, by SciPy's Radau with the compiled Jacobian.
 
     """
     if not isinstance(params, RateStateParameters):
@@ -123,9 +162,11 @@ def simulate_rate_state(
         raise ValueError(f"n_points={n_points!r}: expected an integer >= 2")
     if not (isinstance(rtol, float | int) and 1e-13 <= rtol <= 1e-3):
         raise ValueError(f"rtol={rtol!r}: expected a relative tolerance between 1e-13 and 1e-3")
-    p = params.core_params()
-    law = params.law_id
-    vr = float(p[3])
+    if not (isinstance(atol, float | int) and 0 < atol <= 1e-3):
+        raise ValueError(f"atol={atol!r}: expected an absolute tolerance in (0, 1e-3]")
+    P, S = params.core_arrays()
+    n = params.n_states
+    vr = float(P[core.P_VR])
     if isinstance(initial, str):
         if initial != "steady":
             raise ValueError(f"initial={initial!r}: expected 'steady' or (friction, state)")
@@ -140,23 +181,136 @@ def simulate_rate_state(
             mu_i, phi_i = initial
         except (TypeError, ValueError):
             raise ValueError(f"initial={initial!r}: expected 'steady' or (friction, state)") from None
-        phi = parse_quantity(phi_i, "initial state", "[time]", "10 s")
-        theta = math.log(float(phi.to("s").magnitude) * vr / float(p[2]))
+        phis = list(phi_i) if isinstance(phi_i, list | tuple) else [phi_i] * n
+        if len(phis) != n:
+            raise ValueError(f"initial state: {len(phis)} value(s) for {n} state variables")
+        theta = np.array(
+            [
+                math.log(
+                    float(parse_quantity(ph, "initial state", "[time]", "10 s").to("s").magnitude)
+                    * vr
+                    / params.state_scale(i)
+                )
+                for i, ph in enumerate(phis)
+            ]
+        )
         mu_v = float(mu_i)
         if not math.isfinite(mu_v):
             raise ValueError(f"initial friction {mu_i!r}: expected a finite number")
         if params.inertial:
-            v_i = core.qs_velocity(mu_v, theta, p)
-            y = np.array([mu_v, v_i, theta])
+            v_i = core.qs_velocity(mu_v, np.concatenate([[mu_v], theta]), S, n, _log_form(P))
+            y = np.concatenate([[mu_v, v_i], theta])
         else:
-            y = np.array([mu_v, theta])
+            y = np.concatenate([[mu_v], theta])
+    total = float(sum(d for d, _ in hist))
+    bounds = np.concatenate([[0.0], np.cumsum([d for d, _ in hist])])
+    if sample is None:
+        t_s = np.unique(np.concatenate([np.linspace(bounds[k], bounds[k + 1], n_points) for k in range(len(hist))]))
+    else:
+        t_s = sample_times(sample, total)
+    if params.inertial:
+        t_out, y_out, vlp, peaks = _radau(params, hist, y, t_s, rtol, max_steps, max_seconds)
+        u_out = None
+    else:
+        t_out, y_out, u_out, vlp, peaks = _dop853(params, hist, y, t_s, rtol, atol, max_steps, max_seconds)
+    ds = _dataset(params, t_out, y_out, u_out, vlp, hist)
+    return _with_peaks(ds, params, peaks)
 
-    n = y.size
-    rhs = core.in_rhs if params.inertial else core.qs_rhs
-    jac = core.in_jac if params.inertial else core.qs_jac
-    # absolute tolerances: friction, (velocity,) log-state
+
+def _log_form(P: FloatArray) -> FloatArray:
+    out = P.copy()
+    out[core.P_FORM] = core.LOG
+    out[core.P_ETA] = 0.0
+    return out
+
+
+def _segments(hist: list[tuple[float, float]]) -> tuple[FloatArray, FloatArray]:
+    return np.cumsum([d for d, _ in hist]), np.array([v for _, v in hist])
+
+
+def _status_message(status: int, t: float, v_cap: float, steps: int, seconds: float) -> str:
+    if status == core.RS_RUNAWAY:
+        return (
+            f"at t = {t:.6g} s the slip velocity passed {v_cap:.3g} m/s and was still rising: the "
+            "quasi-static slider accelerates without bound (an instability: below the critical "
+            "stiffness, or with the slip law after a large perturbation). Give the slider a mass "
+            "to follow the slip event with inertia, or radiation damping (quasi-dynamic)."
+        )
+    if status == core.RS_MAX_STEPS:
+        return (
+            f"stopped after {steps} steps / {seconds:.1f} s at t = {t:.6g} s without finishing; the "
+            "case is too stiff at this tolerance (try a larger rtol, or a larger max_steps)"
+        )
+    if status == core.RS_NONFINITE:
+        return f"at t = {t:.6g} s the solution overflowed: the slider accelerates without bound"
+    return f"at t = {t:.6g} s the step size fell below the precision of t (status {status})"
+
+
+def _dop853(
+    params: RateStateParameters,
+    hist: list[tuple[float, float]],
+    y: FloatArray,
+    t_s: FloatArray,
+    rtol: float,
+    atol: float,
+    max_steps: int,
+    max_seconds: float,
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, dict[str, list[tuple[float, FloatArray]]]]:
+    P, S = params.core_arrays()
+    n = params.n_states
+    vr = float(P[core.P_VR])
+    seg_end, seg_v = _segments(hist)
     v_scale = max([v for _, v in hist if v > 0], default=vr)
-    atol = np.array([1e-12, 1e-12 * v_scale, 1e-10]) if n == 3 else np.array([1e-12, 1e-10])
+    v_cap = 1e6 * max(v_scale, vr)
+    y0 = np.concatenate([y, np.zeros(core.N_QUAD)])
+    nvar = y0.size
+    out = np.full((t_s.size, nvar + 1), np.nan)
+    ev = np.zeros((4096, 3 + nvar))
+    rec = np.zeros((0, 2 + nvar))
+    events: list[FloatArray] = []
+    started = time.monotonic()
+    t, js, steps_total = 0.0, 0, 0
+    chunk = 50_000
+    while True:
+        status, t, nsamp, nev, _, steps, _ = core.integrate_qs(
+            P, S, n, seg_end, seg_v, y0, t, t_s[js:], rtol, atol, math.inf, min(chunk, max_steps - steps_total),
+            v_cap, 0.0, True, out[js:], ev, rec, 0,
+        )
+        events.append(ev[:nev].copy())
+        js += nsamp
+        steps_total += steps
+        if status == core.RS_EVENTS_FULL:
+            continue
+        if status == core.RS_MAX_STEPS and steps_total < max_steps and time.monotonic() - started < max_seconds:
+            continue
+        break
+    if status != core.RS_OK:
+        raise RuntimeError(_status_message(status, t, v_cap, steps_total, time.monotonic() - started))
+    evs = np.concatenate(events) if events else np.zeros((0, 3 + nvar))
+    peaks = {
+        "spring": [(float(r[1]), r[3 : 3 + 1 + n].copy()) for r in evs if int(r[0]) == core.EV_SPRING_PEAK],
+        "velocity": [],
+    }
+    t_out = t_s[:js]
+    vlp = seg_v[np.clip(np.searchsorted(seg_end, t_out, side="right"), 0, len(hist) - 1)]
+    return t_out, out[:js, : 1 + n].T, out[:js, nvar], vlp, peaks
+
+
+def _radau(
+    params: RateStateParameters,
+    hist: list[tuple[float, float]],
+    y: FloatArray,
+    t_s: FloatArray,
+    rtol: float,
+    max_steps: int,
+    max_seconds: float,
+) -> tuple[FloatArray, FloatArray, FloatArray, dict[str, list[tuple[float, FloatArray]]]]:
+    P, S = params.core_arrays()
+    n = params.n_states
+    nv = y.size
+    vr = float(P[core.P_VR])
+    v_scale = max([v for _, v in hist if v > 0], default=vr)
+    atol = np.concatenate([[1e-12, 1e-12 * v_scale], np.full(n, 1e-10)])
     started = time.monotonic()
     count = [0]
 
@@ -164,39 +318,24 @@ def simulate_rate_state(
         count[0] += 1
         if count[0] > 20 * max_steps or time.monotonic() - started > max_seconds:
             raise _Abort
-        out = np.empty(n)
-        rhs(yy, p, law, v_lp, out)
+        out = np.empty(nv)
+        core.in_rhs(yy, P, S, n, v_lp, out)
         return out
 
     def jacobian(_t: float, yy: FloatArray, v_lp: float) -> FloatArray:
-        out = np.empty((n, n))
-        jac(yy, p, law, out)
+        out = np.empty((nv, nv))
+        core.in_jac(yy, P, S, n, out)
         return out
 
-    # a quasi-static slider that runs away: stop when v exceeds 1e6 times the largest speed in play
-    v_cap = 1e6 * max(v_scale, vr)
-    ln_cap = math.log(v_cap / vr)
-
-    def runaway(_t: float, yy: FloatArray, _v_lp: float) -> float:
-        return (yy[0] - params.mu0 - params.b * yy[1]) / params.a - ln_cap
-
-    runaway.terminal = True  # type: ignore[attr-defined]
-    runaway.direction = 1  # type: ignore[attr-defined]
-
-    # extrema located by the solver's root finding on its dense output, not read off samples:
-    # the spring force peaks where v crosses v_lp upward (its rate kw (v_lp - v) turns negative);
-    # with inertia the slider's velocity peaks where the spring force falls below friction
+    # the spring force peaks where v crosses v_lp upward; the slider's velocity where the
+    # spring force falls below friction (both located on the solver's dense output)
     def spring_peak(_t: float, yy: FloatArray, v_lp: float) -> float:
-        if params.inertial:
-            return float(yy[1]) - v_lp
-        if v_lp <= 0.0:
-            return -1.0  # a hold: the slider only creeps, the spring only unloads
-        return (yy[0] - params.mu0 - params.b * yy[1]) / params.a - math.log(v_lp / vr)
+        return float(yy[1]) - v_lp
 
     spring_peak.direction = 1  # type: ignore[attr-defined]
 
     def velocity_peak(_t: float, yy: FloatArray, _v_lp: float) -> float:
-        return float(yy[0]) - core.inertial_friction(yy[1], yy[2], p)
+        return float(yy[0]) - core.in_friction(yy[1], yy, S, n, P) - P[core.P_ETA] * yy[1]
 
     velocity_peak.direction = -1  # type: ignore[attr-defined]
 
@@ -206,20 +345,15 @@ def simulate_rate_state(
     peaks: dict[str, list[tuple[float, FloatArray]]] = {"spring": [], "velocity": []}
     t0 = 0.0
     for k, (dur, v_lp) in enumerate(hist):
-        t_eval = np.linspace(t0, t0 + dur, n_points)
-        events = [spring_peak, velocity_peak] if params.inertial else [spring_peak, runaway]
+        t1 = t0 + dur
+        sel = ((t_s > t0) | (k == 0)) & (t_s >= t0) & (t_s <= t1)
+        wanted = t_s[sel]
+        extra = wanted.size == 0 or wanted[-1] < t1
+        t_eval = np.append(wanted, t1) if extra else wanted
         try:
             sol = solve_ivp(
-                fun,
-                (t0, t0 + dur),
-                y,
-                method="Radau",
-                jac=jacobian,
-                args=(v_lp,),
-                t_eval=t_eval,
-                rtol=rtol,
-                atol=atol,
-                events=events,
+                fun, (t0, t1), y, method="Radau", jac=jacobian, args=(v_lp,),
+                t_eval=t_eval, rtol=rtol, atol=atol, events=[spring_peak, velocity_peak],
             )
         except _Abort:
             raise RuntimeError(
@@ -228,42 +362,28 @@ def simulate_rate_state(
                 "the case is too stiff at this tolerance (try a larger rtol or a smaller step)"
             ) from None
         except (OverflowError, FloatingPointError) as exc:
-            raise RuntimeError(
-                f"segment {k}: the solution overflowed ({exc}); the slider "
-                "accelerates without bound (unstable, quasi-static)"
-            ) from None
-        for name, i_ev in (("spring", 0), ("velocity", 1)) if params.inertial else (("spring", 0),):
-            peaks[name] += [
-                (float(te), ye) for te, ye in zip(sol.t_events[i_ev], sol.y_events[i_ev], strict=True)
-            ]
-        if sol.status == 1:
-            raise RuntimeError(
-                f"segment {k} (v_lp = {v_lp:g} m/s): at t = {sol.t_events[1][0]:.6g} s the slip "
-                f"velocity passed {v_cap:.3g} m/s and was still rising: the quasi-static slider "
-                "accelerates without bound (an instability: below the critical stiffness, or with "
-                "the slip law after a large perturbation). Give the slider a mass to follow the "
-                "slip event with inertia."
-            )
+            raise RuntimeError(f"segment {k}: the solution overflowed ({exc})") from None
+        for name, i_ev in (("spring", 0), ("velocity", 1)):
+            peaks[name] += [(float(te), ye) for te, ye in zip(sol.t_events[i_ev], sol.y_events[i_ev], strict=True)]
         if sol.status != 0 or not np.all(np.isfinite(sol.y)):
             raise RuntimeError(
-                f"segment {k} (v_lp = {v_lp:g} m/s): the solver stopped at "
-                f"t = {sol.t[-1]:.6g} s: {sol.message}"
+                f"segment {k} (v_lp = {v_lp:g} m/s): the solver stopped at t = {sol.t[-1]:.6g} s: {sol.message}"
             )
-        keep = slice(1, None) if k > 0 else slice(None)
+        keep = slice(0, -1) if extra else slice(None)
         times.append(sol.t[keep])
         states.append(sol.y[:, keep])
         vlp.append(np.full(sol.t[keep].size, v_lp))
         y = sol.y[:, -1].copy()
-        t0 += dur
-    ds = _dataset(params, np.concatenate(times), np.concatenate(states, axis=1), np.concatenate(vlp), hist)
-    return _with_peaks(ds, params, peaks)
+        t0 = t1
+    return np.concatenate(times), np.concatenate(states, axis=1), np.concatenate(vlp), peaks
 
 
 def _with_peaks(
     ds: xr.Dataset, params: RateStateParameters, peaks: dict[str, list[tuple[float, FloatArray]]]
 ) -> xr.Dataset:
     """Add the located extrema: spring-force peaks and, with inertia, slip-velocity peaks."""
-    p = params.core_params()
+    P, S = params.core_arrays()
+    n = params.n_states
     sp = peaks["spring"]
     ds["spring_peak_time"] = (
         "spring_peak",
@@ -275,11 +395,7 @@ def _with_peaks(
         np.array([float(y[0]) for _, y in sp]),
         {"units": "1", "long_name": "spring force / W at its maximum (the friction, quasi-statically)"},
     )
-    vr = float(p[3])
-    v_at = [
-        float(y[1]) if params.inertial else vr * math.exp((y[0] - params.mu0 - params.b * y[1]) / params.a)
-        for _, y in sp
-    ]
+    v_at = [float(y[1]) if params.inertial else core.qs_velocity(y[0], y, S, n, P) for _, y in sp]
     ds["spring_peak_velocity"] = (
         "spring_peak",
         np.array(v_at),
@@ -299,7 +415,7 @@ def _with_peaks(
         )
         ds["velocity_peak_friction"] = (
             "velocity_peak",
-            np.array([core.inertial_friction(float(y[1]), float(y[2]), p) for _, y in vp]),
+            np.array([core.in_friction(float(y[1]), y, S, n, P) for _, y in vp]),
             {"units": "1", "long_name": "friction at the slip-velocity maximum"},
         )
     return ds
@@ -309,41 +425,54 @@ def _dataset(
     params: RateStateParameters,
     t: FloatArray,
     y: FloatArray,
+    u: FloatArray | None,
     vlp: FloatArray,
     hist: list[tuple[float, float]],
 ) -> xr.Dataset:
-    p = params.core_params()
-    dc, vr, kw = float(p[2]), float(p[3]), float(p[5])
+    P, S = params.core_arrays()
+    n = params.n_states
+    vr, kw, eta = float(P[core.P_VR]), float(P[core.P_KW]), float(P[core.P_ETA])
     # load-point displacement: integral of the piecewise-constant velocity
     bounds = np.concatenate([[0.0], np.cumsum([d for d, _ in hist])])
     disp = np.concatenate([[0.0], np.cumsum([d * v for d, v in hist])])
     seg = np.clip(np.searchsorted(bounds, t, side="right") - 1, 0, len(hist) - 1)
     x_lp = disp[seg] + (t - bounds[seg]) * np.array([v for _, v in hist])[seg]
     if params.inertial:
-        mus, v, theta = y
-        mu = np.array([core.inertial_friction(vi, ti, p) for vi, ti in zip(v, theta, strict=True)])
-        spring = mus
+        spring, v, theta = y[0], y[1], y[2:]
+        mu = np.array([core.in_friction(y[1, i], y[:, i], S, n, P) for i in range(t.size)])
     else:
-        mu, theta = y
-        v = vr * np.exp((mu - params.mu0 - params.b * theta) / params.a)
-        spring = mu
+        spring, theta = y[0], y[1:]
+        assert u is not None
+        v = vr * np.exp(u)
+        mu = spring - eta * v
     x = x_lp - spring / kw
-    data = {
+    data: dict[str, Any] = {
         "friction": ("time", mu, {"units": "1", "long_name": "friction coefficient"}),
         "slip_velocity": ("time", v, {"units": "m/s", "long_name": "slider velocity"}),
-        "state": ("time", np.exp(theta) * dc / vr, {"units": "s", "long_name": "state Phi"}),
         "slider_displacement": ("time", x - x[0], {"units": "m", "long_name": "slider displacement"}),
         "load_point_displacement": ("time", x_lp, {"units": "m", "long_name": "load-point displacement"}),
         "load_point_velocity": ("time", vlp, {"units": "m/s", "long_name": "load-point velocity"}),
+        "spring_friction": ("time", spring, {"units": "1", "long_name": "spring force / W"}),
     }
-    if params.inertial:
-        data["spring_friction"] = ("time", spring, {"units": "1", "long_name": "spring force / W"})
+    for i in range(n):
+        name = "state" if i == 0 else f"state_{i + 1}"
+        data[name] = (
+            "time",
+            np.exp(theta[i]) * params.state_scale(i) / vr,
+            {
+                "units": "s",
+                "long_name": f"state Phi{'' if n == 1 else f'_{i + 1}'} ({params.laws[i]} law)",
+            },
+        )
     return xr.Dataset(
         data,
         coords={"time": ("time", t, {"units": "s", "long_name": "time"})},
         attrs={
-            "model": "inertial" if params.inertial else "quasi-static",
-            "state_law": params.state_law,
+            "model": "inertial" if params.inertial else (
+                "quasi-dynamic" if eta > 0 else "quasi-static"
+            ),
+            "state_law": ",".join(params.laws),
+            "state_variables": n,
             "parameters": repr(params),
         },
     )
@@ -374,7 +503,7 @@ def velocity_steps(
     if isinstance(velocities, str) or len(velocities) < 1:
         raise ValueError(f"velocities={velocities!r}: expected a sequence of velocities")
     d = (
-        params.dc * 20
+        params.dc_max * 20
         if displacement is None
         else parse_quantity(displacement, "displacement", "[length]", "100 um")
     )
@@ -402,7 +531,7 @@ def slide_hold_slide(
     """
     v = parse_quantity(v_slide, "v_slide", "[length] / [time]", "1 um/s")
     d = (
-        params.dc * 20
+        params.dc_max * 20
         if displacement is None
         else parse_quantity(displacement, "displacement", "[length]", "100 um")
     )
@@ -475,8 +604,9 @@ def linear_stability(params: RateStateParameters, v0: Any) -> Stability:
         raise ValueError("linear_stability is for the quasi-static model (params without mass)")
     v = parse_quantity(v0, "v0", "[length] / [time]", "1 um/s")
     y = _steady_state(params, float(v.to("m/s").magnitude))
-    jac = np.empty((2, 2))
-    core.qs_jac(y, params.core_params(), params.law_id, jac)
+    jac = np.empty((params.n_states + 1, params.n_states + 1))
+    P, S = params.core_arrays()
+    core.qs_jac(y, P, S, params.n_states, jac)
     ev = np.linalg.eigvals(jac)
     lead = ev[np.argmax(ev.real)]
     return Stability(
