@@ -7,6 +7,7 @@ from typing import Any
 
 import click
 
+from ..ratestate.model import STATE_LAWS, RateStateParameters
 from .errors import handle_errors
 from .options import out_dir_option, overwrite_option
 
@@ -97,8 +98,16 @@ def register(main: click.Group) -> None:
 
     @main.command()
     @click.option("--a", "a", type=float, required=True, help=A_HELP)
-    @click.option("--b", "b", type=float, required=True, help=B_HELP)
-    @click.option("--dc", required=True, help=DC_HELP)
+    @click.option(
+        "--b",
+        "b",
+        type=float,
+        multiple=True,
+        required=True,
+        help=B_HELP
+        + " Repeat with --dc for several state variables: --b 0.0185 --dc '5 um' --b 0.0088 --dc '50 um'.",
+    )
+    @click.option("--dc", multiple=True, required=True, help=DC_HELP + " One per --b.")
     @click.option("--v-ref", "v_ref", required=True, help="Reference velocity V_r, e.g. '1 um/s'.")
     @click.option("--mu0", type=float, required=True, help="Steady friction at V_r.")
     @click.option("--stiffness", default=None, help="Spring constant k (with --load), e.g. '1e4 N/m'.")
@@ -107,71 +116,158 @@ def register(main: click.Group) -> None:
     @click.option("--mass", default=None, help="Slider mass (inertial model), e.g. '1 kg'.")
     @click.option(
         "--law",
-        type=click.Choice(["aging", "slip"]),
-        default="aging",
+        type=click.Choice(list(STATE_LAWS)),
+        multiple=True,
+        help="State evolution law: aging (default), slip, prz (Perrin-Rice-Zheng) or nagata; once for "
+        "all state variables or once per --b.",
+    )
+    @click.option(
+        "--nagata-c",
+        "nagata_c",
+        type=float,
+        default=0.0,
         show_default=True,
-        help="State evolution law.",
+        help="Nagata's coefficient c (with --law nagata).",
+    )
+    @click.option(
+        "--radiation-damping",
+        "eta",
+        default=None,
+        help="Damping eta/sigma added to friction as eta v (quasi-dynamic), e.g. '0.1 s/m'.",
+    )
+    @click.option(
+        "--regularized",
+        is_flag=True,
+        help="Regularized friction A asinh(v/(2 V_r) exp(psi/A)) instead of the log form.",
     )
     @click.option(
         "--steps", default=None, help="Velocity-step test: velocities, e.g. '1 um/s,10 um/s,1 um/s'."
     )
-    @click.option("--displacement", default=None, help="Load-point displacement per slide (default 20 D0).")
+    @click.option("--durations", default=None, help="Duration of each step, e.g. '10 s,30 s'.")
+    @click.option(
+        "--displacements", default=None, help="Load-point displacement of each step, e.g. '100 um,300 um'."
+    )
+    @click.option(
+        "--displacement", default=None, help="Load-point displacement of every slide (default 20 Dc)."
+    )
     @click.option("--holds", default=None, help="Slide-hold-slide test: hold times, e.g. '1 s,10 s,100 s'.")
     @click.option("--v-slide", "v_slide", default=None, help="Slide velocity of the slide-hold-slide test.")
+    @click.option(
+        "--history",
+        "history",
+        default=None,
+        type=click.Path(dir_okay=False),
+        help="Load-point history from a CSV: 'time [s]' and 'load-point velocity [um/s]' (held until the "
+        "next row) or 'load-point displacement [um]' (linear between rows).",
+    )
+    @click.option(
+        "--sample",
+        default=None,
+        help="Output at exactly 0, T, 2T, ... (e.g. '1 s') from the dense output; "
+        "default 400 samples per step.",
+    )
+    @click.option(
+        "--rtol",
+        type=float,
+        default=None,
+        help="Relative tolerance (default 3e-13 quasi-static, 1e-10 inertial).",
+    )
+    @click.option(
+        "--atol",
+        type=float,
+        default=1e-15,
+        show_default=True,
+        help="Absolute tolerance on the spring friction and the log-states.",
+    )
     @out_dir_option("Output folder for ratestate.nc and ratestate.png/.svg.")
     @overwrite_option
     @handle_errors
     def ratestate(
         a: float,
-        b: float,
-        dc: str,
+        b: tuple[float, ...],
+        dc: tuple[str, ...],
         v_ref: str,
         mu0: float,
         stiffness: str | None,
         load: str | None,
         kw: str | None,
         mass: str | None,
-        law: str,
+        law: tuple[str, ...],
+        nagata_c: float,
+        eta: str | None,
+        regularized: bool,
         steps: str | None,
+        durations: str | None,
+        displacements: str | None,
         displacement: str | None,
         holds: str | None,
         v_slide: str | None,
+        history: str | None,
+        sample: str | None,
+        rtol: float | None,
+        atol: float,
         out_dir: str,
         overwrite: bool,
     ) -> None:
-        """Run a rate-and-state laboratory protocol: velocity steps or slide-hold-slide.
+        """Run a rate-and-state laboratory protocol: velocity steps, slide-hold-slide or a history.
 
-        Example: stickslip ratestate --a 0.01 --b 0.015 --dc "10 um" --v-ref "1 um/s" --mu0 0.6
-        --stiffness-per-load "1 1/mm" --steps "1 um/s,10 um/s,1 um/s"
+        Several state variables: repeat --b and --dc. Example (rsfmodel's two-state test):
+        stickslip ratestate --a 0.012 --b 0.0185 --dc "5 um" --b 0.0088 --dc "50 um" --v-ref "1 um/s"
+        --mu0 0.6 --stiffness-per-load "3e-3 1/um" --steps "1 um/s,10 um/s" --durations "10 s,30 s"
+        --sample "1 s"
         """
         from ..dynamics.sweep import save_sweep
         from ..plots.figures import plot_rate_state, save_figure
-        from ..ratestate.model import RateStateParameters
-        from ..ratestate.protocols import slide_hold_slide, velocity_steps
+        from ..ratestate.protocols import simulate_rate_state, slide_hold_slide, step_history
 
-        if (steps is None) == (holds is None):
-            raise click.UsageError("give one protocol: --steps VELOCITIES or --holds TIMES (with --v-slide)")
+        protocols = [x is not None for x in (steps, holds, history)]
+        if sum(protocols) != 1:
+            raise click.UsageError(
+                "give one protocol: --steps VELOCITIES, --holds TIMES (with --v-slide) or --history FILE"
+            )
+        if len(b) != len(dc):
+            raise click.UsageError(f"--b given {len(b)} time(s) and --dc {len(dc)}: give them in pairs")
+        if law and len(law) not in (1, len(b)):
+            raise click.UsageError(
+                f"--law given {len(law)} times for {len(b)} state variables: give one or one each"
+            )
+        if steps is None and (durations or displacements):
+            raise click.UsageError("--durations and --displacements go with --steps")
         params = RateStateParameters(
             a=a,
-            b=b,
-            dc=dc,
+            b=b if len(b) > 1 else b[0],
+            dc=dc if len(dc) > 1 else dc[0],
             v_ref=v_ref,
             mu0=mu0,
             stiffness=stiffness,
             load=load,
             stiffness_per_load=kw,
             mass=mass,
-            state_law=law,
+            state_law=(law if len(law) > 1 else law[0]) if law else "aging",
+            nagata_c=nagata_c,
+            radiation_damping=eta,
+            friction_form="regularized" if regularized else "log",
         )
+        opts: dict[str, Any] = {"sample": sample, "rtol": rtol, "atol": atol}
         if steps is not None:
-            ds = velocity_steps(params, [v.strip() for v in steps.split(",")], displacement=displacement)
+            hist = step_history(
+                _split(steps),
+                durations=_split(durations) if durations else None,
+                displacements=_split(displacements) if displacements else None,
+                displacement=displacement,
+                default_displacement=params.dc_max * 20,
+            )
+            ds = simulate_rate_state(params, hist, **opts)
+        elif history is not None:
+            from ..io.lab import read_lab_record
+
+            rec = read_lab_record(history)
+            ds = simulate_rate_state(params, rec.history(), **opts)
         else:
             if v_slide is None:
                 raise click.UsageError("--holds needs --v-slide")
             assert holds is not None
-            ds = slide_hold_slide(
-                params, v_slide, [h.strip() for h in holds.split(",")], displacement=displacement
-            )
+            ds = slide_hold_slide(params, v_slide, _split(holds), displacement=displacement, rtol=rtol)
         from ..io.output import OutputFolder
 
         with OutputFolder(out_dir, "ratestate", overwrite=overwrite) as out:
@@ -182,3 +278,7 @@ def register(main: click.Group) -> None:
         if "peak_friction_change" in ds:
             for t_h, dmu in zip(ds.hold_time.values, ds.peak_friction_change.values, strict=True):
                 click.echo(f"hold {t_h:g} s: peak friction change {dmu:.6g}")
+
+
+def _split(text: str) -> list[str]:
+    return [x.strip() for x in text.split(",") if x.strip()]

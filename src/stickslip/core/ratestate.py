@@ -34,7 +34,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ._dop853_tableau import C, N_STAGES, N_STAGES_EXTENDED
+from ._dop853_tableau import N_STAGES, N_STAGES_EXTENDED
 from ._dop853_unrolled import dense_coeffs
 from .dop853 import dense_eval, illinois_propose, illinois_update, vec_advance, vec_error, vec_stage
 from .engine import MAX_FACTOR, MIN_FACTOR, SAFETY, _root8
@@ -88,7 +88,7 @@ def _reg(w):  # type: ignore[no-untyped-def]
 
 @njit(cache=True)
 def qs_lnv(mu_s, ps, P):  # type: ignore[no-untyped-def]
-    """Return ``(u, r, D)``: ``u = ln(v/V_r)`` solving ``mu_s = f + eta v``, ``r = df/dpsi``, ``D = d mu_s/du``.
+    """Return ``(u, r, D)``: ``u = ln(v/V_r)`` solving ``mu_s = f + eta v``, ``r = f_psi``, ``D = dmu_s/du``.
 
     ``ps`` is ``mu0 + sum_i B_i theta_i``. Closed form for the log form without
     damping; otherwise a safeguarded Newton iteration in ``u`` (``mu_s`` is
@@ -231,7 +231,7 @@ def qs_velocity(mu_s, y, S, n, P):  # type: ignore[no-untyped-def]
 
 @njit(cache=True)
 def in_friction(v, y, S, n, P):  # type: ignore[no-untyped-def]
-    """Regularised friction ``A asinh(v/(2 V_r) exp(psi/A))`` of the inertial slider (log-states ``y[2:]``)."""
+    """Regularised friction ``A asinh(v/(2 V_r) exp(psi/A))`` of the inertial slider (log-states y[2:])."""
     a = P[P_A]
     ps = P[P_MU0] + psi(y, S, 2, n)
     return a * math.asinh(v / (2.0 * P[P_VR]) * math.exp(ps / a))

@@ -36,7 +36,6 @@ def _many(value: Any) -> bool:
     return isinstance(value, Sequence) and not isinstance(value, str)
 
 
-
 @dataclass(frozen=True)
 class RateStateParameters:
     """A rate-and-state spring-slider with one or several state variables.
@@ -110,26 +109,39 @@ class RateStateParameters:
                 "(--b and --dc in pairs)"
             )
         bs = [
-            check_number(v, f"b[{i}]" if len(bs) > 1 else "b", allow_zero=True, what="a non-negative evolution effect B")
+            check_number(
+                v,
+                f"b[{i}]" if len(bs) > 1 else "b",
+                allow_zero=True,
+                what="a non-negative evolution effect B",
+            )
             for i, v in enumerate(bs)
         ]
         dcs = [
-            parse_quantity(v, f"dc[{i}]" if len(dcs) > 1 else "dc", "[length]", "10 um") for i, v in enumerate(dcs)
+            parse_quantity(v, f"dc[{i}]" if len(dcs) > 1 else "dc", "[length]", "10 um")
+            for i, v in enumerate(dcs)
         ]
         set_(self, "b", bs[0] if len(bs) == 1 else tuple(bs))
         set_(self, "dc", dcs[0] if len(dcs) == 1 else tuple(dcs))
         n = len(bs)
         laws = list(self.state_law) if _many(self.state_law) else [self.state_law]
         if len(laws) not in (1, n):
-            raise ValueError(f"state_law={self.state_law!r}: give one law for all {n} state variables or one each")
+            raise ValueError(
+                f"state_law={self.state_law!r}: give one law for all {n} state variables or one each"
+            )
         for lw in laws:
             if lw not in STATE_LAWS:
                 raise ValueError(f"state_law={lw!r}: expected one of {', '.join(map(repr, STATE_LAWS))}")
         set_(self, "state_law", laws[0] if len(laws) == 1 else tuple(laws))
         cs = list(self.nagata_c) if _many(self.nagata_c) else [self.nagata_c] * n
         if len(cs) != n:
-            raise ValueError(f"nagata_c={self.nagata_c!r}: give one value for all state variables or one each")
-        cs = [check_number(c, "nagata_c", allow_zero=True, what="a non-negative Nagata coefficient c") for c in cs]
+            raise ValueError(
+                f"nagata_c={self.nagata_c!r}: give one value for all state variables or one each"
+            )
+        cs = [
+            check_number(c, "nagata_c", allow_zero=True, what="a non-negative Nagata coefficient c")
+            for c in cs
+        ]
         set_(self, "nagata_c", cs[0] if len(set(cs)) == 1 else tuple(cs))
         for law, b_i, c_i in zip(self.laws, bs, cs, strict=True):
             if law == "nagata" and c_i > 0 and b_i == 0:

@@ -76,20 +76,20 @@ def _steady_state(params: RateStateParameters, v: float) -> FloatArray:
 
 def sample_times(sample: Any, total: float) -> FloatArray:
     """Times (s) from ``sample``: a step (``"1 s"``: 0, 1, 2, ... up to ``total``) or a sequence of times."""
-    if isinstance(sample, str) or isinstance(sample, pint.Quantity) and np.ndim(sample.magnitude) == 0:
+    if isinstance(sample, str) or (isinstance(sample, pint.Quantity) and np.ndim(sample.magnitude) == 0):
         dt = float(parse_quantity(sample, "sample", "[time]", "1 s").to("s").magnitude)
         n = int(math.floor(total / dt * (1.0 + 1e-12))) + 1
         if n > 50_000_000:
-            raise ValueError(f"sample={sample!r}: {n} samples over {total:g} s, more than 5e7; give a longer step")
-        return np.arange(n) * dt
+            raise ValueError(
+                f"sample={sample!r}: {n} samples over {total:g} s, more than 5e7; give a longer step"
+            )
+        return np.arange(n, dtype=np.float64) * dt
     if isinstance(sample, pint.Quantity):
         t = np.asarray(sample.to("s").magnitude, dtype=float)
     else:
         t = np.asarray(sample, dtype=float)
     if t.ndim != 1 or t.size == 0 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0) or t[0] < 0:
-        raise ValueError(
-            f"sample={sample!r}: expected a step such as '1 s' or increasing times (s) from 0"
-        )
+        raise ValueError(f"sample={sample!r}: expected a step such as '1 s' or increasing times (s) from 0")
     if t[-1] > total * (1.0 + 1e-12):
         raise ValueError(f"sample: the last time {t[-1]:g} s is after the end of the history ({total:g} s)")
     return t
@@ -102,8 +102,8 @@ def simulate_rate_state(
     initial: str | tuple[float, Any] = "steady",
     n_points: int = 400,
     sample: Any = None,
-    rtol: float = 1e-10,
-    atol: float = 1e-12,
+    rtol: float | None = None,
+    atol: float = 1e-15,
     max_steps: int = 2_000_000,
     max_seconds: float = 60.0,
 ) -> xr.Dataset:
@@ -126,7 +126,9 @@ def simulate_rate_state(
         Output at exactly these times from the integrator's dense output:
         ``"1 s"`` gives 0, 1, 2, ... s to the end; or the times themselves (s).
     rtol, atol : float, optional
-        Relative and absolute tolerances (on the spring friction and the log-states).
+        Relative and absolute tolerances (on the spring friction and the log-states);
+        ``rtol`` defaults to 3e-13 for the quasi-static slider (velocities to about 1e-9
+        relative: the velocity is exponential in friction / A) and 1e-10 with inertia.
     max_steps, max_seconds : optional
         Bounds on the work: beyond them the integration stops with an error.
 
@@ -160,6 +162,8 @@ def simulate_rate_state(
     hist = _history(history)
     if isinstance(n_points, bool) or not isinstance(n_points, int) or n_points < 2:
         raise ValueError(f"n_points={n_points!r}: expected an integer >= 2")
+    if rtol is None:
+        rtol = 1e-10 if params.inertial else 3e-13
     if not (isinstance(rtol, float | int) and 1e-13 <= rtol <= 1e-3):
         raise ValueError(f"rtol={rtol!r}: expected a relative tolerance between 1e-13 and 1e-3")
     if not (isinstance(atol, float | int) and 0 < atol <= 1e-3):
@@ -205,7 +209,9 @@ def simulate_rate_state(
     total = float(sum(d for d, _ in hist))
     bounds = np.concatenate([[0.0], np.cumsum([d for d, _ in hist])])
     if sample is None:
-        t_s = np.unique(np.concatenate([np.linspace(bounds[k], bounds[k + 1], n_points) for k in range(len(hist))]))
+        t_s = np.unique(
+            np.concatenate([np.linspace(bounds[k], bounds[k + 1], n_points) for k in range(len(hist))])
+        )
     else:
         t_s = sample_times(sample, total)
     if params.inertial:
@@ -273,15 +279,36 @@ def _dop853(
     chunk = 50_000
     while True:
         status, t, nsamp, nev, _, steps, _ = core.integrate_qs(
-            P, S, n, seg_end, seg_v, y0, t, t_s[js:], rtol, atol, math.inf, min(chunk, max_steps - steps_total),
-            v_cap, 0.0, True, out[js:], ev, rec, 0,
+            P,
+            S,
+            n,
+            seg_end,
+            seg_v,
+            y0,
+            t,
+            t_s[js:],
+            rtol,
+            atol,
+            math.inf,
+            min(chunk, max_steps - steps_total),
+            v_cap,
+            0.0,
+            True,
+            out[js:],
+            ev,
+            rec,
+            0,
         )
         events.append(ev[:nev].copy())
         js += nsamp
         steps_total += steps
         if status == core.RS_EVENTS_FULL:
             continue
-        if status == core.RS_MAX_STEPS and steps_total < max_steps and time.monotonic() - started < max_seconds:
+        if (
+            status == core.RS_MAX_STEPS
+            and steps_total < max_steps
+            and time.monotonic() - started < max_seconds
+        ):
             continue
         break
     if status != core.RS_OK:
@@ -352,8 +379,16 @@ def _radau(
         t_eval = np.append(wanted, t1) if extra else wanted
         try:
             sol = solve_ivp(
-                fun, (t0, t1), y, method="Radau", jac=jacobian, args=(v_lp,),
-                t_eval=t_eval, rtol=rtol, atol=atol, events=[spring_peak, velocity_peak],
+                fun,
+                (t0, t1),
+                y,
+                method="Radau",
+                jac=jacobian,
+                args=(v_lp,),
+                t_eval=t_eval,
+                rtol=rtol,
+                atol=atol,
+                events=[spring_peak, velocity_peak],
             )
         except _Abort:
             raise RuntimeError(
@@ -364,10 +399,13 @@ def _radau(
         except (OverflowError, FloatingPointError) as exc:
             raise RuntimeError(f"segment {k}: the solution overflowed ({exc})") from None
         for name, i_ev in (("spring", 0), ("velocity", 1)):
-            peaks[name] += [(float(te), ye) for te, ye in zip(sol.t_events[i_ev], sol.y_events[i_ev], strict=True)]
+            peaks[name] += [
+                (float(te), ye) for te, ye in zip(sol.t_events[i_ev], sol.y_events[i_ev], strict=True)
+            ]
         if sol.status != 0 or not np.all(np.isfinite(sol.y)):
             raise RuntimeError(
-                f"segment {k} (v_lp = {v_lp:g} m/s): the solver stopped at t = {sol.t[-1]:.6g} s: {sol.message}"
+                f"segment {k} (v_lp = {v_lp:g} m/s): the solver stopped at "
+                f"t = {sol.t[-1]:.6g} s: {sol.message}"
             )
         keep = slice(0, -1) if extra else slice(None)
         times.append(sol.t[keep])
@@ -468,9 +506,7 @@ def _dataset(
         data,
         coords={"time": ("time", t, {"units": "s", "long_name": "time"})},
         attrs={
-            "model": "inertial" if params.inertial else (
-                "quasi-dynamic" if eta > 0 else "quasi-static"
-            ),
+            "model": "inertial" if params.inertial else ("quasi-dynamic" if eta > 0 else "quasi-static"),
             "state_law": ",".join(params.laws),
             "state_variables": n,
             "parameters": repr(params),
@@ -478,15 +514,59 @@ def _dataset(
     )
 
 
+def step_history(
+    velocities: Sequence[Any],
+    *,
+    durations: Sequence[Any] | None = None,
+    displacements: Sequence[Any] | None = None,
+    displacement: Any = None,
+    default_displacement: Any = None,
+) -> list[tuple[Any, Any]]:
+    """Build ``(duration, velocity)`` pairs of a velocity-step test.
+
+    Each velocity is held for its duration (``durations``), for its load-point
+    displacement (``displacements``), or for one displacement for all
+    (``displacement``, else ``default_displacement``). A velocity of 0 (a hold)
+    needs a duration.
+    """
+    if isinstance(velocities, str) or len(velocities) < 1:
+        raise ValueError(f"velocities={velocities!r}: expected a sequence of velocities")
+    if durations is not None and displacements is not None:
+        raise ValueError("give durations or displacements for the steps, not both")
+    for name, seq in (("durations", durations), ("displacements", displacements)):
+        if seq is not None and (isinstance(seq, str) or len(seq) != len(velocities)):
+            raise ValueError(f"{name}={seq!r}: expected one per velocity ({len(velocities)} velocities)")
+    hist: list[tuple[Any, Any]] = []
+    for i, v in enumerate(velocities):
+        vq = parse_quantity(
+            v, f"velocities[{i}]", "[length] / [time]", "1 um/s", allow_zero=durations is not None
+        )
+        if durations is not None:
+            hist.append((parse_quantity(durations[i], f"durations[{i}]", "[time]", "10 s"), vq))
+            continue
+        if displacements is not None:
+            d = parse_quantity(displacements[i], f"displacements[{i}]", "[length]", "100 um")
+        elif displacement is not None:
+            d = parse_quantity(displacement, "displacement", "[length]", "100 um")
+        else:
+            d = default_displacement
+        hist.append(((d / vq).to("s"), vq))
+    return hist
+
+
 def velocity_steps(
     params: RateStateParameters,
     velocities: Sequence[Any],
     *,
     displacement: Any = None,
+    durations: Sequence[Any] | None = None,
+    displacements: Sequence[Any] | None = None,
     n_points: int = 400,
-    rtol: float = 1e-10,
+    sample: Any = None,
+    rtol: float | None = None,
+    atol: float = 1e-15,
 ) -> xr.Dataset:
-    """Run a velocity-step test: each load-point velocity held for a load-point displacement.
+    """Run a velocity-step test: each load-point velocity held for a duration or a displacement.
 
     Parameters
     ----------
@@ -495,23 +575,34 @@ def velocity_steps(
     velocities : sequence of velocities
         E.g. ``["1 um/s", "10 um/s", "1 um/s"]``; starts in steady sliding at the first.
     displacement : length, optional
-        Load-point displacement per step; default ``20 D0``.
-    n_points, rtol : optional
+        Load-point displacement of every step; default ``20 D_c`` (the largest ``D_c``).
+    durations : sequence of times, optional
+        Duration of each step instead, e.g. ``["10 s", "30 s"]``.
+    displacements : sequence of lengths, optional
+        Load-point displacement of each step instead.
+    n_points, sample, rtol, atol : optional
         As in :func:`simulate_rate_state`.
 
+    Examples
+    --------
+    rsfmodel's one-state velocity step (``k = 1e-3 /um``, a step to 10 um/s at 10 s),
+    sampled every second:
+
+    >>> p = RateStateParameters(a=0.005, b=0.01, dc="10 um", v_ref="1 um/s", mu0=0.6,
+    ...                         stiffness_per_load="1e-3 1/um")
+    >>> ds = velocity_steps(p, ["1 um/s", "10 um/s"], durations=["10 s", "30 s"], sample="1 s")
+    >>> round(float(ds.friction.sel(time=11.0)), 8)
+    0.60720485
+
     """
-    if isinstance(velocities, str) or len(velocities) < 1:
-        raise ValueError(f"velocities={velocities!r}: expected a sequence of velocities")
-    d = (
-        params.dc_max * 20
-        if displacement is None
-        else parse_quantity(displacement, "displacement", "[length]", "100 um")
+    hist = step_history(
+        velocities,
+        durations=durations,
+        displacements=displacements,
+        displacement=displacement,
+        default_displacement=params.dc_max * 20,
     )
-    hist = []
-    for i, v in enumerate(velocities):
-        vq = parse_quantity(v, f"velocities[{i}]", "[length] / [time]", "1 um/s")
-        hist.append(((d / vq).to("s"), vq))
-    return simulate_rate_state(params, hist, n_points=n_points, rtol=rtol)
+    return simulate_rate_state(params, hist, n_points=n_points, sample=sample, rtol=rtol, atol=atol)
 
 
 def slide_hold_slide(
@@ -521,7 +612,7 @@ def slide_hold_slide(
     *,
     displacement: Any = None,
     n_points: int = 400,
-    rtol: float = 1e-10,
+    rtol: float | None = None,
 ) -> xr.Dataset:
     """Run a slide-hold-slide test: slide, then for each hold time hold and slide again.
 

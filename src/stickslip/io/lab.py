@@ -1,0 +1,175 @@
+"""Reading laboratory rate-and-state records and load-point histories.
+
+A record is a CSV or TSV file whose header cells give units in brackets:
+``time [s]``, then ``load-point velocity [um/s]`` or ``load-point displacement [um]``,
+and (for a record to fit) ``friction [1]``. Lines starting with ``#`` before the
+header carry metadata as ``# key = value``, e.g. ``# mu0 = 0.6``,
+``# v_ref = 1 um/s``, ``# stiffness_per_load = 0.001 1/um``, ``# law = aging``.
+
+A load-point velocity column is read as a piecewise-constant history (each
+row's velocity holds until the next row, as a servo's set point does); a
+displacement column as piecewise linear (the velocity of each interval is its
+displacement over its duration).
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from ..units import Q_, ureg
+from . import text
+from .errors import DataError
+from .tables import MAX_BYTES, check_file, parse_header
+
+__all__ = ["LabRecord", "read_lab_record"]
+
+FloatArray = npt.NDArray[np.float64]
+
+VELOCITY = ("load-point velocity", "load_point_velocity", "loadpoint velocity", "velocity")
+DISPLACEMENT = (
+    "load-point displacement",
+    "load_point_displacement",
+    "loadpoint displacement",
+    "displacement",
+)
+FRICTION = ("friction", "mu", "friction coefficient")
+
+
+@dataclass(frozen=True)
+class LabRecord:
+    """A laboratory record in SI units.
+
+    Attributes
+    ----------
+    name : str
+        File name.
+    time : ndarray
+        Sample times (s), strictly increasing.
+    velocity : ndarray
+        Load-point velocity of each interval ``[time[i], time[i+1])`` (m/s), one per sample
+        (the last repeats the one before it when read from displacements).
+    displacement : ndarray
+        Load-point displacement at each sample (m), from the first.
+    friction : ndarray or None
+        Measured friction (dimensionless), when the file has it.
+    metadata : dict
+        Every ``# key = value`` header line.
+
+    """
+
+    name: str
+    time: FloatArray
+    velocity: FloatArray
+    displacement: FloatArray
+    friction: FloatArray | None = None
+    metadata: dict[str, str] = field(default_factory=dict)
+
+    def history(self) -> list[tuple[Any, Any]]:
+        """Return the load-point history as ``(duration, velocity)`` quantities, equal neighbours merged."""
+        dt = np.diff(self.time)
+        v = self.velocity[:-1]
+        out: list[tuple[float, float]] = []  # SI
+        for d, vi in zip(dt, v, strict=True):
+            if out and out[-1][1] == vi:
+                out[-1] = (out[-1][0] + float(d), out[-1][1])
+            else:
+                out.append((float(d), float(vi)))
+        return [(Q_(d, "s"), Q_(v, "m/s")) for d, v in out]
+
+
+def _column(names: list[str], choices: tuple[str, ...]) -> str | None:
+    return next((c for c in choices if c in names), None)
+
+
+def _si(values: FloatArray, unit: Any, name: str, dimension: str, example: str, where: str) -> FloatArray:
+    if unit is None:
+        raise DataError(f"{where}: column {name!r} has no unit; write e.g. '{name} [{example}]'")
+    q = ureg.Quantity(1.0, unit)
+    if not q.check(dimension):
+        raise DataError(
+            f"{where}: column {name!r} has unit [{unit:~}], expected {dimension} (e.g. [{example}])"
+        )
+    return values * float(q.to_base_units().magnitude)
+
+
+def read_lab_record(path: str | os.PathLike[str], *, need_friction: bool = False) -> LabRecord:
+    """Read a velocity-step or slide-hold-slide record (or a load-point history).
+
+    Parameters
+    ----------
+    path : str or path-like
+        The CSV/TSV file.
+    need_friction : bool, optional
+        Require a ``friction`` column (for a fit).
+
+    Raises
+    ------
+    DataError
+        Missing or malformed file, missing column, wrong unit, a value that is not a
+        number, time not strictly increasing, a negative velocity; the message names
+        the file, the column and the row.
+
+    """
+    p = check_file(path, MAX_BYTES)
+    layout = text.inspect(p)
+    parsed = [parse_header(c, p) for c in layout.header]
+    names = [n for n, _ in parsed]
+    units = dict(parsed)
+    if "time" not in names:
+        raise DataError(
+            f"{p}: missing column 'time' (found {names}); expected 'time [s]', "
+            "'load-point velocity [um/s]' (or 'load-point displacement [um]') and 'friction [1]'"
+        )
+    vcol = _column(names, VELOCITY)
+    xcol = _column(names, DISPLACEMENT)
+    fcol = _column(names, FRICTION)
+    if vcol is None and xcol is None:
+        raise DataError(
+            f"{p}: missing a load-point column (found {names}); expected 'load-point velocity [um/s]' "
+            "or 'load-point displacement [um]'"
+        )
+    if need_friction and fcol is None:
+        raise DataError(f"{p}: missing column 'friction' (found {names}); expected 'friction [1]'")
+    wanted = [c for c in ("time", vcol, xcol, fcol) if c is not None]
+    frame = text.read_frame(layout, names, numeric=wanted, position="line")
+    if len(frame) < 2:
+        raise DataError(f"{p}: {len(frame)} data row(s); a record needs at least two")
+    if frame[wanted].isna().any().any():
+        text.diagnose(layout, names, numeric=wanted, position="line", nan_is_error=True)
+        raise DataError(f"{p}: missing values")  # pragma: no cover - diagnose raises first
+    t = _si(frame["time"].to_numpy(float), units["time"], "time", "[time]", "s", p)
+    dt = np.diff(t)
+    if np.any(dt <= 0):
+        i = int(np.argmax(dt <= 0))
+        raise DataError(
+            f"{p}: time is not strictly increasing at rows {i + 1}-{i + 2} ({t[i]!r} s then {t[i + 1]!r} s)"
+        )
+    if vcol is not None:
+        v = _si(frame[vcol].to_numpy(float), units[vcol], vcol, "[length] / [time]", "um/s", p)
+        x = np.concatenate([[0.0], np.cumsum(v[:-1] * dt)])
+    else:
+        assert xcol is not None
+        x = _si(frame[xcol].to_numpy(float), units[xcol], xcol, "[length]", "um", p)
+        x = x - x[0]
+        vi = np.diff(x) / dt
+        v = np.concatenate([vi, vi[-1:]])
+    if np.any(v < 0):
+        i = int(np.argmax(v < 0))
+        raise DataError(
+            f"{p}: the load-point velocity is negative at row {i + 1} ({v[i]:.3g} m/s); "
+            "the model drives the slider forward (holds have velocity 0)"
+        )
+    mu = None
+    if fcol is not None:
+        f = frame[fcol].to_numpy(float)
+        if units[fcol] is not None and not ureg.Quantity(1.0, units[fcol]).check(""):
+            raise DataError(
+                f"{p}: column {fcol!r} has unit [{units[fcol]:~}], expected a dimensionless friction [1]"
+            )
+        mu = f
+    return LabRecord(os.path.basename(p), t, v, x, mu, dict(layout.meta))
