@@ -363,6 +363,8 @@ def integrate_qs(  # type: ignore[no-untyped-def]
         Parameters, state table and number of state variables.
     seg_end, seg_v : arrays
         End times (s) and load-point velocities (m/s) of the piecewise-constant history.
+    t0 : float
+        Start time (s).
     y0 : array
         ``(mu_s, theta_1..n)`` followed by ``N_QUAD`` quadratures (usually zero) at ``t0``;
         overwritten with the state at the returned time (to resume after ``RS_MAX_STEPS``).
@@ -376,6 +378,8 @@ def integrate_qs(  # type: ignore[no-untyped-def]
         Record upward and downward crossings of this velocity and the velocity peaks above it (0: none).
     peaks : bool
         Record the spring-stress maxima (``v`` crossing ``v_lp`` upward).
+    rec_every : int
+        Record every ``rec_every``-th accepted step (0: none).
     sample_out, ev, rec : arrays
         Outputs: ``len(samples) x (nvar + 1)``; events ``(kind, t, u, y...)``; every
         ``rec_every``-th accepted step ``(t, u, y...)`` (as many as ``rec`` holds).

@@ -75,10 +75,10 @@ def _steady_state(params: RateStateParameters, v: float) -> FloatArray:
 
 
 def sample_times(sample: Any, total: float) -> FloatArray:
-    """Times (s) from ``sample``: a step (``"1 s"``: 0, 1, 2, ... up to ``total``) or a sequence of times."""
+    """Return the times (s) of ``sample``: a step (``"1 s"``: 0, 1, 2, ... to ``total``) or the times."""
     if isinstance(sample, str) or (isinstance(sample, pint.Quantity) and np.ndim(sample.magnitude) == 0):
         dt = float(parse_quantity(sample, "sample", "[time]", "1 s").to("s").magnitude)
-        n = int(math.floor(total / dt * (1.0 + 1e-12))) + 1
+        n = math.floor(total / dt * (1.0 + 1e-12)) + 1
         if n > 50_000_000:
             raise ValueError(
                 f"sample={sample!r}: {n} samples over {total:g} s, more than 5e7; give a longer step"
