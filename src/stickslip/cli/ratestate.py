@@ -26,6 +26,7 @@ DC_HELP = "Critical slip distance Dc (the paper's D0), e.g. '10 um'."
 
 def register(main: click.Group) -> None:
     """Add the commands to ``main``."""
+    register_fit(main)
 
     @main.command()
     @click.option("--a", "a", type=float, default=None, help=A_HELP)
@@ -282,3 +283,104 @@ def register(main: click.Group) -> None:
 
 def _split(text: str) -> list[str]:
     return [x.strip() for x in text.split(",") if x.strip()]
+
+
+def register_fit(main: click.Group) -> None:
+    """Add ``ratestate-fit`` to ``main``."""
+
+    @main.command("ratestate-fit")
+    @click.argument("record_file", type=click.Path(dir_okay=False))
+    @click.option("--mu0", type=float, default=None, help="Steady friction at V_r (else '# mu0 = ...').")
+    @click.option("--v-ref", "v_ref", default=None, help="Reference velocity V_r (else '# v_ref = ...').")
+    @click.option(
+        "--stiffness-per-load",
+        "kw",
+        default=None,
+        help="k/W, e.g. '1e-3 1/um' (else '# stiffness_per_load = ...'); the start with --fit-stiffness.",
+    )
+    @click.option(
+        "--law",
+        type=click.Choice(["aging", "slip", "prz"]),
+        default=None,
+        help="State evolution law (else '# law = ...', else aging).",
+    )
+    @click.option(
+        "--states",
+        type=click.IntRange(1, 2),
+        default=1,
+        show_default=True,
+        help="Number of state variables: 2 fits a second b and Dc.",
+    )
+    @click.option("--fit-stiffness", is_flag=True, help="Fit k/W too.")
+    @click.option(
+        "--detrend",
+        type=click.Choice(["linear", "offset", "none"]),
+        default="linear",
+        show_default=True,
+        help="Fit a friction offset and a slope in load-point displacement with the parameters "
+        "(linear), the offset only, or neither (mu0 as given).",
+    )
+    @click.option("--window", default=None, help="Fit only the samples between two times, e.g. '50 s,400 s'.")
+    @out_dir_option("Output folder: ratestate_fit.json, ratestate_fit.png/.svg.")
+    @click.option("--no-plot", is_flag=True, help="Do not draw the overlay figure.")
+    @click.option("--json", "as_json", is_flag=True, help="Print the fit as JSON.")
+    @overwrite_option
+    @handle_errors
+    def ratestate_fit(
+        record_file: str,
+        mu0: float | None,
+        v_ref: str | None,
+        kw: str | None,
+        law: str | None,
+        states: int,
+        fit_stiffness: bool,
+        detrend: str,
+        window: str | None,
+        out_dir: str,
+        no_plot: bool,
+        as_json: bool,
+        overwrite: bool,
+    ) -> None:
+        """Fit rate-and-state a, b, Dc (a second b, Dc; k/W) to a velocity-step or slide-hold-slide record.
+
+        The record: 'time [s]', 'load-point velocity [um/s]' (or 'load-point displacement
+        [um]') and 'friction [1]', with '# mu0 = 0.6', '# v_ref = 1 um/s',
+        '# stiffness_per_load = 1e-3 1/um' and '# law = aging' header lines or the options.
+        Errors, correlations, identifiability warnings and the reduced chi-squared.
+        """
+        from ..io.lab import read_lab_record
+        from ..io.output import OutputFolder, json_writer
+        from ..ratestate.fitting import fit_rate_state
+
+        win = None
+        if window is not None:
+            parts = _split(window)
+            if len(parts) != 2:
+                raise click.UsageError(f"--window {window!r}: expected two times, e.g. '50 s,400 s'")
+            win = (parts[0], parts[1])
+        with OutputFolder(out_dir, "ratestate-fit", overwrite=overwrite) as out:
+            out.expect(
+                {"ratestate_fit.json": "ratestate-fit"}
+                | ({} if no_plot else {"ratestate_fit.png": "figure", "ratestate_fit.svg": "figure"})
+            )
+            rec = read_lab_record(record_file, need_friction=True)
+            res = fit_rate_state(
+                rec, mu0=mu0, v_ref=v_ref, stiffness_per_load=kw, law=law, n_states=states,
+                fit_stiffness=fit_stiffness, detrend=detrend, window=win,
+            )  # fmt: skip
+            d = res.as_dict()
+            paths = [out.write("ratestate_fit.json", "ratestate-fit", json_writer(d, "ratestate-fit"))]
+            if not no_plot:
+                from ..plots.figures import plot_rate_state_fit, save_figure
+
+                paths += save_figure(plot_rate_state_fit(res), "ratestate_fit", out=out)
+        if as_json:
+            click.echo(json.dumps(d, indent=2))
+            return
+        for name, v in d["parameters"].items():
+            err = "nan" if v["error"] is None else f"{v['error']:.2g}"
+            click.echo(f"{name:18s} = {v['value']:.6g} +- {err} {v['unit']}")
+        click.echo(f"reduced chi2 = {res.reduced_chi2:.3f} ({res.samples} samples, noise {res.noise:.3g})")
+        for w in res.warnings:
+            click.echo(f"warning: {w}")
+        click.echo("wrote " + ", ".join(paths))

@@ -156,12 +156,41 @@ def plot_rate_state(ds: Any) -> Figure:
         axes[1].semilogy(t, np.where(vlp > 0, vlp, np.nan), "k:", lw=1.0, label="load point")
     axes[1].set_ylabel("velocity [m/s]")
     axes[1].legend(frameon=False, fontsize=8)
-    axes[2].semilogy(*envelope(t, ds.state.values), lw=1.2)
+    states = [n for n in ds.data_vars if n == "state" or n.startswith("state_")]
+    for i, name in enumerate(states):
+        axes[2].semilogy(*envelope(t, ds[name].values), lw=1.2, label=rf"$\Phi_{i + 1}$")
+    if len(states) > 1:
+        axes[2].legend(frameon=False, fontsize=8)
     axes[2].set_ylabel(r"state $\Phi$ [s]")
     axes[2].set_xlabel("time [s]")
     fig.suptitle(
         f"rate and state ({ds.attrs.get('model', '')}, {ds.attrs.get('state_law', '')} law)", fontsize=10
     )
+    return fig
+
+
+def plot_rate_state_fit(fit: Any) -> Figure:
+    """Overlay a rate-and-state fit on its record, with the residuals below."""
+    fig, axes = subplots(
+        2, 1, figsize=(7.5, 5.5), sharex=True, layout="constrained", gridspec_kw={"height_ratios": [3, 1]}
+    )
+    t = fit.time
+    axes[0].plot(t, fit.friction, ".", ms=1.5, color="0.55", label="record")
+    axes[0].plot(t, fit.model, "-", lw=1.2, color="C3", label="fit")
+    axes[0].set_ylabel("friction coefficient")
+    text = ", ".join(
+        f"{n} = {fit.values[n] * (1e6 if n.startswith('dc') else 1):.4g}"
+        f"{' um' if n.startswith('dc') else (' 1/m' if n == 'stiffness_per_load' else '')}"
+        for n in fit.names
+    )
+    axes[0].set_title(f"{text}; reduced chi2 = {fit.reduced_chi2:.3g}", fontsize=8)
+    axes[0].legend(frameon=False, fontsize=8, markerscale=6)
+    axes[1].plot(t, fit.residuals, ".", ms=1.5, color="0.35")
+    axes[1].axhline(0.0, color="C3", lw=0.8)
+    for sgn in (-1, 1):
+        axes[1].axhline(sgn * 2 * fit.noise, color="C3", lw=0.6, ls=":")
+    axes[1].set_ylabel("residual")
+    axes[1].set_xlabel("time [s]")
     return fig
 
 

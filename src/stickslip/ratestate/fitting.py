@@ -1,0 +1,413 @@
+"""Fitting rate-and-state parameters to a laboratory record (velocity steps, slide-hold-slide).
+
+The model is the quasi-static spring-slider of :mod:`stickslip.ratestate.protocols`
+driven by the record's own load-point history, evaluated at the record's sample
+times from the integrator's dense output. Fitted: ``a``, ``b`` and ``Dc`` (and a
+second ``b``, ``Dc`` with two state variables; ``k/W`` with ``fit_stiffness``),
+by nonlinear least squares in the logarithms of the parameters (they stay
+positive). As a friction lab does it:
+
+* **Detrending.** Friction records drift with slip (gouge compaction, wear). With
+  ``detrend="linear"`` (default) a friction offset and a slope in load-point
+  displacement are fitted together with the rate-and-state parameters (solved
+  exactly at each evaluation, so they cost nothing and cannot be forgotten);
+  ``"offset"`` fits only the offset (the level ``mu0`` is then free), ``"none"``
+  neither (``mu0`` as given).
+* **Window.** ``window=(t0, t1)`` fits only the samples in that time range (a lab
+  cuts the run-in and any part where the machine misbehaved); the simulation
+  starts at the first sample in steady sliding at the first velocity.
+* **Noise and errors.** The noise of the record is estimated from its second
+  differences (robust to the signal); errors are the one-sigma errors of the
+  linearised fit, scaled by the reduced chi-squared when it exceeds one; the
+  correlation matrix is reported, and identifiability warnings name the parameters
+  the record cannot separate.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+from scipy.optimize import least_squares
+
+from ..io.errors import DataError
+from ..io.lab import LabRecord
+from ..units import Q_, parse_quantity
+from .model import STATE_LAWS, RateStateParameters
+from .protocols import simulate_rate_state
+
+__all__ = ["DETRENDS", "RateStateFit", "fit_rate_state"]
+
+FloatArray = npt.NDArray[np.float64]
+DETRENDS = ("linear", "offset", "none")
+UNITS = {"a": "1", "b": "1", "dc": "m", "b_2": "1", "dc_2": "m", "stiffness_per_load": "1/m"}
+
+
+@dataclass(frozen=True)
+class RateStateFit:
+    """Rate-and-state parameters fitted to a record.
+
+    Attributes
+    ----------
+    values, errors : dict
+        Fitted values and one-sigma errors (SI: ``dc`` in m, ``stiffness_per_load`` in 1/m).
+    correlation : ndarray
+        Correlation matrix in the order of ``names``.
+    names : tuple of str
+        Fitted parameters.
+    warnings : tuple of str
+        Identifiability and quality warnings.
+    reduced_chi2 : float
+        Sum of squared residuals over the noise variance and the degrees of freedom.
+    noise : float
+        Standard deviation of the record's noise (friction), estimated from the data.
+    samples : int
+        Samples in the fitting window.
+    offset, trend : float
+        Fitted friction offset and slope (1/m of load-point displacement), 0 when not fitted.
+    parameters : RateStateParameters
+        The fitted slider.
+    time, friction, model : ndarray
+        The window's times (s, from the record's start), measured and fitted friction.
+
+    """
+
+    values: dict[str, float]
+    errors: dict[str, float]
+    correlation: FloatArray
+    names: tuple[str, ...]
+    warnings: tuple[str, ...]
+    reduced_chi2: float
+    noise: float
+    samples: int
+    offset: float
+    trend: float
+    parameters: RateStateParameters
+    time: FloatArray
+    friction: FloatArray
+    model: FloatArray
+
+    @property
+    def residuals(self) -> FloatArray:
+        """Measured minus fitted friction in the window."""
+        return self.friction - self.model
+
+    def as_dict(self) -> dict[str, Any]:
+        """Return a JSON-ready dictionary in the shape of ``stickslip fit --json``."""
+
+        def num(x: float) -> float | None:
+            return None if not math.isfinite(x) else float(x)
+
+        return {
+            "parameters": {
+                n: {"value": self.values[n], "error": num(self.errors[n]), "unit": UNITS[n]}
+                for n in self.names
+            },
+            "correlation": {
+                a: {b: num(float(self.correlation[i, j])) for j, b in enumerate(self.names)}
+                for i, a in enumerate(self.names)
+            },
+            "detrend": {"offset": self.offset, "trend": {"value": self.trend, "unit": "1/m"}},
+            "warnings": list(self.warnings),
+            "reduced_chi2": self.reduced_chi2,
+            "method": "waveform",
+            "noise": {"value": self.noise, "unit": "1"},
+            "samples": self.samples,
+            "fit_on": f"friction waveform ({self.samples} samples), quasi-static rate-and-state slider "
+            f"({', '.join(self.parameters.laws)} law) driven by the record's load-point history",
+        }
+
+
+def noise_level(y: FloatArray) -> float:
+    """Return the noise standard deviation from second differences (median absolute deviation)."""
+    d2 = np.diff(y, 2)
+    if d2.size < 3:
+        return math.nan
+    mad = float(np.median(np.abs(d2 - np.median(d2))))
+    return mad / 0.6744897501960817 / math.sqrt(6.0)
+
+
+def _option(value: Any, meta: dict[str, str], key: str, name: str) -> Any:
+    if value is not None:
+        return value
+    if key in meta:
+        return meta[key]
+    raise DataError(f"{name} is not given: pass it as an option or as '# {key} = ...' in the record's header")
+
+
+def _initial(
+    t: FloatArray, mu: FloatArray, x: FloatArray, v: FloatArray, n_states: int, kw: float
+) -> dict[str, float]:
+    """Return starting values from the steps: direct jump, steady-state change and decay length."""
+    jumps = np.flatnonzero(np.diff(v) != 0) + 1
+    a_est, ab_est, dc_est = [], [], []
+    for k, i in enumerate(jumps):
+        v1, v2 = v[i - 1], v[i]
+        if v1 <= 0 or v2 <= 0:
+            continue
+        r = math.log(v2 / v1)
+        end = jumps[k + 1] if k + 1 < len(jumps) else len(v)
+        seg = slice(i, end)
+        before = mu[max(0, i - 5) : i].mean()
+        after = mu[max(i, end - max(3, (end - i) // 10)) : end].mean()
+        dev = (mu[seg] - before) * np.sign(r)
+        j = int(np.argmax(dev))
+        a_est.append(max(dev[j] / abs(r), 1e-4))
+        ab_est.append((after - before) / r)
+        # decay: where friction has come within 1/e of its new level after the peak
+        level = (mu[seg] - after) * np.sign(r)
+        below = np.flatnonzero(level[j:] <= level[j] / math.e)
+        if below.size:
+            dc_est.append(max(x[i + j + below[0]] - x[i + j], 1e-9))
+    if not a_est:
+        raise DataError("the record has no velocity step between positive velocities to fit")
+    a0 = float(np.median(a_est)) * 1.2
+    b0 = max(a0 - float(np.median(ab_est)), 0.2 * a0)
+    dc0 = float(np.median(dc_est)) if dc_est else float(np.ptp(x)) / 20
+    out = {"a": a0, "b": b0, "dc": dc0}
+    if n_states == 2:
+        out.update({"b": 0.7 * b0, "dc": 0.5 * dc0, "b_2": 0.3 * b0, "dc_2": 5.0 * dc0})
+    if math.isfinite(kw):
+        out["stiffness_per_load"] = kw
+    return out
+
+
+def fit_rate_state(
+    record: LabRecord,
+    *,
+    mu0: Any = None,
+    v_ref: Any = None,
+    stiffness_per_load: Any = None,
+    law: str | None = None,
+    n_states: int = 1,
+    fit_stiffness: bool = False,
+    detrend: str = "linear",
+    window: tuple[Any, Any] | None = None,
+    initial: dict[str, float] | None = None,
+) -> RateStateFit:
+    """Fit ``a``, ``b``, ``Dc`` (and ``b_2``, ``Dc_2``; ``k/W``) to a velocity-step or slide-hold-slide record.
+
+    Parameters
+    ----------
+    record : LabRecord
+        Times, load-point history and friction (:func:`stickslip.io.lab.read_lab_record`).
+    mu0, v_ref, stiffness_per_load, law : optional
+        Reference friction, reference velocity (e.g. ``"1 um/s"``), ``k/W`` (e.g.
+        ``"1e-3 1/um"``; a starting value with ``fit_stiffness``) and the evolution law;
+        taken from the record's header (``# mu0 = 0.6``, ...) when not given.
+    n_states : int, optional
+        1 or 2 state variables.
+    fit_stiffness : bool, optional
+        Fit ``k/W`` too.
+    detrend : str, optional
+        ``"linear"`` (offset and slope in load-point displacement fitted), ``"offset"`` or ``"none"``.
+    window : (time, time), optional
+        Fit only the samples in this range (times on the record's clock).
+    initial : dict, optional
+        Starting values (SI) instead of the estimates read from the steps.
+
+    Returns
+    -------
+    RateStateFit
+
+    Raises
+    ------
+    DataError
+        Missing friction or parameters, a window without samples, a record without steps.
+
+    """
+    if record.friction is None:
+        raise DataError(f"{record.name}: the record has no friction column to fit")
+    meta = record.metadata
+    mu0_v = float(_option(mu0, meta, "mu0", "mu0"))
+    vr = parse_quantity(_option(v_ref, meta, "v_ref", "v_ref"), "v_ref", "[length] / [time]", "1 um/s")
+    kw_q = parse_quantity(
+        _option(stiffness_per_load, meta, "stiffness_per_load", "stiffness_per_load"),
+        "stiffness_per_load",
+        "1 / [length]",
+        "1e-3 1/um",
+    )
+    law_v = str(law if law is not None else meta.get("law", "aging"))
+    if law_v not in ("aging", "slip", "prz"):
+        raise DataError(
+            f"law={law_v!r}: the fit supports 'aging', 'slip' or 'prz' (of {', '.join(STATE_LAWS)})"
+        )
+    if n_states not in (1, 2):
+        raise DataError(f"n_states={n_states!r}: expected 1 or 2")
+    if detrend not in DETRENDS:
+        raise DataError(f"detrend={detrend!r}: expected one of {', '.join(DETRENDS)}")
+    t_all = record.time - record.time[0]
+    sel = np.ones(t_all.size, dtype=bool)
+    if window is not None:
+        lo, hi = (
+            float(parse_quantity(w, "window", "[time]", "10 s").to("s").magnitude) - record.time[0]
+            for w in window
+        )
+        sel = (t_all >= lo) & (t_all <= hi)
+        if sel.sum() < 10:
+            raise DataError(f"window={window!r}: {int(sel.sum())} samples in it; a fit needs many more")
+    i0 = int(np.argmax(sel))
+    t = t_all[sel] - t_all[i0]
+    mu = record.friction[sel]
+    x = record.displacement[sel] - record.displacement[i0]
+    v = record.velocity[sel]
+    if v[0] <= 0:
+        raise DataError(
+            "the fitting window starts in a hold: start it while sliding (steady state is assumed)"
+        )
+    sub = LabRecord(record.name, t, v, x, mu, dict(meta))
+    hist = sub.history()
+    kw0 = float(kw_q.to("1/m").magnitude)
+    names = (
+        ["a", "b", "dc"]
+        + (["b_2", "dc_2"] if n_states == 2 else [])
+        + (["stiffness_per_load"] if fit_stiffness else [])
+    )
+    start = initial or _initial(t, mu, x, v, n_states, kw0)
+    x0 = np.log([start[n] for n in names])
+    sigma = noise_level(mu)
+    if not math.isfinite(sigma) or sigma <= 0:
+        sigma = 1e-6
+
+    def build(theta: FloatArray) -> RateStateParameters:
+        val = dict(zip(names, np.exp(theta), strict=True))
+        kw = val.get("stiffness_per_load", kw0)
+        bs = [val["b"]] + ([val["b_2"]] if n_states == 2 else [])
+        dcs = [Q_(val["dc"], "m")] + ([Q_(val["dc_2"], "m")] if n_states == 2 else [])
+        return RateStateParameters(
+            a=val["a"],
+            b=bs if n_states == 2 else bs[0],
+            dc=dcs if n_states == 2 else dcs[0],
+            v_ref=vr,
+            mu0=mu0_v,
+            stiffness_per_load=Q_(kw, "1/m"),
+            state_law=law_v,
+        )
+
+    def model(theta: FloatArray) -> FloatArray:
+        ds = simulate_rate_state(build(theta), hist, sample=t, rtol=1e-12, atol=1e-14, max_seconds=30.0)
+        out = ds.friction.values
+        if out.size != t.size:
+            raise RuntimeError("incomplete")
+        return np.asarray(out, dtype=float)
+
+    basis = {
+        "linear": np.column_stack([np.ones_like(x), x]),
+        "offset": np.ones((x.size, 1)),
+        "none": np.zeros((x.size, 0)),
+    }[detrend]
+    penalty = np.full(t.size, 1e3)
+
+    def detrended(m: FloatArray) -> tuple[FloatArray, FloatArray]:
+        r = mu - m
+        if basis.shape[1] == 0:
+            return r, np.zeros(0)
+        coef, *_ = np.linalg.lstsq(basis, r, rcond=None)
+        return r - basis @ coef, coef
+
+    def residuals(theta: FloatArray) -> FloatArray:
+        try:
+            m = model(theta)
+        except (RuntimeError, ValueError, OverflowError):
+            return penalty
+        r, _ = detrended(m)
+        return r / sigma
+
+    best = None
+    for scale in (1.0, 0.3, 3.0):
+        x_try = x0.copy()
+        x_try[names.index("dc")] += math.log(scale)
+        if n_states == 2:
+            x_try[names.index("dc_2")] += math.log(scale)
+        sol = least_squares(residuals, x_try, method="trf", diff_step=1e-6, x_scale=1.0, max_nfev=400)
+        if best is None or sol.cost < best.cost:
+            best = sol
+        if best is not None and 2 * best.cost / max(t.size - len(names), 1) < 2.0:
+            break
+    assert best is not None
+    theta = best.x
+    m_fit = model(theta)
+    r, coef = detrended(m_fit)
+    dof = max(t.size - len(names) - basis.shape[1], 1)
+    chi2 = float(np.sum(r**2) / sigma**2 / dof)
+    J = best.jac
+    # the nuisance (detrend) parameters are profiled out: project them from the Jacobian
+    if basis.shape[1]:
+        q, _ = np.linalg.qr(basis)
+        J = J - q @ (q.T @ J)
+    try:
+        cov = np.linalg.inv(J.T @ J) * max(chi2, 1.0)
+    except np.linalg.LinAlgError:
+        cov = np.full((len(names), len(names)), np.nan)
+    err_ln = np.sqrt(np.clip(np.diag(cov), 0, None))
+    values = dict(zip(names, (float(v) for v in np.exp(theta)), strict=True))
+    errors = {n: values[n] * float(e) for n, e in zip(names, err_ln, strict=True)}
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(err_ln, err_ln)
+    warnings = _warnings(names, values, errors, corr, chi2, x, n_states)
+    offset = float(coef[0]) if coef.size else 0.0
+    trend = float(coef[1]) if coef.size > 1 else 0.0
+    return RateStateFit(
+        values=values,
+        errors=errors,
+        correlation=corr,
+        names=tuple(names),
+        warnings=tuple(warnings),
+        reduced_chi2=chi2,
+        noise=sigma,
+        samples=int(t.size),
+        offset=offset,
+        trend=trend,
+        parameters=build(theta),
+        time=t + t_all[i0] + record.time[0],
+        friction=mu,
+        model=m_fit + (basis @ coef if coef.size else 0.0),
+    )
+
+
+def _warnings(
+    names: list[str],
+    values: dict[str, float],
+    errors: dict[str, float],
+    corr: FloatArray,
+    chi2: float,
+    x: FloatArray,
+    n_states: int,
+) -> list[str]:
+    out = []
+    for i, a in enumerate(names):
+        for j in range(i + 1, len(names)):
+            if abs(corr[i, j]) > 0.95:
+                out.append(
+                    f"{a} and {names[j]} are strongly correlated (r = {corr[i, j]:+.3f}): the record "
+                    "constrains a combination of them better than each"
+                )
+    for n in names:
+        e = errors[n]
+        if not math.isfinite(e) or e > 0.5 * values[n]:
+            out.append(
+                f"{n} is poorly constrained (error {e:.3g} on {values[n]:.3g}): not identifiable from this record"
+            )
+    span = float(np.ptp(x))
+    for n in ("dc", "dc_2"):
+        if n in values and values[n] > 0.25 * span:
+            out.append(
+                f"{n} = {values[n]:.3g} m is not small against the load-point displacement of the record "
+                f"({span:.3g} m): longer steps are needed to resolve it"
+            )
+    if n_states == 2:
+        ratio = max(values["dc"], values["dc_2"]) / min(values["dc"], values["dc_2"])
+        if ratio < 3:
+            out.append(
+                f"the two state variables have similar Dc (ratio {ratio:.2g}): they are not separately "
+                "identifiable; fit one state variable"
+            )
+    if chi2 > 3:
+        out.append(
+            f"reduced chi-squared {chi2:.3g}: the model does not describe the record within its noise "
+            "(another law, another number of state variables, or a trend the detrending does not remove)"
+        )
+    return out

@@ -1,0 +1,126 @@
+"""ratestate-fit recovers a, b, Dc from noisy records made by an independent SciPy generator."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from rsf_generator import generate, write_csv
+
+from stickslip.cli import main
+from stickslip.io.errors import DataError
+from stickslip.io.lab import read_lab_record
+from stickslip.ratestate.fitting import fit_rate_state
+
+ONE = {"a": 0.008, "b": [0.012], "dc_um": [10.0], "k_per_um": 2e-3}
+TWO = {"a": 0.012, "b": [0.0185, 0.0088], "dc_um": [5.0, 50.0]}
+STEPS_ONE = [(1.0, 100.0), (10.0, 30.0), (1.0, 300.0), (10.0, 30.0)]
+STEPS_TWO = [(1.0, 100.0), (10.0, 60.0), (1.0, 600.0), (10.0, 60.0)]
+
+
+def _record(tmp_path, law: str, truth: dict, steps, k: float, *, trend: float = 0.0, seed: int = 1):
+    t, v, mu = generate(
+        a=truth["a"], b=truth["b"], dc_um=truth["dc_um"], law=law, k_per_um=k, steps=steps, dt=0.2,
+        noise=1e-4, trend_per_um=trend, seed=seed,
+    )  # fmt: skip
+    path = tmp_path / f"{law}.csv"
+    write_csv(
+        path, t, v, mu, {"mu0": "0.6", "v_ref": "1 um/s", "stiffness_per_load": f"{k} 1/um", "law": law}
+    )
+    return path
+
+
+def _truth_values(truth: dict, k: float | None = None) -> dict[str, float]:
+    out = {"a": truth["a"], "b": truth["b"][0], "dc": truth["dc_um"][0] * 1e-6}
+    if len(truth["b"]) > 1:
+        out |= {"b_2": truth["b"][1], "dc_2": truth["dc_um"][1] * 1e-6}
+    if k is not None:
+        out["stiffness_per_load"] = k * 1e6
+    return out
+
+
+def _check(values: dict, errors: dict, truth: dict[str, float]) -> None:
+    assert set(values) == set(truth)
+    for name, true in truth.items():
+        assert errors[name] > 0, name
+        assert abs(values[name] - true) <= 3 * errors[name], (name, values[name], errors[name], true)
+        assert abs(values[name] - true) <= 0.05 * true, (name, values[name], true)
+
+
+@pytest.mark.parametrize("law", ["aging", "slip"])
+def test_one_state_api(tmp_path, law: str) -> None:
+    path = _record(tmp_path, law, ONE, STEPS_ONE, ONE["k_per_um"], trend=2e-5)
+    fit = fit_rate_state(read_lab_record(path, need_friction=True))
+    _check(fit.values, fit.errors, _truth_values(ONE))
+    assert 0.8 < fit.reduced_chi2 < 1.2
+    assert fit.trend == pytest.approx(20.0, rel=0.05)  # 2e-5 per um is 20 per m, detrended
+    assert fit.noise == pytest.approx(1e-4, rel=0.1)
+    assert not fit.warnings
+
+
+@pytest.mark.parametrize(("law", "k"), [("aging", 3e-3), ("slip", 8e-3)])
+def test_two_states_cli(tmp_path, law: str, k: float) -> None:
+    path = _record(tmp_path, law, TWO, STEPS_TWO, k, seed=2)
+    res = CliRunner().invoke(
+        main, ["ratestate-fit", str(path), "--states", "2", "--json", "--out", str(tmp_path / "out")]
+    )
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.output)
+    values = {n: p["value"] for n, p in d["parameters"].items()}
+    errors = {n: p["error"] for n, p in d["parameters"].items()}
+    assert {p["unit"] for n, p in d["parameters"].items() if n.startswith("dc")} == {"m"}
+    _check(values, errors, _truth_values(TWO))
+    assert set(d["correlation"]) == set(values)
+    assert 0.8 < d["reduced_chi2"] < 1.2
+    assert not d["warnings"]
+    assert (tmp_path / "out" / "ratestate_fit.png").stat().st_size > 10_000
+
+
+def test_stiffness_fitted(tmp_path) -> None:
+    path = _record(tmp_path, "aging", ONE, STEPS_ONE, ONE["k_per_um"], seed=3)
+    # start from a wrong k/W: the fit finds the machine's stiffness
+    fit = fit_rate_state(
+        read_lab_record(path, need_friction=True), stiffness_per_load="3e-3 1/um", fit_stiffness=True
+    )
+    _check(fit.values, fit.errors, _truth_values(ONE, k=ONE["k_per_um"]))
+
+
+def test_two_close_state_variables_are_not_identifiable(tmp_path) -> None:
+    truth = {"a": 0.012, "b": [0.0185, 0.0088], "dc_um": [5.0, 7.0]}
+    path = _record(tmp_path, "aging", truth, STEPS_TWO, 8e-3, seed=4)
+    fit = fit_rate_state(read_lab_record(path, need_friction=True), n_states=2)
+    assert any("not separately identifiable" in w for w in fit.warnings)
+    assert any("strongly correlated" in w for w in fit.warnings)
+    # the one-state fit of the same record is well constrained
+    one = fit_rate_state(read_lab_record(path, need_friction=True))
+    assert one.reduced_chi2 < 3
+
+
+def test_window_and_detrend(tmp_path) -> None:
+    path = _record(tmp_path, "aging", ONE, STEPS_ONE, ONE["k_per_um"], trend=0.0, seed=5)
+    rec = read_lab_record(path, need_friction=True)
+    fit = fit_rate_state(rec, window=("50 s", "460 s"), detrend="none")
+    _check(fit.values, fit.errors, _truth_values(ONE))
+    assert fit.samples == np.count_nonzero((rec.time >= 50) & (rec.time <= 460))
+    assert fit.time[0] >= 50 and fit.time[-1] <= 460
+
+
+def test_bad_input(tmp_path) -> None:
+    p = tmp_path / "nofriction.csv"
+    p.write_text("time [s],load-point velocity [um/s]\n0,1\n1,1\n2,10\n")
+    with pytest.raises(DataError, match="friction"):
+        read_lab_record(p, need_friction=True)
+    q = tmp_path / "nomu0.csv"
+    q.write_text(
+        "time [s],load-point velocity [um/s],friction [1]\n" + "".join(f"{i},1,0.6\n" for i in range(20))
+    )
+    with pytest.raises(DataError, match="mu0 is not given"):
+        fit_rate_state(read_lab_record(q, need_friction=True), v_ref="1 um/s", stiffness_per_load="1 1/mm")
+    r = tmp_path / "unit.csv"
+    r.write_text("time [s],load-point velocity [N],friction [1]\n0,1,0.6\n1,1,0.6\n")
+    res = CliRunner().invoke(main, ["ratestate-fit", str(r), "--mu0", "0.6"])
+    assert res.exit_code != 0
+    assert "expected [length] / [time]" in res.output
+    assert "Traceback" not in res.output
