@@ -188,7 +188,7 @@ def fit_rate_state(
     window: tuple[Any, Any] | None = None,
     initial: dict[str, float] | None = None,
 ) -> RateStateFit:
-    """Fit ``a``, ``b``, ``Dc`` (and ``b_2``, ``Dc_2``; ``k/W``) to a velocity-step or slide-hold-slide record.
+    """Fit ``a``, ``b``, ``Dc`` (``b_2``, ``Dc_2``; ``k/W``) to a velocity-step or slide-hold-slide record.
 
     Parameters
     ----------
@@ -389,7 +389,8 @@ def _warnings(
         e = errors[n]
         if not math.isfinite(e) or e > 0.5 * values[n]:
             out.append(
-                f"{n} is poorly constrained (error {e:.3g} on {values[n]:.3g}): not identifiable from this record"
+                f"{n} is poorly constrained (error {e:.3g} on {values[n]:.3g}): "
+                "not identifiable from this record"
             )
     span = float(np.ptp(x))
     for n in ("dc", "dc_2"):
