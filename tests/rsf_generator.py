@@ -50,7 +50,7 @@ def generate(
     t_all, mu_all, v_all = [], [], []
     t0 = 0.0
     for i, (vlp, dur) in enumerate(steps):
-        n = int(round(dur / dt))
+        n = round(dur / dt)
         t_eval = t0 + dt * np.arange(0 if i == 0 else 1, n + 1)
         sol = solve_ivp(
             rhs, (t0, t0 + dur), y, method="Radau", t_eval=t_eval, args=(vlp,), rtol=1e-11, atol=1e-13
