@@ -277,3 +277,41 @@ def plot_fit_overlay(record: Any, fit: Any, *, cycles: int = 3, max_points: int 
     ax_r.set_ylabel("residual [mN]")
     ax_r.set_xlabel("time [s]")
     return fig
+
+
+def plot_earthquake_cycles(runs: Sequence[Any], estimate: dict[str, float] | None = None) -> Figure:
+    """Slip rate and shear stress over the cycles, and the slip rate through one event, per run."""
+    fig, axes = subplots(3, 1, figsize=(8.0, 8.5), layout="constrained")
+    year = 365.25 * 24 * 3600.0
+    for k, run in enumerate(runs):
+        s = run.series
+        t = s.time.values / year
+        label = run.model
+        axes[0].semilogy(*envelope(t, s.slip_rate.values), lw=0.9, color=f"C{k}", label=label)
+        axes[1].plot(*envelope(t, s.shear_stress.values / 1e6), lw=0.9, color=f"C{k}", label=label)
+        cat = run.catalog
+        if cat.sizes["event"] > 2:
+            i = cat.sizes["event"] // 2
+            tp = float(cat.t_peak.values[i])
+            sel = (s.time.values > tp - 60.0) & (s.time.values < tp + 60.0)
+            axes[2].semilogy(
+                s.time.values[sel] - tp, s.slip_rate.values[sel], ".-", ms=2, lw=0.8, color=f"C{k}",
+                label=f"{label}: event {i}",
+            )  # fmt: skip
+    vpl = runs[0].fault.plate_rate.to("m/s").magnitude
+    for ax in axes[:1]:
+        ax.axhline(vpl, color="k", ls=":", lw=0.8, label="plate rate")
+    axes[0].set_ylabel("slip rate [m/s]")
+    axes[1].set_ylabel("shear stress [MPa]")
+    axes[1].set_xlabel("time [years]")
+    axes[2].set_xlabel("time from the peak slip rate [s] (dots: accepted steps)")
+    axes[2].set_ylabel("slip rate [m/s]")
+    for ax in axes:
+        ax.legend(frameon=False, fontsize=7, loc="upper right")
+    if estimate is not None:
+        axes[1].set_title(
+            f"estimate: stress drop {estimate['stress_drop'] / 1e6:.3g} MPa, slip {estimate['slip']:.3g} m, "
+            f"recurrence >= {estimate['recurrence'] / year:.3g} yr",
+            fontsize=8,
+        )
+    return fig
