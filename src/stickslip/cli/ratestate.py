@@ -495,7 +495,8 @@ def register_cycles(main: click.Group) -> None:
             bud = s["budget"]
             lo, hi = s["slip_rate_range_m_s"]
             click.echo(
-                f"  slip budget closed to {bud['slip_error']:.1e}, energy budget to {bud['energy_error']:.1e}; "
+                f"  slip budget closed to {bud['slip_error']:.1e}, "
+                f"energy budget to {bud['energy_error']:.1e}; "
                 f"{s['steps']} steps in {s['seconds']:.2f} s; slip rate from {lo:.2g} to {hi:.2g} m/s"
             )
         click.echo("wrote " + ", ".join(paths))

@@ -205,7 +205,7 @@ class CycleRun:
     fault: SpringSliderFault = field(repr=False, default=BP1)
 
     def summary(self, spin_up: int = 2) -> dict[str, float]:
-        """Return mean recurrence (yr), slip per event (m), peak slip rate (m/s), skipping ``spin_up`` events."""
+        """Return mean recurrence (yr), slip (m) and peak slip rate (m/s), after ``spin_up`` events."""
         cat = self.catalog.isel(event=slice(spin_up, None))
         rec = cat.recurrence.values
         return {
@@ -299,7 +299,8 @@ def _quasi_dynamic(
     )  # fmt: skip
     if status != core.RS_OK:
         raise RuntimeError(
-            f"the quasi-dynamic integration stopped at t = {t / YEAR:.6g} yr after {steps} steps (status {status})"
+            f"the quasi-dynamic integration stopped at t = {t / YEAR:.6g} yr after {steps} steps "
+            f"(status {status})"
         )
     if nrec >= cap:
         # more steps than the record holds: run again keeping every k-th step
