@@ -183,7 +183,8 @@ class CycleRun:
         ``state`` (s), ``slip`` (m).
     catalog : xarray.Dataset
         Over ``event``: ``t_start``, ``t_end``, ``t_peak`` (s), ``peak_slip_rate`` (m/s),
-        ``slip`` (m), ``duration`` (s), ``recurrence`` (s since the previous start), ``stress_drop`` (Pa).
+        ``slip`` (m), ``duration`` (s), ``recurrence`` (s since the previous start), ``stress_drop`` (Pa),
+        ``cumulative_slip`` (m, at the start).
     budget : dict
         Slip and energy budgets (J/m^2, m) and their relative closure errors.
     steps, rejected : int
@@ -457,9 +458,17 @@ def _catalog(fault: SpringSliderFault, ev: FloatArray) -> xr.Dataset:
             t_peak, v_peak = math.nan, math.nan
         # columns: kind, t, u, mu_s, theta, slip, ...
         rows.append(
-            (u_row[1], d_row[1], t_peak, v_peak, d_row[5] - u_row[5], (u_row[3] - d_row[3]) * fault.sigma)
+            (
+                u_row[1],
+                d_row[1],
+                t_peak,
+                v_peak,
+                d_row[5] - u_row[5],
+                (u_row[3] - d_row[3]) * fault.sigma,
+                u_row[5],
+            )
         )
-    arr = np.array(rows) if rows else np.zeros((0, 6))
+    arr = np.array(rows) if rows else np.zeros((0, 7))
     rec = np.concatenate([[math.nan], np.diff(arr[:, 0])]) if len(arr) else np.zeros(0)
     return xr.Dataset(
         {
@@ -486,6 +495,11 @@ def _catalog(fault: SpringSliderFault, ev: FloatArray) -> xr.Dataset:
                 "event",
                 arr[:, 5],
                 {"units": "Pa", "long_name": "shear stress drop over the event"},
+            ),
+            "cumulative_slip": (
+                "event",
+                arr[:, 6],
+                {"units": "m", "long_name": "slip since t = 0 at the start"},
             ),
         }
     )

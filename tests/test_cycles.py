@@ -1,0 +1,137 @@
+"""Earthquake cycles of the SEAS BP1 spring-slider: budgets, recurrence, integration through events."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from scipy.integrate import solve_ivp
+
+from stickslip.cli import main
+from stickslip.ratestate.cycles import BP1, YEAR, SpringSliderFault, earthquake_cycles, recurrence_estimate
+
+
+@pytest.fixture(scope="module")
+def run():
+    return earthquake_cycles(BP1, "3000 yr")
+
+
+def test_budgets_closed(run) -> None:
+    b = run.budget
+    # slip integrated from the slip rate against the plate's displacement minus the spring's stretch
+    assert b["slip_error"] < 1e-10
+    # load work = friction work + radiated energy + change of elastic energy
+    assert b["energy_error"] < 1e-8
+    assert b["radiated"] > 0 and b["friction_work"] > 0
+
+
+def test_slip_rate_spans_ten_decades_and_steps_years_to_milliseconds(run) -> None:
+    v = run.series.slip_rate.values
+    assert v.max() / v.min() > 1e10
+    assert v.max() > 0.1 and v.min() < 1e-12
+    dt = np.diff(run.series.time.values)
+    assert dt.max() > 0.3 * YEAR
+    assert dt.min() < 1e-2
+    assert np.all(np.isfinite(run.series.shear_stress.values))
+
+
+def test_periodic_cycles_and_the_estimate(run) -> None:
+    s = run.summary()
+    assert s["events"] > 150
+    assert s["recurrence_spread"] < 1e-6  # a limit cycle: every event alike
+    est = recurrence_estimate(BP1, s["peak_slip_rate"])
+    # the stress drop and the slip of the spring-slider estimate, to 10 %
+    assert s["slip_m"] == pytest.approx(est["slip"], rel=0.1)
+    assert s["stress_drop_MPa"] * 1e6 == pytest.approx(est["stress_drop"], rel=0.1)
+    # the recurrence is at least the all-seismic bound, and the difference is the aseismic slip
+    t_rec = s["recurrence_yr"] * YEAR
+    assert est["recurrence"] <= t_rec <= 1.5 * est["recurrence"]
+    vpl = BP1.plate_rate.to("m/s").magnitude
+    seismic_share = s["slip_m"] / (vpl * t_rec)
+    assert 0.6 < seismic_share < 1.0
+    # the slip budget per cycle: the plate's displacement in one recurrence
+    cat = run.catalog.isel(event=slice(2, None))
+    per_cycle = np.diff(cat.cumulative_slip.values)
+    np.testing.assert_allclose(per_cycle, vpl * cat.recurrence.values[1:], rtol=1e-6)
+
+
+def _scipy_reference(years: float) -> np.ndarray:
+    """Event start times by SciPy's Radau on (slip, state), from the equations (not our code)."""
+    from scipy.optimize import brentq
+
+    a, b, f0, dc, sigma, v0, vpl, eta, k = (
+        0.01,
+        0.015,
+        0.6,
+        8e-3,
+        50e6,
+        1e-6,
+        1e-9,
+        4.62e6,
+        0.5 * 50e6 * 0.005 / 8e-3,
+    )
+
+    def friction(v: float, theta: float) -> float:
+        return a * math.asinh(v / (2 * v0) * math.exp((f0 + b * math.log(v0 * theta / dc)) / a))
+
+    theta0 = 0.5 * dc / vpl
+    tau0 = sigma * friction(vpl, theta0) + eta * vpl
+
+    def rate(t: float, y: np.ndarray) -> float:
+        tau = tau0 + k * (vpl * t - y[0])
+        return brentq(
+            lambda v: sigma * friction(v, y[1]) + eta * v - tau, 0.0, tau / eta, xtol=1e-300, rtol=1e-15
+        )
+
+    def event(t: float, y: np.ndarray) -> float:
+        return math.log(rate(t, y) / 1e-3)
+
+    event.direction = 1  # type: ignore[attr-defined]
+    sol = solve_ivp(
+        lambda t, y: np.array([rate(t, y), 1 - rate(t, y) * y[1] / dc]),
+        (0.0, years * YEAR), [0.0, theta0], method="Radau", rtol=1e-10, atol=[1e-12, 1e-8], events=event,
+    )  # fmt: skip
+    assert sol.status == 0
+    return sol.t_events[0]
+
+
+def test_event_times_against_scipy(run) -> None:
+    t_ref = _scipy_reference(35.0)
+    t_ours = run.catalog.t_start.values[: t_ref.size]
+    assert t_ref.size >= 2
+    np.testing.assert_allclose(t_ours, t_ref, rtol=1e-6)
+
+
+def test_inertial_beside_it() -> None:
+    inert = earthquake_cycles(BP1, "120 yr", inertial=True)
+    s = inert.summary(spin_up=1)
+    assert s["events"] >= 4
+    assert inert.budget["slip_error"] < 1e-8
+    assert inert.budget["energy_error"] < 1e-6
+    qd = earthquake_cycles(BP1, "120 yr").summary(spin_up=1)
+    # same friction, same loading: recurrences within 30 % of each other
+    assert s["recurrence_yr"] == pytest.approx(qd["recurrence_yr"], rel=0.3)
+
+
+def test_bad_fault() -> None:
+    with pytest.raises(ValueError, match="velocity strengthening"):
+        SpringSliderFault(a=0.02, b=0.015)
+    with pytest.raises(ValueError, match="below critical"):
+        SpringSliderFault(stiffness_ratio=1.5)
+    with pytest.raises(ValueError, match="normal_stress"):
+        SpringSliderFault(normal_stress="50 m")
+
+
+def test_cli(tmp_path) -> None:
+    res = CliRunner().invoke(
+        main, ["earthquake-cycles", "--duration", "200 yr", "--out", str(tmp_path), "--json"]
+    )
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.output)["quasi-dynamic"]
+    assert d["recurrence_yr"] == pytest.approx(14.17, rel=1e-3)
+    assert d["budget"]["energy_error"] < 1e-8
+    assert (tmp_path / "cycles.png").stat().st_size > 20_000
+    assert (tmp_path / "catalog_quasi-dynamic.csv").read_text().count("\n") > 10
