@@ -83,7 +83,8 @@ def main() -> None:
     s = run.summary()
     print(
         f"stickslip: {args.years:g} years in {ours:.3f} s ({run.steps} steps, {run.rejected} rejected), "
-        f"{s['events'] + 2} events, recurrence {s['recurrence_yr']:.9g} yr, total slip {run.budget['slip']:.9g} m, "
+        f"{s['events'] + 2} events, recurrence {s['recurrence_yr']:.9g} yr, "
+        f"total slip {run.budget['slip']:.9g} m, "
         f"slip rate {float(run.series.slip_rate.min()):.2g} to {float(run.series.slip_rate.max()):.2g} m/s"
     )
     ref = scipy_bp1(args.years, args.rtol)
