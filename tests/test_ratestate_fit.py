@@ -124,3 +124,11 @@ def test_bad_input(tmp_path) -> None:
     assert res.exit_code != 0
     assert "expected [length] / [time]" in res.output
     assert "Traceback" not in res.output
+
+
+def test_slide_hold_slide_record(tmp_path) -> None:
+    """Holds of 10, 100 and 1000 s between slides at 1 um/s, no step: the healing constrains a, b, Dc."""
+    steps = [(1.0, 100.0), (0.0, 10.0), (1.0, 100.0), (0.0, 100.0), (1.0, 100.0), (0.0, 1000.0), (1.0, 150.0)]
+    path = _record(tmp_path, "aging", ONE, steps, ONE["k_per_um"], seed=7)
+    fit = fit_rate_state(read_lab_record(path, need_friction=True))
+    _check(fit.values, fit.errors, _truth_values(ONE))

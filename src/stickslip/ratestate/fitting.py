@@ -162,11 +162,13 @@ def _initial(
         below = np.flatnonzero(level[j:] <= level[j] / math.e)
         if below.size:
             dc_est.append(max(x[i + j + below[0]] - x[i + j], 1e-9))
-    if not a_est:
-        raise DataError("the record has no velocity step between positive velocities to fit")
-    a0 = float(np.median(a_est)) * 1.2
-    b0 = max(a0 - float(np.median(ab_est)), 0.2 * a0)
-    dc0 = float(np.median(dc_est)) if dc_est else float(np.ptp(x)) / 20
+    if a_est:
+        a0 = float(np.median(a_est)) * 1.2
+        b0 = max(a0 - float(np.median(ab_est)), 0.2 * a0)
+        dc0 = float(np.median(dc_est)) if dc_est else float(np.ptp(x)) / 20
+    else:
+        # slide-hold-slide only: typical laboratory values, the fit refines them
+        a0, b0, dc0 = 0.01, 0.012, float(np.ptp(x)) / 50
     out = {"a": a0, "b": b0, "dc": dc0}
     if n_states == 2:
         out.update({"b": 0.7 * b0, "dc": 0.5 * dc0, "b_2": 0.3 * b0, "dc_2": 5.0 * dc0})
