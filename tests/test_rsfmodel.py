@@ -120,3 +120,64 @@ def test_history_file_equals_steps(tmp_path) -> None:
         res = CliRunner().invoke(main, [*args, "--out", str(out)])
         assert res.exit_code == 0, res.output
         _check(xr.load_dataset(out / "ratestate.nc"), case)
+
+
+@pytest.mark.parametrize(
+    ("name", "formula"),
+    [
+        ("TestDeiterichOneStateVar", "1 - v*phi/dc"),
+        ("TestRuinaOneStateVar", "-(v*phi/dc)*log(v*phi/dc)"),
+        ("TestDeiterichTwoStateVar", "1 - v*phi/dc"),
+    ],
+)
+def test_user_law_from_a_formula(name: str, formula: str, tmp_path) -> None:
+    """The aging and slip laws typed as formulas for dPhi/dt reproduce rsfmodel's values too."""
+    case = CASES[name]
+    p = _params(case)
+    user = RateStateParameters(
+        a=p.a,
+        b=p.b,
+        dc=p.dc,
+        v_ref=p.v_ref,
+        mu0=p.mu0,
+        stiffness_per_load=p.stiffness_per_load,
+        state_law=formula,
+    )
+    _check(velocity_steps(user, ["1 um/s", "10 um/s"], durations=["10 s", "30 s"], sample="1 s"), case)
+    if name == "TestDeiterichOneStateVar":
+        assert float(user.critical_kw.to("1/m").magnitude) == pytest.approx(500.0, rel=1e-6)
+        args = [
+            "ratestate",
+            "--a",
+            "0.005",
+            "--b",
+            "0.01",
+            "--dc",
+            "10 um",
+            "--v-ref",
+            "1 um/s",
+            "--mu0",
+            "0.6",
+        ]
+        args += ["--stiffness-per-load", "1e-3 1/um", "--law", formula, "--steps", "1 um/s,10 um/s"]
+        args += ["--durations", "10 s,30 s", "--sample", "1 s", "--out", str(tmp_path)]
+        res = CliRunner().invoke(main, args)
+        assert res.exit_code == 0, res.output
+        _check(xr.load_dataset(tmp_path / "ratestate.nc"), case)
+
+
+@pytest.mark.parametrize(
+    ("law", "message"),
+    [
+        ("agng", "unknown name 'agng'"),
+        ("1 - v/dc", "must depend on phi"),
+        ("1 + v*phi/dc", "no stable steady state"),
+        ("__import__('os')", "not a formula|not allowed|allowed"),
+    ],
+)
+def test_bad_user_law(law: str, message: str) -> None:
+    with pytest.raises(ValueError, match=message):
+        p = RateStateParameters(
+            a=0.01, b=0.015, dc="10 um", v_ref="1 um/s", mu0=0.6, stiffness_per_load="1 1/mm", state_law=law
+        )
+        velocity_steps(p, ["1 um/s", "10 um/s"], durations=["1 s", "1 s"])

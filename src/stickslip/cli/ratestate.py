@@ -7,7 +7,7 @@ from typing import Any
 
 import click
 
-from ..ratestate.model import STATE_LAWS, RateStateParameters
+from ..ratestate.model import RateStateParameters
 from .errors import handle_errors
 from .options import out_dir_option, overwrite_option
 
@@ -118,10 +118,10 @@ def register(main: click.Group) -> None:
     @click.option("--mass", default=None, help="Slider mass (inertial model), e.g. '1 kg'.")
     @click.option(
         "--law",
-        type=click.Choice(list(STATE_LAWS)),
         multiple=True,
-        help="State evolution law: aging (default), slip, prz (Perrin-Rice-Zheng) or nagata; once for "
-        "all state variables or once per --b.",
+        help="State evolution law: aging (default), slip, prz (Perrin-Rice-Zheng), nagata, or a formula "
+        "for dPhi/dt in v, phi, dc, vr, mu_rate (e.g. '1 - (v*phi/dc)**2'); once for all state variables "
+        "or once per --b.",
     )
     @click.option(
         "--nagata-c",

@@ -23,8 +23,9 @@ Inertial slider (``wm = W/m`` in m/s^2; always the regularized form, defined at 
 
     v' = wm (mu_s - f(v, theta) - eta v),   mu_s' = kw (v_lp - v)
 
-Parameter vector ``P = (A, V_r, mu0, kw, wm, eta, form)``; state table ``S`` (n x 4):
-``(B_i, D_c,i, law_i, c_i)`` with ``c_i`` Nagata's coefficient.
+Parameter vector ``P = (A, V_r, mu0, kw, wm, eta, form)``; state table ``S`` (n x m):
+``(B_i, D_c,i, law_i, c_i, length, program...)`` with ``c_i`` Nagata's coefficient and,
+for a user's law, its ``Phi'`` as a postfix program of ``length`` (opcode, value) pairs.
 """
 
 from __future__ import annotations
@@ -43,6 +44,14 @@ AGING = 0
 SLIP = 1
 PRZ = 2
 NAGATA = 3
+USER = 4  # Phi' from a program in the state table's row (see rpn_eval)
+
+# opcodes of a user law's program (postfix: operands first)
+OP_CONST, OP_V, OP_PHI, OP_DC, OP_VR, OP_MU_RATE = 0, 1, 2, 3, 4, 5
+OP_ADD, OP_SUB, OP_MUL, OP_DIV, OP_POW = 10, 11, 12, 13, 14
+OP_NEG, OP_EXP, OP_LOG, OP_SQRT, OP_ABS = 20, 21, 22, 23, 24
+OP_TANH, OP_SINH, OP_COSH, OP_ASINH = 25, 26, 27, 28
+PROGRAM_START = 5  # row[4] is the program's length, then (opcode, value) pairs
 
 LOG = 0
 REGULARIZED = 1
@@ -145,19 +154,85 @@ def qs_lnv(mu_s, ps, P):  # type: ignore[no-untyped-def]
     return u, r, d
 
 
-@njit(cache=True)
-def state_rate(law, b, dc, c, th, u, v, vr, dmu):  # type: ignore[no-untyped-def]
+@njit(cache=True, error_model="numpy")
+def rpn_eval(row, v, phi, dc, vr, dmu):  # type: ignore[no-untyped-def]
+    """Evaluate the postfix program stored in ``row`` (a user's ``Phi'``)."""
+    m = int(row[4])
+    stack = np.empty(max(m, 1))
+    sp_ = 0
+    for k in range(m):
+        op = int(row[PROGRAM_START + 2 * k])
+        if op < OP_ADD:
+            if op == OP_CONST:
+                x = row[PROGRAM_START + 2 * k + 1]
+            elif op == OP_V:
+                x = v
+            elif op == OP_PHI:
+                x = phi
+            elif op == OP_DC:
+                x = dc
+            elif op == OP_VR:
+                x = vr
+            else:
+                x = dmu
+            stack[sp_] = x
+            sp_ += 1
+        elif op < OP_NEG:
+            b = stack[sp_ - 1]
+            a = stack[sp_ - 2]
+            sp_ -= 1
+            if op == OP_ADD:
+                r = a + b
+            elif op == OP_SUB:
+                r = a - b
+            elif op == OP_MUL:
+                r = a * b
+            elif op == OP_DIV:
+                r = a / b
+            else:
+                r = a**b
+            stack[sp_ - 1] = r
+        else:
+            a = stack[sp_ - 1]
+            if op == OP_NEG:
+                r = -a
+            elif op == OP_EXP:
+                r = math.exp(a)
+            elif op == OP_LOG:
+                r = math.log(a) if a > 0.0 else math.nan
+            elif op == OP_SQRT:
+                r = math.sqrt(a) if a >= 0.0 else math.nan
+            elif op == OP_ABS:
+                r = abs(a)
+            elif op == OP_TANH:
+                r = math.tanh(a)
+            elif op == OP_SINH:
+                r = math.sinh(a)
+            elif op == OP_COSH:
+                r = math.cosh(a)
+            else:
+                r = math.asinh(a)
+            stack[sp_ - 1] = r
+    return stack[0]
+
+
+@njit(cache=True, error_model="numpy")
+def state_rate(law, b, dc, c, th, u, v, vr, dmu, row):  # type: ignore[no-untyped-def]
     """Rate of the log-state ``theta`` (1/s) at ``u = ln(v/V_r)``.
 
     In terms of ``Phi`` (``L = D_c``, PRZ ``L = 2 D_c``):
     aging ``Phi' = 1 - v Phi/D_c``; slip ``Phi' = -(v Phi/D_c) ln(v Phi/D_c)``;
     PRZ ``Phi' = 1 - (v Phi/(2 D_c))^2``; Nagata ``Phi' = 1 - v Phi/D_c - (c/B) Phi mu'``
-    with ``mu'`` the rate of the spring's stress per normal stress.
+    with ``mu'`` the rate of the spring's stress per normal stress; a user's law
+    ``Phi' = program(v, Phi, D_c, V_r, mu')`` from ``row``.
     """
     if law == SLIP:
         return -(v / dc) * (u + th)
     if law == PRZ:
         return (vr / (2.0 * dc)) * math.exp(-th) - (v * v / (2.0 * dc * vr)) * math.exp(th)
+    if law == USER:
+        phi = dc * math.exp(th) / vr
+        return rpn_eval(row, v, phi, dc, vr, dmu) / phi
     r = (vr / dc) * math.exp(-th) - v / dc
     if law == NAGATA:
         r -= (c / b) * dmu
@@ -165,13 +240,28 @@ def state_rate(law, b, dc, c, th, u, v, vr, dmu):  # type: ignore[no-untyped-def
 
 
 @njit(cache=True)
-def _state_partials(law, b, dc, c, th, u, v, vr, kw):  # type: ignore[no-untyped-def]
-    """Return ``(d rate/du, d rate/dtheta)`` of :func:`state_rate` (``mu' = kw (v_lp - v)``)."""
+def _state_partials(law, b, dc, c, th, u, v, vr, kw, row):  # type: ignore[no-untyped-def]
+    """Return ``(d rate/du, d rate/dtheta)`` of :func:`state_rate` (``mu' = kw (v_lp - v)``).
+
+    A user's law by central differences (its dependence on ``mu'`` left out).
+    """
     if law == SLIP:
         return -(v / dc) * (u + th + 1.0), -v / dc
     if law == PRZ:
         e = math.exp(th)
         return -(v * v / (dc * vr)) * e, -(vr / (2.0 * dc)) / e - (v * v / (2.0 * dc * vr)) * e
+    if law == USER:
+        hh = 1e-6
+        ep = math.exp(hh)
+        gu = (
+            state_rate(law, b, dc, c, th, u + hh, v * ep, vr, 0.0, row)
+            - state_rate(law, b, dc, c, th, u - hh, v / ep, vr, 0.0, row)
+        ) / (2.0 * hh)
+        gt = (
+            state_rate(law, b, dc, c, th + hh, u, v, vr, 0.0, row)
+            - state_rate(law, b, dc, c, th - hh, u, v, vr, 0.0, row)
+        ) / (2.0 * hh)
+        return gu, gt
     gu = -v / dc
     if law == NAGATA:
         gu += (c / b) * kw * v
@@ -194,7 +284,7 @@ def qs_rhs(y, P, S, n, v_lp, out):  # type: ignore[no-untyped-def]
     dmu = kw * (v_lp - v)
     out[0] = dmu
     for i in range(n):
-        out[1 + i] = state_rate(int(S[i, 2]), S[i, 0], S[i, 1], S[i, 3], y[1 + i], u, v, vr, dmu)
+        out[1 + i] = state_rate(int(S[i, 2]), S[i, 0], S[i, 1], S[i, 3], y[1 + i], u, v, vr, dmu, S[i])
     if out.shape[0] > 1 + n:
         eta = P[P_ETA]
         out[1 + n] = v
@@ -215,7 +305,7 @@ def qs_jac(y, P, S, n, out):  # type: ignore[no-untyped-def]
     for j in range(n):
         out[0, 1 + j] = kw * v * r * S[j, 0] / d
     for i in range(n):
-        gu, gt = _state_partials(int(S[i, 2]), S[i, 0], S[i, 1], S[i, 3], y[1 + i], u, v, vr, kw)
+        gu, gt = _state_partials(int(S[i, 2]), S[i, 0], S[i, 1], S[i, 3], y[1 + i], u, v, vr, kw, S[i])
         out[1 + i, 0] = gu / d
         for j in range(n):
             out[1 + i, 1 + j] = -gu * r * S[j, 0] / d
@@ -250,7 +340,7 @@ def in_rhs(y, P, S, n, v_lp, out):  # type: ignore[no-untyped-def]
     av = max(abs(v), 1e-300)
     u = math.log(av / vr)
     for i in range(n):
-        out[2 + i] = state_rate(int(S[i, 2]), S[i, 0], S[i, 1], S[i, 3], y[2 + i], u, av, vr, dmu)
+        out[2 + i] = state_rate(int(S[i, 2]), S[i, 0], S[i, 1], S[i, 3], y[2 + i], u, av, vr, dmu, S[i])
 
 
 @njit(cache=True)
@@ -277,7 +367,7 @@ def in_jac(y, P, S, n, out):  # type: ignore[no-untyped-def]
     sg = 1.0 if v >= 0 else -1.0
     u = math.log(av / vr)
     for i in range(n):
-        gu, gt = _state_partials(int(S[i, 2]), S[i, 0], S[i, 1], S[i, 3], y[2 + i], u, av, vr, kw)
+        gu, gt = _state_partials(int(S[i, 2]), S[i, 0], S[i, 1], S[i, 3], y[2 + i], u, av, vr, kw, S[i])
         out[2 + i, 1] = sg * gu / av
         out[2 + i, 2 + i] = gt
 

@@ -25,6 +25,7 @@ import pint
 
 from ..core import ratestate as core
 from ..units import Q_, check_number, parse_quantity
+from .statelaw import program_table, state_law_formula
 
 __all__ = ["STATE_LAWS", "RateStateParameters"]
 
@@ -63,8 +64,10 @@ class RateStateParameters:
     mass : pint.Quantity or str, optional
         Mass of the slider: the inertial model (needs ``load``). Default: quasi-static.
     state_law : str or sequence of str, optional
-        ``"aging"`` (default), ``"slip"``, ``"prz"`` (Perrin-Rice-Zheng) or ``"nagata"``:
-        one for every state variable, or one each.
+        ``"aging"`` (default), ``"slip"``, ``"prz"`` (Perrin-Rice-Zheng), ``"nagata"``, or a
+        formula for ``dPhi/dt`` in ``v``, ``phi``, ``dc``, ``vr`` and ``mu_rate`` (e.g.
+        ``"1 - (v*phi/dc)**2"``, see :mod:`stickslip.ratestate.statelaw`): one for every
+        state variable, or one each.
     nagata_c : float or sequence of float, optional
         Nagata's coefficient ``c >= 0`` (dimensionless) of each Nagata state variable.
     radiation_damping : pint.Quantity or str, optional
@@ -130,8 +133,12 @@ class RateStateParameters:
                 f"state_law={self.state_law!r}: give one law for all {n} state variables or one each"
             )
         for lw in laws:
+            if not isinstance(lw, str):
+                raise ValueError(
+                    f"state_law={lw!r}: expected one of {', '.join(map(repr, STATE_LAWS))} or a formula"
+                )
             if lw not in STATE_LAWS:
-                raise ValueError(f"state_law={lw!r}: expected one of {', '.join(map(repr, STATE_LAWS))}")
+                state_law_formula(lw)  # a formula for dPhi/dt, or a ValueError naming the choices
         set_(self, "state_law", laws[0] if len(laws) == 1 else tuple(laws))
         cs = list(self.nagata_c) if _many(self.nagata_c) else [self.nagata_c] * n
         if len(cs) != n:
@@ -269,9 +276,16 @@ class RateStateParameters:
         x = np.asarray((v / self.v_ref).to("").magnitude, dtype=float)
         if np.any(~(x > 0)):
             raise ValueError(f"v={v!r}: mu_ss has ln(v/V_r), the logarithm needs a positive velocity")
+        vr = float(self.v_ref.to("m/s").magnitude)
+        if any(lw not in STATE_LAWS for lw in self.laws):
+            psi = np.vectorize(
+                lambda xi: float(np.dot(self.bs, steady_log_states(self, xi * vr))), otypes=[float]
+            )(x)
+        else:
+            psi = self.b_total * np.log(1.0 / x)
         if self.friction_form == "regularized" or self.inertial:
-            return self.a * np.arcsinh(0.5 * x * np.exp((self.mu0 + self.b_total * np.log(1.0 / x)) / self.a))
-        return self.mu0 + (self.a - self.b_total) * np.log(x)
+            return self.a * np.arcsinh(0.5 * x * np.exp((self.mu0 + psi) / self.a))
+        return self.mu0 + self.a * np.log(x) + psi
 
     def core_arrays(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
         """Return ``(P, S)`` in SI for the compiled core (:mod:`stickslip.core.ratestate`)."""
@@ -284,12 +298,13 @@ class RateStateParameters:
         )
         S = np.array(
             [
-                [b, d.to("m").magnitude, STATE_LAWS.index(lw), c]
+                [b, d.to("m").magnitude, STATE_LAWS.index(lw) if lw in STATE_LAWS else core.USER, c]
                 for b, d, lw, c in zip(self.bs, self.dcs, self.laws, self.cs, strict=True)
             ],
             dtype=float,
         )
-        return P, S
+        programs = [None if lw in STATE_LAWS else state_law_formula(lw).program for lw in self.laws]
+        return P, np.hstack([S, program_table(programs)])
 
     def dimensionless(self, v0: Any) -> dict[str, float]:
         """Return the appendix's ``omega = v0/V_r``, ``gamma = exp(-mu0/A)``, ``kappa = k D0/W``."""
@@ -308,8 +323,14 @@ class RateStateParameters:
 
 
 def steady_log_states(params: RateStateParameters, v: float) -> npt.NDArray[np.float64]:
-    """Log-states of steady sliding at ``v`` (m/s): all ``ln(V_r / v)``."""
-    return np.full(params.n_states, math.log(float(params.v_ref.to("m/s").magnitude) / v))
+    """Log-states of steady sliding at ``v`` (m/s): ``ln(V_r / v)`` for the built-in laws."""
+    vr = float(params.v_ref.to("m/s").magnitude)
+    out = np.full(params.n_states, math.log(vr / v))
+    for i, lw in enumerate(params.laws):
+        if lw not in STATE_LAWS:
+            dc = float(params.dcs[i].to("m").magnitude)
+            out[i] = math.log(state_law_formula(lw).steady_phi(v, dc, vr) * vr / dc)
+    return out
 
 
 def growth_rate(params: RateStateParameters, kw: float, v: float) -> float:
