@@ -270,7 +270,7 @@ def test_ratestate_cli(tmp_path) -> None:
         (["--stiffness-per-load", "5 1/mm", "--steps", "1 um/s,abc"], "velocities[1]"),
         (["--stiffness", "1e4 N/m", "--steps", "1 um/s"], "needs load"),
         (["--stiffness-per-load", "5 N", "--steps", "1 um/s"], "has dimension"),
-        (["--stiffness-per-load", "5 1/mm", "--steps", "1 um/s", "--law", "ruina"], "'ruina' is not"),
+        (["--stiffness-per-load", "5 1/mm", "--steps", "1 um/s", "--law", "ruina"], "unknown name 'ruina'"),
     ],
 )
 def test_ratestate_cli_errors(args: list[str], message: str, tmp_path) -> None:
