@@ -18,6 +18,20 @@ from stickslip.ratestate.model import RateStateParameters
 from stickslip.ratestate.protocols import velocity_steps
 
 TOL = 2e-8
+# rsfmodel's one-state aging case on the command line (the load-point options follow)
+AGING_ONE_CLI = (
+    "ratestate",
+    "--a",
+    "0.005",
+    "--b",
+    "0.01",
+    "--dc",
+    "10 um",
+    "--v-ref",
+    "1 um/s",
+    "--mu0",
+    "0.6",
+)
 
 
 def _params(case: dict) -> RateStateParameters:
@@ -103,19 +117,7 @@ def test_history_file_equals_steps(tmp_path) -> None:
     )
     for f in ("v.csv", "x.csv"):
         out = tmp_path / f"out-{f}"
-        args = [
-            "ratestate",
-            "--a",
-            "0.005",
-            "--b",
-            "0.01",
-            "--dc",
-            "10 um",
-            "--v-ref",
-            "1 um/s",
-            "--mu0",
-            "0.6",
-        ]
+        args = list(AGING_ONE_CLI)
         args += ["--stiffness-per-load", "1e-3 1/um", "--history", str(tmp_path / f), "--sample", "1 s"]
         res = CliRunner().invoke(main, [*args, "--out", str(out)])
         assert res.exit_code == 0, res.output
@@ -146,19 +148,7 @@ def test_user_law_from_a_formula(name: str, formula: str, tmp_path) -> None:
     _check(velocity_steps(user, ["1 um/s", "10 um/s"], durations=["10 s", "30 s"], sample="1 s"), case)
     if name == "TestDeiterichOneStateVar":
         assert float(user.critical_kw.to("1/m").magnitude) == pytest.approx(500.0, rel=1e-6)
-        args = [
-            "ratestate",
-            "--a",
-            "0.005",
-            "--b",
-            "0.01",
-            "--dc",
-            "10 um",
-            "--v-ref",
-            "1 um/s",
-            "--mu0",
-            "0.6",
-        ]
+        args = list(AGING_ONE_CLI)
         args += ["--stiffness-per-load", "1e-3 1/um", "--law", formula, "--steps", "1 um/s,10 um/s"]
         args += ["--durations", "10 s,30 s", "--sample", "1 s", "--out", str(tmp_path)]
         res = CliRunner().invoke(main, args)
