@@ -106,3 +106,15 @@ def test_coulomb_amplitude_formula_limits() -> None:
     r = cycle(DimensionlessParameters(nu=1e-7, law=CoulombLaw(kinetic=0.25)))
     assert r.amplitude == pytest.approx(2 * (1 - 0.25), rel=1e-9)
     assert math.isclose(r.stick_fraction, 1.0, rel_tol=1e-5)
+
+
+def test_serial_rows_equal_the_parallel_batch() -> None:
+    """A few rows run in the calling thread (no parallel kernel to compile); bit for bit the batch's."""
+    from stickslip.core.api import SERIAL_ROWS, run_attractors
+    from stickslip.laws import WeakeningLaw
+
+    law = WeakeningLaw(c=3.8)
+    nu = np.geomspace(1e-4, 0.5, SERIAL_ROWS + 5)
+    few = run_attractors(law, nu[:SERIAL_ROWS])
+    many = run_attractors(law, nu)
+    np.testing.assert_array_equal(few.raw, many.raw[:SERIAL_ROWS])

@@ -197,7 +197,8 @@ out += [
     "    y_new[0] = s1",
     "    y_new[1] = w1",
     "    if K.shape[1] > 2:",
-    f"        quad_stages(law, lp, nu, d, y, h, K, 0, {NS + 1})",
+    "        # 0 * law: stage bounds that are not literals, so that one specialization serves both calls",
+    f"        quad_stages(law, lp, nu, d, y, h, K, 0 * law, {NS + 1} + 0 * law)",
     "        for i in range(2, K.shape[1]):",
     "            acc = 0.0",
 ]
@@ -245,7 +246,7 @@ out += [
     "        F[r, 0] = cs[r]",
     "        F[r, 1] = cw[r]",
     "    if K.shape[1] > 2:",
-    f"        quad_stages(law, lp, nu, d, y_old, h, K, {NS + 1}, {NX})",
+    f"        quad_stages(law, lp, nu, d, y_old, h, K, {NS + 1} + 0 * law, {NX} + 0 * law)",
     "        for i in range(2, K.shape[1]):",
     "            dense_coeffs(y_old, y_new, h, K, F, i)",
     "",

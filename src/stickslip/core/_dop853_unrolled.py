@@ -231,7 +231,8 @@ def store_step(law, lp, nu, d, y, h, K, y_new, s1, w1, ks, kw):  # type: ignore[
     y_new[0] = s1
     y_new[1] = w1
     if K.shape[1] > 2:
-        quad_stages(law, lp, nu, d, y, h, K, 0, 13)
+        # 0 * law: stage bounds that are not literals, so that one specialization serves both calls
+        quad_stages(law, lp, nu, d, y, h, K, 0 * law, 13 + 0 * law)
         for i in range(2, K.shape[1]):
             acc = 0.0
             acc += 0.054293734116568765 * K[0, i]
@@ -281,6 +282,6 @@ def store_dense(  # type: ignore[no-untyped-def]
         F[r, 0] = cs[r]
         F[r, 1] = cw[r]
     if K.shape[1] > 2:
-        quad_stages(law, lp, nu, d, y_old, h, K, 13, 16)
+        quad_stages(law, lp, nu, d, y_old, h, K, 13 + 0 * law, 16 + 0 * law)
         for i in range(2, K.shape[1]):
             dense_coeffs(y_old, y_new, h, K, F, i)

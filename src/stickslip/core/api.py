@@ -92,6 +92,7 @@ class TrajectoryResult(NamedTuple):
 
 
 #: rows per call into the compiled batch kernel (Ctrl-C is seen between calls)
+SERIAL_ROWS = 8  # up to this many rows run in the calling thread
 BATCH = 4096
 #: memory of one row of run_attractors: the output (NOUT doubles), the checked copies of the
 #: inputs (law id, law parameters, nu, s0, w0) and the validation's masks
@@ -171,9 +172,11 @@ def run_attractors(
     w0_a = z if w0 is None else _broadcast("w0", checks.finite_array("w0", w0), (n,))
     out = np.empty((n, engine.NOUT))
     # in chunks: Ctrl-C is seen between two calls into the compiled code, never inside one
+    # a few rows: the serial kernel (no parallel kernel to compile on a first call)
+    run = kernel.engine.attractor_rows if n <= SERIAL_ROWS else kernel.engine.attractor_batch
     for lo in range(0, n, BATCH):
         hi = min(n, lo + BATCH)
-        kernel.engine.attractor_batch(
+        run(
             law_a[lo:hi],
             lp_a[lo:hi],
             nu_a[lo:hi],

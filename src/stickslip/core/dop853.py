@@ -19,9 +19,17 @@ from numba import njit
 from ._dop853_tableau import E3, E5, N_STAGES, N_STAGES_EXTENDED, A, B
 from .laws import friction_scalar, params
 
+#: what :func:`illinois_sw` finds: a level of ``w``, or an extremum of ``w``. Callers pass
+#: ``LEVEL + 0 * law``: not a literal, so that one specialization serves every call (a
+#: literal argument would compile one per value on the first use)
+LEVEL = 1
+WEXT = 2
+
 __all__ = [
+    "LEVEL",
     "N_STAGES",
     "N_STAGES_EXTENDED",
+    "WEXT",
     "dense_eval",
     "dense_slope",
     "illinois_propose",

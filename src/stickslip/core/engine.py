@@ -31,8 +31,10 @@ from numba import njit, prange
 
 from ._dop853_unrolled import dense_sw, step_sw, store_dense, store_step
 from .dop853 import (
+    LEVEL,
     N_STAGES,
     N_STAGES_EXTENDED,
+    WEXT,
     dense_eval,
     illinois_sw,
     initial_step,
@@ -351,7 +353,7 @@ def _slip_phase(  # type: ignore[no-untyped-def]
             if diag:
                 store_dense(law, lp, nu, d, y, y_new, hh, K, F, cs, cw, ksx, kwx)
             dense = True
-            x_wext = illinois_sw(law, P, d, cs, s, cw, w, 2, 0.0, 0.0, dw0, 1.0, dw1)
+            x_wext = illinois_sw(law, P, d, cs, s, cw, w, WEXT + 0 * law, 0.0, 0.0, dw0, 1.0, dw1)
             wext = poly7(cw, w, x_wext)
         # stop: d*w reaches zero
         x_stop = 2.0
@@ -362,14 +364,14 @@ def _slip_phase(  # type: ignore[no-untyped-def]
                     if diag:
                         store_dense(law, lp, nu, d, y, y_new, hh, K, F, cs, cw, ksx, kwx)
                     dense = True
-                x_stop = illinois_sw(law, P, d, cs, s, cw, w, 1, 0.0, 0.0, w0, 1.0, w1)
+                x_stop = illinois_sw(law, P, d, cs, s, cw, w, LEVEL + 0 * law, 0.0, 0.0, w0, 1.0, w1)
             elif x_wext >= 0.0 and d * wext <= 0.0 and d * dw0 < 0.0:
-                x_stop = illinois_sw(law, P, d, cs, s, cw, w, 1, 0.0, 0.0, w0, x_wext, wext)
+                x_stop = illinois_sw(law, P, d, cs, s, cw, w, LEVEL + 0 * law, 0.0, 0.0, w0, x_wext, wext)
         elif d * w0 == 0.0 and x_wext >= 0.0 and d * wext > 0.0 and d * w1 <= 0.0:
             # a phase that starts at rest (w = 0) with a weak push (after a stop just
             # past the static threshold) can end inside its first step: w leaves zero,
             # turns at x_wext and is back at zero before the step ends
-            x_stop = illinois_sw(law, P, d, cs, s, cw, w, 1, 0.0, x_wext, wext, 1.0, w1)
+            x_stop = illinois_sw(law, P, d, cs, s, cw, w, LEVEL + 0 * law, 0.0, x_wext, wext, 1.0, w1)
         x_end = x_stop if x_stop < 1.0 else 1.0
         # spring-force extrema (w = nu), forward slip only; velocity extrema
         nev = 0
@@ -383,12 +385,12 @@ def _slip_phase(  # type: ignore[no-untyped-def]
             if nev == 1 and x_wext < x_end:
                 ge = wext - nu
                 if g0 * ge < 0.0 or (ge == 0.0 and g0 != 0.0):
-                    ev_x[nev] = illinois_sw(law, P, d, cs, s, cw, w, 1, nu, 0.0, g0, x_wext, ge)
+                    ev_x[nev] = illinois_sw(law, P, d, cs, s, cw, w, LEVEL + 0 * law, nu, 0.0, g0, x_wext, ge)
                     ev_k[nev] = 1 if g0 < 0.0 else -1
                     nev += 1
                 if ge * g_end < 0.0 or (g_end == 0.0 and ge != 0.0):
                     ev_x[nev] = illinois_sw(
-                        law, P, d, cs, s, cw, w, 1, nu, x_wext, ge, x_end, g_end
+                        law, P, d, cs, s, cw, w, LEVEL + 0 * law, nu, x_wext, ge, x_end, g_end
                     )
                     ev_k[nev] = 1 if ge < 0.0 else -1
                     nev += 1
@@ -398,7 +400,7 @@ def _slip_phase(  # type: ignore[no-untyped-def]
                     if diag:
                         store_dense(law, lp, nu, d, y, y_new, hh, K, F, cs, cw, ksx, kwx)
                     dense = True
-                ev_x[nev] = illinois_sw(law, P, d, cs, s, cw, w, 1, nu, 0.0, g0, x_end, g_end)
+                ev_x[nev] = illinois_sw(law, P, d, cs, s, cw, w, LEVEL + 0 * law, nu, 0.0, g0, x_end, g_end)
                 ev_k[nev] = 1 if g0 < 0.0 else -1
                 nev += 1
         # process in time order (at most three events)
@@ -658,6 +660,24 @@ def attractor_ws(  # type: ignore[no-untyped-def]
     out[O_NREJECT] = trk[T_NREJ]
     out[O_DFNU] = trk[T_DFNU]
     out[O_FNU] = trk[T_FNU]
+
+
+@njit(cache=True)
+def attractor_rows(  # type: ignore[no-untyped-def]
+    law, lp, nu, s0, w0, from_breakaway, rtol, atol, t_max, conv_tol, diag, max_steps, out
+):
+    """Run :func:`attractor` for every row in this thread, with one workspace.
+
+    The same results as :func:`attractor_batch`, without compiling a parallel
+    kernel: for the few rows of a single command, the first call then compiles
+    seconds less.
+    """
+    ws = new_workspace(4 if diag else 2)
+    for i in range(nu.shape[0]):
+        attractor_ws(
+            law[i], lp[i], nu[i], s0[i], w0[i], from_breakaway, rtol, atol, t_max,
+            conv_tol, max_steps, out[i], ws[0], ws[1], ws[2], ws[3], ws[4], ws[5],
+        )
 
 
 @njit(parallel=True, cache=True)

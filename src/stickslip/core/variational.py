@@ -26,7 +26,7 @@ from numba import njit, prange
 
 from ._dop853_tableau import A, B
 from ._dop853_unrolled import dense_sw, step_sw
-from .dop853 import illinois_sw, poly7
+from .dop853 import LEVEL, WEXT, illinois_sw, poly7
 from .laws import df_plus, params, slip_accel
 
 NVAR = 9
@@ -132,12 +132,12 @@ def flow_variational(law, lp, nu, y, T, rtol, atol, max_steps, measure, KV, extr
             ):
                 cs, cw, _ksx, _kwx = dense_sw(law, P, nu, 1.0, s, w, s1, w1, h, ks, kw)
                 if w - nu > 0.0 and w1 - nu <= 0.0:
-                    x = illinois_sw(law, P, 1.0, cs, s, cw, w, 1, nu, 0.0, w - nu, 1.0, w1 - nu)
+                    x = illinois_sw(law, P, 1.0, cs, s, cw, w, LEVEL + 0 * law, nu, 0.0, w - nu, 1.0, w1 - nu)
                     sv = poly7(cs, s, x)
                     if not (extras[X_S_MIN] <= sv):
                         extras[X_S_MIN] = sv
                 if (kw[0] < 0.0 and kw[12] >= 0.0) or (kw[0] > 0.0 and kw[12] <= 0.0):
-                    x = illinois_sw(law, P, 1.0, cs, s, cw, w, 2, 0.0, 0.0, kw[0], 1.0, kw[12])
+                    x = illinois_sw(law, P, 1.0, cs, s, cw, w, WEXT + 0 * law, 0.0, 0.0, kw[0], 1.0, kw[12])
                     wv = poly7(cw, w, x)
                     extras[X_W_MIN] = min(extras[X_W_MIN], wv)
                     extras[X_W_MAX] = max(extras[X_W_MAX], wv)

@@ -1,0 +1,82 @@
+"""Cold start: the first command on a fresh install, compilation included, and what each kernel costs.
+
+Each command runs in a new process with an empty numba cache (``NUMBA_CACHE_DIR``
+and ``STICKSLIP_CACHE_DIR`` pointing to a new temporary folder), as on a fresh
+install; then once more with the cache it left (the warm start). The compile
+time of every kernel is taken from numba's own compile events (inclusive of the
+kernels it calls and compiles first).
+
+Run: ``python benchmarks/bench_coldstart.py [--reproduce]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+CHILD = r"""
+import json, sys, time
+t0 = time.perf_counter()
+from numba.core import event as ev
+rec = ev.RecordingListener()
+ev.register("numba:compile", rec)
+from stickslip.cli import main
+from click.testing import CliRunner
+t_import = time.perf_counter() - t0
+res = CliRunner().invoke(main, json.loads(sys.argv[1]))
+starts, kernels = {}, {}
+for ts, e in rec.buffer:
+    key = (id(e.data["dispatcher"]), str(e.data["args"]))
+    if e.is_start:
+        starts[key] = ts
+    else:
+        f = e.data["dispatcher"].py_func
+        name = f.__module__ + "." + f.__qualname__
+        kernels[name] = kernels.get(name, 0.0) + ts - starts.pop(key, ts)
+print(json.dumps({"exit": res.exit_code, "import": t_import, "kernels": kernels,
+                  "output": res.output[-300:]}))
+"""
+
+COMMANDS = {
+    "cycle": ["cycle", "--nu", "0.001", "--law", "weakening", "--c", "3.8", "--json"],
+}
+
+
+def run(args: list[str], cache: str) -> tuple[float, dict]:
+    env = dict(os.environ, NUMBA_CACHE_DIR=cache, STICKSLIP_CACHE_DIR=os.path.join(cache, "kernels"))
+    started = time.perf_counter()
+    out = subprocess.run(
+        [sys.executable, "-c", CHILD, json.dumps(args)], env=env, capture_output=True, text=True, check=True
+    )
+    wall = time.perf_counter() - started
+    return wall, json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--reproduce", action="store_true", help="also time `stickslip reproduce --quick`")
+    parser.add_argument("--top", type=int, default=8)
+    a = parser.parse_args()
+    cmds = dict(COMMANDS)
+    if a.reproduce:
+        cmds["reproduce"] = ["reproduce", "--out", tempfile.mkdtemp(prefix="stickslip-repro-")]
+    for name, args in cmds.items():
+        with tempfile.TemporaryDirectory(prefix="stickslip-numba-") as cache:
+            cold, info = run(args, cache)
+            warm, _ = run(args, cache)
+        assert info["exit"] == 0, info["output"]
+        ks = sorted(info["kernels"].items(), key=lambda kv: -kv[1])
+        print(f"stickslip {' '.join(args)}")
+        print(f"  cold (empty numba cache): {cold:6.2f} s   warm: {warm:5.2f} s   import: {info['import']:.2f} s")
+        print(f"  kernels compiled: {len(ks)}; the largest (inclusive of what they call):")
+        for k, t in ks[: a.top]:
+            print(f"    {t:6.2f} s  {k}")
+
+
+if __name__ == "__main__":
+    main()
