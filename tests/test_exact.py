@@ -111,10 +111,15 @@ def test_coulomb_amplitude_formula_limits() -> None:
 def test_serial_rows_equal_the_parallel_batch() -> None:
     """A few rows run in the calling thread (no parallel kernel to compile); bit for bit the batch's."""
     from stickslip.core.api import SERIAL_ROWS, run_attractors
-    from stickslip.laws import WeakeningLaw
 
-    law = WeakeningLaw(c=3.8)
     nu = np.geomspace(1e-4, 0.5, SERIAL_ROWS + 5)
-    few = run_attractors(law, nu[:SERIAL_ROWS])
-    many = run_attractors(law, nu)
-    np.testing.assert_array_equal(few.raw, many.raw[:SERIAL_ROWS])
+    lp = np.array([3.8, 0.0, 0.0])  # the weakening law (law 0) with c = 3.8
+
+    def run(n: int):  # noqa: ANN202
+        return run_attractors(
+            0, lp, nu[:n], from_breakaway=True, rtol=1e-9, atol=1e-12, max_slip_time=1e4, conv_tol=1e-8
+        )
+
+    few = run(SERIAL_ROWS)
+    np.testing.assert_array_equal(few.raw, run(nu.size).raw[:SERIAL_ROWS])
+    assert np.all(few.status == 0)
