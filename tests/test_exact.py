@@ -115,7 +115,7 @@ def test_serial_rows_equal_the_parallel_batch() -> None:
     nu = np.geomspace(1e-4, 0.5, SERIAL_ROWS + 5)
     lp = np.array([3.8, 0.0, 0.0])  # the weakening law (law 0) with c = 3.8
 
-    def run(n: int):  # noqa: ANN202
+    def run(n: int):
         return run_attractors(
             0, lp, nu[:n], from_breakaway=True, rtol=1e-9, atol=1e-12, max_slip_time=1e4, conv_tol=1e-8
         )
