@@ -65,14 +65,17 @@ def main() -> None:
     cmds = dict(COMMANDS)
     if a.reproduce:
         cmds["reproduce"] = ["reproduce", "--out", tempfile.mkdtemp(prefix="stickslip-repro-")]
-    for name, args in cmds.items():
+    for args in cmds.values():
         with tempfile.TemporaryDirectory(prefix="stickslip-numba-") as cache:
             cold, info = run(args, cache)
             warm, _ = run(args, cache)
         assert info["exit"] == 0, info["output"]
         ks = sorted(info["kernels"].items(), key=lambda kv: -kv[1])
         print(f"stickslip {' '.join(args)}")
-        print(f"  cold (empty numba cache): {cold:6.2f} s   warm: {warm:5.2f} s   import: {info['import']:.2f} s")
+        print(
+            f"  cold (empty numba cache): {cold:6.2f} s   warm: {warm:5.2f} s   "
+            f"import: {info['import']:.2f} s"
+        )
         print(f"  kernels compiled: {len(ks)}; the largest (inclusive of what they call):")
         for k, t in ks[: a.top]:
             print(f"    {t:6.2f} s  {k}")
