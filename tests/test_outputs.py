@@ -161,3 +161,22 @@ def test_an_unwritable_output_folder_is_one_line(tmp_path: Path) -> None:
     res = CliRunner().invoke(main, ["simulate", "--nu", "0.1", "--c", "3", "--out", str(blocker / "sub")])
     assert res.exit_code == 1
     assert res.output.count("\n") == 1 and str(blocker / "sub") in res.output and "cannot write" in res.output
+
+
+def test_envelope_keeps_every_extremum_to_the_end() -> None:
+    """The decimated series drawn in figures keeps each bin's extremes, the last samples included."""
+    import numpy as np
+
+    from stickslip.plots.style import envelope
+
+    n = 42_829  # 10 000 bins of 4 leave 2 829 samples past the last whole bin
+    x = np.arange(n, dtype=float)
+    y = np.sin(x / 50.0)
+    y[n - 1000] = 5.0  # a spike in the tail
+    xs, ys = envelope(x, y)
+    assert ys.size < 25_000
+    assert np.all(np.diff(xs) >= 0)
+    assert ys.max() == 5.0
+    assert xs[-1] == n - 1
+    # every stretch of 100 samples is represented
+    assert np.max(np.diff(xs)) <= 100

@@ -60,18 +60,15 @@ def envelope(x: Any, y: Any, max_points: int = 20_000) -> tuple[Any, Any]:
     n = y.size
     if n <= max_points:
         return x, y
-    bins = max(1, max_points // 2)
-    width = n // bins
-    m = width * bins
-    yb = y[:m].reshape(bins, width)
+    # bins of equal width covering every sample (the last one padded with the last value)
+    width = -(-n // max(1, max_points // 2))
+    bins = -(-n // width)
+    yb = np.concatenate([y, np.full(bins * width - n, y[-1])]).reshape(bins, width)
     lo = np.argmin(yb, axis=1)
     hi = np.argmax(yb, axis=1)
     base = np.arange(bins) * width
-    first = base + np.minimum(lo, hi)
-    second = base + np.maximum(lo, hi)
     idx = np.empty(2 * bins, dtype=np.int64)
-    idx[0::2] = first
-    idx[1::2] = second
-    if m < n:
-        idx = np.concatenate([idx, [n - 1]])
+    idx[0::2] = base + np.minimum(lo, hi)
+    idx[1::2] = base + np.maximum(lo, hi)
+    idx = np.unique(np.append(np.minimum(idx, n - 1), [0, n - 1]))
     return x[idx], y[idx]
