@@ -489,7 +489,12 @@ def integrate_qs(  # type: ignore[no-untyped-def]
     ftmp = np.zeros(nvar)
     ns = samples.shape[0]
     js = 0
-    nev = 0
+    # kinds and counters that are not literals, so that one specialization of _locate, _g
+    # and _record serves every call (a literal argument compiles one per value)
+    k0 = 0 * n
+    ev_up = EV_UP + k0
+    ev_peak = EV_VELOCITY_PEAK + k0
+    nev = k0
     nrec = 0
     steps = 0
     rejected = 0
@@ -563,16 +568,16 @@ def integrate_qs(  # type: ignore[no-untyped-def]
             ga = u - lvl
             gb = u_new - lvl
             if ga < 0.0 <= gb:
-                x = _locate(EV_UP, P, S, n, v_lp, lvl, F, y, ga, gb, nvar, ytmp, ftmp)
+                x = _locate(ev_up, P, S, n, v_lp, lvl, F, y, ga, gb, nvar, ytmp, ftmp)
                 _interp(F, y, x, nvar, ytmp)
                 uu, _, _ = qs_lnv(ytmp[0], P[P_MU0] + psi(ytmp, S, 1, n), P)
-                nev = _record(ev, nev, EV_SPRING_PEAK, t + x * h, uu, ytmp, nvar)
+                nev = _record(ev, nev, EV_SPRING_PEAK + k0, t + x * h, uu, ytmp, nvar)
         if v_event > 0.0:
             ga = u - ln_ev
             gb = u_new - ln_ev
             if (ga < 0.0 <= gb) or (ga > 0.0 >= gb):
                 kind = EV_UP if gb >= 0.0 else EV_DOWN
-                x = _locate(EV_UP, P, S, n, v_lp, ln_ev, F, y, ga, gb, nvar, ytmp, ftmp)
+                x = _locate(ev_up, P, S, n, v_lp, ln_ev, F, y, ga, gb, nvar, ytmp, ftmp)
                 _interp(F, y, x, nvar, ytmp)
                 uu, _, _ = qs_lnv(ytmp[0], P[P_MU0] + psi(ytmp, S, 1, n), P)
                 nev = _record(ev, nev, kind, t + x * h, uu, ytmp, nvar)
@@ -580,14 +585,14 @@ def integrate_qs(  # type: ignore[no-untyped-def]
                 pa = _peak_fn(K, S, n, 0)
                 pb = _peak_fn(K, S, n, N_STAGES)
                 if pa > 0.0 >= pb:
-                    x = _locate(EV_VELOCITY_PEAK, P, S, n, v_lp, 0.0, F, y, pa, pb, nvar, ytmp, ftmp)
+                    x = _locate(ev_peak, P, S, n, v_lp, 0.0, F, y, pa, pb, nvar, ytmp, ftmp)
                     _interp(F, y, x, nvar, ytmp)
                     uu, _, _ = qs_lnv(ytmp[0], P[P_MU0] + psi(ytmp, S, 1, n), P)
-                    nev = _record(ev, nev, EV_VELOCITY_PEAK, t + x * h, uu, ytmp, nvar)
+                    nev = _record(ev, nev, ev_peak, t + x * h, uu, ytmp, nvar)
         if u_new > ln_cap:
-            x = _locate(EV_UP, P, S, n, v_lp, ln_cap, F, y, u - ln_cap, u_new - ln_cap, nvar, ytmp, ftmp)
+            x = _locate(ev_up, P, S, n, v_lp, ln_cap, F, y, u - ln_cap, u_new - ln_cap, nvar, ytmp, ftmp)
             _interp(F, y, x, nvar, ytmp)
-            nev = _record(ev, nev, EV_RUNAWAY, t + x * h, ln_cap, ytmp, nvar)
+            nev = _record(ev, nev, EV_RUNAWAY + k0, t + x * h, ln_cap, ytmp, nvar)
             t_stop = t + x * h
             while js < ns and samples[js] <= t_stop:
                 _interp(F, y, (samples[js] - t) / h, nvar, ytmp)

@@ -88,10 +88,13 @@ def flow_variational(law, lp, nu, y, T, rtol, atol, max_steps, measure, KV, extr
     ``extras[X_STATUS]`` are always set.
     """
     P = params(lp)
+    # forward slip, as the integer direction of the one-block engine (1 + 0 * law: not a
+    # literal), so that both share the compiled step, interpolant and root finder
+    fwd = 1 + 0 * law
     s = y[0]
     w = y[1]
     ks0 = nu - w
-    kw0 = slip_accel(law, P, 1.0, s, w)
+    kw0 = slip_accel(law, P, fwd, s, w)
     extras[X_S_MIN] = math.nan
     extras[X_W_MIN] = w
     extras[X_W_MAX] = w
@@ -107,7 +110,7 @@ def flow_variational(law, lp, nu, y, T, rtol, atol, max_steps, measure, KV, extr
         if t + h >= T:
             h = T - t
             last = True
-        err, s1, w1, ks, kw = step_sw(law, P, nu, 1.0, s, w, ks0, kw0, h, rtol, atol)
+        err, s1, w1, ks, kw = step_sw(law, P, nu, fwd, s, w, ks0, kw0, h, rtol, atol)
         n += 1
         if not (math.isfinite(err) and math.isfinite(s1) and math.isfinite(w1)):
             if h < 1e-14:
@@ -130,14 +133,14 @@ def flow_variational(law, lp, nu, y, T, rtol, atol, max_steps, measure, KV, extr
                 or (kw[0] < 0.0 and kw[12] >= 0.0)
                 or (kw[0] > 0.0 and kw[12] <= 0.0)
             ):
-                cs, cw, _ksx, _kwx = dense_sw(law, P, nu, 1.0, s, w, s1, w1, h, ks, kw)
+                cs, cw, _ksx, _kwx = dense_sw(law, P, nu, fwd, s, w, s1, w1, h, ks, kw)
                 if w - nu > 0.0 and w1 - nu <= 0.0:
-                    x = illinois_sw(law, P, 1.0, cs, s, cw, w, LEVEL + 0 * law, nu, 0.0, w - nu, 1.0, w1 - nu)
+                    x = illinois_sw(law, P, fwd, cs, s, cw, w, LEVEL + 0 * law, nu, 0.0, w - nu, 1.0, w1 - nu)
                     sv = poly7(cs, s, x)
                     if not (extras[X_S_MIN] <= sv):
                         extras[X_S_MIN] = sv
                 if (kw[0] < 0.0 and kw[12] >= 0.0) or (kw[0] > 0.0 and kw[12] <= 0.0):
-                    x = illinois_sw(law, P, 1.0, cs, s, cw, w, WEXT + 0 * law, 0.0, 0.0, kw[0], 1.0, kw[12])
+                    x = illinois_sw(law, P, fwd, cs, s, cw, w, WEXT + 0 * law, 0.0, 0.0, kw[0], 1.0, kw[12])
                     wv = poly7(cw, w, x)
                     extras[X_W_MIN] = min(extras[X_W_MIN], wv)
                     extras[X_W_MAX] = max(extras[X_W_MAX], wv)
@@ -200,7 +203,8 @@ def _start(y, s0, nu):  # type: ignore[no-untyped-def]
 def _newton_step(law, lp, nu, s0, period, rtol, max_steps, y, kv, extras):  # type: ignore[no-untyped-def]
     """Integrate one period from ``(s0, nu)``; return ``(ok, residual, ds0, dT)`` of one Newton step."""
     _start(y, s0, nu)
-    flow_variational(law, lp, nu, y, period, rtol, rtol * 1e-2, max_steps, False, kv, extras)
+    # law < 0 is False (law ids are not negative) but not a literal: one specialization for every caller
+    flow_variational(law, lp, nu, y, period, rtol, rtol * 1e-2, max_steps, law < 0, kv, extras)
     if extras[X_STATUS] != VS_OK:
         return False, math.nan, math.nan, math.nan
     g0 = y[0] - s0
@@ -208,7 +212,7 @@ def _newton_step(law, lp, nu, s0, period, rtol, max_steps, y, kv, extras):  # ty
     a = y[2] - 1.0
     c = y[4]
     f0 = nu - y[1]
-    f1 = slip_accel(law, params(lp), 1.0, y[0], y[1])
+    f1 = slip_accel(law, params(lp), 1 + 0 * law, y[0], y[1])
     det = a * f1 - f0 * c
     if det == 0.0 or not math.isfinite(det):
         return False, math.sqrt(g0 * g0 + g1 * g1), math.nan, math.nan
@@ -238,7 +242,7 @@ def shoot(law, lp, nu, s0, period, tol, max_iter, max_steps, out):  # type: igno
     for i in range(NSH):
         out[i] = math.nan
     out[SH_STATUS] = SHOOT_NO_CONVERGENCE
-    f_nu = s0 - slip_accel(law, params(lp), 1.0, s0, nu)  # f(nu)
+    f_nu = s0 - slip_accel(law, params(lp), 1 + 0 * law, s0, nu)  # f(nu)
     residual = math.inf
     it = 0
     converged = False
@@ -279,7 +283,7 @@ def shoot(law, lp, nu, s0, period, tol, max_iter, max_steps, out):  # type: igno
         out[SH_STATUS] = SHOOT_TRIVIAL
         return
     _start(y, s0, nu)
-    flow_variational(law, lp, nu, y, period, fine, fine * 1e-2, max_steps, True, kv, extras)
+    flow_variational(law, lp, nu, y, period, fine, fine * 1e-2, max_steps, law >= 0, kv, extras)  # True
     if extras[X_STATUS] != VS_OK:
         out[SH_STATUS] = SHOOT_FLOW_FAILED
         return
