@@ -132,3 +132,22 @@ def test_slide_hold_slide_record(tmp_path) -> None:
     path = _record(tmp_path, "aging", ONE, steps, ONE["k_per_um"], seed=7)
     fit = fit_rate_state(read_lab_record(path, need_friction=True))
     _check(fit.values, fit.errors, _truth_values(ONE))
+
+
+def test_round_trip_of_a_simulated_record(tmp_path) -> None:
+    """stickslip ratestate writes ratestate.csv as a record; ratestate-fit reads it back to the parameters."""
+    args = ["ratestate", "--a", "0.008", "--b", "0.012", "--dc", "10 um", "--v-ref", "1 um/s", "--mu0", "0.6"]
+    args += ["--stiffness-per-load", "2e-3 1/um", "--steps", "1 um/s,10 um/s,1 um/s"]
+    args += ["--durations", "100 s,30 s,300 s", "--sample", "0.2 s", "--out", str(tmp_path / "run")]
+    res = CliRunner().invoke(main, args)
+    assert res.exit_code == 0, res.output
+    record = tmp_path / "run" / "ratestate.csv"
+    assert record.read_text().startswith("# stickslip rate-and-state record\n# mu0 = 0.6\n")
+    res = CliRunner().invoke(
+        main, ["ratestate-fit", str(record), "--detrend", "none", "--json", "--out", str(tmp_path / "fit")]
+    )
+    assert res.exit_code == 0, res.output
+    p = json.loads(res.output)["parameters"]
+    assert p["a"]["value"] == pytest.approx(0.008, rel=1e-6)
+    assert p["b"]["value"] == pytest.approx(0.012, rel=1e-6)
+    assert p["dc"]["value"] == pytest.approx(1e-5, rel=1e-6)

@@ -181,7 +181,7 @@ def register(main: click.Group) -> None:
         show_default=True,
         help="Absolute tolerance on the spring friction and the log-states.",
     )
-    @out_dir_option("Output folder for ratestate.nc and ratestate.png/.svg.")
+    @out_dir_option("Output folder for ratestate.nc, ratestate.csv (a record) and ratestate.png/.svg.")
     @overwrite_option
     @handle_errors
     def ratestate(
@@ -270,12 +270,34 @@ def register(main: click.Group) -> None:
                 raise click.UsageError("--holds needs --v-slide")
             assert holds is not None
             ds = slide_hold_slide(params, v_slide, _split(holds), displacement=displacement, rtol=rtol)
-        from ..io.output import OutputFolder
+        from ..io.lab import format_lab_record
+        from ..io.output import OutputFolder, text_writer
 
+        meta = {
+            "mu0": repr(params.mu0),
+            "v_ref": f"{params.v_ref.to('um/s').magnitude!r} um/s",
+            "stiffness_per_load": f"{params.kw.to('1/um').magnitude!r} 1/um",
+        }
+        if len(set(params.laws)) == 1 and params.laws[0] in ("aging", "slip", "prz"):
+            meta["law"] = params.laws[0]
+        states = {
+            f"{'state' if i == 0 else f'state_{i + 1}'} [s]": ds[
+                "state" if i == 0 else f"state_{i + 1}"
+            ].values
+            for i in range(params.n_states)
+        }
+        text = format_lab_record(
+            ds.time.values,
+            ds.load_point_velocity.values,
+            ds.friction.values,
+            {"slip velocity [um/s]": ds.slip_velocity.values * 1e6, **states},
+            meta,
+        )
         with OutputFolder(out_dir, "ratestate", overwrite=overwrite) as out:
             path = save_sweep(ds, "ratestate.nc", kind="ratestate", out=out)
+            csv_path = out.write("ratestate.csv", "ratestate-record", text_writer(text))
             paths = save_figure(plot_rate_state(ds), "ratestate", out=out)
-        click.echo(f"wrote {path}, {', '.join(paths)}")
+        click.echo(f"wrote {path}, {csv_path} (a record ratestate-fit reads), {', '.join(paths)}")
         click.echo(f"friction from {float(ds.friction.min()):.6g} to {float(ds.friction.max()):.6g}")
         if "peak_friction_change" in ds:
             for t_h, dmu in zip(ds.hold_time.values, ds.peak_friction_change.values, strict=True):

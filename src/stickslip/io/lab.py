@@ -173,3 +173,30 @@ def read_lab_record(path: str | os.PathLike[str], *, need_friction: bool = False
             )
         mu = f
     return LabRecord(os.path.basename(p), t, v, x, mu, dict(layout.meta))
+
+
+def format_lab_record(
+    time: FloatArray,
+    velocity: FloatArray,
+    friction: FloatArray,
+    extra: dict[str, FloatArray] | None = None,
+    metadata: dict[str, str] | None = None,
+) -> str:
+    """Return a record as :func:`read_lab_record` reads it: ``# key = value`` lines, then the columns.
+
+    ``time`` in s, the load-point ``velocity`` in m/s (written in um/s, held until the
+    next row), ``friction``; ``extra`` columns are written as given (their header
+    names the unit).
+    """
+    cols = {
+        "time [s]": np.asarray(time, dtype=float),
+        "load-point velocity [um/s]": np.asarray(velocity, dtype=float) * 1e6,
+        "friction [1]": np.asarray(friction, dtype=float),
+        **(extra or {}),
+    }
+    # the first line marks the file as stickslip's (so that a rerun may replace it)
+    lines = ["# stickslip rate-and-state record"] + [f"# {k} = {v}" for k, v in (metadata or {}).items()]
+    lines.append(",".join(cols))
+    data = np.column_stack(list(cols.values()))
+    lines += [",".join(repr(float(x)) for x in row) for row in data]
+    return "\n".join(lines) + "\n"

@@ -79,6 +79,7 @@ CSV_HEADERS = {
     "trajectory": ("time [",),
     "records-summary": ("name,n_cycles,",),
     "fit-parameters": ("parameter,value,error,unit",),
+    "ratestate-record": ("# stickslip rate-and-state record",),
 }
 
 
