@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import logging
 import os
 import platform
 import shutil
@@ -93,7 +92,9 @@ def main() -> None:
     if args.child:
         big_child(int(args.child[0]), args.child[1])
         return
-    from distributed import Client, LocalCluster
+    from distributed import Client
+
+    from stickslip.scale.backend import local_cluster
 
     g = grid(args.points)
     n = g["nu"].size * g["c"].size
@@ -113,14 +114,7 @@ def main() -> None:
         )
         eq_store = same(ref, load_sweep(os.path.join(tmp, "a.zarr")))
         t0 = time.perf_counter()
-        cluster = LocalCluster(
-            n_workers=2,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=None,
-            silence_logs=logging.ERROR,
-            env={"NUMBA_NUM_THREADS": "1"},
-        )
+        cluster = local_cluster(2, numba_threads=1)
         client = Client(cluster)
         t_start = time.perf_counter() - t0
         print(f"   LocalCluster of 2 processes started in {t_start:.2f} s")
@@ -143,14 +137,7 @@ def main() -> None:
         print(f"   with the cluster's start-up, (3) costs {100 * ((t_dask + t_start) / t_ref - 1):+.1f} %")
         # one worker process with numba's threads on every core: the scheduler's and the client's
         # own CPU time then no longer stalls one of two single-threaded workers
-        cluster = LocalCluster(
-            n_workers=1,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=None,
-            silence_logs=logging.ERROR,
-            env={"NUMBA_NUM_THREADS": str(os.cpu_count() or 1)},
-        )
+        cluster = local_cluster(1, numba_threads=os.cpu_count() or 1)
         client = Client(cluster)
         sweep(BASE, {"nu": g["nu"][:50], "c": g["c"][:4]}, progress=False, scheduler=client, block_points=100)
         one_ds, _ = timed(

@@ -321,16 +321,11 @@ def test_sigkill_of_the_client_then_the_same_command_completes(base: Any, tmp_pa
 def client() -> Any:
     import logging
 
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
-    cluster = LocalCluster(
-        n_workers=2,
-        threads_per_worker=1,
-        processes=True,
-        dashboard_address=None,
-        silence_logs=logging.CRITICAL,
-        env={"NUMBA_NUM_THREADS": "1"},
-    )
+    from stickslip.scale.backend import local_cluster
+
+    cluster = local_cluster(2, numba_threads=1, log_level=logging.CRITICAL)
     c = Client(cluster)
     yield c
     c.close()

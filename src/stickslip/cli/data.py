@@ -7,13 +7,9 @@ import json
 import click
 
 from .errors import handle_errors
-from .options import out_dir_option, overwrite_option
+from .options import figure_names, out_dir_option, overwrite_option
 
 __all__ = ["register"]
-
-
-def _figure_names(stem: str) -> dict[str, str]:
-    return {f"{stem}.png": "figure", f"{stem}.svg": "figure"}
 
 
 def register(main: click.Group) -> None:
@@ -117,7 +113,7 @@ def register(main: click.Group) -> None:
         with OutputFolder(out_dir, "fit", overwrite=overwrite) as out:
             out.expect(
                 {"fit.json": "fit", "fit.csv": "fit-parameters"}
-                | ({} if no_plot else _figure_names("fit_overlay"))
+                | ({} if no_plot else figure_names("fit_overlay"))
             )
             rec = read_record(record_file, v0=v0, load=load)
             res = fit_record(rec, fit_b=fit_b, method=method)

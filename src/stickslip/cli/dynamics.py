@@ -16,6 +16,7 @@ from .options import (
     axis_parameter,
     build_parameters,
     describe_parameters,
+    figure_names,
     is_axis,
     law_command,
     out_dir_option,
@@ -26,10 +27,6 @@ from .options import (
 )
 
 __all__ = ["register"]
-
-
-def _figure_names(stem: str) -> dict[str, str]:
-    return {f"{stem}.png": "figure", f"{stem}.svg": "figure"}
 
 
 def register(main: click.Group) -> None:
@@ -116,7 +113,7 @@ def register(main: click.Group) -> None:
                     f"invalid value: duration={duration!r}: expected a number for dimensionless input"
                 ) from None
         with OutputFolder(out_dir, "simulate", overwrite=overwrite) as out:
-            out.expect({"trajectory.csv": "trajectory"} | ({} if no_plot else _figure_names("spring_force")))
+            out.expect({"trajectory.csv": "trajectory"} | ({} if no_plot else figure_names("spring_force")))
             traj = run(
                 params, duration=dur, cycles=cycles, n_points=points, rtol=opts["rtol"], atol=opts["atol"]
             )
@@ -237,7 +234,7 @@ def register(main: click.Group) -> None:
         stem = os.path.splitext(name)[0]
         with OutputFolder(folder or ".", f"sweep {stem}", overwrite=overwrite) as out:
             # the outputs are checked before the (possibly long) sweep starts
-            out.expect({name: "sweep"} | ({} if no_plot else _figure_names(stem)))
+            out.expect({name: "sweep"} | ({} if no_plot else figure_names(stem)))
             ds = run_sweep(params, grid, **kw)
             if store is not None:
                 scale_report(ds)

@@ -311,6 +311,11 @@ def scale_report(ds: Any) -> None:
         )
 
 
+def figure_names(stem: str) -> dict[str, str]:
+    """Return the files of a figure saved as ``stem`` (PNG and SVG), for ``OutputFolder.expect``."""
+    return {f"{stem}.png": "figure", f"{stem}.svg": "figure"}
+
+
 def overwrite_option(func: Callable[..., Any]) -> Any:
     """Add ``--overwrite``: replace existing outputs that stickslip did not write."""
     return click.option(

@@ -9,7 +9,7 @@ import click
 
 from ..ratestate.model import RateStateParameters
 from .errors import handle_errors
-from .options import out_dir_option, overwrite_option
+from .options import figure_names, out_dir_option, overwrite_option
 
 __all__ = ["register"]
 
@@ -383,8 +383,7 @@ def register_fit(main: click.Group) -> None:
             win = (parts[0], parts[1])
         with OutputFolder(out_dir, "ratestate-fit", overwrite=overwrite) as out:
             out.expect(
-                {"ratestate_fit.json": "ratestate-fit"}
-                | ({} if no_plot else {"ratestate_fit.png": "figure", "ratestate_fit.svg": "figure"})
+                {"ratestate_fit.json": "ratestate-fit"} | ({} if no_plot else figure_names("ratestate_fit"))
             )
             rec = read_lab_record(record_file, need_friction=True)
             res = fit_rate_state(

@@ -42,6 +42,7 @@ import numpy.typing as npt
 from scipy.optimize import least_squares
 
 from ..core.api import run_attractors, run_trajectory
+from ..core.noise import noise_level
 from ..core.results import AttractorRows, EventKind, Regime, Status
 from ..io.errors import DataError
 from ..io.records import Record
@@ -49,7 +50,7 @@ from ..laws import PhysicalWeakeningLaw
 from ..laws.weakening import WEAKENING
 from ..models.parameters import PhysicalParameters
 from ..units import Q_
-from .records import CycleTable, RecordSummary, clean_force, measure_record, noise_level
+from .records import CycleTable, RecordSummary, clean_force, measure_record
 
 __all__ = ["FitResult", "fit_record"]
 

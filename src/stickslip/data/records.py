@@ -31,6 +31,7 @@ from scipy.ndimage import median_filter, uniform_filter1d
 from scipy.signal import find_peaks
 
 from ..core.memory import check_memory
+from ..core.noise import noise_level
 from ..io.errors import DataError
 from ..io.records import Record
 
@@ -112,17 +113,6 @@ BYTES_PER_SAMPLE = 120.0
 SIGNAL_TO_NOISE = 10.0
 #: a sample this many robust standard deviations from the median of its neighbours is an outlier
 OUTLIER_SIGMAS = 20.0
-
-
-def noise_level(force: FloatArray) -> float:
-    """Return the standard deviation of white noise on a record, from its second differences.
-
-    The second differences of a ramp vanish and the slips are short: the median absolute
-    deviation of ``f[i+1] - 2 f[i] + f[i-1]`` is the noise's times ``sqrt(6)``. (First
-    differences would also carry the curvature of the slip phases.)
-    """
-    d = np.diff(force, 2)
-    return float(1.4826 * np.median(np.abs(d - np.median(d))) / math.sqrt(6.0))
 
 
 def exclude_outliers(force: FloatArray) -> tuple[FloatArray, npt.NDArray[np.int64]]:

@@ -33,6 +33,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy.optimize import least_squares
 
+from ..core.noise import noise_level
 from ..io.errors import DataError
 from ..io.lab import LabRecord
 from ..units import Q_, parse_quantity
@@ -119,15 +120,6 @@ class RateStateFit:
             "fit_on": f"friction waveform ({self.samples} samples), quasi-static rate-and-state slider "
             f"({', '.join(self.parameters.laws)} law) driven by the record's load-point history",
         }
-
-
-def noise_level(y: FloatArray) -> float:
-    """Return the noise standard deviation from second differences (median absolute deviation)."""
-    d2 = np.diff(y, 2)
-    if d2.size < 3:
-        return math.nan
-    mad = float(np.median(np.abs(d2 - np.median(d2))))
-    return mad / 0.6744897501960817 / math.sqrt(6.0)
 
 
 def _option(value: Any, meta: dict[str, str], key: str, name: str) -> Any:
@@ -302,13 +294,15 @@ def fit_rate_state(
         "none": np.zeros((x.size, 0)),
     }[detrend]
     penalty = np.full(t.size, 1e3)
+    # the detrending basis is fixed: factor it once (Q R), for the residuals and the Jacobian
+    q_b, r_b = np.linalg.qr(basis)
 
     def detrended(m: FloatArray) -> tuple[FloatArray, FloatArray]:
         r = mu - m
         if basis.shape[1] == 0:
             return r, np.zeros(0)
-        coef, *_ = np.linalg.lstsq(basis, r, rcond=None)
-        return r - basis @ coef, coef
+        qr_ = q_b.T @ r
+        return r - q_b @ qr_, np.linalg.solve(r_b, qr_)
 
     def residuals(theta: FloatArray) -> FloatArray:
         try:
@@ -338,8 +332,7 @@ def fit_rate_state(
     J = best.jac
     # the nuisance (detrend) parameters are profiled out: project them from the Jacobian
     if basis.shape[1]:
-        q, _ = np.linalg.qr(basis)
-        J = J - q @ (q.T @ J)
+        J = J - q_b @ (q_b.T @ J)
     try:
         cov = np.linalg.inv(J.T @ J) * max(chi2, 1.0)
     except np.linalg.LinAlgError:

@@ -33,7 +33,7 @@ import numpy.typing as npt
 from .progress import Progress, ProgressLike
 from .store import Block, ChunkStore, Layout
 
-__all__ = ["RunReport", "local_threads", "run_blocks", "run_job"]
+__all__ = ["RunReport", "local_cluster", "local_threads", "run_blocks", "run_job"]
 
 Arrays = Mapping[str, npt.NDArray[Any]]
 
@@ -75,6 +75,33 @@ class RunReport:
         import json
 
         return json.dumps(self.as_dict())
+
+
+def local_cluster(workers: int, numba_threads: int | None = None, *, log_level: int = logging.ERROR) -> Any:
+    """Start a ``distributed.LocalCluster`` as stickslip runs on one: worker processes of one task each.
+
+    Parameters
+    ----------
+    workers : int
+        Worker processes.
+    numba_threads : int, optional
+        ``NUMBA_NUM_THREADS`` of each worker; default the cores shared out
+        (:func:`local_threads`).
+    log_level : int, optional
+        Level below which the cluster's log messages are silenced.
+
+    """
+    from distributed import LocalCluster
+
+    threads = local_threads(workers) if numba_threads is None else numba_threads
+    return LocalCluster(
+        n_workers=workers,
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=None,
+        silence_logs=log_level,
+        env={"NUMBA_NUM_THREADS": str(threads)},
+    )
 
 
 def local_threads(workers: int) -> int:
@@ -192,19 +219,12 @@ def _run_dask(
     workers: int | None,
     finish: Callable[[Block, Arrays | None], None],
 ) -> str:
-    from distributed import Client, LocalCluster, as_completed
+    from distributed import Client, as_completed
 
     cluster = None
     own_client = False
     if workers is not None:
-        cluster = LocalCluster(
-            n_workers=workers,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=None,
-            silence_logs=logging.ERROR,
-            env={"NUMBA_NUM_THREADS": str(local_threads(workers))},
-        )
+        cluster = local_cluster(workers)
         client = Client(cluster)
         own_client = True
         backend = f"local-cluster ({workers} workers)"
