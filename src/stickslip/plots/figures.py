@@ -153,7 +153,10 @@ def plot_rate_state(ds: Any) -> Figure:
     axes[1].semilogy(*envelope(t, ds.slip_velocity.values), lw=1.2, label="slider")
     vlp = ds.load_point_velocity.values
     if np.any(vlp > 0):
-        axes[1].semilogy(t, np.where(vlp > 0, vlp, np.nan), "k:", lw=1.0, label="load point")
+        # each sample's load-point velocity holds until the next sample: a step, not a ramp
+        axes[1].semilogy(
+            t, np.where(vlp > 0, vlp, np.nan), "k:", lw=1.0, drawstyle="steps-post", label="load point"
+        )
     axes[1].set_ylabel("velocity [m/s]")
     axes[1].legend(frameon=False, fontsize=8)
     states = [n for n in ds.data_vars if n == "state" or n.startswith("state_")]
@@ -163,8 +166,10 @@ def plot_rate_state(ds: Any) -> Figure:
         axes[2].legend(frameon=False, fontsize=8)
     axes[2].set_ylabel(r"state $\Phi$ [s]")
     axes[2].set_xlabel("time [s]")
+    laws = list(dict.fromkeys(str(ds.attrs.get("state_law", "")).split(",")))
     fig.suptitle(
-        f"rate and state ({ds.attrs.get('model', '')}, {ds.attrs.get('state_law', '')} law)", fontsize=10
+        f"rate and state ({ds.attrs.get('model', '')}, {', '.join(laws)} law{'s' if len(laws) > 1 else ''})",
+        fontsize=10,
     )
     return fig
 
