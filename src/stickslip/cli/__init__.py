@@ -3,7 +3,7 @@
 :mod:`~.dynamics` (``cycle``, ``simulate``, ``sweep``), :mod:`~.bifurcation`
 (``regimes``), :mod:`~.data` (``analyze``, ``fit``, ``classify``),
 :mod:`~.ratestate` (``ratestate``, ``dulac``), :mod:`~.chain` (``chain``) and
-:mod:`~.paper` (``reproduce``);
+:mod:`~.paper` (``reproduce``) and :mod:`~.explore` (``explore``, the browser app);
 the options of a parameter set are built from the law registry (:mod:`~.options`).
 """
 
@@ -14,7 +14,7 @@ from typing import Any
 
 import click
 
-from . import bifurcation, chain, data, dynamics, paper, ratestate
+from . import bifurcation, chain, data, dynamics, explore, paper, ratestate
 from .options import build_parameters, describe_parameters
 
 __all__ = ["build_parameters", "describe_parameters", "main"]
@@ -32,5 +32,5 @@ def _one_line_warning(message: Any, category: Any, filename: str, lineno: int, *
     click.echo(f"warning: {message}", err=True)
 
 
-for _family in (dynamics, paper, ratestate, data, bifurcation, chain):
+for _family in (dynamics, paper, ratestate, data, bifurcation, chain, explore):
     _family.register(main)

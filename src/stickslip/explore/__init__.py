@@ -1,0 +1,22 @@
+"""The one-block model in the browser: ``stickslip explore``.
+
+:mod:`~.session` computes what the page shows from a set-up (no web server);
+:mod:`~.app` is the Bokeh server application around it.
+"""
+
+from .app import Explorer, make_server, serve
+from .session import EXPR, Setup, View, command, compute, law_names, parse_params, view_csv
+
+__all__ = [
+    "EXPR",
+    "Explorer",
+    "Setup",
+    "View",
+    "command",
+    "compute",
+    "law_names",
+    "make_server",
+    "parse_params",
+    "serve",
+    "view_csv",
+]

@@ -1,0 +1,389 @@
+"""``stickslip explore``: the one-block model in the browser, updated live.
+
+A Bokeh server application (Bokeh, not Panel: the widgets, the plots and the
+server come in one library that Panel itself is built on, and an update ships
+only the new numbers of the plots' data sources over the page's websocket).
+Every change of a widget calls :func:`stickslip.explore.session.compute` in the
+server process, that is the compiled engine, and replaces the data of the four
+plots: the spring force against time, the phase portrait, the amplitude-velocity
+curve with the paper's criterion, and the regime diagram.
+
+The page's models carry names (``status``, ``command``, ``force``, ``nu``, ...)
+so that a test or a script can read them from BokehJS.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import webbrowser
+from typing import Any
+
+import numpy as np
+
+from .session import (
+    EXPR,
+    REGIMES,
+    Setup,
+    View,
+    compute,
+    law_names,
+    parse_params,
+    regime_diagram,
+    slider_range,
+    view_csv,
+)
+
+__all__ = ["Explorer", "make_server", "serve"]
+
+#: colours of the regimes (stick-slip, pure slip, steady sliding, unknown)
+COLORS = ("#d95f02", "#1b9e77", "#7570b3", "#bbbbbb")
+TITLE = "stickslip explorer"
+
+
+class Explorer:
+    """The widgets, plots and callbacks of one page (one Bokeh document).
+
+    Parameters
+    ----------
+    doc : bokeh.document.Document
+        The page's document.
+    setup : Setup, optional
+        The set-up shown first (default: the paper's F1 law, ``nu = 0.01``).
+
+    """
+
+    def __init__(self, doc: Any, setup: Setup | None = None) -> None:
+        from bokeh.layouts import column, gridplot, row
+        from bokeh.models import ColumnDataSource, CustomJS
+        from bokeh.models.widgets import Button, Div, PreText, RadioButtonGroup, Select, Slider, TextInput
+        from bokeh.plotting import figure
+
+        self.doc = doc
+        self.setup = setup or Setup()
+        self.updates = 0
+        self.last_update_s = math.nan
+        self._diagram_key: tuple[Any, ...] | None = None
+        s = self.setup
+
+        self.law = Select(title="Friction law", value=s.law, options=list[Any](law_names()), name="law")
+        self.expression = TextInput(
+            title="f(w), dimensionless (expr)", value=s.expression, name="expression", visible=s.law == EXPR
+        )
+        self.expr_params = TextInput(
+            title="its parameters", value="c=3.8, q=0.5", name="expr_params", visible=s.law == EXPR
+        )
+        self.apply = Button(label="Compile and apply the formula", name="apply", visible=s.law == EXPR)
+        self.param_box = column(name="param_box")
+        self.diagram_param = Select(title="Regime diagram: vertical axis", name="diagram_param")
+        self.nu = Slider(
+            title="log10 nu (nu = beta v0)",
+            start=-5.0,
+            end=1.0,
+            step=0.01,
+            value=round(math.log10(s.nu), 2),
+            name="nu",
+        )
+        self.units = RadioButtonGroup(labels=["dimensionless", "physical (SI)"], active=int(s.physical))
+        self.scales = {
+            "mass": TextInput(title="mass (kg)", value=repr(s.mass), name="mass"),
+            "stiffness": TextInput(title="stiffness (N/m)", value=repr(s.stiffness), name="stiffness"),
+            "load": TextInput(title="normal load W (N)", value=repr(s.load), name="load"),
+            "mu_s": TextInput(title="mu_s", value=repr(s.mu_s), name="mu_s"),
+        }
+        self.status = Div(text="", name="status", width=330)
+        self.command = PreText(text="", name="command", width=330)
+        self.csv_button = Button(label="Download the motion as CSV", name="csv_button")
+        self.csv = ColumnDataSource(data={"text": [""], "n": [0]}, name="csv")
+        self.csv.js_on_change(
+            "data",
+            CustomJS(
+                args={"src": self.csv},
+                code="""
+                const text = src.data.text[0];
+                if (!text) { return; }
+                const blob = new Blob([text], {type: 'text/csv'});
+                const a = document.createElement('a');
+                a.href = URL.createObjectURL(blob);
+                a.download = 'stickslip-explore.csv';
+                document.body.appendChild(a); a.click(); a.remove();
+                """,
+            ),
+        )
+
+        self.force = ColumnDataSource(data={"x": [], "y": []}, name="force")
+        self.force_stuck = ColumnDataSource(data={"x": [], "y": []}, name="force_stuck")
+        self.phase = ColumnDataSource(data={"x": [], "y": []}, name="phase")
+        self.phase_stuck = ColumnDataSource(data={"x": [], "y": []}, name="phase_stuck")
+        self.curve = ColumnDataSource(data={"x": [], "y": [], "color": [], "regime": []}, name="curve")
+        self.current = ColumnDataSource(data={"x": [], "y": []}, name="current")
+        self.diagram = ColumnDataSource(
+            data={"left": [], "right": [], "bottom": [], "top": [], "color": [], "regime": []}, name="diagram"
+        )
+        self.diagram_point = ColumnDataSource(data={"x": [], "y": []}, name="diagram_point")
+
+        opts: dict[str, Any] = {"height": 300, "width": 440, "tools": "pan,wheel_zoom,box_zoom,reset,save"}
+        self.f_force = figure(title="Spring force against time", **opts)
+        self.f_force.line("x", "y", source=self.force, line_width=1.5)
+        self.f_force.scatter("x", "y", source=self.force_stuck, size=3, color=COLORS[0], legend_label="stuck")
+        self.f_phase = figure(title="Phase portrait", **opts)
+        self.f_phase.line("x", "y", source=self.phase, line_width=1.5)
+        self.f_phase.scatter("x", "y", source=self.phase_stuck, size=4, color=COLORS[0], legend_label="stick")
+        self.f_curve = figure(title="Amplitude against driving velocity", x_axis_type="log", **opts)
+        self.f_curve.line("x", "y", source=self.curve, color="#555555")
+        self.f_curve.scatter("x", "y", source=self.curve, color="color", size=6, legend_field="regime")
+        self.f_curve.scatter("x", "y", source=self.current, marker="diamond", size=14, color="black")
+        self.f_diag = figure(title="Regimes", x_axis_type="log", **opts)
+        self.f_diag.quad(
+            left="left", right="right", bottom="bottom", top="top", color="color",
+            source=self.diagram, legend_field="regime", line_color=None,
+        )  # fmt: skip
+        self.f_diag.scatter(
+            "x", "y", source=self.diagram_point, marker="x", size=16, color="black", line_width=3
+        )
+        for f in (self.f_force, self.f_phase, self.f_curve, self.f_diag):
+            f.legend.location = "top_right"
+            f.legend.label_text_font_size = "8pt"
+            f.legend.background_fill_alpha = 0.6
+
+        self.law.on_change("value", self._on_law)
+        self.apply.on_click(self._on_apply)
+        self.nu.on_change("value", self._on_change)
+        self.units.on_change("active", self._on_change)
+        self.diagram_param.on_change("value", self._on_change)
+        for w in self.scales.values():
+            w.on_change("value", self._on_change)
+        self.csv_button.on_click(self._on_csv)
+
+        self._build_params()
+        head = Div(
+            text=f"<h2 style='margin:0'>{TITLE}</h2><p style='margin:0'>the one-block spring-slider, "
+            "exact (no smoothing of the friction law), computed live by stickslip's engine</p>",
+            width=330,
+            name="title",
+        )
+        controls = column(
+            head, self.law, self.expression, self.expr_params, self.apply, self.param_box, self.nu,
+            self.diagram_param, self.units, *self.scales.values(), self.status, self.csv_button,
+            Div(text="<b>The same set-up from the shell:</b>"), self.command, width=350,
+        )  # fmt: skip
+        plots = gridplot(
+            [[self.f_force, self.f_phase], [self.f_curve, self.f_diag]], toolbar_location="right"
+        )
+        doc.title = TITLE
+        doc.add_root(row(controls, plots))
+        doc.add_root(self.csv)  # not drawn: the page downloads its text when it changes
+        self.update()
+
+    # ---- widgets -----------------------------------------------------
+    def _build_params(self) -> None:
+        from bokeh.models.widgets import Slider
+
+        sliders: list[Any] = []
+        for name, value in self.setup.params.items():
+            start, end, step = slider_range(self.setup.law, name, float(value))
+            v = min(max(float(value), start), end)
+            sl = Slider(title=name, start=start, end=end, step=step, value=v, name=f"param_{name}")
+            sl.on_change("value", self._on_change)
+            sliders.append(sl)
+        self.param_box.children = sliders
+        self.param_sliders: list[Any] = sliders
+        names: list[Any] = list(self.setup.params)
+        self.diagram_param.options = names
+        self.diagram_param.value = names[-1] if names else ""
+
+    def _on_law(self, attr: str, old: Any, new: Any) -> None:
+        is_expr = new == EXPR
+        for w in (self.expression, self.expr_params, self.apply):
+            w.visible = is_expr
+        if is_expr:
+            try:
+                params = parse_params(self.expr_params.value)
+            except ValueError as e:
+                self._error(str(e))
+                return
+            self.setup = self.setup.with_(law=EXPR, params=params, expression=self.expression.value)
+            self._set_status("Compiling the engine for this formula (the first time only, about 20 s)...")
+            self.doc.add_next_tick_callback(self._rebuild)
+            return
+        from ..laws import registry
+
+        spec = registry.get(new).spec
+        self.setup = self.setup.with_(law=new, params=dict(spec.example))
+        self._rebuild()
+
+    def _on_apply(self) -> None:
+        try:
+            params = parse_params(self.expr_params.value)
+        except ValueError as e:
+            self._error(str(e))
+            return
+        self.setup = self.setup.with_(law=EXPR, params=params, expression=self.expression.value)
+        self._set_status("Compiling the engine for this formula (the first time only, about 20 s)...")
+        self.doc.add_next_tick_callback(self._rebuild)
+
+    def _rebuild(self) -> None:
+        self._building = True
+        try:
+            self._build_params()
+        finally:
+            self._building = False
+        self.update()
+
+    def _on_change(self, attr: str, old: Any, new: Any) -> None:
+        if getattr(self, "_building", False):
+            return
+        self.update()
+
+    def _on_csv(self) -> None:
+        view = getattr(self, "view", None)
+        if view is not None:
+            self.csv.data = {"text": [view_csv(view)], "n": [self.csv.data["n"][0] + 1]}
+
+    def _read_setup(self) -> Setup:
+        params = {str(sl.name).removeprefix("param_"): float(sl.value) for sl in self.param_sliders}
+        scales: dict[str, float] = {}
+        for key, w in self.scales.items():
+            try:
+                scales[key] = float(w.value)
+            except ValueError:
+                raise ValueError(f"{key}={w.value!r}: expected a number ({w.title})") from None
+        return self.setup.with_(
+            params=params, nu=float(10.0**self.nu.value), physical=self.units.active == 1, **scales
+        )
+
+    # ---- the update --------------------------------------------------
+    def update(self) -> None:
+        """Recompute the view from the widgets and push it to the page."""
+        t0 = time.perf_counter()
+        try:
+            setup = self._read_setup()
+            view = compute(setup)
+        except Exception as e:  # a user's value: shown on the page, the last view stays
+            self._error(str(e))
+            return
+        self.setup = setup
+        self.view = view
+        self._push(view)
+        self.last_update_s = time.perf_counter() - t0
+        self.updates += 1
+        self._set_status(self._summary(view))
+
+    def _push(self, v: View) -> None:
+        u = v.units
+        self.force.data = {"x": v.time, "y": v.spring_force}
+        self.force_stuck.data = {"x": v.time[v.stuck], "y": v.spring_force[v.stuck]}
+        self.phase.data = {"x": v.velocity, "y": v.spring_force}
+        self.phase_stuck.data = {"x": v.velocity[v.stuck], "y": v.spring_force[v.stuck]}
+        colors = [COLORS[REGIMES.index(r)] if r in REGIMES else COLORS[3] for r in v.curve_regime]
+        self.curve.data = {
+            "x": v.curve_v,
+            "y": v.curve_amplitude,
+            "color": colors,
+            "regime": list(v.curve_regime),
+        }
+        self.current.data = {"x": [v.v0], "y": [v.amplitude]}
+        self.f_force.xaxis.axis_label = f"time [{u['time']}]"
+        self.f_force.yaxis.axis_label = f"spring force [{u['force']}]"
+        self.f_phase.xaxis.axis_label = f"slip velocity [{u['velocity']}]"
+        self.f_phase.yaxis.axis_label = f"spring force [{u['force']}]"
+        self.f_curve.xaxis.axis_label = f"driving velocity [{u['velocity']}]"
+        self.f_curve.yaxis.axis_label = f"amplitude [{u['force']}]"
+        title: Any = self.f_curve.title
+        title.text = f"Criterion: {v.verdict}; the model: {v.regime}"
+        self._push_diagram(v)
+        self.command.text = v.command
+        self.nu.title = f"log10 nu (nu = beta v0 = {v.setup.nu:.4g}; v0 = {v.v0:.4g} {u['velocity']})"
+
+    def _push_diagram(self, v: View) -> None:
+        s = v.setup
+        param = self.diagram_param.value
+        if not param:
+            self.diagram.data = {k: [] for k in self.diagram.data}
+            self.diagram_point.data = {"x": [], "y": []}
+            return
+        others = tuple(sorted((k, x) for k, x in s.params.items() if k != param))
+        decade = round(math.log10(s.nu))
+        key = (s.law, s.expression, param, others, decade, s.physical, s.mass, s.stiffness, s.load, s.mu_s)
+        value = float(s.params[param])
+        if key != self._diagram_key or not (self._diagram_range[0] <= value <= self._diagram_range[1]):
+            law = s.dimensionless_law()
+            nus, values, codes = regime_diagram(law, param, 10.0**decade, value if value > 0 else 1 / 3)
+            edges_x = np.exp(_edges(np.log(nus))) * (v.v0 / s.nu)
+            edges_y = _edges(values)
+            jj, ii = np.meshgrid(np.arange(len(nus)), np.arange(len(values)))
+            self.diagram.data = {
+                "left": edges_x[jj.ravel()],
+                "right": edges_x[jj.ravel() + 1],
+                "bottom": edges_y[ii.ravel()],
+                "top": edges_y[ii.ravel() + 1],
+                "color": [COLORS[c] for c in codes.ravel()],
+                "regime": [REGIMES[c] for c in codes.ravel()],
+            }
+            self._diagram_key = key
+            self._diagram_range = (float(edges_y[0]), float(edges_y[-1]))
+            self.f_diag.xaxis.axis_label = f"driving velocity [{v.units['velocity']}]"
+            self.f_diag.yaxis.axis_label = param
+        self.diagram_point.data = {"x": [v.v0], "y": [value]}
+
+    _diagram_range: tuple[float, float] = (math.inf, -math.inf)
+
+    def _summary(self, v: View) -> str:
+        u = v.units
+        period = "-" if not math.isfinite(v.period) else f"{v.period:.6g} {u['time']}"
+        ok = v.verdict == v.regime or v.verdict == "inconclusive"
+        mark = "" if v.verdict == "inconclusive" else (" (right)" if ok else " (<b>wrong</b>)")
+        return (
+            f"<b>regime</b>: {v.regime}<br><b>amplitude</b>: <span id='amplitude'>{v.amplitude!r}</span> "
+            f"{u['force']}<br><b>period</b>: {period}<br><b>stick fraction</b>: {v.stick_fraction:.4g}<br>"
+            f"<b>criterion</b>: {v.verdict}{mark}<br><small>{v.verdict_reason}</small><br>"
+            f"<small>update {1e3 * self.last_update_s:.0f} ms (#{self.updates})</small>"
+        )
+
+    def _set_status(self, html: str) -> None:
+        self.status.text = html
+
+    def _error(self, message: str) -> None:
+        self.status.text = f"<span style='color:#b00020'><b>error</b>: {message}</span>"
+
+
+def _edges(centres: np.ndarray) -> np.ndarray:
+    """Return the cell edges of equally spaced centres (one more than the centres)."""
+    half = (centres[1] - centres[0]) / 2.0
+    return np.concatenate([[centres[0] - half], (centres[1:] + centres[:-1]) / 2.0, [centres[-1] + half]])
+
+
+def make_server(port: int = 5006, host: str = "127.0.0.1", setup: Setup | None = None) -> Any:
+    """Return a started Bokeh server of the explorer (its io loop not yet running)."""
+    from bokeh.application import Application
+    from bokeh.application.handlers.function import FunctionHandler
+    from bokeh.server.server import Server
+
+    def page(doc: Any) -> None:
+        Explorer(doc, setup)
+
+    server = Server(
+        {"/": Application(FunctionHandler(page))},
+        port=port,
+        address=host,
+        allow_websocket_origin=[f"{host}:{port}", f"localhost:{port}"],
+    )
+    server.start()
+    return server
+
+
+def serve(
+    port: int = 5006, host: str = "127.0.0.1", open_browser: bool = True, setup: Setup | None = None
+) -> None:
+    """Serve the explorer on ``http://host:port/`` until interrupted."""
+    server = make_server(port, host, setup)
+    url = f"http://{host}:{port}/"
+    print(f"{TITLE}: {url} (Ctrl-C stops it)", flush=True)
+    if open_browser:
+        server.io_loop.add_callback(webbrowser.open, url)
+    try:
+        server.io_loop.start()
+    except KeyboardInterrupt:
+        pass
+    finally:
+        server.stop()

@@ -1,0 +1,354 @@
+"""What the explorer shows, computed from a set-up: no web server, no plotting.
+
+The browser app (:mod:`stickslip.explore.app`) keeps one :class:`Setup` per
+page, and on every change of a widget calls :func:`compute` and ships the
+numbers of the returned :class:`View` to the page. Everything here is plain
+stickslip: :func:`stickslip.cycle` for the steady oscillation (the same call as
+``stickslip cycle``, so :func:`command` reproduces it), :func:`stickslip.simulate`
+for the motion, :func:`stickslip.dynamics.sweep` for the amplitude-velocity
+curve and the regime diagram, :func:`stickslip.data.classify` for the paper's
+criterion.
+"""
+
+from __future__ import annotations
+
+import csv
+import functools
+import io
+import math
+import re
+import shlex
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from ..data.criterion import classify
+from ..dynamics import cycle, simulate
+from ..dynamics.sweep import sweep
+from ..laws import ExpressionLaw, registry
+from ..laws.base import DimensionlessLaw
+from ..models import DimensionlessParameters, PhysicalParameters
+from ..models.parameters import beta_of
+from ..units import Q_
+
+__all__ = [
+    "EXPR",
+    "Setup",
+    "View",
+    "command",
+    "compute",
+    "law_names",
+    "parse_params",
+    "regime_diagram",
+    "slider_range",
+    "view_csv",
+]
+
+FloatArray = npt.NDArray[np.float64]
+
+#: the law name of a user's formula
+EXPR = "expr"
+#: the driving velocities of the amplitude-velocity curve, a decade each side of nu
+CURVE_POINTS = 25
+#: the regime diagram's grid (driving velocity x the law's first parameter)
+DIAGRAM_SHAPE = (36, 24)
+#: the regimes in the order of their colour codes
+REGIMES = ("stick-slip", "pure-slip", "steady-sliding", "unknown")
+#: the paper's zv set-up: the default physical scales (mass kg, stiffness N/m, load N, mu_s)
+ZV_SCALES = (0.231, 62.0, 0.196, 0.46)
+
+
+def law_names() -> list[str]:
+    """Return the laws the explorer offers: every registered law, then ``expr``."""
+    return [*registry.names(), EXPR]
+
+
+@dataclass(frozen=True)
+class Setup:
+    """One set-up of the explorer.
+
+    Parameters
+    ----------
+    law : str
+        A registered law's name or ``"expr"``.
+    params : Mapping[str, float]
+        The law's dimensionless parameters.
+    nu : float
+        Dimensionless driving velocity ``beta v0``.
+    expression : str
+        The formula ``f(w)`` of an ``expr`` law (dimensionless, ``f(0+) = 1``).
+    physical : bool
+        Show (and export) the set-up in SI units with the scales below.
+    mass, stiffness, load, mu_s : float
+        The physical scales: kg, N/m, N, and the static friction coefficient.
+
+    """
+
+    law: str = "weakening"
+    params: Mapping[str, float] = field(default_factory=lambda: {"c": 3.8, "p": 0.0})
+    nu: float = 0.01
+    expression: str = "1/(1 + c*w) + q*w"
+    physical: bool = False
+    mass: float = ZV_SCALES[0]
+    stiffness: float = ZV_SCALES[1]
+    load: float = ZV_SCALES[2]
+    mu_s: float = ZV_SCALES[3]
+
+    def dimensionless_law(self) -> DimensionlessLaw:
+        """Return the friction law (dimensionless)."""
+        if self.law == EXPR:
+            return ExpressionLaw(self.expression, **dict(self.params))
+        return registry.get(self.law).dimensionless(**dict(self.params))
+
+    @property
+    def beta(self) -> float:
+        """``beta = sqrt(k m)/(mu_s W)`` of the physical scales (s/m)."""
+        return float(beta_of(self.stiffness, self.mass, self.load, self.mu_s))
+
+    def parameters(self) -> DimensionlessParameters | PhysicalParameters:
+        """Return the set-up as stickslip parameters: physical ones in physical mode."""
+        law = self.dimensionless_law()
+        dp = DimensionlessParameters(nu=self.nu, law=law)
+        if not self.physical or self.law == EXPR:
+            return dp
+        beta = self.beta
+        return PhysicalParameters(
+            mass=Q_(self.mass, "kg"),
+            stiffness=Q_(self.stiffness, "N/m"),
+            load=Q_(self.load, "N"),
+            v0=Q_(self.nu / beta, "m/s"),
+            law=law.to_physical(Q_(beta, "s/m"), self.mu_s),
+        )
+
+    def with_(self, **changes: Any) -> Setup:
+        """Return a copy with some fields changed."""
+        return replace(self, **changes)
+
+
+@dataclass(frozen=True)
+class View:
+    """Everything the page draws for one set-up (in the units of :attr:`units`).
+
+    Attributes
+    ----------
+    setup : Setup
+    regime : str
+        The steady regime reached from rest (``stickslip cycle``'s ``regime``).
+    amplitude, period, stick_fraction : float
+        Of the steady cycle (force, time, 1).
+    time, spring_force, velocity : ndarray
+        The motion from rest through three steady cycles.
+    stuck : ndarray of bool
+        Samples where the block is at rest.
+    curve_v, curve_amplitude : ndarray
+        The amplitude-velocity curve about the current driving velocity.
+    curve_regime : tuple of str
+        The regime at each point of the curve.
+    verdict, verdict_reason : str
+        The paper's criterion applied to the curve about the current velocity.
+    v0 : float
+        The current driving velocity (velocity unit).
+    units : Mapping[str, str]
+        ``force``, ``time``, ``velocity``.
+    command : str
+        The equivalent ``stickslip cycle`` command.
+
+    """
+
+    setup: Setup
+    regime: str
+    amplitude: float
+    period: float
+    stick_fraction: float
+    time: FloatArray
+    spring_force: FloatArray
+    velocity: FloatArray
+    stuck: npt.NDArray[np.bool_]
+    curve_v: FloatArray
+    curve_amplitude: FloatArray
+    curve_regime: tuple[str, ...]
+    verdict: str
+    verdict_reason: str
+    v0: float
+    units: Mapping[str, str]
+    command: str
+
+
+def parse_params(text: str) -> dict[str, float]:
+    """Read ``"c=3.8, q=0.5"`` into a dict (the parameters of a formula).
+
+    Raises
+    ------
+    ValueError
+        Naming the entry that is not ``name=number``.
+
+    """
+    out: dict[str, float] = {}
+    for part in re.split(r"[,;\s]+", text.strip()):
+        if not part:
+            continue
+        name, sep, value = part.partition("=")
+        try:
+            if not sep or not name.isidentifier():
+                raise ValueError
+            out[name] = float(value)
+        except ValueError:
+            raise ValueError(f"parameters: {part!r} is not name=number, e.g. 'c=3.8'") from None
+    return out
+
+
+def slider_range(law: str, name: str, value: float) -> tuple[float, float, float]:
+    """Return ``(start, end, step)`` of a slider for a law parameter, inside its bounds.
+
+    A registered law's bounds come from its spec (an excluded bound is kept one
+    step away); an unbounded end is four times the value (at least 1).
+    """
+    top = max(4.0 * abs(value), 1.0)
+    if law == EXPR:
+        return (-top if value < 0 else 0.0), top, top / 400.0
+    p = next(p for p in registry.get(law).spec.parameters if p.name == name)
+    lo = p.lower if math.isfinite(p.lower) else -top
+    hi = p.upper if math.isfinite(p.upper) else top
+    step = (hi - lo) / 400.0
+    return (lo if p.lower_inclusive else lo + step), (hi if p.upper_inclusive else hi - step), step
+
+
+def _units(setup: Setup) -> dict[str, str]:
+    if setup.physical and setup.law != EXPR:
+        return {"force": "N", "time": "s", "velocity": "m/s"}
+    return {"force": "mu_s W", "time": "sqrt(m/k)", "velocity": "mu_s W/sqrt(k m)"}
+
+
+def _scale(setup: Setup) -> tuple[float, float, float]:
+    """Force, time and velocity units of the display in terms of the dimensionless ones."""
+    if not (setup.physical and setup.law != EXPR):
+        return 1.0, 1.0, 1.0
+    force = setup.mu_s * setup.load
+    return force, math.sqrt(setup.mass / setup.stiffness), 1.0 / setup.beta
+
+
+@functools.lru_cache(maxsize=64)
+def _curve(law: DimensionlessLaw, nu: float) -> tuple[FloatArray, FloatArray, tuple[str, ...]]:
+    nus = np.geomspace(nu / 10.0, nu * 10.0, CURVE_POINTS)
+    ds = sweep(DimensionlessParameters(nu=nu, law=law), {"nu": nus}, progress=False)
+    return nus, np.asarray(ds["amplitude"].values, float), tuple(str(r) for r in ds["regime"].values)
+
+
+@functools.lru_cache(maxsize=16)
+def regime_diagram(
+    law: DimensionlessLaw, param: str, nu: float, value: float
+) -> tuple[FloatArray, FloatArray, npt.NDArray[np.int64]]:
+    """Return the regime diagram over driving velocity and the law's parameter ``param``.
+
+    The grid spans two decades each side of ``nu`` and ``param`` from near 0 to
+    three times ``value`` (within the parameter's bounds); the other parameters
+    are those of ``law``. Returns ``(nu, param_values, codes)`` with ``codes``
+    of shape ``(len(param_values), len(nu))``, indices into :data:`REGIMES`.
+    """
+    nus = np.geomspace(nu / 100.0, nu * 100.0, DIAGRAM_SHAPE[0])
+    hi = 3.0 * abs(value) if value != 0.0 else 1.0
+    lo = hi / DIAGRAM_SHAPE[1]
+    upper = law.spec.parameters[[p.name for p in law.spec.parameters].index(param)].upper
+    if math.isfinite(upper):
+        hi = min(hi, upper * (1.0 - 1.0 / DIAGRAM_SHAPE[1]))
+        lo = min(lo, hi / 2.0)
+    values = np.linspace(lo, hi, DIAGRAM_SHAPE[1])
+    ds = sweep(DimensionlessParameters(nu=nu, law=law), {param: values, "nu": nus}, progress=False)
+    labels = np.asarray(ds["regime"].transpose(param, "nu").values).astype(str)
+    codes = np.full(labels.shape, REGIMES.index("unknown"), dtype=np.int64)
+    for i, r in enumerate(REGIMES):
+        codes[labels == r] = i
+    return nus, values, codes
+
+
+def compute(setup: Setup) -> View:
+    """Compute what the page shows for ``setup``.
+
+    Raises
+    ------
+    ValueError
+        For a non-physical set-up (the message names the parameter).
+
+    """
+    params = setup.parameters()
+    law = setup.dimensionless_law()
+    res = cycle(params)
+    traj = simulate(params, cycles=3, n_points=1500)
+    fs, _, vs = _scale(setup)
+    nus, amps, regimes = _curve(law, float(setup.nu))
+    ok = np.isfinite(amps) & (amps > 0)
+    near = ok & (nus >= setup.nu / 2.2) & (nus <= setup.nu * 2.2)
+    if near.sum() >= 4:
+        crit = classify(nus[near], amps[near])
+        verdict, reason = crit.verdict, crit.reason
+    else:
+        verdict, reason = "inconclusive", "fewer than 4 oscillating points near this velocity"
+    return View(
+        setup=setup,
+        regime=res.regime,
+        amplitude=float(res.amplitude),
+        period=float(res.period),
+        stick_fraction=float(res.stick_fraction),
+        time=np.asarray(traj.time, float),
+        spring_force=np.asarray(traj.spring_force, float),
+        velocity=np.asarray(traj.velocity, float),
+        stuck=np.asarray(traj.phase) == 0,
+        curve_v=nus * vs,
+        curve_amplitude=np.where(ok, amps, np.nan) * fs,
+        curve_regime=regimes,
+        verdict=verdict,
+        verdict_reason=reason,
+        v0=float(setup.nu) * vs,
+        units=_units(setup),
+        command=command(setup),
+    )
+
+
+def _num(x: float) -> str:
+    return repr(float(x))
+
+
+def command(setup: Setup) -> str:
+    """Return the ``stickslip cycle`` command that computes the set-up's steady oscillation."""
+    args = ["stickslip", "cycle"]
+    if setup.law == EXPR:
+        args += ["--law", EXPR, "--f", setup.expression]
+        for k, v in setup.params.items():
+            args += ["--param", f"{k}={_num(v)}"]
+        args += ["--nu", _num(setup.nu)]
+        return shlex.join(args)
+    args += ["--law", setup.law]
+    params = setup.parameters()
+    if isinstance(params, PhysicalParameters):
+        args += [
+            "--v0", f"{_num(params.v0.to('m/s').magnitude)} m/s",
+            "--mass", f"{_num(setup.mass)} kg",
+            "--stiffness", f"{_num(setup.stiffness)} N/m",
+            "--load", f"{_num(setup.load)} N",
+            "--mu-s", _num(setup.mu_s),
+        ]  # fmt: skip
+        for p, q in zip(params.law.spec.physical, params.law.params.values(), strict=True):
+            value = q.to(p.unit).magnitude if p.unit else q
+            args += [f"--{p.name.replace('_', '-')}", f"{_num(value)} {p.unit}".strip()]
+    else:
+        args += ["--nu", _num(setup.nu)]
+        for k, v in setup.params.items():
+            args += [f"--{k.replace('_', '-')}", _num(v)]
+    return shlex.join(args)
+
+
+def view_csv(view: View) -> str:
+    """Return the shown motion as CSV text (a header line of units, then the samples)."""
+    u = view.units
+    buf = io.StringIO()
+    buf.write(f"# {view.command}\n")
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(
+        [f"time [{u['time']}]", f"spring_force [{u['force']}]", f"velocity [{u['velocity']}]", "stuck"]
+    )
+    for row in zip(view.time, view.spring_force, view.velocity, view.stuck, strict=True):
+        w.writerow([repr(float(row[0])), repr(float(row[1])), repr(float(row[2])), int(row[3])])
+    return buf.getvalue()

@@ -1,0 +1,288 @@
+"""``stickslip explore``: the set-up's view and command (no browser), then the page in headless Chromium.
+
+The browser test starts ``stickslip explore --port P --no-browser`` as a user
+would, drives Debian's ``chromium`` through ``chromedriver`` (Selenium), moves the
+driving-velocity slider with the mouse, and checks that the plots' numbers and
+the screenshot changed, that the exported command reproduces the shown cycle,
+and that the browser console holds no error. ``.ci/run`` installs the browser;
+elsewhere the test is skipped, saying why.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import shlex
+import shutil
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from stickslip import DimensionlessParameters, WeakeningLaw, cycle, simulate
+from stickslip.cli import main
+from stickslip.explore import Setup, command, compute, parse_params, view_csv
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+CHROMEDRIVER = shutil.which("chromedriver")
+
+
+def _run_command(cmd: str) -> dict:
+    args = shlex.split(cmd)
+    assert args[:2] == ["stickslip", "cycle"]
+    res = CliRunner().invoke(main, [*args[1:], "--json"])
+    assert res.exit_code == 0, res.output
+    return json.loads(res.output)
+
+
+# ---- the computation behind the page ------------------------------------------------
+
+
+def test_view_is_the_engine_and_the_command_reproduces_it():
+    setup = Setup(law="weakening", params={"c": 3.8, "p": 0.0}, nu=0.02)
+    v = compute(setup)
+    ref = cycle(DimensionlessParameters(nu=0.02, law=WeakeningLaw(c=3.8)))
+    assert v.regime == ref.regime == "stick-slip"
+    assert v.amplitude == ref.amplitude
+    tr = simulate(DimensionlessParameters(nu=0.02, law=WeakeningLaw(c=3.8)), cycles=3, n_points=1500)
+    np.testing.assert_array_equal(v.spring_force, tr.spring_force)
+    assert v.stuck.any() and not v.stuck.all()
+    # the paper's criterion on the amplitude-velocity curve: F1 is stick-slip and the criterion says so
+    assert v.verdict == "stick-slip"
+    out = _run_command(v.command)
+    assert out["regime"] == v.regime
+    assert out["amplitude"] == pytest.approx(v.amplitude, rel=1e-12)
+    assert out["period"] == pytest.approx(v.period, rel=1e-12)
+
+
+def test_physical_units_and_their_command():
+    setup = Setup(law="weakening", params={"c": 3.8, "p": 0.5}, nu=0.3, physical=True)
+    v = compute(setup)
+    assert v.units["force"] == "N"
+    dimless = compute(setup.with_(physical=False))
+    # the same motion: force scaled by mu_s W
+    assert v.amplitude == pytest.approx(dimless.amplitude * setup.mu_s * setup.load, rel=1e-9)
+    assert "--v0" in v.command and "--a" in v.command and "--nu" not in v.command
+    out = _run_command(v.command)
+    assert out["regime"] == v.regime
+    assert out["amplitude"] == pytest.approx(v.amplitude, rel=1e-12)
+
+
+def test_a_formula_law_and_its_command():
+    setup = Setup(law="expr", expression="1/(1 + c*w) + q*w", params={"c": 3.8, "q": 0.5}, nu=0.3)
+    v = compute(setup)
+    assert "--law expr" in v.command and "--param c=3.8" in v.command
+    out = _run_command(v.command)
+    assert out["regime"] == v.regime
+    assert out["amplitude"] == pytest.approx(v.amplitude, rel=1e-12)
+
+
+def test_csv_and_bad_input():
+    v = compute(Setup(nu=0.05))
+    text = view_csv(v).splitlines()
+    assert text[0] == f"# {v.command}"
+    assert text[1].startswith("time [sqrt(m/k)],spring_force [mu_s W]")
+    assert len(text) == 2 + v.time.size
+    assert parse_params("c=3.8, q=0.5") == {"c": 3.8, "q": 0.5}
+    with pytest.raises(ValueError, match=r"'q' is not name=number"):
+        parse_params("c=3.8, q")
+    with pytest.raises(ValueError, match="nu"):
+        compute(Setup(nu=-1.0))
+    with pytest.raises(ValueError, match="c"):
+        compute(Setup(params={"c": -2.0, "p": 0.0}))
+    assert command(Setup(nu=0.05)).startswith("stickslip cycle --law weakening --nu 0.05")
+
+
+def test_explore_option_errors():
+    res = CliRunner().invoke(main, ["explore", "--law", "nonsense", "--no-browser"])
+    assert res.exit_code == 2 and "--law" in res.output and "weakening" in res.output
+    res = CliRunner().invoke(main, ["explore", "--port", "0", "--no-browser"])
+    assert res.exit_code == 2 and "--port" in res.output
+
+
+# ---- the page in a real browser -----------------------------------------------------
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@pytest.fixture(scope="module")
+def server():
+    port = _free_port()
+    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "stickslip.cli", "explore", "--port", str(port), "--no-browser"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        env=env,
+    )
+    url = f"http://127.0.0.1:{port}/"
+    deadline = time.time() + 120
+    while True:
+        try:
+            with urllib.request.urlopen(url, timeout=5) as r:
+                html = r.read().decode()
+            break
+        except OSError:
+            if proc.poll() is not None or time.time() > deadline:
+                proc.kill()
+                pytest.fail(f"explore did not serve {url}: {proc.stdout.read() if proc.stdout else ''}")
+            time.sleep(0.3)
+    yield url, html
+    proc.terminate()
+    try:
+        proc.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+
+
+def test_serves_a_page_that_names_stickslip(server):
+    url, html = server
+    assert url.startswith("http://127.0.0.1:")
+    assert "<title>stickslip explorer</title>" in html
+
+
+@pytest.fixture(scope="module")
+def browser():
+    if CHROMIUM is None or CHROMEDRIVER is None:
+        if os.environ.get("STICKSLIP_REQUIRE_BROWSER"):
+            pytest.fail(
+                "STICKSLIP_REQUIRE_BROWSER is set (.ci/run sets it) and chromium/chromedriver are missing"
+            )
+        pytest.skip(
+            "no browser: the browser test needs Debian's chromium and chromium-driver "
+            "(apt-get install chromium chromium-driver; .ci/run installs them)"
+        )
+    webdriver = pytest.importorskip("selenium.webdriver", reason="selenium is in the test extras")
+    from selenium.webdriver.chrome.service import Service
+
+    opts = webdriver.ChromeOptions()
+    opts.binary_location = CHROMIUM
+    for flag in (
+        "--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--no-first-run",
+        "--disable-background-networking", "--disable-component-update", "--disable-sync",
+        "--window-size=1400,1000",
+    ):  # fmt: skip
+        opts.add_argument(flag)
+    opts.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=opts)
+    yield driver
+    driver.quit()
+
+
+JS_MODEL = (
+    "return Bokeh.documents.length ? Bokeh.documents[0].get_model_by_name(arguments[0]) !== null : false;"
+)
+
+
+def _wait(driver, predicate, timeout=120.0, what="the page"):
+    t0 = time.time()
+    while time.time() - t0 < timeout:
+        try:
+            if predicate():
+                return time.time() - t0
+        except Exception:
+            pass
+        time.sleep(0.05)
+    raise AssertionError(f"timed out waiting for {what}")
+
+
+def _model(driver, name, attr):
+    return driver.execute_script(
+        "const m = Bokeh.documents[0].get_model_by_name(arguments[0]); return m[arguments[1]];", name, attr
+    )
+
+
+def _force(driver):
+    return driver.execute_script(
+        "const d = Bokeh.documents[0].get_model_by_name('force').data;"
+        "return [Array.from(d.x), Array.from(d.y)];"
+    )
+
+
+def test_browser_slider_updates_plots_and_export(server, browser, tmp_path):
+    url, _ = server
+    d = browser
+    d.get(url)
+    _wait(d, lambda: d.execute_script(JS_MODEL, "force") and len(_force(d)[0]) > 0, what="the first plots")
+    assert "stickslip" in d.title
+    status0 = _model(d, "status", "text")
+    assert "stick-slip" in status0
+    _, y0 = _force(d)
+    shot0 = d.get_screenshot_as_png()
+    nu0 = _model(d, "nu", "value")
+
+    # move the driving-velocity slider with the mouse: its handle, in the slider's shadow DOM
+    from selenium.webdriver.common.action_chains import ActionChains
+
+    view = d.execute_script(
+        "const m = Bokeh.documents[0].get_model_by_name('nu');return Bokeh.index.get_one(m).el;"
+    )
+    handle = d.execute_script("return arguments[0].shadowRoot.querySelector('.noUi-handle');", view)
+    assert handle is not None, "the slider has no handle"
+    t_move = time.time()
+    ActionChains(d).click_and_hold(handle).move_by_offset(60, 0).release().perform()
+    _wait(d, lambda: _model(d, "nu", "value") != nu0, timeout=10, what="the slider to move")
+    latency = _wait(d, lambda: _force(d)[1] != y0, timeout=30, what="the plots to change")
+    latency_total = time.time() - t_move
+    nu1 = _model(d, "nu", "value")
+    assert nu1 > nu0
+    # the server has answered the last position of the slider: its title names that nu
+    _wait(
+        d, lambda: f"nu = beta v0 = {10**nu1:.4g};" in _model(d, "nu", "title"), timeout=30, what="the title"
+    )
+    _, y1 = _force(d)
+    assert y1 != y0
+    status1 = _model(d, "status", "text")
+    assert status1 != status0
+    shot1 = d.get_screenshot_as_png()
+    assert shot1 != shot0
+    (tmp_path / "before.png").write_bytes(shot0)
+    (tmp_path / "after.png").write_bytes(shot1)
+    if os.environ.get("STICKSLIP_SCREENSHOT"):
+        Path(os.environ["STICKSLIP_SCREENSHOT"]).write_bytes(shot1)
+    print(
+        f"plots changed {1e3 * latency:.0f} ms after the slider's value ({latency_total:.2f} s with the drag)"
+    )
+
+    # the exported command reproduces the shown cycle
+    cmd = _model(d, "command", "text")
+    out = _run_command(cmd)
+    shown = float(status1.split("id='amplitude'>")[1].split("<")[0])
+    assert math.isclose(out["amplitude"], shown, rel_tol=1e-12)
+    assert out["regime"] in status1
+    # the shown motion is the engine's, at the shown nu
+    tr = simulate(DimensionlessParameters(nu=10**nu1, law=WeakeningLaw(c=3.8)), cycles=3, n_points=1500)
+    np.testing.assert_allclose(y1, tr.spring_force, rtol=1e-12, atol=1e-12)
+
+    # the CSV export reaches the page
+    button = d.execute_script(
+        "const m = Bokeh.documents[0].get_model_by_name('csv_button');"
+        "return Bokeh.index.get_one(m).el.shadowRoot.querySelector('button');"
+    )
+    button.click()
+    _wait(
+        d,
+        lambda: (
+            d.execute_script("return Bokeh.documents[0].get_model_by_name('csv').data.text[0].length;") > 1000
+        ),
+        timeout=20,
+        what="the CSV",
+    )
+    csv_text = d.execute_script("return Bokeh.documents[0].get_model_by_name('csv').data.text[0];")
+    assert csv_text.startswith(f"# {cmd}\n")
+
+    # no error in the browser console
+    errors = [e for e in d.get_log("browser") if e.get("level") == "SEVERE"]
+    assert not errors, errors
