@@ -193,7 +193,19 @@ def test_catalogue_streams_to_netcdf_and_resumes(tmp_path: Path) -> None:
     other = ChainParameters(20, CarlsonLangerLaw(alpha=2.0, sigma=0.01), 0.01, 3.0)
     with pytest.raises(ValueError, match="another set-up"):
         chain(other, 130, out=tmp_path / "part.nc", resume=True, progress=False)
-    assert open_catalog(tmp_path / "part.nc").sizes["event"] == 120
+    reopened = open_catalog(tmp_path / "part.nc")
+    assert reopened.sizes["event"] == 120 and reopened.attrs["complete"] == 1
+    reopened.close()
+    # a resumed run that stops early must not keep the earlier run's mark of completion
+    import netCDF4
+
+    from stickslip.chains.catalog import CatalogWriter
+
+    with netCDF4.Dataset(tmp_path / "part.nc") as ds:
+        setup = ds.getncattr("setup")
+    CatalogWriter(str(tmp_path / "part.nc"), 20, {"setup": setup}, {}, resume=True).close(complete=False)
+    with netCDF4.Dataset(tmp_path / "part.nc") as ds:
+        assert ds.getncattr("complete") == 0
 
 
 def test_carlson_langer_blocks_never_slip_backward() -> None:

@@ -88,6 +88,8 @@ class CatalogWriter:
                     f"{path}: this catalogue was made with another set-up; resuming needs the same "
                     "command (or write to a new file)"
                 )
+            # complete again only when this run finishes (close(True))
+            self.ds.setncattr("complete", 0)
             return
         ds = netCDF4.Dataset(path, "w", format="NETCDF4")
         self.ds = ds
