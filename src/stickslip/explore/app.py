@@ -264,10 +264,15 @@ class Explorer:
             return
         self.setup = setup
         self.view = view
-        self._push(view)
-        self.last_update_s = time.perf_counter() - t0
-        self.updates += 1
-        self._set_status(self._summary(view))
+        # one message to the page for the whole update, not one per changed property
+        self.doc.hold("combine")
+        try:
+            self._push(view)
+            self.last_update_s = time.perf_counter() - t0
+            self.updates += 1
+            self._set_status(self._summary(view))
+        finally:
+            self.doc.unhold()
 
     def _push(self, v: View) -> None:
         u = v.units
