@@ -29,7 +29,8 @@ def register(main: click.Group) -> None:
         from ..paper import reproduce as run
 
         t0 = time.perf_counter()
-        res = run(out_dir, quick=quick, overwrite=overwrite)
+        # the appendix in a second process: this entry point is safe to import (spawn)
+        res = run(out_dir, quick=quick, overwrite=overwrite, parallel=True)
         click.echo(f"wrote {res.netcdf}")
         for paths in res.figures.values():
             click.echo(f"wrote {', '.join(paths)}")

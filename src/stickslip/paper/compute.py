@@ -24,7 +24,7 @@ from ..laws import CubicLaw, DimensionlessLaw, WeakeningLaw, f1
 from ..models.parameters import PhysicalParameters, zv_parameters
 from ..units import Q_
 
-__all__ = ["PaperConfig", "compute_paper", "measured_trends"]
+__all__ = ["PaperConfig", "compute_paper", "measured_trends", "with_appendix"]
 
 # measured trends as the paper states them (no data points are public)
 MEASURED: dict[str, dict[str, float | str]] = {
@@ -102,7 +102,7 @@ def _prefixed(ds: xr.Dataset, prefix: str, keep: list[str]) -> xr.Dataset:
 
 
 def compute_paper(
-    config: PaperConfig | None = None, *, progress: bool | None = False, appendix: bool = True
+    config: PaperConfig | None = None, *, progress: bool | None = False, appendix: bool | xr.Dataset = True
 ) -> xr.Dataset:
     """Compute every curve of the paper (and the parameter dependences it reports).
 
@@ -112,8 +112,10 @@ def compute_paper(
         Resolution; default the full one.
     progress : bool, optional
         Progress bars on the sweeps (default off).
-    appendix : bool, optional
-        Also compute the appendix's evidence (rate and state). Default True.
+    appendix : bool or xarray.Dataset, optional
+        Also compute the appendix's evidence (rate and state). Default True. A
+        Dataset is taken as the appendix computed elsewhere (by
+        :func:`~stickslip.paper.appendix.compute_appendix` in another process).
 
     Returns
     -------
@@ -185,14 +187,21 @@ def compute_paper(
         "scale_check_spread": _scale_check(),
         **{f"regimes_{key}": json.dumps(seq) for key, seq in regime_sequences().items()},
     }
+    if isinstance(appendix, xr.Dataset):
+        return with_appendix(ds, appendix)
     if appendix:
         from .appendix import compute_appendix
 
-        app = compute_appendix(quick=cfg.n_v0 < 20)
-        attrs = {**ds.attrs, **app.attrs}
-        ds = xr.merge([ds, app], combine_attrs="override")
-        ds.attrs = attrs
+        return with_appendix(ds, compute_appendix(quick=cfg.n_v0 < 20))
     return ds
+
+
+def with_appendix(ds: xr.Dataset, app: xr.Dataset) -> xr.Dataset:
+    """Return the paper's curves ``ds`` with the appendix's evidence ``app`` merged in."""
+    attrs = {**ds.attrs, **app.attrs}
+    out = xr.merge([ds, app], combine_attrs="override")
+    out.attrs = attrs
+    return out
 
 
 def _fig1_zoom(traj: Trajectory) -> xr.Dataset:

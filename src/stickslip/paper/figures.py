@@ -9,10 +9,10 @@ import xarray as xr
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from ..plots.figures import draw_phases
+from ..plots.figures import draw_phases, figure_bytes
 from ..plots.style import plain_log_ticks, pretty_units, subplots
 
-__all__ = ["FIGURES", "make_figures"]
+__all__ = ["FIGURES", "make_figures", "render_figures"]
 
 
 def _v0_axis(ax: Axes, ds: xr.Dataset, coord: str) -> None:
@@ -263,3 +263,12 @@ def make_figures(ds: xr.Dataset) -> dict[str, Figure]:
         for name, (func, _) in FIGURES.items()
         if not name.startswith("appendix") or "kappa" in ds.dims
     }
+
+
+def render_figures(ds: xr.Dataset, names: list[str]) -> dict[str, dict[str, bytes]]:
+    """Draw the figures ``names`` from the dataset and render each as PNG and SVG bytes.
+
+    For a second process (``reproduce(parallel=True)``): the bytes are what
+    :func:`~stickslip.plots.figures.save_figure` would write.
+    """
+    return {name: figure_bytes(FIGURES[name][0](ds)) for name in names}

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 import os
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
@@ -16,7 +17,7 @@ if TYPE_CHECKING:
 
     from ..dynamics.trajectory import Trajectory
 
-__all__ = ["plot_spring_force", "save_figure"]
+__all__ = ["figure_bytes", "plot_spring_force", "save_figure", "save_figure_bytes"]
 
 
 def draw_phases(ax: Any, t: np.ndarray, f: np.ndarray, phase: np.ndarray) -> None:
@@ -94,13 +95,47 @@ def save_figure(
     ``stem`` is a name inside it and the files are staged with the run's others.
     """
     stem = os.fspath(stem)
-    mark = generator("figure")
     paths = []
     for fmt in formats:
-        key = {"png": "Software", "svg": "Creator", "pdf": "Creator"}.get(fmt)
 
-        def write(path: str, fmt: str = fmt, key: str | None = key) -> None:
-            fig.savefig(path, dpi=200, format=fmt, metadata={key: mark} if key else None)
+        def write(path: str, fmt: str = fmt) -> None:
+            _savefig(fig, path, fmt)
+
+        paths.append(emit(f"{stem}.{fmt}", "figure", write, out=out, overwrite=overwrite))
+    return paths
+
+
+def _savefig(fig: Figure, target: Any, fmt: str) -> None:
+    """Write ``fig`` to a path or a binary file in ``fmt``, marked as stickslip's figure."""
+    key = {"png": "Software", "svg": "Creator", "pdf": "Creator"}.get(fmt)
+    fig.savefig(target, dpi=200, format=fmt, metadata={key: generator("figure")} if key else None)
+
+
+def figure_bytes(fig: Figure, formats: Sequence[str] = ("png", "svg")) -> dict[str, bytes]:
+    """Return ``fig`` rendered in each format, the bytes :func:`save_figure` would write."""
+    blobs = {}
+    for fmt in formats:
+        buf = io.BytesIO()
+        _savefig(fig, buf, fmt)
+        blobs[fmt] = buf.getvalue()
+    return blobs
+
+
+def save_figure_bytes(
+    blobs: dict[str, bytes],
+    stem: str | os.PathLike[str],
+    *,
+    out: OutputFolder | None = None,
+    overwrite: bool = False,
+) -> list[str]:
+    """Write figures rendered by :func:`figure_bytes` as ``stem.<format>``, as :func:`save_figure` does."""
+    stem = os.fspath(stem)
+    paths = []
+    for fmt, data in blobs.items():
+
+        def write(path: str, data: bytes = data) -> None:
+            with open(path, "wb") as f:
+                f.write(data)
 
         paths.append(emit(f"{stem}.{fmt}", "figure", write, out=out, overwrite=overwrite))
     return paths

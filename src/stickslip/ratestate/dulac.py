@@ -139,3 +139,15 @@ def lambdified() -> tuple[Any, Any]:
     d = derive()
     args = [s[n] for n in "alpha phi omega gamma kappa A B".split()]
     return sp.lambdify(args, d.alpha_dot, "numpy"), sp.lambdify(args, d.phi_dot, "numpy")
+
+
+def lambdified_field() -> Any:
+    """Return ``field(alpha, phi, omega, gamma, kappa, A, B) -> [alpha_dot, phi_dot]`` for an ODE solver.
+
+    Printed by sympy from :func:`derive` with ``math`` functions: a scalar call
+    costs a fraction of the numpy functions of :func:`lambdified`.
+    """
+    s = symbols()
+    d = derive()
+    args = [s[n] for n in "alpha phi omega gamma kappa A B".split()]
+    return sp.lambdify(args, [d.alpha_dot, d.phi_dot], "math")
