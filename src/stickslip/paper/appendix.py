@@ -50,7 +50,7 @@ def _phase_portraits(n_orbits: int, t_end: float) -> xr.Dataset:
         a_star = -(A / kappa) * math.log(OMEGA ** (1 - B / A) / gamma)
 
         def f(_t: float, y: np.ndarray, kappa: float = kappa) -> list[float]:
-            return field(float(y[0]), float(y[1]), OMEGA, gamma, kappa, A, B)  # type: ignore[no-any-return]
+            return field(float(y[0]), float(y[1]), OMEGA, gamma, kappa, A, B)
 
         def section(_t: float, y: np.ndarray, a_star: float = a_star) -> float:
             return y[0] - a_star
