@@ -117,34 +117,35 @@ def _free_port() -> int:
 
 
 @pytest.fixture(scope="module")
-def server():
+def server(tmp_path_factory):
     port = _free_port()
+    log_path = tmp_path_factory.mktemp("explore") / "server.log"
     env = dict(os.environ, PYTHONUNBUFFERED="1")
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "stickslip.cli", "explore", "--port", str(port), "--no-browser"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-        env=env,
-    )
+    with open(log_path, "w") as log:
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "stickslip.cli", "explore", "--port", str(port), "--no-browser"],
+            stdout=log,
+            stderr=subprocess.STDOUT,
+            env=env,
+        )
     url = f"http://127.0.0.1:{port}/"
-    deadline = time.time() + 120
-    while True:
-        try:
-            with urllib.request.urlopen(url, timeout=5) as r:
-                html = r.read().decode()
-            break
-        except OSError:
-            if proc.poll() is not None or time.time() > deadline:
-                proc.kill()
-                pytest.fail(f"explore did not serve {url}: {proc.stdout.read() if proc.stdout else ''}")
-            time.sleep(0.3)
-    yield url, html
-    proc.terminate()
     try:
-        proc.wait(timeout=10)
-    except subprocess.TimeoutExpired:
-        proc.kill()
+        # the server says where it listens once it does; then one request, which builds the
+        # first page (the engine compiled on a cold cache: a long timeout, a single try)
+        deadline = time.time() + 180
+        while f"stickslip explorer: {url}" not in log_path.read_text():
+            if proc.poll() is not None or time.time() > deadline:
+                pytest.fail(f"explore did not start on {url}: {log_path.read_text()}")
+            time.sleep(0.2)
+        with urllib.request.urlopen(url, timeout=300) as r:
+            html = r.read().decode()
+        yield url, html
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
 
 
 def test_serves_a_page_that_names_stickslip(server):
@@ -154,7 +155,7 @@ def test_serves_a_page_that_names_stickslip(server):
 
 
 @pytest.fixture(scope="module")
-def browser():
+def browser(tmp_path_factory):
     if CHROMIUM is None or CHROMEDRIVER is None:
         if os.environ.get("STICKSLIP_REQUIRE_BROWSER"):
             pytest.fail(
@@ -176,6 +177,9 @@ def browser():
     ):  # fmt: skip
         opts.add_argument(flag)
     opts.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    # the CSV export downloads a file: into a temporary folder, not the user's
+    downloads = tmp_path_factory.mktemp("downloads")
+    opts.add_experimental_option("prefs", {"download.default_directory": str(downloads)})
     driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=opts)
     yield driver
     driver.quit()
@@ -187,12 +191,14 @@ JS_MODEL = (
 
 
 def _wait(driver, predicate, timeout=120.0, what="the page"):
+    from selenium.common.exceptions import JavascriptException
+
     t0 = time.time()
     while time.time() - t0 < timeout:
         try:
             if predicate():
                 return time.time() - t0
-        except Exception:
+        except JavascriptException:  # BokehJS not there yet; a dead browser raises
             pass
         time.sleep(0.05)
     raise AssertionError(f"timed out waiting for {what}")

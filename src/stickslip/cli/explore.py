@@ -48,8 +48,10 @@ def register(main: click.Group) -> None:
 
         if law not in law_names():
             raise click.BadParameter(f"{law!r}: expected one of {', '.join(law_names())}", param_hint="--law")
-        if not (nu > 0 and nu < 1e12):
-            raise click.BadParameter(f"{nu!r}: expected a positive driving velocity", param_hint="--nu")
+        if not (1e-5 <= nu <= 10.0):
+            raise click.BadParameter(
+                f"{nu!r}: expected a driving velocity from 1e-5 to 10 (the slider's range)", param_hint="--nu"
+            )
         setup = Setup(nu=nu) if law == "weakening" else Setup(law=law, nu=nu)
         if law not in ("weakening", "expr"):
             setup = setup.with_(params=dict(registry.get(law).spec.example))

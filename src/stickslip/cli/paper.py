@@ -16,9 +16,15 @@ def register(main: click.Group) -> None:
     @main.command()
     @out_dir_option("Output folder.")
     @click.option("--quick", is_flag=True, help="A reduced version (fewer points per curve), for tests.")
+    @click.option(
+        "--serial",
+        is_flag=True,
+        help="Compute everything in this process (by default the appendix and half the "
+        "figures run in a second one).",
+    )
     @overwrite_option
     @handle_errors
-    def reproduce(out_dir: str, quick: bool, overwrite: bool) -> None:
+    def reproduce(out_dir: str, quick: bool, serial: bool, overwrite: bool) -> None:
         """Reproduce the paper: Figs. 1-3, parameter dependences, the criterion, a report.
 
         Writes reproduce.nc (every curve), each figure as PNG and SVG, report.md and a
@@ -30,7 +36,7 @@ def register(main: click.Group) -> None:
 
         t0 = time.perf_counter()
         # the appendix in a second process: this entry point is safe to import (spawn)
-        res = run(out_dir, quick=quick, overwrite=overwrite, parallel=True)
+        res = run(out_dir, quick=quick, overwrite=overwrite, parallel=not serial)
         click.echo(f"wrote {res.netcdf}")
         for paths in res.figures.values():
             click.echo(f"wrote {', '.join(paths)}")

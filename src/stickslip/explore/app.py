@@ -84,6 +84,7 @@ class Explorer:
             value=round(math.log10(s.nu), 2),
             name="nu",
         )
+        self._nu_exact = (self.nu.value, float(s.nu))
         self.units = RadioButtonGroup(labels=["dimensionless", "physical (SI)"], active=int(s.physical))
         self.scales = {
             "mass": TextInput(title="mass (kg)", value=repr(s.mass), name="mass"),
@@ -155,7 +156,9 @@ class Explorer:
             w.on_change("value", self._on_change)
         self.csv_button.on_click(self._on_csv)
 
+        self._building = True  # no update for each widget set while the page is built
         self._build_params()
+        self._building = False
         head = Div(
             text=f"<h2 style='margin:0'>{TITLE}</h2><p style='margin:0'>the one-block spring-slider, "
             "exact (no smoothing of the friction law), computed live by stickslip's engine</p>",
@@ -248,9 +251,9 @@ class Explorer:
                 scales[key] = float(w.value)
             except ValueError:
                 raise ValueError(f"{key}={w.value!r}: expected a number ({w.title})") from None
-        return self.setup.with_(
-            params=params, nu=float(10.0**self.nu.value), physical=self.units.active == 1, **scales
-        )
+        # the slider holds log10(nu) to 0.01: the set-up's own nu until it is moved
+        nu = self._nu_exact[1] if self.nu.value == self._nu_exact[0] else float(10.0**self.nu.value)
+        return self.setup.with_(params=params, nu=nu, physical=self.units.active == 1, **scales)
 
     # ---- the update --------------------------------------------------
     def update(self) -> None:
@@ -259,7 +262,8 @@ class Explorer:
         try:
             setup = self._read_setup()
             view = compute(setup)
-        except Exception as e:  # a user's value: shown on the page, the last view stays
+            diagram = self._diagram_data(view)
+        except Exception as e:  # a user's value: shown on the page, the last view stays whole
             self._error(str(e))
             return
         self.setup = setup
@@ -267,14 +271,14 @@ class Explorer:
         # one message to the page for the whole update, not one per changed property
         self.doc.hold("combine")
         try:
-            self._push(view)
+            self._push(view, diagram)
             self.last_update_s = time.perf_counter() - t0
             self.updates += 1
             self._set_status(self._summary(view))
         finally:
             self.doc.unhold()
 
-    def _push(self, v: View) -> None:
+    def _push(self, v: View, diagram: dict[str, Any] | None) -> None:
         u = v.units
         self.force.data = {"x": v.time, "y": v.spring_force}
         self.force_stuck.data = {"x": v.time[v.stuck], "y": v.spring_force[v.stuck]}
@@ -296,40 +300,48 @@ class Explorer:
         self.f_curve.yaxis.axis_label = f"amplitude [{u['force']}]"
         title: Any = self.f_curve.title
         title.text = f"Criterion: {v.verdict}; the model: {v.regime}"
-        self._push_diagram(v)
+        self._push_diagram(v, diagram)
         self.command.text = v.command
         self.nu.title = f"log10 nu (nu = beta v0 = {v.setup.nu:.4g}; v0 = {v.v0:.4g} {u['velocity']})"
 
-    def _push_diagram(self, v: View) -> None:
+    def _diagram_data(self, v: View) -> dict[str, Any] | None:
+        """Return the regime diagram's new cells, or None when the shown ones still hold."""
         s = v.setup
         param = self.diagram_param.value
         if not param:
-            self.diagram.data = {k: [] for k in self.diagram.data}
-            self.diagram_point.data = {"x": [], "y": []}
-            return
+            return {"cells": {k: [] for k in self.diagram.data}, "key": None, "range": (math.inf, -math.inf)}
         others = tuple(sorted((k, x) for k, x in s.params.items() if k != param))
         decade = round(math.log10(s.nu))
         key = (s.law, s.expression, param, others, decade, s.physical, s.mass, s.stiffness, s.load, s.mu_s)
         value = float(s.params[param])
-        if key != self._diagram_key or not (self._diagram_range[0] <= value <= self._diagram_range[1]):
-            law = s.dimensionless_law()
-            nus, values, codes = regime_diagram(law, param, 10.0**decade, value if value > 0 else 1 / 3)
-            edges_x = np.exp(_edges(np.log(nus))) * (v.v0 / s.nu)
-            edges_y = _edges(values)
-            jj, ii = np.meshgrid(np.arange(len(nus)), np.arange(len(values)))
-            self.diagram.data = {
-                "left": edges_x[jj.ravel()],
-                "right": edges_x[jj.ravel() + 1],
-                "bottom": edges_y[ii.ravel()],
-                "top": edges_y[ii.ravel() + 1],
-                "color": [COLORS[c] for c in codes.ravel()],
-                "regime": [REGIMES[c] for c in codes.ravel()],
-            }
-            self._diagram_key = key
-            self._diagram_range = (float(edges_y[0]), float(edges_y[-1]))
+        if key == self._diagram_key and self._diagram_range[0] <= value <= self._diagram_range[1]:
+            return None
+        nus, values, codes = regime_diagram(s.dimensionless_law(), param, 10.0**decade, value)
+        edges_x = np.exp(_edges(np.log(nus))) * (v.v0 / s.nu)
+        edges_y = _edges(values)
+        jj, ii = np.meshgrid(np.arange(len(nus)), np.arange(len(values)))
+        cells = {
+            "left": edges_x[jj.ravel()],
+            "right": edges_x[jj.ravel() + 1],
+            "bottom": edges_y[ii.ravel()],
+            "top": edges_y[ii.ravel() + 1],
+            "color": [COLORS[c] for c in codes.ravel()],
+            "regime": [REGIMES[c] for c in codes.ravel()],
+        }
+        return {"cells": cells, "key": key, "range": (float(edges_y[0]), float(edges_y[-1]))}
+
+    def _push_diagram(self, v: View, diagram: dict[str, Any] | None) -> None:
+        param = self.diagram_param.value
+        if diagram is not None:
+            self.diagram.data = diagram["cells"]
+            self._diagram_key = diagram["key"]
+            self._diagram_range = diagram["range"]
             self.f_diag.xaxis.axis_label = f"driving velocity [{v.units['velocity']}]"
             self.f_diag.yaxis.axis_label = param
-        self.diagram_point.data = {"x": [v.v0], "y": [value]}
+        if param:
+            self.diagram_point.data = {"x": [v.v0], "y": [float(v.setup.params[param])]}
+        else:
+            self.diagram_point.data = {"x": [], "y": []}
 
     _diagram_range: tuple[float, float] = (math.inf, -math.inf)
 
@@ -367,11 +379,11 @@ def make_server(port: int = 5006, host: str = "127.0.0.1", setup: Setup | None =
     def page(doc: Any) -> None:
         Explorer(doc, setup)
 
+    # the page's websocket is accepted from the address it was served at; listening on
+    # every interface, from any (the page is then reached by this machine's name or address)
+    origins = [f"*:{port}"] if host in ("0.0.0.0", "::", "") else [f"{host}:{port}", f"localhost:{port}"]
     server = Server(
-        {"/": Application(FunctionHandler(page))},
-        port=port,
-        address=host,
-        allow_websocket_origin=[f"{host}:{port}", f"localhost:{port}"],
+        {"/": Application(FunctionHandler(page))}, port=port, address=host, allow_websocket_origin=origins
     )
     server.start()
     return server

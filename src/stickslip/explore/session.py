@@ -251,10 +251,12 @@ def regime_diagram(
     nus = np.geomspace(nu / 100.0, nu * 100.0, DIAGRAM_SHAPE[0])
     hi = 3.0 * abs(value) if value != 0.0 else 1.0
     lo = hi / DIAGRAM_SHAPE[1]
-    upper = law.spec.parameters[[p.name for p in law.spec.parameters].index(param)].upper
-    if math.isfinite(upper):
-        hi = min(hi, upper * (1.0 - 1.0 / DIAGRAM_SHAPE[1]))
+    spec = law.spec.parameters[[p.name for p in law.spec.parameters].index(param)]
+    if math.isfinite(spec.upper):
+        hi = min(hi, spec.upper * (1.0 - 1.0 / DIAGRAM_SHAPE[1]))
         lo = min(lo, hi / 2.0)
+    if spec.lower_inclusive and math.isfinite(spec.lower):
+        lo = spec.lower  # from the bound itself (p = 0 is F1)
     values = np.linspace(lo, hi, DIAGRAM_SHAPE[1])
     ds = sweep(DimensionlessParameters(nu=nu, law=law), {param: values, "nu": nus}, progress=False)
     labels = np.asarray(ds["regime"].transpose(param, "nu").values).astype(str)

@@ -9,8 +9,8 @@ from __future__ import annotations
 import contextlib
 import multiprocessing
 import os
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
+from multiprocessing.pool import Pool
 
 from ..dynamics.sweep import load_sweep, save_sweep
 from ..io.output import OutputFolder
@@ -60,12 +60,14 @@ def reproduce(
     overwrite : bool, optional
         Replace files in ``out_dir`` that stickslip did not write (otherwise an error).
     parallel : bool, optional
-        Compute the appendix (rate and state, SciPy's Radau on the sympy-derived
-        field) in a second process while this one computes the rest: the same
-        files, in about two thirds of the time on two cores. The second process
-        is started by ``multiprocessing`` (spawn), so the calling program's main
-        module must be safe to import (an ``if __name__ == "__main__":`` guard);
-        ``stickslip reproduce`` uses it. Default False.
+        Compute the appendix (rate and state: the sympy-derived field integrated
+        by SciPy, the inertial slider) in a second process while this one computes
+        the rest, and render half the figures there: the same files, in about two
+        thirds of the time on two cores. The second process is started by
+        ``multiprocessing`` (spawn), so the calling program's main module must be
+        safe to import (an ``if __name__ == "__main__":`` guard); ``stickslip
+        reproduce`` uses it. Where no process can be started, everything runs in
+        this one. Default False.
 
     """
     from ..plots.regimes import plot_criterion_map, plot_regime_map
@@ -84,23 +86,23 @@ def reproduce(
         )
         config = PaperConfig.quick() if quick else PaperConfig()
         with contextlib.ExitStack() as stack:
-            pool = None
-            if parallel:
-                pool = stack.enter_context(
-                    ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"))
-                )
-                pending = pool.submit(compute_appendix, quick=config.n_v0 < 20)
+            pool = _second_process() if parallel else None
+            if pool is not None:
+                # stopped at once on any error or Ctrl-C here, not after the appendix finishes
+                stack.callback(pool.join)
+                stack.callback(pool.terminate)
+                pending = pool.apply_async(compute_appendix, kwds={"quick": config.n_v0 < 20})
             # the criterion's trials (regime maps on both cores) while the appendix runs
             computed_trials = run_trials(quick=quick, progress=progress)
             ds = compute_paper(config, progress=progress, appendix=pool is None)
             if pool is not None:
-                ds = with_appendix(ds, pending.result())
+                ds = with_appendix(ds, pending.get())
             nc = save_sweep(ds, "reproduce.nc", kind="reproduce", out=out)
             data = load_sweep(out.staged_path("reproduce.nc"))
             figures = make_figures(data)
             # with a second process, it renders every other figure meanwhile (the same bytes)
             remote = list(figures)[1::2] if pool is not None else []
-            rendered = pool.submit(render_figures, data, remote) if pool is not None else None
+            rendered = pool.apply_async(render_figures, (data, remote)) if pool is not None else None
             files: dict[str, list[str]] = {}
             for name, fig in figures.items():
                 if name not in remote:
@@ -112,9 +114,17 @@ def reproduce(
                 for kind, plot in (("regimes", plot_regime_map), ("criterion", plot_criterion_map)):
                     files[f"{kind}_{key}"] = save_figure(plot(trials[key]), f"{kind}_{key}", out=out)
             if rendered is not None:
-                for name, blobs in rendered.result().items():
+                for name, blobs in rendered.get().items():
                     files[name] = save_figure_bytes(blobs, name, out=out)
         files = {name: files[name] for name in [*figures, *(k for k in files if k not in figures)]}
         staged_png = {k: out.staged_path(os.path.basename(v[0])) for k, v in files.items()}
         md, html_path = write_report(data, out, staged_png, trials)
     return ReproduceResult(nc, files, md, html_path, claims(data))
+
+
+def _second_process() -> Pool | None:
+    """Start one spawned worker process; None where processes cannot be started here."""
+    try:
+        return multiprocessing.get_context("spawn").Pool(1)
+    except (OSError, NotImplementedError, ImportError):  # no semaphores, a sandbox
+        return None
