@@ -200,14 +200,7 @@ class Explorer:
         for w in (self.expression, self.expr_params, self.apply):
             w.visible = is_expr
         if is_expr:
-            try:
-                params = parse_params(self.expr_params.value)
-            except ValueError as e:
-                self._error(str(e))
-                return
-            self.setup = self.setup.with_(law=EXPR, params=params, expression=self.expression.value)
-            self._set_status("Compiling the engine for this formula (the first time only, about 20 s)...")
-            self.doc.add_next_tick_callback(self._rebuild)
+            self._on_apply()
             return
         from ..laws import registry
 
@@ -216,6 +209,7 @@ class Explorer:
         self._rebuild()
 
     def _on_apply(self) -> None:
+        """Take the formula and its parameters; compile (once) and show it on the next tick."""
         try:
             params = parse_params(self.expr_params.value)
         except ValueError as e:
