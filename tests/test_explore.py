@@ -292,3 +292,34 @@ def test_browser_slider_updates_plots_and_export(server, browser, tmp_path):
     # no error in the browser console
     errors = [e for e in d.get_log("browser") if e.get("level") == "SEVERE"]
     assert not errors, errors
+
+
+def test_the_page_in_process_switches_laws_and_shows_errors():
+    from bokeh.document import Document
+
+    from stickslip.explore import Explorer
+
+    ex = Explorer(Document(), Setup(nu=0.05))
+    assert ex.updates == 1 and len(ex.force.data["y"]) > 0
+    assert [s.name for s in ex.param_sliders] == ["param_c", "param_p"]
+    # another built-in law: its parameters' sliders, a new view
+    ex.law.value = "cubic"
+    assert ex.setup.law == "cubic" and [s.name for s in ex.param_sliders] == ["param_alpha", "param_gamma"]
+    assert ex.view.setup.law == "cubic" and "--law cubic" in ex.command.text
+    # a bad value: an error on the page, the last view kept whole
+    shown = ex.command.text
+    ex.scales["mass"].value = "heavy"
+    ex.units.active = 1
+    assert "error" in ex.status.text and "mass" in ex.status.text and ex.command.text == shown
+    ex.scales["mass"].value = "0.231"
+    assert "error" not in ex.status.text and "--v0" in ex.command.text
+    # a formula: applied on the next tick (compiled once), then shown with its own sliders
+    ex.units.active = 0
+    ex.expression.value = "1/(1 + c*w) + p*w"
+    ex.expr_params.value = "c=3.8, p=0.5"
+    ex.law.value = "expr"
+    assert "Compiling" in ex.status.text
+    ex._rebuild()
+    assert ex.view.setup.law == "expr" and "--law expr" in ex.command.text
+    out = _run_command(ex.command.text)
+    assert out["amplitude"] == pytest.approx(ex.view.amplitude, rel=1e-12)
