@@ -321,5 +321,7 @@ def test_the_page_in_process_switches_laws_and_shows_errors():
     assert "Compiling" in ex.status.text
     ex._rebuild()
     assert ex.view.setup.law == "expr" and "--law expr" in ex.command.text
+    ex.units.active = 1  # SI asked for: a formula stays dimensionless, and the page says so
+    assert "dimensionless" in ex.status.text and ex.view.units["force"] == "mu_s W"
     out = _run_command(ex.command.text)
     assert out["amplitude"] == pytest.approx(ex.view.amplitude, rel=1e-12)

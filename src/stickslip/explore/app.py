@@ -349,6 +349,11 @@ class Explorer:
             f"{u['force']}<br><b>period</b>: {period}<br><b>stick fraction</b>: {v.stick_fraction:.4g}<br>"
             f"<b>criterion</b>: {v.verdict}{mark}<br><small>{v.verdict_reason}</small><br>"
             f"<small>update {1e3 * self.last_update_s:.0f} ms (#{self.updates})</small>"
+            + (
+                "<br><small>a formula f(w) is dimensionless: shown in units of mu_s W and sqrt(m/k)</small>"
+                if v.setup.physical and v.setup.law == EXPR
+                else ""
+            )
         )
 
     def _set_status(self, html: str) -> None:
