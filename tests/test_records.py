@@ -216,3 +216,27 @@ def test_too_few_cycles(tmp_path: Path) -> None:
     rec = synthetic_record(p, duration="30 s", rate="50 Hz")
     with pytest.raises(ValueError, match=r"complete cycles|no oscillation"):
         measure_record(rec)
+
+
+def test_write_record_round_trip(tmp_path: Path) -> None:
+    from stickslip.io.output import ForeignFileError
+    from stickslip.io.records import write_record
+
+    rec = synthetic_record(S.zv_parameters(v0="100 um/s"), duration="20 s", rate="50 Hz", noise="0.5 mN",
+                           with_velocity=True)  # fmt: skip
+    path = write_record(rec, tmp_path / "r.csv")
+    back = read_record(path)
+    np.testing.assert_array_equal(back.time, rec.time)
+    np.testing.assert_allclose(back.force, rec.force, rtol=1e-15, atol=0)
+    np.testing.assert_allclose(back.velocity, rec.velocity, rtol=1e-15, atol=0)
+    assert back.v0 is not None and back.load is not None
+    assert back.v0.to("um/s").magnitude == pytest.approx(100.0)
+    assert back.load.to("mN").magnitude == pytest.approx(196.0)
+    # stickslip's own record is replaced on a rerun; a foreign file is not
+    write_record(rec, path, force_unit="N")
+    assert read_record(path).force[5] == pytest.approx(rec.force[5], rel=1e-15)
+    (tmp_path / "mine.csv").write_text("time [s],force [N]\n0,1\n1,2\n")
+    with pytest.raises(ForeignFileError, match=r"mine\.csv"):
+        write_record(rec, tmp_path / "mine.csv")
+    with pytest.raises(ValueError, match="force_unit='m/s'"):
+        write_record(rec, tmp_path / "x.csv", force_unit="m/s")

@@ -80,6 +80,7 @@ CSV_HEADERS = {
     "records-summary": ("name,n_cycles,",),
     "fit-parameters": ("parameter,value,error,unit",),
     "ratestate-record": ("# stickslip rate-and-state record",),
+    "record": ("# stickslip force-time record",),
 }
 
 

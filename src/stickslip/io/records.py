@@ -29,7 +29,7 @@ from . import text
 from .errors import DataError
 from .tables import check_file, parse_header
 
-__all__ = ["Record", "read_record", "read_records"]
+__all__ = ["Record", "format_record", "read_record", "read_records", "write_record"]
 
 FORCE_NAMES = ("force", "spring_force", "friction_force")
 MAX_BYTES = 20_000_000_000  # beyond the memory check, a plain bound
@@ -253,3 +253,63 @@ def _constant(df: pd.DataFrame, col: str, units: Mapping[str, pint.Unit | None],
     if np.any(np.isnan(vals)) or np.ptp(vals) != 0:
         raise DataError(f"{where}: column {col!r} must hold one number per record")
     return _with_unit(float(vals[0]), units.get(col))
+
+
+def format_record(record: Record, *, force_unit: str = "mN") -> str:
+    """Return ``record`` as the CSV text :func:`read_record` reads.
+
+    A first line marking the file as stickslip's, the metadata as ``# key = value``
+    lines (``v0`` and ``load`` with their units), then ``time [s]``, ``force
+    [force_unit]`` and, when recorded, ``displacement [um]`` and ``velocity
+    [um/s]``, every number written in full (``repr``).
+
+    Raises
+    ------
+    ValueError
+        For a ``force_unit`` that is not a unit of force.
+
+    """
+    try:
+        to_unit = float(ureg.Quantity(1.0, "N").to(force_unit).magnitude)
+    except (pint.errors.PintError, AttributeError, TypeError, ValueError):
+        raise ValueError(f"force_unit={force_unit!r}: expected a unit of force, e.g. 'mN' or 'N'") from None
+    meta = {k: v for k, v in record.metadata.items() if k not in ("v0", "load")}
+    if record.v0 is not None:
+        meta["v0"] = f"{float(record.v0.to('um/s').magnitude)!r} um/s"
+    if record.load is not None:
+        meta["load"] = f"{float(record.load.to('mN').magnitude)!r} mN"
+    cols = {"time [s]": np.asarray(record.time, float), f"force [{force_unit}]": record.force * to_unit}
+    if record.displacement is not None:
+        cols["displacement [um]"] = np.asarray(record.displacement, float) * 1e6
+    if record.velocity is not None:
+        cols["velocity [um/s]"] = np.asarray(record.velocity, float) * 1e6
+    lines = ["# stickslip force-time record"] + [f"# {k} = {v}" for k, v in meta.items()]
+    lines.append(",".join(cols))
+    data = np.column_stack(list(cols.values()))
+    lines += [",".join(repr(float(x)) for x in row) for row in data]
+    return "\n".join(lines) + "\n"
+
+
+def write_record(
+    record: Record,
+    path: str | os.PathLike[str],
+    *,
+    force_unit: str = "mN",
+    out: Any = None,
+    overwrite: bool = False,
+) -> str:
+    """Write ``record`` as a CSV file that :func:`read_record` reads back; return its path.
+
+    The file is written atomically; an existing file that stickslip did not write
+    is kept unless ``overwrite``. With ``out`` (an
+    :class:`~stickslip.io.output.OutputFolder`) ``path`` is a name inside it.
+    """
+    from .output import emit
+
+    text_ = format_record(record, force_unit=force_unit)
+
+    def write(p: str) -> None:
+        with open(p, "w", encoding="utf-8") as f:
+            f.write(text_)
+
+    return emit(os.fspath(path), "record", write, out=out, overwrite=overwrite)
