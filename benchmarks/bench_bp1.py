@@ -15,44 +15,25 @@ Run: ``python benchmarks/bench_bp1.py [--years 3000] [--rtol 1e-8]``.
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import platform
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
 
 from stickslip.ratestate.cycles import BP1, YEAR, earthquake_cycles
+
+# the SciPy reference written from the equations, shared with the tests
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+import bp1_reference as ref
 
 
 def scipy_bp1(years: float, rtol: float) -> dict[str, float]:
     """BP1 spring-slider by SciPy's Radau, written from the equations; returns its catalogue summary."""
-    a, b, f0 = BP1.a, BP1.b, BP1.f0
-    dc = BP1.dc.to("m").magnitude
-    sigma = BP1.sigma
-    v0 = BP1.v0.to("m/s").magnitude
-    vpl = BP1.plate_rate.to("m/s").magnitude
-    eta = BP1.eta_si
-    k = BP1.k
-
-    def friction(v: float, theta: float) -> float:
-        return a * math.asinh(v / (2 * v0) * math.exp((f0 + b * math.log(v0 * theta / dc)) / a))
-
-    theta0 = 0.5 * dc / vpl
-    tau0 = sigma * friction(vpl, theta0) + eta * vpl
-
-    def slip_rate(t: float, y: np.ndarray) -> float:
-        tau = tau0 + k * (vpl * t - y[0])
-        return brentq(
-            lambda v: sigma * friction(v, y[1]) + eta * v - tau, 0.0, tau / eta, xtol=1e-300, rtol=1e-15
-        )
-
-    def rhs(t: float, y: np.ndarray) -> np.ndarray:
-        v = slip_rate(t, y)
-        return np.array([v, 1.0 - v * y[1] / dc])
-
+    rhs, slip_rate, theta0 = ref.rhs, ref.slip_rate, ref.THETA0
     started = time.perf_counter()
     sol = solve_ivp(rhs, (0.0, years * YEAR), [0.0, theta0], method="Radau", rtol=rtol, atol=[1e-10, 1e-6])
     seconds = time.perf_counter() - started

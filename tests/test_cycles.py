@@ -60,39 +60,15 @@ def test_periodic_cycles_and_the_estimate(run) -> None:
 
 def _scipy_reference(years: float) -> np.ndarray:
     """Event start times by SciPy's Radau on (slip, state), from the equations (not our code)."""
-    from scipy.optimize import brentq
-
-    a, b, f0, dc, sigma, v0, vpl, eta, k = (
-        0.01,
-        0.015,
-        0.6,
-        8e-3,
-        50e6,
-        1e-6,
-        1e-9,
-        4.62e6,
-        0.5 * 50e6 * 0.005 / 8e-3,
-    )
-
-    def friction(v: float, theta: float) -> float:
-        return a * math.asinh(v / (2 * v0) * math.exp((f0 + b * math.log(v0 * theta / dc)) / a))
-
-    theta0 = 0.5 * dc / vpl
-    tau0 = sigma * friction(vpl, theta0) + eta * vpl
-
-    def rate(t: float, y: np.ndarray) -> float:
-        tau = tau0 + k * (vpl * t - y[0])
-        return brentq(
-            lambda v: sigma * friction(v, y[1]) + eta * v - tau, 0.0, tau / eta, xtol=1e-300, rtol=1e-15
-        )
+    import bp1_reference as ref
 
     def event(t: float, y: np.ndarray) -> float:
-        return math.log(rate(t, y) / 1e-3)
+        return math.log(ref.slip_rate(t, y) / 1e-3)
 
     event.direction = 1  # type: ignore[attr-defined]
     sol = solve_ivp(
-        lambda t, y: np.array([rate(t, y), 1 - rate(t, y) * y[1] / dc]),
-        (0.0, years * YEAR), [0.0, theta0], method="Radau", rtol=1e-10, atol=[1e-12, 1e-8], events=event,
+        ref.rhs, (0.0, years * YEAR), [0.0, ref.THETA0], method="Radau", rtol=1e-10, atol=[1e-12, 1e-8],
+        events=event,
     )  # fmt: skip
     assert sol.status == 0
     return sol.t_events[0]

@@ -43,8 +43,7 @@ def register(main: click.Group) -> None:
         diagram, recomputed by the engine at every change. The page gives the
         equivalent 'stickslip cycle' command and the motion as CSV. Ctrl-C stops it.
         """
-        from ..explore import Setup, law_names, serve
-        from ..laws import registry
+        from ..explore import Setup, default_params, law_names, serve
 
         if law not in law_names():
             raise click.BadParameter(f"{law!r}: expected one of {', '.join(law_names())}", param_hint="--law")
@@ -52,9 +51,6 @@ def register(main: click.Group) -> None:
             raise click.BadParameter(
                 f"{nu!r}: expected a driving velocity from 1e-5 to 10 (the slider's range)", param_hint="--nu"
             )
-        setup = Setup(nu=nu) if law == "weakening" else Setup(law=law, nu=nu)
-        if law not in ("weakening", "expr"):
-            setup = setup.with_(params=dict(registry.get(law).spec.example))
-        elif law == "expr":
-            setup = setup.with_(params={"c": 3.8, "q": 0.5})
+        # the paper's F1 first; another law with its example parameters
+        setup = Setup(nu=nu) if law == "weakening" else Setup(law=law, nu=nu, params=default_params(law))
         serve(port=port, host=host, open_browser=not no_browser, setup=setup)

@@ -5,7 +5,7 @@
 """
 
 from .app import Explorer, make_server, serve
-from .session import EXPR, Setup, View, command, compute, law_names, parse_params, view_csv
+from .session import EXPR, Setup, View, command, compute, default_params, law_names, parse_params, view_csv
 
 __all__ = [
     "EXPR",
@@ -14,6 +14,7 @@ __all__ = [
     "View",
     "command",
     "compute",
+    "default_params",
     "law_names",
     "make_server",
     "parse_params",

@@ -22,11 +22,13 @@ from typing import Any
 import numpy as np
 
 from .session import (
+    DEFAULT_EXPRESSION_PARAMS,
     EXPR,
     REGIMES,
     Setup,
     View,
     compute,
+    default_params,
     law_names,
     parse_params,
     regime_diagram,
@@ -71,7 +73,7 @@ class Explorer:
             title="f(w), dimensionless (expr)", value=s.expression, name="expression", visible=s.law == EXPR
         )
         self.expr_params = TextInput(
-            title="its parameters", value="c=3.8, q=0.5", name="expr_params", visible=s.law == EXPR
+            title="its parameters", value=DEFAULT_EXPRESSION_PARAMS, name="expr_params", visible=s.law == EXPR
         )
         self.apply = Button(label="Compile and apply the formula", name="apply", visible=s.law == EXPR)
         self.param_box = column(name="param_box")
@@ -202,10 +204,7 @@ class Explorer:
         if is_expr:
             self._on_apply()
             return
-        from ..laws import registry
-
-        spec = registry.get(new).spec
-        self.setup = self.setup.with_(law=new, params=dict(spec.example))
+        self.setup = self.setup.with_(law=new, params=default_params(new))
         self._rebuild()
 
     def _on_apply(self) -> None:

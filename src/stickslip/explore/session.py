@@ -30,7 +30,7 @@ from ..dynamics import cycle, simulate
 from ..dynamics.sweep import sweep
 from ..laws import ExpressionLaw, registry
 from ..laws.base import DimensionlessLaw
-from ..models import DimensionlessParameters, PhysicalParameters
+from ..models import DimensionlessParameters, PhysicalParameters, zv_parameters
 from ..models.parameters import beta_of
 from ..units import Q_
 
@@ -40,6 +40,7 @@ __all__ = [
     "View",
     "command",
     "compute",
+    "default_params",
     "law_names",
     "parse_params",
     "regime_diagram",
@@ -57,13 +58,29 @@ CURVE_POINTS = 25
 DIAGRAM_SHAPE = (36, 24)
 #: the regimes in the order of their colour codes
 REGIMES = ("stick-slip", "pure-slip", "steady-sliding", "unknown")
-#: the paper's zv set-up: the default physical scales (mass kg, stiffness N/m, load N, mu_s)
-ZV_SCALES = (0.231, 62.0, 0.196, 0.46)
+#: the default physical scales (mass kg, stiffness N/m, load N, mu_s): the paper's zv set-up
+_ZV = zv_parameters()
+ZV_SCALES = (
+    float(_ZV.mass.to("kg").magnitude),
+    float(_ZV.stiffness.to("N/m").magnitude),
+    float(_ZV.load.to("N").magnitude),
+    float(_ZV.law.mu_s),
+)
+#: the formula offered first, and its parameters
+DEFAULT_EXPRESSION = "1/(1 + c*w) + q*w"
+DEFAULT_EXPRESSION_PARAMS = "c=3.8, q=0.5"
 
 
 def law_names() -> list[str]:
     """Return the laws the explorer offers: every registered law, then ``expr``."""
     return [*registry.names(), EXPR]
+
+
+def default_params(law: str) -> dict[str, float]:
+    """Return the parameters a law is shown with first: its spec's example, or the formula's."""
+    if law == EXPR:
+        return parse_params(DEFAULT_EXPRESSION_PARAMS)
+    return dict(registry.get(law).spec.example)
 
 
 @dataclass(frozen=True)
@@ -90,7 +107,7 @@ class Setup:
     law: str = "weakening"
     params: Mapping[str, float] = field(default_factory=lambda: {"c": 3.8, "p": 0.0})
     nu: float = 0.01
-    expression: str = "1/(1 + c*w) + q*w"
+    expression: str = DEFAULT_EXPRESSION
     physical: bool = False
     mass: float = ZV_SCALES[0]
     stiffness: float = ZV_SCALES[1]
