@@ -333,9 +333,9 @@ def client() -> Any:
 
 
 def _signatures() -> int:
-    from stickslip.core import engine
+    from stickslip.laws import WeakeningLaw
 
-    return len(engine.attractor_batch.signatures)
+    return len(WeakeningLaw(c=3.8).kernel.engine.attractor_rows.signatures)
 
 
 def test_cluster_equals_in_process_and_compiles_once_per_worker(

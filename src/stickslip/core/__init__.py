@@ -2,3 +2,7 @@
 
 Numbers only: no units, plotting or I/O.
 """
+
+from ._typing_memo import install as _install_typing_memo
+
+_install_typing_memo()

@@ -9,10 +9,13 @@ model layer does that before calling them.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from types import ModuleType
 from typing import NamedTuple
 
+import numba
 import numpy as np
 import numpy.typing as npt
 
@@ -91,8 +94,9 @@ class TrajectoryResult(NamedTuple):
     status: Status
 
 
-#: rows per call into the compiled batch kernel (Ctrl-C is seen between calls)
-SERIAL_ROWS = 8  # up to this many rows run in the calling thread
+#: up to this many rows run in the calling thread
+SERIAL_ROWS = 8
+#: most rows per call into the compiled code (Ctrl-C is seen between calls)
 BATCH = 4096
 #: memory of one row of run_attractors: the output (NOUT doubles), the checked copies of the
 #: inputs (law id, law parameters, nu, s0, w0) and the validation's masks
@@ -104,10 +108,12 @@ __all__ = [
     "TrajectoryResult",
     "builtin_kernel",
     "chain_advance",
+    "in_blocks",
     "run_attractors",
     "run_flow",
     "run_shooting",
     "run_trajectory",
+    "threads",
 ]
 
 
@@ -171,12 +177,10 @@ def run_attractors(
     s0_a = z if s0 is None else _broadcast("s0", checks.finite_array("s0", s0), (n,))
     w0_a = z if w0 is None else _broadcast("w0", checks.finite_array("w0", w0), (n,))
     out = np.empty((n, engine.NOUT))
-    # in chunks: Ctrl-C is seen between two calls into the compiled code, never inside one
-    # a few rows: the serial kernel (no parallel kernel to compile on a first call)
-    run = kernel.engine.attractor_rows if n <= SERIAL_ROWS else kernel.engine.attractor_batch
-    for lo in range(0, n, BATCH):
-        hi = min(n, lo + BATCH)
-        run(
+    rows = kernel.engine.attractor_rows
+
+    def call(lo: int, hi: int) -> None:
+        rows(
             law_a[lo:hi],
             lp_a[lo:hi],
             nu_a[lo:hi],
@@ -191,7 +195,40 @@ def run_attractors(
             max_steps,
             out[lo:hi],
         )
+
+    in_blocks(call, n)
     return AttractorRows(out)
+
+
+def threads() -> int:
+    """Return the number of threads the row kernels use: numba's (``NUMBA_NUM_THREADS``)."""
+    return max(1, int(numba.config.NUMBA_NUM_THREADS))  # type: ignore[attr-defined]
+
+
+def in_blocks(call: Callable[[int, int], None], n: int) -> None:
+    """Run ``call(lo, hi)`` over blocks of the rows ``0..n``, in a pool of :func:`threads` threads.
+
+    The row kernels release the GIL, so the blocks run side by side. Blocks are
+    small enough that rows of very different cost even out between the threads
+    (at least 16 blocks a thread) and at most :data:`BATCH` rows, so that Ctrl-C
+    is seen between two calls into the compiled code: the blocks not started are
+    cancelled, the running ones finish. A few rows run in the calling thread.
+    """
+    workers = min(threads(), -(-n // SERIAL_ROWS))
+    if workers <= 1:
+        for lo in range(0, n, BATCH):
+            call(lo, min(n, lo + BATCH))
+        return
+    size = min(BATCH, max(1, -(-n // (16 * workers))))
+    with ThreadPoolExecutor(workers, thread_name_prefix="stickslip") as pool:
+        futures = [pool.submit(call, lo, min(n, lo + size)) for lo in range(0, n, size)]
+        try:
+            for f in futures:
+                f.result()
+        except BaseException:
+            for f in futures:
+                f.cancel()
+            raise
 
 
 def _nu(nu: npt.ArrayLike) -> FloatArray:
@@ -334,9 +371,15 @@ def run_shooting(
     max_iter = checks.integer("max_iter", max_iter, lo=1, hi=1000)
     max_steps = checks.integer("max_steps", max_steps, lo=10, hi=10**9)
     out = np.empty((n, variational.NSH))
-    kernel.variational.shoot_batch(
-        law_a, lp_a, nu_a, s0_a, t_a, float(tol), int(max_iter), int(max_steps), out
-    )
+    shoot = kernel.variational.shoot_rows
+
+    def call(lo: int, hi: int) -> None:
+        shoot(
+            law_a[lo:hi], lp_a[lo:hi], nu_a[lo:hi], s0_a[lo:hi], t_a[lo:hi],
+            float(tol), int(max_iter), int(max_steps), out[lo:hi],
+        )  # fmt: skip
+
+    in_blocks(call, n)
     return ShootingRows(out)
 
 

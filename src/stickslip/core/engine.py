@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from ._dop853_unrolled import dense_sw, step_sw, store_dense, store_step
 from .dop853 import (
@@ -662,15 +662,15 @@ def attractor_ws(  # type: ignore[no-untyped-def]
     out[O_FNU] = trk[T_FNU]
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def attractor_rows(  # type: ignore[no-untyped-def]
     law, lp, nu, s0, w0, from_breakaway, rtol, atol, t_max, conv_tol, diag, max_steps, out
 ):
     """Run :func:`attractor` for every row in this thread, with one workspace.
 
-    The same results as :func:`attractor_batch`, without compiling a parallel
-    kernel: for the few rows of a single command, the first call then compiles
-    seconds less.
+    It releases the GIL: :func:`stickslip.core.api.run_attractors` runs blocks of
+    rows in a pool of threads. (A ``prange`` kernel did the same but took seconds
+    more to compile on a first run, for each law.)
     """
     ws = new_workspace(4 if diag else 2)
     for i in range(nu.shape[0]):
@@ -678,26 +678,6 @@ def attractor_rows(  # type: ignore[no-untyped-def]
             law[i], lp[i], nu[i], s0[i], w0[i], from_breakaway, rtol, atol, t_max,
             conv_tol, max_steps, out[i], ws[0], ws[1], ws[2], ws[3], ws[4], ws[5],
         )
-
-
-@njit(parallel=True, cache=True)
-def attractor_batch(  # type: ignore[no-untyped-def]
-    law, lp, nu, s0, w0, from_breakaway, rtol, atol, t_max, conv_tol, diag, max_steps, out
-):
-    """Run :func:`attractor` for every row, in parallel threads.
-
-    Rows are processed in chunks, each with one workspace, so that threads do not
-    contend for the allocator.
-    """
-    m = nu.shape[0]
-    n_chunks = min(m, 512)
-    for c in prange(n_chunks):
-        ws = new_workspace(4 if diag else 2)
-        for i in range(c * m // n_chunks, (c + 1) * m // n_chunks):
-            attractor_ws(
-                law[i], lp[i], nu[i], s0[i], w0[i], from_breakaway, rtol, atol, t_max,
-                conv_tol, max_steps, out[i], ws[0], ws[1], ws[2], ws[3], ws[4], ws[5],
-            )
 
 
 @njit(cache=True)

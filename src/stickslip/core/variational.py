@@ -22,7 +22,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from ._dop853_tableau import A, B
 from ._dop853_unrolled import dense_sw, step_sw
@@ -298,8 +298,12 @@ def shoot(law, lp, nu, s0, period, tol, max_iter, max_steps, out):  # type: igno
     out[SH_STATUS] = SHOOT_GRAZES if extras[X_W_MIN] <= 0.0 else SHOOT_OK
 
 
-@njit(parallel=True, cache=True)
-def shoot_batch(law, lp, nu, s0, period, tol, max_iter, max_steps, out):  # type: ignore[no-untyped-def]
-    """Run :func:`shoot` for every row (``law``, ``lp``, ``nu``, ``s0``, ``period`` per row), in parallel."""
-    for i in prange(nu.shape[0]):
+@njit(cache=True, nogil=True)
+def shoot_rows(law, lp, nu, s0, period, tol, max_iter, max_steps, out):  # type: ignore[no-untyped-def]
+    """Run :func:`shoot` for every row (``law``, ``lp``, ``nu``, ``s0``, ``period`` per row).
+
+    It releases the GIL: :func:`stickslip.core.api.run_shooting` runs blocks of rows
+    in a pool of threads.
+    """
+    for i in range(nu.shape[0]):
         shoot(law[i], lp[i], nu[i], s0[i], period[i], tol, max_iter, max_steps, out[i])

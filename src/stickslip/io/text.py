@@ -23,12 +23,15 @@ import os
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 
 from ..core.memory import check_memory
 from .errors import DataError
+
+if TYPE_CHECKING:  # pandas is imported where a file is read (0.2 s at import)
+    import pandas as pd
 
 __all__ = ["TextLayout", "check_file", "diagnose", "inspect", "read_frame"]
 
@@ -206,6 +209,8 @@ def read_frame(
         f"{shown} ({layout.size / 1e6:.0f} MB, about {rows:.3g} rows)",
         "split the record into parts",
     )
+    import pandas as pd
+
     all_names = [*names, *(f"_unused_{k}" for k in range(len(names), layout.width))]
     dtype: dict[str, object] = {n: "float64" for n in wanted if n in numeric}
     dtype.update({n: str for n in wanted if n in text})

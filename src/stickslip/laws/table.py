@@ -42,19 +42,21 @@ import functools
 import hashlib
 import math
 import os
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
 import pint
 import sympy as sp
-from scipy.interpolate import CubicSpline, PchipInterpolator, PPoly, make_smoothing_spline
 
 from ..io.errors import DataError
 from ..io.tables import read_table
 from ..units import Q_, check_number, parse_quantity, ureg
 from .base import DimensionlessLaw, PhysicalLaw
 from .spec import LawSpec, Parameter, W
+
+if TYPE_CHECKING:  # scipy.interpolate is imported where a table is fitted (0.4 s at import)
+    from scipy.interpolate import PPoly
 
 __all__ = ["INTERPOLATIONS", "TabulatedDimensionlessLaw", "TabulatedLaw"]
 
@@ -113,6 +115,8 @@ def _pp(v: FloatArray, mu: FloatArray, interpolation: str) -> PPoly:
     The fit runs on ``v / v_max`` (the smoothing spline's choice of smoothing depends
     on the scale of the abscissa) and is mapped back.
     """
+    from scipy.interpolate import CubicSpline, PchipInterpolator, PPoly, make_smoothing_spline
+
     scale = float(v[-1])
     x = v / scale
     if interpolation == "pchip":
