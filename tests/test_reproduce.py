@@ -10,6 +10,7 @@ from click.testing import CliRunner
 from stickslip.cli import main
 from stickslip.paper.compute import measured_trends
 from stickslip.paper.figures import FIGURES, make_figures
+from stickslip.paper.trial import TRIAL_MAPS
 
 
 @pytest.fixture(scope="module")
@@ -154,3 +155,15 @@ def test_claims_judge_every_law_and_the_fig3_order(quick_run: Path) -> None:
     assert any("three distinct possibilities" in c.paper for c in by_text)
     assert any("friction force" in c.paper for c in by_text)
     assert [c.number for c in by_text] == list(range(1, len(by_text) + 1))
+
+
+def test_serial_run_gives_the_same_data(quick_run: Path, tmp_path: Path) -> None:
+    """The CLI shares the work out to a second process (the cubic law's trial, two of the
+    appendix's parts, half the figures); in one process the data are the same, bit for bit."""
+    from stickslip.paper import reproduce
+
+    reproduce(tmp_path / "serial", quick=True, parallel=False)
+    for name in ["reproduce.nc", *(f"criterion_{m.key}.nc" for m in TRIAL_MAPS)]:
+        one, two = xr.load_dataset(tmp_path / "serial" / name), xr.load_dataset(quick_run / name)
+        xr.testing.assert_identical(one, two)
+    assert len(one.data_vars) > 5

@@ -15,10 +15,16 @@ from multiprocessing.pool import Pool
 from ..dynamics.sweep import load_sweep, save_sweep
 from ..io.output import OutputFolder
 from ..plots.figures import save_figure, save_figure_bytes
-from .appendix import compute_appendix
+from .appendix import APPENDIX_PARTS, appendix_part, merge_appendix
 from .compute import PaperConfig, compute_paper, with_appendix
 from .figures import FIGURES, make_figures, render_figures
 from .report import Claim, claims, write_report
+
+#: the criterion's trials computed in the second process of ``reproduce(parallel=True)``: the
+#: cubic law's (its engine compiles there while this process compiles the weakening law's)
+REMOTE_TRIALS = ("cubic_alpha",)
+#: the part of the appendix this process computes after its own trials (the others: the second)
+LOCAL_APPENDIX_PART = "inertia"
 
 __all__ = ["Claim", "PaperConfig", "ReproduceResult", "claims", "compute_paper", "reproduce"]
 
@@ -60,10 +66,12 @@ def reproduce(
     overwrite : bool, optional
         Replace files in ``out_dir`` that stickslip did not write (otherwise an error).
     parallel : bool, optional
-        Compute the appendix (rate and state: the sympy-derived field integrated
-        by SciPy, the inertial slider) in a second process while this one computes
-        the rest, and render half the figures there: the same files, in about two
-        thirds of the time on two cores. The second process is started by
+        Compute the criterion's trial on the cubic law (:data:`REMOTE_TRIALS`: its
+        engine compiles there while this process compiles the weakening law's) and
+        two of the appendix's three parts (rate and state: the sympy-derived field
+        integrated by SciPy, the critical stiffness) in a second process while this
+        one computes the rest and the inertial slider, and render half the figures
+        there: the same files, in about half the time on two cores. The second process is started by
         ``multiprocessing`` (spawn), so the calling program's main module must be
         safe to import (an ``if __name__ == "__main__":`` guard); ``stickslip
         reproduce`` uses it. Where no process can be started, everything runs in
@@ -91,12 +99,25 @@ def reproduce(
                 # stopped at once on any error or Ctrl-C here, not after the appendix finishes
                 stack.callback(pool.join)
                 stack.callback(pool.terminate)
-                pending = pool.apply_async(compute_appendix, kwds={"quick": config.n_v0 < 20})
-            # the criterion's trials (regime maps on both cores) while the appendix runs
-            computed_trials = run_trials(quick=quick, progress=progress)
+                # the second process takes the trial on the cubic law (an engine of its own to
+                # compile, on the second core; this process finds it compiled when it needs it
+                # for the regime sequences) and two of the appendix's three parts
+                other_trial = pool.apply_async(run_trials, kwds={"quick": quick, "keys": REMOTE_TRIALS})
+                remote_parts = {
+                    name: pool.apply_async(appendix_part, (name, config.n_v0 < 20))
+                    for name in APPENDIX_PARTS
+                    if name != LOCAL_APPENDIX_PART
+                }
+            # the criterion's trials (regime maps on both cores) while the second process works
+            here = None if pool is None else tuple(m.key for m in TRIAL_MAPS if m.key not in REMOTE_TRIALS)
+            computed_trials = run_trials(quick=quick, progress=progress, keys=here)
             ds = compute_paper(config, progress=progress, appendix=pool is None)
             if pool is not None:
-                ds = with_appendix(ds, pending.get())
+                parts = {LOCAL_APPENDIX_PART: appendix_part(LOCAL_APPENDIX_PART, config.n_v0 < 20)}
+                computed_trials.update(other_trial.get())
+                computed_trials = {m.key: computed_trials[m.key] for m in TRIAL_MAPS}
+                parts.update({name: task.get() for name, task in remote_parts.items()})
+                ds = with_appendix(ds, merge_appendix(parts))
             nc = save_sweep(ds, "reproduce.nc", kind="reproduce", out=out)
             data = load_sweep(out.staged_path("reproduce.nc"))
             figures = make_figures(data)

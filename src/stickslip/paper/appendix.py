@@ -29,7 +29,7 @@ from ..ratestate.model import RateStateParameters
 from ..ratestate.protocols import linear_stability, simulate_rate_state
 from ..units import Q_
 
-__all__ = ["compute_appendix"]
+__all__ = ["APPENDIX_PARTS", "appendix_part", "compute_appendix", "merge_appendix"]
 
 A, B, MU0 = 0.01, 0.015, 0.6
 OMEGA = 1.0
@@ -245,11 +245,24 @@ def _inertia(n_mass: int, n_points: int) -> xr.Dataset:
     )
 
 
-def compute_appendix(quick: bool = False) -> xr.Dataset:
-    """Compute the appendix's evidence: phase portraits, critical stiffness, inertia."""
-    portraits = _phase_portraits(3 if quick else 5, 60.0 if quick else 120.0)
-    critical = _critical_check((0.9, 0.97, 1.03, 1.1) if not quick else (0.9, 1.1), 800 if quick else 3000)
-    inertia = _inertia(6 if quick else 24, 2000 if quick else 6000)
+#: the appendix's parts, computed apart (``reproduce(parallel=True)`` shares them out) and merged
+APPENDIX_PARTS = ("portraits", "critical", "inertia")
+
+
+def appendix_part(name: str, quick: bool = False) -> xr.Dataset:
+    """Compute one part of the appendix (one of :data:`APPENDIX_PARTS`)."""
+    if name == "portraits":
+        return _phase_portraits(3 if quick else 5, 60.0 if quick else 120.0)
+    if name == "critical":
+        return _critical_check((0.9, 0.97, 1.03, 1.1) if not quick else (0.9, 1.1), 800 if quick else 3000)
+    if name == "inertia":
+        return _inertia(6 if quick else 24, 2000 if quick else 6000)
+    raise ValueError(f"name={name!r}: expected one of {APPENDIX_PARTS}")
+
+
+def merge_appendix(parts: dict[str, xr.Dataset]) -> xr.Dataset:
+    """Return the appendix from its parts (every name of :data:`APPENDIX_PARTS`)."""
+    portraits, critical, inertia = (parts[name] for name in APPENDIX_PARTS)
     ds = xr.merge([portraits, critical, inertia], combine_attrs="override")
     ds.attrs = {
         "appendix_A": A,
@@ -262,3 +275,8 @@ def compute_appendix(quick: bool = False) -> xr.Dataset:
         **{f"appendix_{k}": v for k, v in inertia.attrs.items()},
     }
     return ds
+
+
+def compute_appendix(quick: bool = False) -> xr.Dataset:
+    """Compute the appendix's evidence: phase portraits, critical stiffness, inertia."""
+    return merge_appendix({name: appendix_part(name, quick) for name in APPENDIX_PARTS})

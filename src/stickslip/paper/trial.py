@@ -41,10 +41,14 @@ TRIAL_MAPS = (
 )  # fmt: skip
 
 
-def run_trials(*, quick: bool = False, progress: bool | None = False) -> dict[str, xr.Dataset]:
-    """Compute every map of :data:`TRIAL_MAPS` with the criterion's verdicts."""
+def run_trials(
+    *, quick: bool = False, progress: bool | None = False, keys: tuple[str, ...] | None = None
+) -> dict[str, xr.Dataset]:
+    """Compute the maps of :data:`TRIAL_MAPS` (those named in ``keys``; all by default) with the verdicts."""
     out = {}
     for m in TRIAL_MAPS:
+        if keys is not None and m.key not in keys:
+            continue
         with warnings.catch_warnings():
             # the cubic map runs on past alpha**3 = 27 gamma / 4, where the friction turns
             # negative (said in the report): no warning per map row
