@@ -79,7 +79,9 @@ print(json.dumps({"memo": _typing_memo.installed(), "ir": step_sw.inspect_llvm(s
 
 
 def _ir(memo: str, cache: Path) -> dict:
-    env = dict(os.environ, STICKSLIP_NUMBA_MEMO=memo, NUMBA_CACHE_DIR=str(cache))
+    # one hash seed for both: numba mangles the compile flags into symbol names, and the
+    # flags hold a set (fastmath's) whose printed order follows the seed
+    env = dict(os.environ, STICKSLIP_NUMBA_MEMO=memo, NUMBA_CACHE_DIR=str(cache), PYTHONHASHSEED="0")
     out = subprocess.run([sys.executable, "-c", _CHILD], env=env, capture_output=True, text=True, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
