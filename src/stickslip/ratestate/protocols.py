@@ -4,9 +4,11 @@
 history of the load-point velocity; :func:`velocity_steps` and
 :func:`slide_hold_slide` build the two standard laboratory protocols on it.
 The quasi-static model is the paper's appendix; with a mass the slider is
-inertial (see :mod:`stickslip.core.ratestate`). Integration is by SciPy's
-Radau (the system is stiff: the velocity depends exponentially on friction)
-with the compiled right-hand side and its analytic Jacobian. A case the solver
+inertial (see :mod:`stickslip.core.ratestate`). The quasi-static slider is
+integrated by the compiled DOP853 of :func:`stickslip.core.ratestate.integrate_qs`;
+the inertial one, stiff (the velocity depends exponentially on friction), by the
+compiled Radau IIA of :func:`stickslip.core.radau.integrate_in` with the analytic
+Jacobian (SciPy's algorithm, step for step). A case the solver
 cannot handle fails with a message after a bounded number of steps or seconds,
 never hangs.
 """
@@ -23,8 +25,8 @@ import numpy as np
 import numpy.typing as npt
 import pint
 import xarray as xr
-from scipy.integrate import solve_ivp
 
+from ..core import radau
 from ..core import ratestate as core
 from ..units import Q_, parse_quantity
 from .model import RateStateParameters, steady_log_states
@@ -38,10 +40,6 @@ __all__ = [
 ]
 
 FloatArray = npt.NDArray[np.float64]
-
-
-class _Abort(Exception):
-    pass
 
 
 def _history(history: Any) -> list[tuple[float, float]]:
@@ -154,7 +152,8 @@ def simulate_rate_state(
     :func:`stickslip.core.ratestate.integrate_qs` (error control on the spring
     friction and the log-states, events located on the 7th-order dense output,
     each change of the load-point velocity a step boundary); the inertial slider,
-    stiff at low velocity, by SciPy's Radau with the compiled Jacobian.
+    stiff at low velocity, by Radau IIA of order 5 (SciPy's algorithm, compiled:
+    :func:`stickslip.core.radau.integrate_in`) with the analytic Jacobian.
 
     """
     if not isinstance(params, RateStateParameters):
@@ -332,6 +331,7 @@ def _radau(
     max_steps: int,
     max_seconds: float,
 ) -> tuple[FloatArray, FloatArray, FloatArray, dict[str, list[tuple[float, FloatArray]]]]:
+    """Radau IIA (SciPy's algorithm, compiled: :func:`stickslip.core.radau.integrate_in`) per segment."""
     P, S = params.core_arrays()
     n = params.n_states
     nv = y.size
@@ -339,37 +339,16 @@ def _radau(
     v_scale = max([v for _, v in hist if v > 0], default=vr)
     atol = np.concatenate([[1e-12, 1e-12 * v_scale], np.full(n, 1e-10)])
     started = time.monotonic()
-    count = [0]
-
-    def fun(_t: float, yy: FloatArray, v_lp: float) -> FloatArray:
-        count[0] += 1
-        if count[0] > 20 * max_steps or time.monotonic() - started > max_seconds:
-            raise _Abort
-        out = np.empty(nv)
-        core.in_rhs(yy, P, S, n, v_lp, out)
-        return out
-
-    def jacobian(_t: float, yy: FloatArray, v_lp: float) -> FloatArray:
-        out = np.empty((nv, nv))
-        core.in_jac(yy, P, S, n, out)
-        return out
-
-    # the spring force peaks where v crosses v_lp upward; the slider's velocity where the
-    # spring force falls below friction (both located on the solver's dense output)
-    def spring_peak(_t: float, yy: FloatArray, v_lp: float) -> float:
-        return float(yy[1]) - v_lp
-
-    spring_peak.direction = 1  # type: ignore[attr-defined]
-
-    def velocity_peak(_t: float, yy: FloatArray, _v_lp: float) -> float:
-        return float(yy[0]) - core.in_friction(yy[1], yy, S, n, P) - P[core.P_ETA] * yy[1]
-
-    velocity_peak.direction = -1  # type: ignore[attr-defined]
-
+    steps_total = 0
     times: list[FloatArray] = []
     states: list[FloatArray] = []
     vlp: list[FloatArray] = []
+    # the spring force peaks where v crosses v_lp upward; the slider's velocity where the
+    # spring force falls below friction (both located on the solver's dense output)
     peaks: dict[str, list[tuple[float, FloatArray]]] = {"spring": [], "velocity": []}
+    names = {radau.EV_SPRING_PEAK: "spring", radau.EV_VELOCITY_PEAK: "velocity"}
+    ev = np.zeros((1024, 2 + nv))
+    y = np.array(y, dtype=float)
     t0 = 0.0
     for k, (dur, v_lp) in enumerate(hist):
         t1 = t0 + dur
@@ -377,41 +356,50 @@ def _radau(
         wanted = t_s[sel]
         extra = wanted.size == 0 or wanted[-1] < t1
         t_eval = np.append(wanted, t1) if extra else wanted
-        try:
-            sol = solve_ivp(
-                fun,
-                (t0, t1),
-                y,
-                method="Radau",
-                jac=jacobian,
-                args=(v_lp,),
-                t_eval=t_eval,
-                rtol=rtol,
-                atol=atol,
-                events=[spring_peak, velocity_peak],
-            )
-        except _Abort:
-            raise RuntimeError(
-                f"segment {k} (v_lp = {v_lp:g} m/s for {dur:g} s): stopped after "
-                f"{count[0]} evaluations / {time.monotonic() - started:.1f} s without finishing; "
-                "the case is too stiff at this tolerance (try a larger rtol or a smaller step)"
-            ) from None
-        except (OverflowError, FloatingPointError) as exc:
-            raise RuntimeError(f"segment {k}: the solution overflowed ({exc})") from None
-        for name, i_ev in (("spring", 0), ("velocity", 1)):
-            peaks[name] += [
-                (float(te), ye) for te, ye in zip(sol.t_events[i_ev], sol.y_events[i_ev], strict=True)
-            ]
-        if sol.status != 0 or not np.all(np.isfinite(sol.y)):
+        out = np.full((t_eval.size, nv), np.nan)
+        ws = radau.workspace(nv)
+        ws["st"][radau.ST_T] = t0
+        js = 0
+        while True:
+            status, nsamp, nev = radau.integrate_in(
+                P, S, n, float(v_lp), y, t1, rtol, atol, t_eval[js:], out[js:], ev, 20_000,
+                ws["st"], ws["f"], ws["y_old"], ws["jac"], ws["lu_real"], ws["piv_real"],
+                ws["lu_complex"], ws["piv_complex"], ws["q"], ws["g"],
+            )  # fmt: skip
+            js += nsamp
+            for r in ev[:nev]:
+                peaks[names[int(r[0])]].append((float(r[1]), r[2:].copy()))
+            steps_done = int(ws["st"][radau.ST_STEPS])
+            if status == radau.RD_DONE:
+                break
+            if status == radau.RD_EVENTS_FULL:
+                continue
+            if status == radau.RD_MAX_STEPS:
+                if (
+                    steps_total + steps_done < max_steps
+                    and time.monotonic() - started < max_seconds
+                    and np.all(np.isfinite(y))
+                ):
+                    continue
+                raise RuntimeError(
+                    f"segment {k} (v_lp = {v_lp:g} m/s for {dur:g} s): stopped after "
+                    f"{steps_total + steps_done} steps / {time.monotonic() - started:.1f} s without "
+                    "finishing; the case is too stiff at this tolerance (try a larger rtol or a "
+                    "smaller step)"
+                )
             raise RuntimeError(
                 f"segment {k} (v_lp = {v_lp:g} m/s): the solver stopped at "
-                f"t = {sol.t[-1]:.6g} s: {sol.message}"
+                f"t = {ws['st'][radau.ST_T]:.6g} s: the required step size is less than spacing "
+                "between numbers"
             )
+        steps_total += int(ws["st"][radau.ST_STEPS])
+        if not np.all(np.isfinite(out)) or not np.all(np.isfinite(y)):
+            raise RuntimeError(f"segment {k} (v_lp = {v_lp:g} m/s): the solution overflowed")
+        y = out[-1].copy()  # as solve_ivp: the next segment starts from the dense output at t1
         keep = slice(0, -1) if extra else slice(None)
-        times.append(sol.t[keep])
-        states.append(sol.y[:, keep])
-        vlp.append(np.full(sol.t[keep].size, v_lp))
-        y = sol.y[:, -1].copy()
+        times.append(t_eval[keep])
+        states.append(out[keep].T)
+        vlp.append(np.full(t_eval[keep].size, v_lp))
         t0 = t1
     return np.concatenate(times), np.concatenate(states, axis=1), np.concatenate(vlp), peaks
 
