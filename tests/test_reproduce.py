@@ -167,3 +167,9 @@ def test_serial_run_gives_the_same_data(quick_run: Path, tmp_path: Path) -> None
         one, two = xr.load_dataset(tmp_path / "serial" / name), xr.load_dataset(quick_run / name)
         xr.testing.assert_identical(one, two)
     assert len(one.data_vars) > 5
+    # and the figures, whichever process drew them (the trials' figures included), byte for byte
+    pngs = sorted(p.name for p in quick_run.glob("*.png"))
+    assert len(pngs) == len(FIGURES) + 2 * len(TRIAL_MAPS)
+    for name in pngs:
+        assert (tmp_path / "serial" / name).read_bytes() == (quick_run / name).read_bytes(), name
+    assert (tmp_path / "serial" / "report.md").read_text() == (quick_run / "report.md").read_text()

@@ -11,13 +11,14 @@ import multiprocessing
 import os
 from dataclasses import dataclass
 from multiprocessing.pool import Pool
+from typing import Any
 
 from ..dynamics.sweep import load_sweep, save_sweep
 from ..io.output import OutputFolder
 from ..plots.figures import save_figure, save_figure_bytes
 from .appendix import APPENDIX_PARTS, appendix_part, merge_appendix
 from .compute import PaperConfig, compute_paper, with_appendix
-from .figures import FIGURES, make_figures, render_figures
+from .figures import FIGURES, TRIAL_PLOTS, make_figures, render_figures, render_trial_figures
 from .report import Claim, claims, write_report
 
 #: the criterion's trials computed in the second process of ``reproduce(parallel=True)``: the
@@ -78,7 +79,6 @@ def reproduce(
         this one. Default False.
 
     """
-    from ..plots.regimes import plot_criterion_map, plot_regime_map
     from .trial import TRIAL_MAPS, run_trials
 
     with OutputFolder(out_dir, "reproduce", overwrite=overwrite) as out:
@@ -95,6 +95,7 @@ def reproduce(
         config = PaperConfig.quick() if quick else PaperConfig()
         with contextlib.ExitStack() as stack:
             pool = _second_process() if parallel else None
+            remote_trial_figures: dict[str, Any] = {}
             if pool is not None:
                 # stopped at once on any error or Ctrl-C here, not after the appendix finishes
                 stack.callback(pool.join)
@@ -112,12 +113,33 @@ def reproduce(
             here = None if pool is None else tuple(m.key for m in TRIAL_MAPS if m.key not in REMOTE_TRIALS)
             computed_trials = run_trials(quick=quick, progress=progress, keys=here)
             ds = compute_paper(config, progress=progress, appendix=pool is None)
+            trials: dict[str, Any] = {}
+
+            def hand_over_trials() -> None:
+                # the second process draws the figures of its trial from the file written here
+                assert pool is not None
+                for key, tr in other_trial.get().items():
+                    trials[key] = _save_trial(key, tr, out)
+                    remote_trial_figures[key] = pool.apply_async(
+                        render_trial_figures, (out.staged_path(f"criterion_{key}.nc"), key)
+                    )
+
             if pool is not None:
                 parts = {LOCAL_APPENDIX_PART: appendix_part(LOCAL_APPENDIX_PART, config.n_v0 < 20)}
-                computed_trials.update(other_trial.get())
-                computed_trials = {m.key: computed_trials[m.key] for m in TRIAL_MAPS}
+                if other_trial.ready():
+                    hand_over_trials()
+            # this process draws its own trials' figures (meanwhile, with a second process)
+            trial_files: dict[str, list[str]] = {}
+            for key, tr in computed_trials.items():
+                trials[key] = _save_trial(key, tr, out)
+                for kind, plot in TRIAL_PLOTS:
+                    trial_files[f"{kind}_{key}"] = save_figure(plot(trials[key]), f"{kind}_{key}", out=out)
+            if pool is not None:
+                if not remote_trial_figures:
+                    hand_over_trials()
                 parts.update({name: task.get() for name, task in remote_parts.items()})
                 ds = with_appendix(ds, merge_appendix(parts))
+            trials = {m.key: trials[m.key] for m in TRIAL_MAPS}
             nc = save_sweep(ds, "reproduce.nc", kind="reproduce", out=out)
             data = load_sweep(out.staged_path("reproduce.nc"))
             figures = make_figures(data)
@@ -128,19 +150,25 @@ def reproduce(
             for name, fig in figures.items():
                 if name not in remote:
                     files[name] = save_figure(fig, name, formats=("png", "svg"), out=out)
-            trials = {}
-            for key, tr in computed_trials.items():
-                save_sweep(tr, f"criterion_{key}.nc", kind="criterion-trial", out=out)
-                trials[key] = load_sweep(out.staged_path(f"criterion_{key}.nc"))
-                for kind, plot in (("regimes", plot_regime_map), ("criterion", plot_criterion_map)):
-                    files[f"{kind}_{key}"] = save_figure(plot(trials[key]), f"{kind}_{key}", out=out)
+            for task in remote_trial_figures.values():
+                for name, blobs in task.get().items():
+                    trial_files[name] = save_figure_bytes(blobs, name, out=out)
             if rendered is not None:
                 for name, blobs in rendered.get().items():
                     files[name] = save_figure_bytes(blobs, name, out=out)
+            for m in TRIAL_MAPS:
+                for kind, _ in TRIAL_PLOTS:
+                    files[f"{kind}_{m.key}"] = trial_files[f"{kind}_{m.key}"]
         files = {name: files[name] for name in [*figures, *(k for k in files if k not in figures)]}
         staged_png = {k: out.staged_path(os.path.basename(v[0])) for k, v in files.items()}
         md, html_path = write_report(data, out, staged_png, trials)
     return ReproduceResult(nc, files, md, html_path, claims(data))
+
+
+def _save_trial(key: str, trial: Any, out: OutputFolder) -> Any:
+    """Write a criterion trial's file; return it as read back (its figures are drawn from that)."""
+    save_sweep(trial, f"criterion_{key}.nc", kind="criterion-trial", out=out)
+    return load_sweep(out.staged_path(f"criterion_{key}.nc"))
 
 
 def _second_process() -> Pool | None:

@@ -10,9 +10,16 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from ..plots.figures import draw_phases, figure_bytes
+from ..plots.regimes import plot_criterion_map, plot_regime_map
 from ..plots.style import plain_log_ticks, pretty_units, subplots
 
-__all__ = ["FIGURES", "make_figures", "render_figures"]
+__all__ = ["FIGURES", "TRIAL_PLOTS", "make_figures", "render_figures", "render_trial_figures"]
+
+#: the two figures of each criterion trial: ``<kind>_<trial key>``
+TRIAL_PLOTS: tuple[tuple[str, Callable[[xr.Dataset], Figure]], ...] = (
+    ("regimes", plot_regime_map),
+    ("criterion", plot_criterion_map),
+)
 
 
 def _v0_axis(ax: Axes, ds: xr.Dataset, coord: str) -> None:
@@ -263,6 +270,18 @@ def make_figures(ds: xr.Dataset) -> dict[str, Figure]:
         for name, (func, _) in FIGURES.items()
         if not name.startswith("appendix") or "kappa" in ds.dims
     }
+
+
+def render_trial_figures(path: str, key: str) -> dict[str, dict[str, bytes]]:
+    """Draw the regime map and the criterion map of the trial saved at ``path``, as bytes.
+
+    For a second process (``reproduce(parallel=True)``): the figures ``regimes_<key>``
+    and ``criterion_<key>`` as the first process draws them from the same file.
+    """
+    from ..dynamics.sweep import load_sweep
+
+    trial = load_sweep(path)
+    return {f"{kind}_{key}": figure_bytes(plot(trial)) for kind, plot in TRIAL_PLOTS}
 
 
 def render_figures(ds: xr.Dataset, names: list[str]) -> dict[str, dict[str, bytes]]:
