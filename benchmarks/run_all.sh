@@ -16,5 +16,6 @@ for law, lo, hi in [(CubicLaw(alpha=0.5, gamma=1/6), 0.5, 1.5), (WeakeningLaw(c=
 python benchmarks/bench_chain.py
 python benchmarks/bench_scale.py
 python benchmarks/bench_bp1.py
+python benchmarks/bench_inertial.py
 python benchmarks/bench_explore.py
 python benchmarks/bench_coldstart.py --reproduce --top 8
