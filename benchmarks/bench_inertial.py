@@ -87,9 +87,8 @@ def main() -> None:
     same = n_v == sol.t_events[1].size and ds.spring_peak_time.size == sol.t_events[0].size
     dt = np.max(np.abs(ds.velocity_peak_time.values - sol.t_events[1])) if same else float("nan")
     print(f"stickslip (compiled Radau): {ours:8.3f} s  (first call incl. compile/cache load {first:.2f} s)")
-    print(
-        f"scipy solve_ivp Radau     : {scipy_s:8.3f} s  ({sol.t_events[1].size} velocity peaks, {sol.nfev} evaluations)"
-    )
+    peaks = sol.t_events[1].size
+    print(f"scipy solve_ivp Radau     : {scipy_s:8.3f} s  ({peaks} velocity peaks, {sol.nfev} evaluations)")
     print(f"speed-up                  : {scipy_s / ours:8.1f} x")
     print(f"samples, largest relative difference: {rel:.2e}; events: same count {same}, times to {dt:.1e} s")
 
