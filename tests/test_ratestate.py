@@ -424,14 +424,13 @@ def test_inertial_radau_is_scipys(n_states: int) -> None:
     y = y0.copy()
     steps = 0
     for k, (dur, v_lp) in enumerate(history):
-        ws = radau.workspace(y.size)
-        ws["st"][radau.ST_T] = 0.5 * k
+        ws = radau.workspace(y.size, 0.5 * k)
         status, _, _ = radau.integrate_in(
             P, S, n_states, v_lp, y, 0.5 * k + dur, rtol, atol, np.zeros(0), np.zeros((0, y.size)),
-            np.zeros((4096, 2 + y.size)), 10**6, *ws.values(),
+            np.zeros((4096, 2 + y.size)), 10**6, *ws,
         )  # fmt: skip
         assert status == radau.RD_DONE
-        steps += int(ws["st"][radau.ST_STEPS])
+        steps += int(ws.st[radau.ST_STEPS])
     # equal to the step where the decisions are far from their thresholds; rounding (LU by
     # another route than LAPACK's) flips an odd borderline one (4847 against 4846 here)
     assert abs(steps - ref_steps) <= 0.005 * ref_steps
@@ -455,7 +454,7 @@ def test_inertial_radau_resumes_exactly() -> None:
         events, js, calls = [], 0, 0
         while True:
             status, ns, ne = radau.integrate_in(
-                P, S, 1, 1e-3, y, 0.5, 1e-9, atol, t_eval[js:], out[js:], ev, max_steps, *ws.values()
+                P, S, 1, 1e-3, y, 0.5, 1e-9, atol, t_eval[js:], out[js:], ev, max_steps, *ws
             )
             js += ns
             calls += 1

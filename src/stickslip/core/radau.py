@@ -17,7 +17,7 @@ So the same steps as SciPy take, without a Python call per evaluation: the
 inertial slider of ``simulate_rate_state`` took 160 000 right-hand sides and
 18 000 steps through Python for the appendix; the kernel takes them in
 milliseconds. The state of the integrator between two calls is kept in the
-caller's arrays (:class:`Workspace` layout below), so a run cut into calls (a
+caller's arrays (:class:`Workspace`), so a run cut into calls (a
 bound on the steps per call, an events buffer that filled up) takes exactly the
 steps of an uninterrupted one.
 
@@ -30,6 +30,7 @@ the slip-velocity maximum (``mu_s - f(v, theta) - eta v`` crossing zero downward
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -89,20 +90,40 @@ ST_NFEV, ST_NJEV, ST_NLU, ST_STEPS, ST_REJECTED = 9, 10, 11, 12, 13
 N_ST = 16
 
 
-def workspace(nv: int) -> dict[str, np.ndarray]:
-    """Arrays that carry the integrator from one call of :func:`integrate_in` to the next."""
-    return {
-        "st": np.zeros(N_ST),
-        "f": np.zeros(nv),
-        "y_old": np.zeros(nv),
-        "jac": np.zeros((nv, nv)),
-        "lu_real": np.zeros((nv, nv)),
-        "piv_real": np.zeros(nv, dtype=np.int64),
-        "lu_complex": np.zeros((2 * nv, 2 * nv)),
-        "piv_complex": np.zeros(2 * nv, dtype=np.int64),
-        "q": np.zeros((nv, 3)),
-        "g": np.zeros(N_EVENTS),
-    }
+class Workspace(NamedTuple):
+    """Arrays that carry the integrator from one call of :func:`integrate_in` to the next.
+
+    In the order of :func:`integrate_in`'s last arguments: call it with ``*workspace``.
+    """
+
+    st: np.ndarray
+    f: np.ndarray
+    y_old: np.ndarray
+    jac: np.ndarray
+    lu_real: np.ndarray
+    piv_real: np.ndarray
+    lu_complex: np.ndarray
+    piv_complex: np.ndarray
+    q: np.ndarray
+    g: np.ndarray
+
+
+def workspace(nv: int, t0: float = 0.0) -> Workspace:
+    """Return a fresh workspace for ``nv`` variables, starting at time ``t0``."""
+    ws = Workspace(
+        st=np.zeros(N_ST),
+        f=np.zeros(nv),
+        y_old=np.zeros(nv),
+        jac=np.zeros((nv, nv)),
+        lu_real=np.zeros((nv, nv)),
+        piv_real=np.zeros(nv, dtype=np.int64),
+        lu_complex=np.zeros((2 * nv, 2 * nv)),
+        piv_complex=np.zeros(2 * nv, dtype=np.int64),
+        q=np.zeros((nv, 3)),
+        g=np.zeros(N_EVENTS),
+    )
+    ws.st[ST_T] = t0
+    return ws
 
 
 @njit(cache=True, error_model="numpy")

@@ -357,42 +357,37 @@ def _radau(
         extra = wanted.size == 0 or wanted[-1] < t1
         t_eval = np.append(wanted, t1) if extra else wanted
         out = np.full((t_eval.size, nv), np.nan)
-        ws = radau.workspace(nv)
-        ws["st"][radau.ST_T] = t0
+        ws = radau.workspace(nv, t0)
         js = 0
         while True:
+            # at most 20 000 steps per call, and never past the bound on the whole run
+            budget = min(20_000, max_steps - steps_total - int(ws.st[radau.ST_STEPS]))
             status, nsamp, nev = radau.integrate_in(
-                P, S, n, float(v_lp), y, t1, rtol, atol, t_eval[js:], out[js:], ev, 20_000,
-                ws["st"], ws["f"], ws["y_old"], ws["jac"], ws["lu_real"], ws["piv_real"],
-                ws["lu_complex"], ws["piv_complex"], ws["q"], ws["g"],
-            )  # fmt: skip
+                P, S, n, float(v_lp), y, t1, rtol, atol, t_eval[js:], out[js:], ev, max(budget, 0), *ws
+            )
             js += nsamp
             for r in ev[:nev]:
                 peaks[names[int(r[0])]].append((float(r[1]), r[2:].copy()))
-            steps_done = int(ws["st"][radau.ST_STEPS])
             if status == radau.RD_DONE:
                 break
             if status == radau.RD_EVENTS_FULL:
                 continue
+            steps = steps_total + int(ws.st[radau.ST_STEPS])
             if status == radau.RD_MAX_STEPS:
-                if (
-                    steps_total + steps_done < max_steps
-                    and time.monotonic() - started < max_seconds
-                    and np.all(np.isfinite(y))
-                ):
+                if steps < max_steps and time.monotonic() - started < max_seconds and np.all(np.isfinite(y)):
                     continue
                 raise RuntimeError(
                     f"segment {k} (v_lp = {v_lp:g} m/s for {dur:g} s): stopped after "
-                    f"{steps_total + steps_done} steps / {time.monotonic() - started:.1f} s without "
+                    f"{steps} steps / {time.monotonic() - started:.1f} s without "
                     "finishing; the case is too stiff at this tolerance (try a larger rtol or a "
                     "smaller step)"
                 )
             raise RuntimeError(
                 f"segment {k} (v_lp = {v_lp:g} m/s): the solver stopped at "
-                f"t = {ws['st'][radau.ST_T]:.6g} s: the required step size is less than spacing "
+                f"t = {ws.st[radau.ST_T]:.6g} s: the required step size is less than spacing "
                 "between numbers"
             )
-        steps_total += int(ws["st"][radau.ST_STEPS])
+        steps_total += int(ws.st[radau.ST_STEPS])
         if not np.all(np.isfinite(out)) or not np.all(np.isfinite(y)):
             raise RuntimeError(f"segment {k} (v_lp = {v_lp:g} m/s): the solution overflowed")
         y = out[-1].copy()  # as solve_ivp: the next segment starts from the dense output at t1
