@@ -501,7 +501,10 @@ def _run_chunks(
     n = nu.shape[0]
     out = AttractorRows.empty(n)
     mult = np.empty(n)
-    chunk = max(256, min(20_000, n // 50 + 1))
+    # with a progress bar, about 50 updates; without one (a block of a job: the job's bar
+    # counts blocks), calls as large as the bound on one call's work: each call into
+    # run_attractors starts its threads and ends waiting on the slowest of them
+    chunk = max(256, min(20_000, n // 50 + 1)) if progress is not False else 20_000
     bounds = [*range(0, n, chunk), n]
     pairs = list(itertools.pairwise(bounds))
     bar = Progress(n, len(pairs), progress, desc="sweep") if progress is not False else None
