@@ -456,11 +456,11 @@ class ChunkStore:
 
         """
         names = [v.name for v in self.layout.variables]
-        g = _group(self.path, self.layout.identity_digest)
         try:
+            handles = _arrays(self.path, self.layout.identity_digest, names)
             for v in self.layout.variables:
                 a = np.asarray(arrays[v.name], dtype=v.dtype)
-                g[v.name][self.layout.region(v.name, block)] = a
+                handles[v.name][self.layout.region(v.name, block)] = a
             typed = {n: np.asarray(arrays[n], dtype=self.layout.variable(n).dtype) for n in names}
             digest = _digest(typed, names)
             marker = self._marker(block.index)
@@ -496,6 +496,7 @@ class ChunkStore:
 
 
 _GROUPS: dict[tuple[str, str], Any] = {}
+_ARRAYS: dict[tuple[str, str], dict[str, Any]] = {}
 
 
 def _group(path: str, identity: str) -> Any:
@@ -507,3 +508,17 @@ def _group(path: str, identity: str) -> Any:
         g = zarr.open_group(path, mode="r+", use_consolidated=False)
         _GROUPS[(path, identity)] = g
     return g
+
+
+def _arrays(path: str, identity: str, names: list[str]) -> dict[str, Any]:
+    """Return the store's arrays opened for writing, once per process and job.
+
+    Opening an array reads its metadata from the disk through zarr's event loop: as
+    long as writing the block itself, when it was done for every block.
+    """
+    got = _ARRAYS.get((path, identity))
+    if got is None:
+        g = _group(path, identity)
+        got = {n: g[n] for n in names}
+        _ARRAYS[(path, identity)] = got
+    return got
