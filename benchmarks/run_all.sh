@@ -5,6 +5,7 @@ set -x
 git log --oneline -1
 python benchmarks/bench_cycles.py
 NUMBA_NUM_THREADS=1 python benchmarks/bench_cycles.py --n 100000 --n-scipy 100
+python benchmarks/bench_step.py
 out=$(mktemp -d)
 stickslip reproduce --out "$out/warmup" > /dev/null 2>&1
 time stickslip reproduce --out "$out/results"
@@ -14,7 +15,7 @@ python -c "import time; from stickslip import CubicLaw, WeakeningLaw; from stick
 for law, lo, hi in [(CubicLaw(alpha=0.5, gamma=1/6), 0.5, 1.5), (WeakeningLaw(c=3.8, p=0.5), 0.1, 1.5)]:
     t = time.perf_counter(); regimes(law, lo, hi); print(f'{time.perf_counter() - t:.3f} s')"
 python benchmarks/bench_chain.py
-python benchmarks/bench_scale.py
+python benchmarks/bench_scale.py --big
 python benchmarks/bench_bp1.py
 python benchmarks/bench_inertial.py
 python benchmarks/bench_explore.py
