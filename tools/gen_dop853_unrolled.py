@@ -93,7 +93,8 @@ out = [
     "from ._dop853_tableau import D as _D",
     "",
     "#: the stage coefficients of the quadratures: ``A``, with row "
-    + str(NS) + " (the derivative at the new state) replaced by ``B``",
+    + str(NS)
+    + " (the derivative at the new state) replaced by ``B``",
     "_QUAD_A = _A.copy()",
     "_QUAD_A[" + str(NS) + ", :" + str(NS) + "] = _B",
     "",
