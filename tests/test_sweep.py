@@ -159,3 +159,26 @@ def test_load_sweep_errors(tmp_path: Path) -> None:
     bad.write_text("not netcdf")
     with pytest.raises(ValueError, match="not a readable NetCDF"):
         load_sweep(bad)
+
+
+def test_a_block_of_a_job_runs_in_few_engine_calls(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    # A block of a job (store or cluster) has no progress bar of its own: its rows go to the
+    # engine in calls of up to 20 000, not in ~50 calls for a bar's updates (each call starts
+    # its threads and waits on the slowest: that made a store or a cluster 20-50 % slower).
+    import stickslip.dynamics.sweep as sweep_module
+
+    calls: list[int] = []
+    real = sweep_module.run_attractors
+
+    def counting(*args, **kwargs):  # type: ignore[no-untyped-def]
+        calls.append(len(np.atleast_1d(args[2])))
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(sweep_module, "run_attractors", counting)
+    base = DimensionlessParameters(0.01, WeakeningLaw(c=3.8))
+    grid = {"nu": np.geomspace(1e-3, 0.3, 60), "c": np.linspace(2.0, 10.0, 50)}
+    sweep(base, grid, progress=False, store=tmp_path / "s.zarr", block_points=3000)
+    assert calls == [3000]  # one block, one call
+    calls.clear()
+    sweep(base, grid, progress=lambda info: None)  # with a bar of its own: about 50 updates
+    assert len(calls) > 10 and sum(calls) == 3000
