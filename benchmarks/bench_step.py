@@ -228,6 +228,11 @@ def drivers(mod: ModuleType, accel):  # type: ignore[no-untyped-def]
                     s, w, ks0, kw0 = s1, w1, ks[12], kw[12]
         return steps
 
+    @njit(inline="always")
+    def one_lane(C, NU, S, W, KS0, KW0, H, k):  # type: ignore[no-untyped-def]
+        P = (C[k], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+        return step_inl(0, P, NU[k], 1, S[k], W[k], KS0[k], KW0[k], H[k], RTOL, ATOL)
+
     @njit
     def lanes(c, nu, h0):  # type: ignore[no-untyped-def]
         L = 4
@@ -260,58 +265,10 @@ def drivers(mod: ModuleType, accel):  # type: ignore[no-untyped-def]
             KW0[lane] = accel(0, (C[lane], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), 1, 1.0, 0.0)
         steps = 0
         while live > 0:
-            e0, a0, b0, k0, q0 = step_inl(
-                0,
-                (C[0], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
-                NU[0],
-                1,
-                S[0],
-                W[0],
-                KS0[0],
-                KW0[0],
-                H[0],
-                RTOL,
-                ATOL,
-            )
-            e1, a1, b1, k1, q1 = step_inl(
-                0,
-                (C[1], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
-                NU[1],
-                1,
-                S[1],
-                W[1],
-                KS0[1],
-                KW0[1],
-                H[1],
-                RTOL,
-                ATOL,
-            )
-            e2, a2, b2, k2, q2 = step_inl(
-                0,
-                (C[2], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
-                NU[2],
-                1,
-                S[2],
-                W[2],
-                KS0[2],
-                KW0[2],
-                H[2],
-                RTOL,
-                ATOL,
-            )
-            e3, a3, b3, k3, q3 = step_inl(
-                0,
-                (C[3], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
-                NU[3],
-                1,
-                S[3],
-                W[3],
-                KS0[3],
-                KW0[3],
-                H[3],
-                RTOL,
-                ATOL,
-            )
+            e0, a0, b0, k0, q0 = one_lane(C, NU, S, W, KS0, KW0, H, 0)
+            e1, a1, b1, k1, q1 = one_lane(C, NU, S, W, KS0, KW0, H, 1)
+            e2, a2, b2, k2, q2 = one_lane(C, NU, S, W, KS0, KW0, H, 2)
+            e3, a3, b3, k3, q3 = one_lane(C, NU, S, W, KS0, KW0, H, 3)
             E[0], S1[0], W1[0], K1[0], Q1[0] = e0, a0, b0, k0[12], q0[12]
             E[1], S1[1], W1[1], K1[1], Q1[1] = e1, a1, b1, k1[12], q1[12]
             E[2], S1[2], W1[2], K1[2], Q1[2] = e2, a2, b2, k2[12], q2[12]
