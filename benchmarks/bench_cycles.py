@@ -59,6 +59,14 @@ def scipy_cycle(nu: float, c: float, rtol: float = RTOL, atol: float = ATOL) -> 
     return float(s.max() - s.min())
 
 
+def workload(n: int, seed: int) -> tuple[np.random.Generator, np.ndarray, np.ndarray]:
+    """The benchmark's parameter sets: ``nu`` log-uniform in [1e-5, 1e-1], ``c`` uniform in [0.5, 50]."""
+    rng = np.random.default_rng(seed)
+    nu = 10 ** rng.uniform(-5, -1, n)
+    c = rng.uniform(0.5, 50.0, n)
+    return rng, nu, c
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=200_000, help="parameter sets for stickslip")
@@ -66,9 +74,7 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=0)
     args = ap.parse_args()
 
-    rng = np.random.default_rng(args.seed)
-    nu = 10 ** rng.uniform(-5, -1, args.n)
-    c = rng.uniform(0.5, 50.0, args.n)
+    rng, nu, c = workload(args.n, args.seed)
     lp = c[:, None]
     builtin = WeakeningLaw(c=1.0).kernel
     formula = ExpressionLaw("1/(1 + c*w)", c=1.0).kernel  # generated, compiled once, cached

@@ -44,7 +44,7 @@ from numba import njit
 from stickslip.laws import WeakeningLaw
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from bench_cycles import ATOL, RTOL, scipy_cycle
+from bench_cycles import ATOL, RTOL, scipy_cycle, workload
 
 N_OUT = 21  # engine.NOUT
 
@@ -64,7 +64,7 @@ def variant_last_stage(mod: ModuleType):  # type: ignore[no-untyped-def]
     src = inspect.getsource(mod.step_sw.py_func)
     src = src[src.index("def step_sw") :]
     head, _, _ = src.rpartition("return err, s1, w1,")
-    src = head + "return err, s1, w1, ks12, kw12\n"
+    src = head + "return err, s1, w1, (ks12,), (kw12,)\n"
     ns = dict(vars(mod))
     exec(compile(src, "<step_sw, last stage only>", "exec"), ns)
     return njit(fastmath={"reassoc", "contract"})(ns["step_sw"])
@@ -173,33 +173,25 @@ def drivers(mod: ModuleType, accel):  # type: ignore[no-untyped-def]
     dense = mod.dense_sw
     z7 = (0.0,) * 7
 
-    @njit
-    def chain(n, c, nu, h):  # type: ignore[no-untyped-def]
-        P = (c, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-        s, w, ks0, kw0 = 1.0, 0.0, nu, accel(0, P, 1, 1.0, 0.0)
-        tot = 0.0
-        for i in range(n):
-            err, s1, w1, ks, kw = step(0, P, nu, 1, s, w, ks0, kw0, h, RTOL, ATOL)
-            tot += err
-            if (i & 31) == 0 or w1 <= 0.0:
-                s, w, ks0, kw0 = 1.0, 0.0, nu, accel(0, P, 1, 1.0, 0.0)
-            else:
-                s, w, ks0, kw0 = s1, w1, ks[12], kw[12]
-        return tot
+    def chain_of(stepper):  # type: ignore[no-untyped-def]
+        @njit
+        def chain(n, c, nu, h):  # type: ignore[no-untyped-def]
+            P = (c, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+            s, w, ks0, kw0 = 1.0, 0.0, nu, accel(0, P, 1, 1.0, 0.0)
+            tot = 0.0
+            for i in range(n):
+                err, s1, w1, ks, kw = stepper(0, P, nu, 1, s, w, ks0, kw0, h, RTOL, ATOL)
+                tot += err
+                if (i & 31) == 0 or w1 <= 0.0:
+                    s, w, ks0, kw0 = 1.0, 0.0, nu, accel(0, P, 1, 1.0, 0.0)
+                else:
+                    s, w, ks0, kw0 = s1, w1, ks[-1], kw[-1]  # the derivative at the new state
+            return tot
 
-    @njit
-    def chain_last(n, c, nu, h):  # type: ignore[no-untyped-def]
-        P = (c, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-        s, w, ks0, kw0 = 1.0, 0.0, nu, accel(0, P, 1, 1.0, 0.0)
-        tot = 0.0
-        for i in range(n):
-            err, s1, w1, a, b = step_last(0, P, nu, 1, s, w, ks0, kw0, h, RTOL, ATOL)
-            tot += err
-            if (i & 31) == 0 or w1 <= 0.0:
-                s, w, ks0, kw0 = 1.0, 0.0, nu, accel(0, P, 1, 1.0, 0.0)
-            else:
-                s, w, ks0, kw0 = s1, w1, a, b
-        return tot
+        return chain
+
+    chain = chain_of(step)
+    chain_last = chain_of(step_last)
 
     @njit
     def controller(err, h, rejected):  # type: ignore[no-untyped-def]
@@ -233,6 +225,18 @@ def drivers(mod: ModuleType, accel):  # type: ignore[no-untyped-def]
         P = (C[k], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
         return step_inl(0, P, NU[k], 1, S[k], W[k], KS0[k], KW0[k], H[k], RTOL, ATOL)
 
+    @njit(inline="always")
+    def load_row(lane, r, c, nu, h0, ROW, C, NU, H, S, W, KS0, KW0, REJ):  # type: ignore[no-untyped-def]
+        ROW[lane] = r
+        C[lane] = c[r]
+        NU[lane] = nu[r]
+        H[lane] = h0[r]
+        S[lane] = 1.0
+        W[lane] = 0.0
+        REJ[lane] = False
+        KS0[lane] = nu[r]
+        KW0[lane] = accel(0, (c[r], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), 1, 1.0, 0.0)
+
     @njit
     def lanes(c, nu, h0):  # type: ignore[no-untyped-def]
         L = 4
@@ -251,18 +255,16 @@ def drivers(mod: ModuleType, accel):  # type: ignore[no-untyped-def]
         Q1 = np.empty(L)
         C = np.ones(L)
         NU = np.full(L, 0.1)
+        KS0[:] = 0.1  # an idle lane steps a harmless system
+        KW0[:] = 0.0
+        H[:] = 1e-3
         nxt = 0
         live = 0
         for lane in range(L):
             if nxt < n:
-                ROW[lane] = nxt
-                C[lane] = c[nxt]
-                NU[lane] = nu[nxt]
-                H[lane] = h0[nxt]
+                load_row(lane, nxt, c, nu, h0, ROW, C, NU, H, S, W, KS0, KW0, REJ)
                 live += 1
                 nxt += 1
-            KS0[lane] = NU[lane]
-            KW0[lane] = accel(0, (C[lane], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), 1, 1.0, 0.0)
         steps = 0
         while live > 0:
             e0, a0, b0, k0, q0 = one_lane(C, NU, S, W, KS0, KW0, H, 0)
@@ -286,20 +288,12 @@ def drivers(mod: ModuleType, accel):  # type: ignore[no-untyped-def]
                     S[lane], W[lane], KS0[lane], KW0[lane] = S1[lane], W1[lane], K1[lane], Q1[lane]
                     continue
                 # the lane's row is done: the next one
-                S[lane] = 1.0
-                W[lane] = 0.0
-                REJ[lane] = False
                 if nxt < n:
-                    ROW[lane] = nxt
-                    C[lane] = c[nxt]
-                    NU[lane] = nu[nxt]
-                    H[lane] = h0[nxt]
+                    load_row(lane, nxt, c, nu, h0, ROW, C, NU, H, S, W, KS0, KW0, REJ)
                     nxt += 1
                 else:
                     ROW[lane] = -1
                     live -= 1
-                KS0[lane] = NU[lane]
-                KW0[lane] = accel(0, (C[lane], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), 1, 1.0, 0.0)
         return steps
 
     @njit
@@ -324,9 +318,7 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=0)
     args = ap.parse_args()
 
-    rng = np.random.default_rng(args.seed)
-    nu = 10 ** rng.uniform(-5, -1, args.n)
-    c = rng.uniform(0.5, 50.0, args.n)
+    rng, nu, c = workload(args.n, args.seed)
     kernel = WeakeningLaw(c=1.0).kernel
     eng = kernel.engine
     unrolled = importlib.import_module(eng.__name__.rpartition(".")[0] + "._dop853_unrolled")
