@@ -41,12 +41,11 @@ from types import ModuleType
 import numpy as np
 from numba import njit
 
+from stickslip.core import engine as core_engine
 from stickslip.laws import WeakeningLaw
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_cycles import ATOL, RTOL, scipy_cycle, workload
-
-N_OUT = 21  # engine.NOUT
 
 
 def best_of(f, repeat: int = 3) -> float:  # type: ignore[no-untyped-def]
@@ -171,7 +170,6 @@ def drivers(mod: ModuleType, accel):  # type: ignore[no-untyped-def]
     step_last = variant_last_stage(mod)
     step_inl = njit(inline="always", fastmath={"reassoc", "contract"})(mod.step_sw.py_func)
     dense = mod.dense_sw
-    z7 = (0.0,) * 7
 
     def chain_of(stepper):  # type: ignore[no-untyped-def]
         @njit
@@ -302,7 +300,6 @@ def drivers(mod: ModuleType, accel):  # type: ignore[no-untyped-def]
         kw0 = accel(0, P, 1, 1.0, 0.0)
         _err, s1, w1, ks, kw = step(0, P, nu, 1, 1.0, 0.0, nu, kw0, h, RTOL, ATOL)
         tot = 0.0
-        cs = z7
         for i in range(n):
             cs, _cw, _a, _b = dense(0, P, nu, 1, 1.0, 0.0 * i, s1, w1, h, ks, kw)
             tot += cs[3]
@@ -329,17 +326,19 @@ def main() -> None:
     law = np.full(args.n, kernel.law_id, dtype=np.int64)
     lp = np.zeros((args.n, 8))
     lp[:, 0] = c
-    out = np.empty((args.n, N_OUT))
+    out = np.empty((args.n, core_engine.NOUT))
     zeros = np.zeros(args.n)
 
     def engine() -> None:
         eng.attractor_rows(law, lp, nu, zeros, zeros, True, RTOL, ATOL, 1e4, 1e-8, False, 1_000_000, out)
 
     engine()
-    assert np.all(out[:, 0] == 0) and np.all(out[:, 1] == 0), "every row a steady stick-slip cycle"
+    ok = out[:, core_engine.O_STATUS] == core_engine.ST_OK
+    stick = out[:, core_engine.O_REGIME] == core_engine.RG_STICK_SLIP
+    assert np.all(ok & stick), "every row a steady stick-slip cycle"
     t_engine = best_of(engine)
-    n_acc = out[:, 17].sum()
-    n_rej = out[:, 18].sum()
+    n_acc = out[:, core_engine.O_NSTEP].sum()
+    n_rej = out[:, core_engine.O_NREJECT].sum()
     n_steps = n_acc + n_rej
 
     chain, chain_last, phases, lanes, dense_calls = drivers(unrolled, accel)
@@ -366,7 +365,8 @@ def main() -> None:
         scipy_cycle(nu[i], c[i])
     t_scipy = time.perf_counter() - t0
     sub = out[idx]
-    scipy_steps = (sub[:, 17] + sub[:, 18]).sum()  # about the same steps as the engine takes
+    # about the same steps as the engine takes
+    scipy_steps = (sub[:, core_engine.O_NSTEP] + sub[:, core_engine.O_NREJECT]).sum()
 
     t_inter = {}
     for k in (1, 4):

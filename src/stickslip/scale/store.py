@@ -495,19 +495,7 @@ class ChunkStore:
         return ds
 
 
-_GROUPS: dict[tuple[str, str], Any] = {}
 _ARRAYS: dict[tuple[str, str], dict[str, Any]] = {}
-
-
-def _group(path: str, identity: str) -> Any:
-    """Return the store's group opened for writing, once per process and job."""
-    g = _GROUPS.get((path, identity))
-    if g is None:
-        import zarr
-
-        g = zarr.open_group(path, mode="r+", use_consolidated=False)
-        _GROUPS[(path, identity)] = g
-    return g
 
 
 def _arrays(path: str, identity: str, names: list[str]) -> dict[str, Any]:
@@ -518,7 +506,9 @@ def _arrays(path: str, identity: str, names: list[str]) -> dict[str, Any]:
     """
     got = _ARRAYS.get((path, identity))
     if got is None:
-        g = _group(path, identity)
+        import zarr
+
+        g = zarr.open_group(path, mode="r+", use_consolidated=False)
         got = {n: g[n] for n in names}
         _ARRAYS[(path, identity)] = got
     return got
