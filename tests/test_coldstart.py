@@ -121,3 +121,34 @@ def test_blocks_cover_every_row_once_and_stop_at_an_error(monkeypatch: pytest.Mo
     with pytest.raises(ValueError, match="first block"):
         api.in_blocks(fails_first, 1000)  # 48 blocks of 21 rows
     assert 1 <= len(started) < 12  # the blocks not started were cancelled
+
+
+def test_a_few_rows_run_alone_equal_the_batch_kernel_bit_for_bit() -> None:
+    """Up to SERIAL_ROWS rows go to the per-row kernel from Python, more to the batch kernel."""
+    from stickslip.core import api
+
+    for law_id, lp, nu in CASES:
+        many = np.tile(np.array(nu), 5)  # more rows than SERIAL_ROWS: attractor_rows
+        assert many.size > api.SERIAL_ROWS
+        batch = _rows(law_id, lp, list(many))
+        alone = np.vstack([_rows(law_id, lp, [v]) for v in nu])  # one row: attractor_ws
+        np.testing.assert_array_equal(batch[: len(nu)], alone)
+
+
+_CYCLE_CHILD = r"""
+import json
+from stickslip import cycle, DimensionlessParameters, WeakeningLaw
+from stickslip.bifurcation.orbits import law_arrays
+law = WeakeningLaw(c=3.8)
+r = cycle(DimensionlessParameters(nu=1e-3, law=law))
+eng = law_arrays(law)[0].engine  # the law's own compiled package
+print(json.dumps({"regime": str(r.regime), "rows": len(eng.attractor_rows.signatures),
+                  "one": len(eng.attractor_ws.signatures)}))
+"""
+
+
+def test_a_cycle_needs_no_batch_kernel() -> None:
+    """`stickslip cycle` runs two rows: it neither compiles nor loads attractor_rows (1-2 s cold)."""
+    out = subprocess.run([sys.executable, "-c", _CYCLE_CHILD], capture_output=True, text=True, check=True)
+    got = json.loads(out.stdout.strip().splitlines()[-1])
+    assert got == {"regime": "stick-slip", "rows": 0, "one": 1}

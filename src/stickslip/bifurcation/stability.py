@@ -22,7 +22,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ..laws import DimensionlessLaw, require_dimensionless_law
 from ..units import check_number
@@ -95,8 +94,11 @@ def hopf_points(
     roots = [
         float(grid[i]) for i in np.flatnonzero(g == 0.0) if 0 < i < grid.size - 1 and g[i - 1] * g[i + 1] < 0
     ]
+    from scipy import optimize  # here: scipy.optimize takes 0.3 s to import, and a cycle needs none
+
     for i in np.flatnonzero(np.sign(g[:-1]) * np.sign(g[1:]) < 0):
-        roots.append(float(brentq(lambda v: _d(law, v, 1), grid[i], grid[i + 1], xtol=1e-14, rtol=1e-14)))
+        root = optimize.brentq(lambda v: _d(law, v, 1), grid[i], grid[i + 1], xtol=1e-14, rtol=1e-14)
+        roots.append(float(root))
     out = []
     for nu_h in sorted(roots):
         f3 = _d(law, nu_h, 3)

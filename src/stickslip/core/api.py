@@ -177,6 +177,29 @@ def run_attractors(
     s0_a = z if s0 is None else _broadcast("s0", checks.finite_array("s0", s0), (n,))
     w0_a = z if w0 is None else _broadcast("w0", checks.finite_array("w0", w0), (n,))
     out = np.empty((n, engine.NOUT))
+    if n <= SERIAL_ROWS:
+        # a few rows (one command's cycle): the per-row kernel that attractor_rows calls,
+        # straight from here, so that a command that never runs a batch does not compile
+        # attractor_rows (1-2 s on a fresh install, most of it LLVM linking it again)
+        one = kernel.engine.attractor_ws
+        ws = _workspace(4 if diag else 2)
+        for i in range(n):
+            one(
+                law_a[i],
+                lp_a[i],
+                nu_a[i],
+                s0_a[i],
+                w0_a[i],
+                bool(from_breakaway),
+                rtol,
+                atol,
+                max_slip_time,
+                conv_tol,
+                max_steps,
+                out[i],
+                *ws,
+            )
+        return AttractorRows(out)
     rows = kernel.engine.attractor_rows
 
     def call(lo: int, hi: int) -> None:
@@ -198,6 +221,23 @@ def run_attractors(
 
     in_blocks(call, n)
     return AttractorRows(out)
+
+
+def _workspace(n: int) -> tuple[np.ndarray, ...]:
+    """Allocate the work arrays of one integration, as :func:`stickslip.core.engine.new_workspace` does."""
+    return (
+        np.empty((engine.N_STAGES_EXTENDED, n)),
+        np.empty((7, n)),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(engine.NTRK),
+        np.empty(0),
+        np.empty((0, 2)),
+        np.empty(0, dtype=np.int64),
+        np.empty((0, 3)),
+        np.zeros(1, dtype=np.int64),
+    )
 
 
 def threads() -> int:

@@ -492,20 +492,12 @@ def _mode_at(s, w):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def attractor(  # type: ignore[no-untyped-def]
-    law, lp, nu, s0, w0, from_breakaway, rtol, atol, t_max, conv_tol, diag, max_steps, out
-):
-    """Follow the motion from ``(s0, w0)`` to its attractor (see :func:`attractor_ws`)."""
-    ws = new_workspace(4 if diag else 2)
-    attractor_ws(
-        law, lp, nu, s0, w0, from_breakaway, rtol, atol, t_max, conv_tol, max_steps, out,
-        ws[0], ws[1], ws[2], ws[3], ws[4], ws[5],
-    )
-
-
-@njit(cache=True)
 def new_workspace(n):  # type: ignore[no-untyped-def]
-    """Allocate the work arrays of one integration (``n`` = 2, or 4 with quadratures)."""
+    """Allocate the work arrays of one integration (``n`` = 2, or 4 with quadratures).
+
+    The last five are the empty sample and event buffers of :func:`_slip_phase`
+    (an attractor samples nothing) and the event counter.
+    """
     return (
         np.empty((N_STAGES_EXTENDED, n)),
         np.empty((7, n)),
@@ -513,13 +505,18 @@ def new_workspace(n):  # type: ignore[no-untyped-def]
         np.empty(n),
         np.empty(n),
         np.empty(NTRK),
+        np.empty(0),
+        np.empty((0, 2)),
+        np.empty(0, dtype=np.int64),
+        np.empty((0, 3)),
+        np.zeros(1, dtype=np.int64),
     )
 
 
 @njit(cache=True)
 def attractor_ws(  # type: ignore[no-untyped-def]
     law, lp, nu, s0, w0, from_breakaway, rtol, atol, t_max, conv_tol, max_steps, out,
-    K, F, y_new, ytmp, y, trk,
+    K, F, y_new, ytmp, y, trk, t_eval, out_y, out_mode, evbuf, evn,
 ):
     """Follow the motion from ``(s0, w0)`` to its attractor and measure one steady cycle.
 
@@ -531,7 +528,9 @@ def attractor_ws(  # type: ignore[no-untyped-def]
     breakaway). In both cases, a motion that does not stick is followed until
     successive oscillations converge (pure slip) or decay about a linearly
     stable steady state (steady sliding). ``t_max`` bounds the total slip time
-    integrated. Results go to ``out`` (layout ``O_*``).
+    integrated. Results go to ``out`` (layout ``O_*``). The work arrays, ``K`` to
+    ``evn``, are those of :func:`new_workspace` (allocated by the caller, so that
+    this kernel compiles no allocation of its own).
     """
     n = y.shape[0]
     diag = n > 2
@@ -542,11 +541,6 @@ def attractor_ws(  # type: ignore[no-untyped-def]
     trk[T_NREJ] = 0.0
     trk[T_DFNU] = df_plus(law, params(lp), nu)
     trk[T_FNU] = f_plus(law, params(lp), nu)
-    t_eval = np.empty(0)
-    out_y = np.empty((0, 2))
-    out_mode = np.empty(0, dtype=np.int64)
-    evbuf = np.empty((0, 3))
-    evn = np.zeros(1, dtype=np.int64)
     ie0 = np.int64(0)  # not the literal 0: one compiled _slip_phase for every caller
     for i in range(NOUT):
         out[i] = math.nan
@@ -677,6 +671,7 @@ def attractor_rows(  # type: ignore[no-untyped-def]
         attractor_ws(
             law[i], lp[i], nu[i], s0[i], w0[i], from_breakaway, rtol, atol, t_max,
             conv_tol, max_steps, out[i], ws[0], ws[1], ws[2], ws[3], ws[4], ws[5],
+            ws[6], ws[7], ws[8], ws[9], ws[10],
         )
 
 

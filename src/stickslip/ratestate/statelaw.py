@@ -19,7 +19,6 @@ from functools import lru_cache
 import numpy as np
 import numpy.typing as npt
 import sympy as sp
-from scipy.optimize import brentq
 
 from ..core import ratestate as core
 from ..laws.formula import parse_formula
@@ -79,6 +78,8 @@ class StateLawFormula:
             When ``F`` has no sign change within twelve decades of ``dc/v``.
 
         """
+        from scipy import optimize  # here: 0.3 s to import, and most commands need none
+
         x0 = dc / v
 
         def g(lx: float) -> float:
@@ -89,7 +90,7 @@ class StateLawFormula:
         vals = np.array([g(x) for x in grid])
         for i in range(grid.size - 1):
             if np.isfinite(vals[i]) and np.isfinite(vals[i + 1]) and vals[i] > 0 >= vals[i + 1]:
-                return x0 * math.exp(brentq(g, grid[i], grid[i + 1], xtol=1e-14))
+                return x0 * math.exp(optimize.brentq(g, grid[i], grid[i + 1], xtol=1e-14))
         raise ValueError(
             f"state_law={self.text!r}: no stable steady state (dPhi/dt from + to -) within 1e12 of "
             f"dc/v at v = {v:g} m/s; steady sliding needs one"
