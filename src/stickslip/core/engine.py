@@ -341,37 +341,53 @@ def _slip_phase(  # type: ignore[no-untyped-def]
             store_step(law, lp, nu, d, y, hh, K, y_new, s1, w1, ks, kw)
 
         # ---- events inside the accepted step [t, t + hh] ----------------
-        # The interpolant (dense_sw) is computed at the first event that needs it.
+        # The interpolant (dense_sw) is computed once, in a step where an event or a
+        # sample needs it: the velocity turns (dw changes sign), the block stops (d*w
+        # reaches zero), the spring force turns in forward slip (w crosses nu), or a
+        # sample time falls in the step. (One call site: each costs compile time.)
         w0 = w
         dw0 = kw0
         dw1 = kw[N_STAGES]
-        dense = False
-        x_wext = -1.0
-        wext = 0.0
-        if (dw0 > 0.0 and dw1 < 0.0) or (dw0 < 0.0 and dw1 > 0.0):
+        turns = (dw0 > 0.0 and dw1 < 0.0) or (dw0 < 0.0 and dw1 > 0.0)
+        g0 = w0 - nu
+        g1 = w1 - nu
+        if (
+            turns
+            or (d * w0 > 0.0 and d * w1 <= 0.0)
+            or (d > 0 and (g0 * g1 < 0.0 or (g1 == 0.0 and g0 != 0.0)))
+            or (ie < n_eval and t_eval[ie] <= t + hh)
+        ):
             cs, cw, ksx, kwx = dense_sw(law, P, nu, d, s, w, s1, w1, hh, ks, kw)
             if diag:
                 store_dense(law, lp, nu, d, y, y_new, hh, K, F, cs, cw, ksx, kwx)
-            dense = True
+        x_wext = -1.0
+        wext = 0.0
+        if turns:
             x_wext = illinois_sw(law, P, d, cs, s, cw, w, WEXT + 0 * law, 0.0, 0.0, dw0, 1.0, dw1)
             wext = poly7(cw, w, x_wext)
-        # stop: d*w reaches zero
+        # stop: d*w reaches zero, bracketed in [x_lo, x_hi] (one root-finder call site)
         x_stop = 2.0
+        stops = False
+        x_lo = 0.0
+        w_lo = w0
+        x_hi = 1.0
+        w_hi = w1
         if d * w0 > 0.0:
             if d * w1 <= 0.0:
-                if not dense:
-                    cs, cw, ksx, kwx = dense_sw(law, P, nu, d, s, w, s1, w1, hh, ks, kw)
-                    if diag:
-                        store_dense(law, lp, nu, d, y, y_new, hh, K, F, cs, cw, ksx, kwx)
-                    dense = True
-                x_stop = illinois_sw(law, P, d, cs, s, cw, w, LEVEL + 0 * law, 0.0, 0.0, w0, 1.0, w1)
+                stops = True
             elif x_wext >= 0.0 and d * wext <= 0.0 and d * dw0 < 0.0:
-                x_stop = illinois_sw(law, P, d, cs, s, cw, w, LEVEL + 0 * law, 0.0, 0.0, w0, x_wext, wext)
+                stops = True
+                x_hi = x_wext
+                w_hi = wext
         elif d * w0 == 0.0 and x_wext >= 0.0 and d * wext > 0.0 and d * w1 <= 0.0:
             # a phase that starts at rest (w = 0) with a weak push (after a stop just
             # past the static threshold) can end inside its first step: w leaves zero,
             # turns at x_wext and is back at zero before the step ends
-            x_stop = illinois_sw(law, P, d, cs, s, cw, w, LEVEL + 0 * law, 0.0, x_wext, wext, 1.0, w1)
+            stops = True
+            x_lo = x_wext
+            w_lo = wext
+        if stops:
+            x_stop = illinois_sw(law, P, d, cs, s, cw, w, LEVEL + 0 * law, 0.0, x_lo, w_lo, x_hi, w_hi)
         x_end = x_stop if x_stop < 1.0 else 1.0
         # spring-force extrema (w = nu), forward slip only; velocity extrema
         nev = 0
@@ -380,29 +396,25 @@ def _slip_phase(  # type: ignore[no-untyped-def]
             ev_k[nev] = 0
             nev += 1
         if d > 0:
-            g0 = w0 - nu
-            g_end = -nu if x_stop <= 1.0 else w1 - nu
-            if nev == 1 and x_wext < x_end:
-                ge = wext - nu
-                if g0 * ge < 0.0 or (ge == 0.0 and g0 != 0.0):
-                    ev_x[nev] = illinois_sw(law, P, d, cs, s, cw, w, LEVEL + 0 * law, nu, 0.0, g0, x_wext, ge)
-                    ev_k[nev] = 1 if g0 < 0.0 else -1
-                    nev += 1
-                if ge * g_end < 0.0 or (g_end == 0.0 and ge != 0.0):
+            # w - nu changes sign on [0, x_end], or on each side of a velocity extremum in it
+            split = nev == 1 and x_wext < x_end
+            x_lo = 0.0
+            g_lo = g0
+            for seg in range(2 if split else 1):
+                if split and seg == 0:
+                    x_hi = x_wext
+                    g_hi = wext - nu
+                else:
+                    x_hi = x_end
+                    g_hi = -nu if x_stop <= 1.0 else g1
+                if g_lo * g_hi < 0.0 or (g_hi == 0.0 and g_lo != 0.0):
                     ev_x[nev] = illinois_sw(
-                        law, P, d, cs, s, cw, w, LEVEL + 0 * law, nu, x_wext, ge, x_end, g_end
+                        law, P, d, cs, s, cw, w, LEVEL + 0 * law, nu, x_lo, g_lo, x_hi, g_hi
                     )
-                    ev_k[nev] = 1 if ge < 0.0 else -1
+                    ev_k[nev] = 1 if g_lo < 0.0 else -1
                     nev += 1
-            elif g0 * g_end < 0.0 or (g_end == 0.0 and g0 != 0.0):
-                if not dense:
-                    cs, cw, ksx, kwx = dense_sw(law, P, nu, d, s, w, s1, w1, hh, ks, kw)
-                    if diag:
-                        store_dense(law, lp, nu, d, y, y_new, hh, K, F, cs, cw, ksx, kwx)
-                    dense = True
-                ev_x[nev] = illinois_sw(law, P, d, cs, s, cw, w, LEVEL + 0 * law, nu, 0.0, g0, x_end, g_end)
-                ev_k[nev] = 1 if g0 < 0.0 else -1
-                nev += 1
+                x_lo = x_hi
+                g_lo = g_hi
         # process in time order (at most three events)
         for a in range(1, nev):
             b = a
@@ -433,11 +445,6 @@ def _slip_phase(  # type: ignore[no-untyped-def]
         # dense samples requested by the caller
         t_seg_end = t + x_end * hh
         while ie < n_eval and t_eval[ie] <= t_seg_end:
-            if not dense:
-                cs, cw, ksx, kwx = dense_sw(law, P, nu, d, s, w, s1, w1, hh, ks, kw)
-                if diag:
-                    store_dense(law, lp, nu, d, y, y_new, hh, K, F, cs, cw, ksx, kwx)
-                dense = True
             xe = (t_eval[ie] - t) / hh
             if xe < 0.0:
                 xe = 0.0
