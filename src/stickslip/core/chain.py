@@ -643,10 +643,13 @@ def chain_run(  # type: ignore[no-untyped-def]
                 xe = -1.0
                 pk_x[k] = 2.0
                 pk_v[k] = 0.0
-                if a0 > 0.0 and a1 < 0.0:  # a speed maximum inside the step
-                    if not have_dense:
-                        _dense(ctx, t, y, y_new, h, K, F, ytmp, nvar)
-                        have_dense = True
+                peak_in = a0 > 0.0 and a1 < 0.0  # a speed maximum inside the step
+                dip_in = a0 < 0.0 and a1 > 0.0 and g1 > 0.0  # a speed minimum: a dip to 0?
+                if (peak_in or dip_in or g1 <= 0.0) and not have_dense:
+                    _dense(ctx, t, y, y_new, h, K, F, ytmp, nvar)
+                    have_dense = True
+                xm = 2.0
+                if peak_in or dip_in:
                     xm = _root(
                         G_VEL_SLOPE,
                         F,
@@ -667,12 +670,10 @@ def chain_run(  # type: ignore[no-untyped-def]
                         1.0,
                         d * a1 * h,
                     )
+                if peak_in:
                     pk_x[k] = xm
                     pk_v[k] = abs(dense_eval(F, y, xm, 2 * k + 1))
                 if g1 <= 0.0:
-                    if not have_dense:
-                        _dense(ctx, t, y, y_new, h, K, F, ytmp, nvar)
-                        have_dense = True
                     if g0 > 0.0:
                         xe = _root(
                             G_VEL, F, y, k, d, 0.0, x, j, nu, ell2, periodic, pos, t, h, 0.0, g0, 1.0, g1
@@ -688,30 +689,7 @@ def chain_run(  # type: ignore[no-untyped-def]
                                 G_VEL, F, y, k, d, 0.0, x, j, nu, ell2, periodic, pos, t, h, xs, gs, 1.0, g1
                             )
                         )
-                elif a0 < 0.0 and a1 > 0.0:  # a speed minimum inside the step: a dip to 0?
-                    if not have_dense:
-                        _dense(ctx, t, y, y_new, h, K, F, ytmp, nvar)
-                        have_dense = True
-                    xm = _root(
-                        G_VEL_SLOPE,
-                        F,
-                        y,
-                        k,
-                        1.0,
-                        0.0,
-                        x,
-                        j,
-                        nu,
-                        ell2,
-                        periodic,
-                        pos,
-                        t,
-                        h,
-                        0.0,
-                        d * a0 * h,
-                        1.0,
-                        d * a1 * h,
-                    )
+                elif dip_in:
                     gm = d * dense_eval(F, y, xm, 2 * k + 1)
                     if gm <= 0.0 and g0 > 0.0:
                         xe = _root(
