@@ -10,7 +10,7 @@ model layer does that before calling them.
 from __future__ import annotations
 
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
 from types import ModuleType
 from typing import NamedTuple
@@ -131,6 +131,7 @@ def run_attractors(
     conv_tol: float,
     diag: bool = False,
     max_steps: int = 2_000_000,
+    on_rows: Callable[[int], None] | None = None,
 ) -> AttractorRows:
     """Run the attractor kernel for each row, in parallel.
 
@@ -156,6 +157,9 @@ def run_attractors(
         Also integrate the work of the drive and of friction.
     max_steps : int, optional
         Bound on the steps of one slip phase.
+    on_rows : callable, optional
+        Called in this thread with the number of rows just finished, as blocks of
+        rows finish (a progress bar's update).
 
     Returns
     -------
@@ -199,6 +203,8 @@ def run_attractors(
                 out[i],
                 *ws,
             )
+        if on_rows is not None:
+            on_rows(n)
         return AttractorRows(out)
     rows = kernel.engine.attractor_rows
 
@@ -219,7 +225,7 @@ def run_attractors(
             out[lo:hi],
         )
 
-    in_blocks(call, n)
+    in_blocks(call, n, on_rows)
     return AttractorRows(out)
 
 
@@ -245,7 +251,7 @@ def threads() -> int:
     return max(1, int(numba.config.NUMBA_NUM_THREADS))  # type: ignore[attr-defined]
 
 
-def in_blocks(call: Callable[[int, int], None], n: int) -> None:
+def in_blocks(call: Callable[[int, int], None], n: int, done: Callable[[int], None] | None = None) -> None:
     """Run ``call(lo, hi)`` over blocks of the rows ``0..n``, in a pool of :func:`threads` threads.
 
     The row kernels release the GIL, so the blocks run side by side. Blocks are
@@ -253,18 +259,25 @@ def in_blocks(call: Callable[[int, int], None], n: int) -> None:
     (at least 16 blocks a thread) and at most :data:`BATCH` rows, so that Ctrl-C
     is seen between two calls into the compiled code: the blocks not started are
     cancelled, the running ones finish. A few rows run in the calling thread.
+    ``done(k)``, if given, is called in the calling thread as each block of ``k``
+    rows finishes.
     """
     workers = min(threads(), -(-n // SERIAL_ROWS))
     if workers <= 1:
         for lo in range(0, n, BATCH):
             call(lo, min(n, lo + BATCH))
+            if done is not None:
+                done(min(n, lo + BATCH) - lo)
         return
     size = min(BATCH, max(1, -(-n // (16 * workers))))
     with ThreadPoolExecutor(workers, thread_name_prefix="stickslip") as pool:
-        futures = [pool.submit(call, lo, min(n, lo + size)) for lo in range(0, n, size)]
+        spans = [(lo, min(n, lo + size)) for lo in range(0, n, size)]
+        futures = {pool.submit(call, lo, hi): hi - lo for lo, hi in spans}
         try:
-            for f in futures:
+            for f in as_completed(futures):
                 f.result()
+                if done is not None:
+                    done(futures[f])
         except BaseException:
             for f in futures:
                 f.cancel()

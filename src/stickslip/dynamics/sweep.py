@@ -501,10 +501,11 @@ def _run_chunks(
     n = nu.shape[0]
     out = AttractorRows.empty(n)
     mult = np.empty(n)
-    # with a progress bar, about 50 updates; without one (a block of a job: the job's bar
-    # counts blocks), calls as large as the bound on one call's work: each call into
-    # run_attractors starts its threads and ends waiting on the slowest of them
-    chunk = max(256, min(20_000, n // 50 + 1)) if progress is not False else 20_000
+    # calls as large as the bound on one call's work, with a progress bar or without one (a
+    # block of a job: the job's bar counts blocks): each call into run_attractors starts its
+    # threads and ends waiting on the slowest of them. The bar moves as the engine's blocks
+    # of rows finish inside a call, and counts a block at the end of each call.
+    chunk = 20_000
     bounds = [*range(0, n, chunk), n]
     pairs = list(itertools.pairwise(bounds))
     bar = Progress(n, len(pairs), progress, desc="sweep") if progress is not False else None
@@ -518,10 +519,11 @@ def _run_chunks(
             atol=atol,
             max_slip_time=max_slip_time,
             conv_tol=conv_tol,
+            on_rows=None if bar is None else bar.advance,
         )
         out[lo:hi], mult[lo:hi] = polish_rows((kernel, lp[lo:hi]), nu[lo:hi], rows)
         if bar is not None:
-            bar.update(hi - lo)
+            bar.update(0)
     if bar is not None:
         bar.close()
     return out, mult

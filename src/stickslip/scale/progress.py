@@ -90,11 +90,16 @@ class Progress:
 
     def update(self, points: int) -> None:
         """Count one finished block of ``points`` points."""
-        self.points += int(points)
         self.blocks += 1
         if self.bar is not None:
-            self.bar.update(points)
             self.bar.set_postfix_str(f"block {self.blocks}/{self.total_blocks}", refresh=False)
+        self.advance(points)
+
+    def advance(self, points: int) -> None:
+        """Count ``points`` more points done inside the current block."""
+        self.points += int(points)
+        if self.bar is not None:
+            self.bar.update(points)
         if self.callback is not None:
             self.callback(self.info())
 
