@@ -113,6 +113,14 @@ def main() -> None:
             t_ref,
         )
         eq_store = same(ref, load_sweep(os.path.join(tmp, "a.zarr")))
+        # what a terminal shows by default: a progress bar, here a callable that counts its updates
+        updates: list[int] = []
+        barred, _ = timed(
+            "2b. in process, with a progress bar (callable)",
+            lambda: sweep(BASE, g, progress=lambda info: updates.append(info.points)),
+            t_ref,
+        )
+        print(f"   {len(updates)} progress updates; equal to (1): {same(ref, barred)}")
         t0 = time.perf_counter()
         cluster = local_cluster(2, numba_threads=1)
         client = Client(cluster)
