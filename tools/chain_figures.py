@@ -2,6 +2,7 @@
 
 python tools/chain_figures.py krakow            # docs/images/krakow_lyapunov.png and the table
 python tools/chain_figures.py cl CATALOG.nc     # docs/images/cl_magnitude_frequency.png and b-values
+python tools/chain_figures.py cl-run CATALOG.nc # the 10^5-event catalogue, started or resumed
 """
 
 from __future__ import annotations
@@ -11,9 +12,9 @@ from pathlib import Path
 
 import numpy as np
 
-from stickslip.chains import ChainParameters, b_value, completeness_magnitude, open_catalog
+from stickslip.chains import ChainParameters, b_value, chain, completeness_magnitude, open_catalog
 from stickslip.chains.lyapunov import lyapunov_exponent
-from stickslip.laws import WeakeningLaw
+from stickslip.laws import CarlsonLangerLaw, WeakeningLaw
 from stickslip.plots.chains import plot_lyapunov, plot_magnitude_frequency
 
 IMAGES = Path(__file__).resolve().parent.parent / "docs" / "images"
@@ -55,8 +56,18 @@ def cl(path: str) -> None:
     fig.savefig(IMAGES / "cl_magnitude_frequency.png", dpi=110)
 
 
+def cl_run(path: str) -> None:
+    """Carlson and Langer's set on 1000 blocks: 10^5 events after 2000 of transient (hours on one core)."""
+    p = ChainParameters(blocks=1000, law=CarlsonLangerLaw(alpha=2.5, sigma=0.01), nu=0.01, ell=10.0)
+    kw = {"transient": 2000, "record_slip": 3000, "seed": 1, "progress": True}
+    r = chain(p, 100_000, out=path, resume=Path(path).exists(), **kw)
+    print(r.summary())
+
+
 if __name__ == "__main__":
     if sys.argv[1] == "krakow":
         krakow()
+    elif sys.argv[1] == "cl-run":
+        cl_run(sys.argv[2])
     else:
         cl(sys.argv[2])
