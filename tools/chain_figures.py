@@ -48,9 +48,11 @@ def cl(path: str) -> None:
         print(
             f"b = {f.b:.3f} ± {f.error:.3f} (Shi-Bolt {f.shi_bolt:.3f}) over [{mc:.2f}, {top}] {f.n} events"
         )
+    # the power law proper: above the plateau of one- and few-block events (M < -2), below the bump
+    small = b_value(m, mc=-2.0, m_max=0.0)
+    print(f"b = {small.b:.3f} ± {small.error:.3f} over [-2, 0] {small.n} events")
     nb = cat["n_blocks"].values
     print(f"over 100 blocks: {np.mean(nb > 100):.3%}; of all blocks: {np.mean(nb == nb.max()):.3%}")
-    small = b_value(m, mc=mc, m_max=-1.0)
     fig = plot_magnitude_frequency(cat, small)
     IMAGES.mkdir(exist_ok=True)
     fig.savefig(IMAGES / "cl_magnitude_frequency.png", dpi=110)

@@ -34,7 +34,7 @@ def plot_magnitude_frequency(catalog: Any, fit: BValue, *, bin_width: float = 0.
             color="C3",
             label=f"b = {fit.b:.3f} ± {fit.error:.3f} (Aki-Utsu, {fit.n} events)",
         )
-        ax.axvline(fit.mc, color="C3", ls=":", lw=1.0, label=f"completeness Mc = {fit.mc:.2f}")
+        ax.axvline(fit.mc, color="C3", ls=":", lw=1.0, label=f"fitted from M = {fit.mc:.2f} (Mc or as given)")
     ax.set_xlabel("magnitude M = log10(moment)")
     ax.set_ylabel("number of events")
     ax.legend(frameon=False, fontsize=8)
