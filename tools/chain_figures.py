@@ -50,10 +50,15 @@ def cl(path: str) -> None:
         )
     # the power law proper: above the plateau of one- and few-block events (M < -2), below the bump
     small = b_value(m, mc=-2.0, m_max=0.0)
-    print(f"b = {small.b:.3f} ± {small.error:.3f} over [-2, 0] {small.n} events")
+    print(f"b = {small.b:.3f} ± {small.error:.3f} over [-2, 0] {small.n} events (KS {small.ks:.2f})")
+    auto = b_value(m, mc="auto")
+    print(
+        f"b = {auto.b:.3f} ± {auto.error:.3f} over the power-law range [{auto.mc:.2f}, {auto.m_max:.2f}] "
+        f"{auto.n} events (KS {auto.ks:.2f}; stickslip chain's default)"
+    )
     nb = cat["n_blocks"].values
     print(f"over 100 blocks: {np.mean(nb > 100):.3%}; of all blocks: {np.mean(nb == nb.max()):.3%}")
-    fig = plot_magnitude_frequency(cat, small)
+    fig = plot_magnitude_frequency(cat, auto)
     IMAGES.mkdir(exist_ok=True)
     fig.savefig(IMAGES / "cl_magnitude_frequency.png", dpi=110)
 

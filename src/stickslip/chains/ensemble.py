@@ -40,7 +40,8 @@ _FIELDS: dict[str, tuple[str, str]] = {
     "largest_event_blocks": ("int64", "blocks that slipped in the largest event"),
     "b_value": ("float64", "Gutenberg-Richter b-value (Aki-Utsu maximum likelihood)"),
     "b_value_err": ("float64", "b-value standard error (bootstrap)"),
-    "completeness_magnitude": ("float64", "completeness magnitude Mc (maximum curvature)"),
+    "completeness_magnitude": ("float64", "lower magnitude of the b-value fit (its power-law range)"),
+    "b_value_m_max": ("float64", "upper magnitude of the b-value fit (nan: none)"),
     "status": ("int8", "how the run ended"),
 }
 

@@ -86,6 +86,9 @@ class ChainResult:
             "b_value": self.b.b,
             "b_value_err": self.b.error,
             "completeness_magnitude": self.b.mc,
+            "b_value_m_max": self.b.m_max if math.isfinite(self.b.m_max) else None,
+            "b_value_range": self.b.method,
+            "b_value_power_law": self.b.power_law,
             "status": str(self.status),
             "units": dict(self.units),
         }
@@ -144,7 +147,7 @@ def chain(
     t_max: float = math.inf,
     rtol: float = defaults.RTOL,
     atol: float = defaults.ATOL,
-    mc: float | None = None,
+    mc: float | str | None = "auto",
     m_max: float | None = None,
     max_event_duration: float | None = None,
     progress: bool | None = None,
@@ -180,8 +183,14 @@ def chain(
         Stop at this time (units of ``sqrt(m/k_p)``) if the events are not complete.
     rtol, atol : float
         Tolerances of the slip integration.
-    mc, m_max : float, optional
-        Completeness and upper magnitude of the b-value fit.
+    mc : float or "auto", optional
+        Lower magnitude of the b-value fit. Default ``"auto"``: both ends of the
+        range that is a power law (:func:`~.statistics.power_law_range`; a chain's
+        catalogue has a spike of one-block events below it and a bump of
+        chain-wide ruptures above it); None: the completeness magnitude by
+        maximum curvature, no upper end unless ``m_max``.
+    m_max : float, optional
+        Upper magnitude of the b-value fit.
     max_event_duration : float, optional
         An event longer than this (units of ``sqrt(m/k_p)``) ends the run with
         status ``sliding``: the blocks never all stick again. Default

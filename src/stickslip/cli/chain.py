@@ -65,9 +65,11 @@ def register(main: click.Group) -> None:
     )
     @click.option(
         "--mc",
-        type=float,
-        default=None,
-        help="Completeness magnitude of the b-value (default: maximum curvature).",
+        default="auto",
+        show_default=True,
+        metavar="M|auto|maxc",
+        help="Lower magnitude of the b-value fit: a number; auto, the range that passes as a power law "
+        "(both ends, Kolmogorov-Smirnov at 5 %); maxc, the completeness magnitude by maximum curvature.",
     )
     @click.option("--m-max", type=float, default=None, help="Upper magnitude of the b-value fit.")
     @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
@@ -103,7 +105,7 @@ def register(main: click.Group) -> None:
         threshold_spread: float,
         backslip: bool | None,
         transient: int,
-        mc: float | None,
+        mc: str,
         m_max: float | None,
         as_json: bool,
         out_dir: str | None,
@@ -170,7 +172,7 @@ def register(main: click.Group) -> None:
             transient=transient,
             rtol=opts["rtol"],
             atol=opts["atol"],
-            mc=mc,
+            mc=_mc(mc),
             m_max=m_max,
             progress=False if quiet else None,
         )
@@ -230,8 +232,11 @@ def _report(res: Any, as_json: bool, out_dir: str | None = None) -> None:
         click.echo(f"mean recurrence      {s['mean_recurrence']} [{u['time']}]")
         click.echo(f"mean moment          {s['mean_moment']} [{u['length']}]")
         click.echo(f"largest event        {s['largest_event_blocks']} blocks")
+        top = "" if s["b_value_m_max"] is None else f" to {s['b_value_m_max']:.2f}"
+        law = "" if s["b_value_power_law"] else "; not a power law at 5 %"
         click.echo(
-            f"b-value              {s['b_value']} ± {s['b_value_err']} (Mc = {s['completeness_magnitude']})"
+            f"b-value              {s['b_value']} ± {s['b_value_err']} "
+            f"(M from {s['completeness_magnitude']:.2f}{top}, {s['b_value_range']}{law})"
         )
         click.echo(f"status               {s['status']}")
         if out_dir:
@@ -243,6 +248,16 @@ def _report(res: Any, as_json: bool, out_dir: str | None = None) -> None:
             f"stickslip: the chain did not finish: {ChainStatus.from_label(s['status']).message}", err=True
         )
         raise SystemExit(1)
+
+
+def _mc(text: str) -> float | str | None:
+    """``--mc``: a magnitude, ``auto`` or ``maxc`` (None: maximum curvature)."""
+    if text in ("auto", "maxc"):
+        return None if text == "maxc" else text
+    try:
+        return float(text)
+    except ValueError:
+        raise click.UsageError(f"--mc={text!r}: expected a magnitude, 'auto' or 'maxc'") from None
 
 
 def _seeds(text: str) -> list[int]:

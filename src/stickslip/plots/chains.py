@@ -34,7 +34,11 @@ def plot_magnitude_frequency(catalog: Any, fit: BValue, *, bin_width: float = 0.
             color="C3",
             label=f"b = {fit.b:.3f} ± {fit.error:.3f} (Aki-Utsu, {fit.n} events)",
         )
-        ax.axvline(fit.mc, color="C3", ls=":", lw=1.0, label=f"fitted from M = {fit.mc:.2f} (Mc or as given)")
+        span = f"{fit.mc:.2f} <= M" + (f" <= {fit.m_max:.2f}" if np.isfinite(fit.m_max) else "")
+        law = "" if fit.power_law else ", not a power law at 5 %"
+        ax.axvline(fit.mc, color="C3", ls=":", lw=1.0, label=f"fitted over {span} ({fit.method}{law})")
+        if np.isfinite(fit.m_max):
+            ax.axvline(fit.m_max, color="C3", ls=":", lw=1.0)
     ax.set_xlabel("magnitude M = log10(moment)")
     ax.set_ylabel("number of events")
     ax.legend(frameon=False, fontsize=8)
