@@ -46,7 +46,6 @@ import numpy as np
 from numba import njit
 
 from ._dop853_tableau import C
-from ._dop853_unrolled import dense_coeffs
 from .dop853 import (
     N_STAGES,
     N_STAGES_EXTENDED,
@@ -55,6 +54,7 @@ from .dop853 import (
     illinois_propose,
     illinois_update,
     vec_advance,
+    vec_dense_coeffs,
     vec_error,
     vec_stage,
 )
@@ -192,23 +192,23 @@ def _tree_refresh(tree, size, x, mode, phi, j, nu, ell2, periodic):  # type: ign
 
 @njit(cache=True)
 def _rhs(ctx, t, y, out):  # type: ignore[no-untyped-def]
-    """Vector field of the slipping blocks; ``y = (x, v) per slipping block, W_drive, W_friction``."""
-    law, P, nu, ell2, periodic, phi, x, mode, idx, m, pos, s_stuck, n_stuck, t_ref = ctx
-    n = x.shape[0]
+    """Vector field of the slipping blocks; ``y = (x, v) per slipping block, W_drive, W_friction``.
+
+    ``y`` goes on with the positions of the stuck neighbours of slipping blocks
+    (constant over a segment); ``nbl[k]`` and ``nbr[k]`` index the neighbours'
+    positions of slipping block ``k`` in ``y``, ``dk`` and ``phk`` are its
+    direction and threshold.
+    """
+    law, P, nu, ell2, nbl, nbr, dk, phk, m, s_stuck, n_stuck, t_ref = ctx
     drive = s_stuck + n_stuck * nu * (t - t_ref)
     fric = 0.0
     load = nu * t
     for k in range(m):
-        j = idx[k]
         xj = y[2 * k]
         vj = y[2 * k + 1]
-        jl = _left(j, n, periodic)
-        jr = _right(j, n, periodic)
-        pl = pos[jl]
-        pr = pos[jr]
-        xl = y[2 * pl] if pl >= 0 else x[jl]
-        xr = y[2 * pr] if pr >= 0 else x[jr]
-        fr = phi[j] * friction_scalar(law, P, mode[j], vj)
+        xl = y[nbl[k]]
+        xr = y[nbr[k]]
+        fr = phk[k] * friction_scalar(law, P, dk[k], vj)
         out[2 * k] = vj
         sj = load - xj
         out[2 * k + 1] = ell2 * ((xl - xj) + (xr - xj)) + sj - fr
@@ -287,8 +287,7 @@ def _dense(ctx, t, y, y_new, h, K, F, ytmp, nvar):  # type: ignore[no-untyped-de
     for j in range(N_STAGES + 1, N_STAGES_EXTENDED):
         vec_stage(y, K, h, j, nvar, ytmp)
         _rhs(ctx, t + C[j] * h, ytmp, K[j])
-    for c in range(nvar):
-        dense_coeffs(y, y_new, h, K, F, c)
+    vec_dense_coeffs(y, y_new, h, K, F, nvar)
 
 
 @njit(cache=True)
@@ -496,7 +495,11 @@ def chain_run(  # type: ignore[no-untyped-def]
     idx = np.empty(n, dtype=np.int64)
     pos = np.full(n, -1, dtype=np.int64)
     adj = np.empty(n, dtype=np.int64)
-    mark = np.zeros(n, dtype=np.int8)
+    slot = np.full(n, -1, dtype=np.int64)  # a stuck neighbour's place in adj
+    nbl = np.empty(n, dtype=np.int64)
+    nbr = np.empty(n, dtype=np.int64)
+    dk = np.empty(n, dtype=np.int64)
+    phk = np.empty(n)
     stack = np.empty(n + 1, dtype=np.int64)
     ws = np.zeros(2)  # slipping blocks, sum of the stuck blocks' positions
     for j in range(n):
@@ -506,7 +509,7 @@ def chain_run(  # type: ignore[no-untyped-def]
             ws[0] += 1.0
         else:
             ws[1] += x[j]
-    nv = 2 * n + 2
+    nv = 3 * n + 2  # (x, v) of the slipping blocks, two works, the stuck neighbours' x
     y = np.empty(nv)
     y_new = np.empty(nv)
     ytmp = np.empty(nv)
@@ -569,12 +572,10 @@ def chain_run(  # type: ignore[no-untyped-def]
         for k in range(m):
             j = idx[k]
             for jj in (_left(j, n, periodic), _right(j, n, periodic)):
-                if mode[jj] == STUCK and mark[jj] == 0:
-                    mark[jj] = 1
+                if mode[jj] == STUCK and slot[jj] < 0:
+                    slot[jj] = na
                     adj[na] = jj
                     na += 1
-        for i in range(na):
-            mark[adj[i]] = 0
         for k in range(m):
             j = idx[k]
             y[2 * k] = x[j]
@@ -583,8 +584,26 @@ def chain_run(  # type: ignore[no-untyped-def]
         nctl = 2 * m
         y[2 * m] = 0.0
         y[2 * m + 1] = 0.0
+        for i in range(na):  # constant over the segment: in every stage's state
+            xa = x[adj[i]]
+            y[nvar + i] = xa
+            ytmp[nvar + i] = xa
+            y_new[nvar + i] = xa
+        for k in range(m):
+            j = idx[k]
+            dk[k] = mode[j]
+            phk[k] = phi[j]
+            for side in range(2):
+                jj = _left(j, n, periodic) if side == 0 else _right(j, n, periodic)
+                q = 2 * pos[jj] if pos[jj] >= 0 else nvar + slot[jj]
+                if side == 0:
+                    nbl[k] = q
+                else:
+                    nbr[k] = q
+        for i in range(na):
+            slot[adj[i]] = -1
         t_ref = t
-        ctx = (law, P, nu, ell2, periodic, phi, x, mode, idx, m, pos, s_stuck, n_stuck, t_ref)
+        ctx = (law, P, nu, ell2, nbl, nbr, dk, phk, m, s_stuck, n_stuck, t_ref)
         _rhs(ctx, t, y, K[0])
         h = sc[S_H] if sc[S_H] > 0.0 else H_FIRST
         done = False

@@ -16,7 +16,7 @@ import math
 
 from numba import njit
 
-from ._dop853_tableau import E3, E5, N_STAGES, N_STAGES_EXTENDED, A, B
+from ._dop853_tableau import E3, E5, N_STAGES, N_STAGES_EXTENDED, A, B, D
 from .laws import friction_scalar, params
 
 #: what :func:`illinois_sw` finds: a level of ``w``, or an extremum of ``w``. Callers pass
@@ -39,6 +39,7 @@ __all__ = [
     "poly7",
     "rhs",
     "vec_advance",
+    "vec_dense_coeffs",
     "vec_error",
     "vec_stage",
 ]
@@ -195,46 +196,90 @@ def illinois_sw(law, P, d, cs, s0, cw, w0, what, level, xa, ga, xb, gb):  # type
 
 @njit(cache=True)
 def vec_stage(y, K, h, j, n, out):  # type: ignore[no-untyped-def]
-    """Fill ``out[:n]`` with the state of stage ``j``: ``y + h sum_i A[j, i] K[i]``."""
+    """Fill ``out[:n]`` with the state of stage ``j``: ``y + h sum_i A[j, i] K[i]``.
+
+    The sum runs stage by stage over contiguous rows of ``K`` (so that the
+    compiler vectorises it), in the same order for every component as a sum
+    component by component: the same numbers, bit for bit.
+    """
     for c in range(n):
-        acc = 0.0
-        for i in range(j):
-            a = A[j, i]
-            if a != 0.0:
-                acc += a * K[i, c]
-        out[c] = y[c] + h * acc
+        out[c] = 0.0
+    for i in range(j):
+        a = A[j, i]
+        if a != 0.0:
+            for c in range(n):
+                out[c] += a * K[i, c]
+    for c in range(n):
+        out[c] = y[c] + h * out[c]
 
 
 @njit(cache=True)
 def vec_advance(y, K, h, n, out):  # type: ignore[no-untyped-def]
-    """Fill ``out[:n]`` with the 8th-order solution at the end of the step."""
+    """Fill ``out[:n]`` with the 8th-order solution at the end of the step (summed as :func:`vec_stage`)."""
     for c in range(n):
-        acc = 0.0
-        for i in range(N_STAGES):
-            b = B[i]
-            if b != 0.0:
-                acc += b * K[i, c]
-        out[c] = y[c] + h * acc
+        out[c] = 0.0
+    for i in range(N_STAGES):
+        b = B[i]
+        if b != 0.0:
+            for c in range(n):
+                out[c] += b * K[i, c]
+    for c in range(n):
+        out[c] = y[c] + h * out[c]
+
+
+@njit(cache=True)
+def vec_dense_coeffs(y_old, y_new, h, K, F, n):  # type: ignore[no-untyped-def]
+    """Fill ``F[:, :n]`` with the interpolant's coefficients of the step (``K`` with all 16 stages).
+
+    The numbers of ``_dop853_unrolled.dense_coeffs`` component by component, bit
+    for bit, summed stage by stage as :func:`vec_stage`.
+    """
+    for i in range(n):
+        dy = y_new[i] - y_old[i]
+        F[0, i] = dy
+        F[1, i] = h * K[0, i] - dy
+        F[2, i] = 2.0 * dy - h * (K[12, i] + K[0, i])
+    for r in range(4):
+        for i in range(n):
+            F[3 + r, i] = 0.0
+        for j in range(N_STAGES_EXTENDED):
+            c = D[r, j]
+            if c != 0.0:
+                for i in range(n):
+                    F[3 + r, i] += c * K[j, i]
+        for i in range(n):
+            F[3 + r, i] = h * F[3 + r, i]
 
 
 @njit(cache=True)
 def vec_error(y, y_new, K, h, n, rtol, atol):  # type: ignore[no-untyped-def]
     """Return the DOP853 error norm of the step over ``y[:n]`` (``K[12]`` filled at the end).
 
+    ``K`` has the rows of the interpolant's extra stages (``N_STAGES_EXTENDED``);
+    two of them serve as work space here.
+
     As ``scipy.integrate.DOP853``: the 5th- and 3rd-order estimates combined, RMS
     over the components, scaled by ``atol + rtol max(|y|, |y_new|)``.
     """
+    # the two estimates summed stage by stage into rows 13 and 14 of ``K`` (the
+    # interpolant's extra stages, computed after this), as :func:`vec_stage`
+    s5 = K[N_STAGES + 1]
+    s3 = K[N_STAGES + 2]
+    for c in range(n):
+        s5[c] = 0.0
+        s3[c] = 0.0
+    for i in range(N_STAGES + 1):
+        b5 = E5[i]
+        b3 = E3[i]
+        for c in range(n):
+            s5[c] += b5 * K[i, c]
+            s3[c] += b3 * K[i, c]
     e5 = 0.0
     e3 = 0.0
     for c in range(n):
         sc = atol + rtol * max(abs(y[c]), abs(y_new[c]))
-        a5 = 0.0
-        a3 = 0.0
-        for i in range(N_STAGES + 1):
-            a5 += E5[i] * K[i, c]
-            a3 += E3[i] * K[i, c]
-        a5 /= sc
-        a3 /= sc
+        a5 = s5[c] / sc
+        a3 = s3[c] / sc
         e5 += a5 * a5
         e3 += a3 * a3
     if e5 == 0.0 and e3 == 0.0:

@@ -36,8 +36,15 @@ import numpy as np
 from numba import njit
 
 from ._dop853_tableau import N_STAGES, N_STAGES_EXTENDED
-from ._dop853_unrolled import dense_coeffs
-from .dop853 import dense_eval, illinois_propose, illinois_update, vec_advance, vec_error, vec_stage
+from .dop853 import (
+    dense_eval,
+    illinois_propose,
+    illinois_update,
+    vec_advance,
+    vec_dense_coeffs,
+    vec_error,
+    vec_stage,
+)
 from .engine import MAX_FACTOR, MIN_FACTOR, SAFETY, _root8
 
 AGING = 0
@@ -381,8 +388,7 @@ def _dense(P, S, n, v_lp, t, y, y_new, h, K, F, ytmp, nvar):  # type: ignore[no-
     for j in range(N_STAGES + 1, N_STAGES_EXTENDED):
         vec_stage(y, K, h, j, nvar, ytmp)
         qs_rhs(ytmp, P, S, n, v_lp, K[j])
-    for c in range(nvar):
-        dense_coeffs(y, y_new, h, K, F, c)
+    vec_dense_coeffs(y, y_new, h, K, F, nvar)
 
 
 @njit(cache=True)
