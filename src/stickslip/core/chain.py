@@ -495,6 +495,8 @@ def chain_run(  # type: ignore[no-untyped-def]
     idx = np.empty(n, dtype=np.int64)
     pos = np.full(n, -1, dtype=np.int64)
     adj = np.empty(n, dtype=np.int64)
+    e_adj = np.empty(n)  # their forces at the start of the step
+    e_end = np.empty(n)  # and at its end
     slot = np.full(n, -1, dtype=np.int64)  # a stuck neighbour's place in adj
     nbl = np.empty(n, dtype=np.int64)
     nbr = np.empty(n, dtype=np.int64)
@@ -602,6 +604,7 @@ def chain_run(  # type: ignore[no-untyped-def]
                     nbr[k] = q
         for i in range(na):
             slot[adj[i]] = -1
+            e_adj[i] = stuck_force(x, adj[i], t, nu, ell2, periodic)
         t_ref = t
         ctx = (law, P, nu, ell2, nbl, nbr, dk, phk, m, s_stuck, n_stuck, t_ref)
         _rhs(ctx, t, y, K[0])
@@ -721,13 +724,14 @@ def chain_run(  # type: ignore[no-untyped-def]
                     nev += 1
             for i in range(na):
                 j = adj[i]
-                e0 = stuck_force(x, j, t, nu, ell2, periodic)
+                e0 = e_adj[i]
                 # force at the end of the step: neighbours at y_new
                 jl = _left(j, n, periodic)
                 jr = _right(j, n, periodic)
                 xl = y_new[2 * pos[jl]] if pos[jl] >= 0 else x[jl]
                 xr = y_new[2 * pos[jr]] if pos[jr] >= 0 else x[jr]
                 e1 = ell2 * ((xl - x[j]) + (xr - x[j])) + (nu * (t + h) - x[j])
+                e_end[i] = e1
                 vl0 = y[2 * pos[jl] + 1] if pos[jl] >= 0 else 0.0
                 vr0 = y[2 * pos[jr] + 1] if pos[jr] >= 0 else 0.0
                 vl1 = y_new[2 * pos[jl] + 1] if pos[jl] >= 0 else 0.0
@@ -823,6 +827,8 @@ def chain_run(  # type: ignore[no-untyped-def]
                 if pk_x[k] <= xs and pk_v[k] > peak:
                     peak = pk_v[k]
             if nev == 0:
+                for i in range(na):
+                    e_adj[i] = e_end[i]
                 for k in range(m):
                     vk = abs(y_new[2 * k + 1])
                     if vk > peak:
