@@ -6,7 +6,9 @@ exceeds the threshold, negative velocities clamped to zero; compiled with numba.
 Both start from the same state (after a transient of the exact engine) and run
 the same simulated time. Event-time errors: the exact engine against itself at
 rtol 1e-12 (first 30 events); the fixed-step loop against the exact event times
-(first 5 events, matched in order).
+(first 5 events, matched in order); both only up to the first event that takes
+over half the chain, after which the chain's chaos, not the integration, sets
+the difference (a start 1e-13 off gives event times 1e-2 off after it).
 
 Run: python benchmarks/bench_chain.py
 """
@@ -87,6 +89,17 @@ def exact(p: ChainParameters, state: ChainState, t_span: float, rtol: float = 1e
     return np.concatenate(rows), st
 
 
+def _before_divergence(ref: np.ndarray, n: int, most: int) -> int:
+    """Events to compare: at most ``most``, up to and including the first that takes over half the chain.
+
+    The chain is chaotic: the event after a rupture of the whole chain starts
+    about 1e-2 later when one block starts 1e-13 off (measured), so event times
+    after it say nothing about the accuracy of the integration.
+    """
+    big = np.flatnonzero(ref[:most, 3] > n / 2)
+    return int(min(most, ref.shape[0], big[0] + 1 if big.size else most))
+
+
 def main() -> None:
     law = CarlsonLangerLaw(alpha=ALPHA, sigma=SIGMA)
     print(f"Carlson-Langer chain: alpha={ALPHA}, sigma={SIGMA}, nu={NU}, ell={ELL}; fixed step dt={DT}")
@@ -118,14 +131,15 @@ def main() -> None:
         rows, _ = exact(p, start, span)
         te = time.perf_counter() - t0
         ref, _ = exact(p, start, span, rtol=1e-12, atol=1e-14)
-        k = min(30, rows.shape[0], ref.shape[0])
+        k = _before_divergence(ref, n, 30)
+        k = min(k, rows.shape[0])
         err_exact = float(np.max(np.abs(rows[:k, 0] - ref[:k, 0]))) if k else float("nan")
         starts = np.zeros(10)
         x, v = start.x.copy(), start.v.copy()
         t0 = time.perf_counter()
         nf = fixed_step(x, v, start.t, NU, p.ell2, ALPHA, SIGMA, DT, start.t + span, starts)
         tf = time.perf_counter() - t0
-        m = min(5, nf, ref.shape[0])
+        m = min(5, nf, _before_divergence(ref, n, 5))
         err_fixed = float(np.max(np.abs(starts[:m] - ref[:m, 0]))) if m else float("nan")
         print(
             f"{n:>6} {span:>9.0f} {te:>8.3f} {rows.shape[0]:>7} {rows.shape[0] / te:>8.1f} {span / te:>8.1f} "
