@@ -297,8 +297,6 @@ def _slip_phase(  # type: ignore[no-untyped-def]
     h_acc = 0.0
     err_acc = 0.0
     nsteps = 0
-    ev_x = np.empty(3)
-    ev_k = np.empty(3, dtype=np.int64)
     while True:
         if nsteps >= max_steps:
             return t, PH_TOO_MANY_STEPS, ie
@@ -390,11 +388,15 @@ def _slip_phase(  # type: ignore[no-untyped-def]
             x_stop = illinois_sw(law, P, d, cs, s, cw, w, LEVEL + 0 * law, 0.0, x_lo, w_lo, x_hi, w_hi)
         x_end = x_stop if x_stop < 1.0 else 1.0
         # spring-force extrema (w = nu), forward slip only; velocity extrema
+        # at most three events in the step, held as numbers (no array: the same source
+        # compiles for a GPU, where a kernel allocates nothing)
         nev = 0
+        ex0 = ex1 = ex2 = 0.0
+        ek0 = ek1 = ek2 = 0
         if x_wext >= 0.0 and x_wext <= x_end:
-            ev_x[nev] = x_wext
-            ev_k[nev] = 0
-            nev += 1
+            ex0 = x_wext
+            ek0 = 0
+            nev = 1
         if d > 0:
             # w - nu changes sign on [0, x_end], or on each side of a velocity extremum in it
             split = nev == 1 and x_wext < x_end
@@ -408,27 +410,38 @@ def _slip_phase(  # type: ignore[no-untyped-def]
                     x_hi = x_end
                     g_hi = -nu if x_stop <= 1.0 else g1
                 if g_lo * g_hi < 0.0 or (g_hi == 0.0 and g_lo != 0.0):
-                    ev_x[nev] = illinois_sw(
+                    xr = illinois_sw(
                         law, P, d, cs, s, cw, w, LEVEL + 0 * law, nu, x_lo, g_lo, x_hi, g_hi
                     )
-                    ev_k[nev] = 1 if g_lo < 0.0 else -1
+                    kr = 1 if g_lo < 0.0 else -1
+                    if nev == 0:
+                        ex0 = xr
+                        ek0 = kr
+                    elif nev == 1:
+                        ex1 = xr
+                        ek1 = kr
+                    else:
+                        ex2 = xr
+                        ek2 = kr
                     nev += 1
                 x_lo = x_hi
                 g_lo = g_hi
-        # process in time order (at most three events)
-        for a in range(1, nev):
-            b = a
-            while b > 0 and ev_x[b - 1] > ev_x[b]:
-                tx = ev_x[b]
-                ev_x[b] = ev_x[b - 1]
-                ev_x[b - 1] = tx
-                tk = ev_k[b]
-                ev_k[b] = ev_k[b - 1]
-                ev_k[b - 1] = tk
-                b -= 1
+        # process in time order: a stable sort of at most three (the order of an
+        # insertion sort, ties kept in the order found)
+        if nev >= 2 and ex0 > ex1:
+            ex0, ex1 = ex1, ex0
+            ek0, ek1 = ek1, ek0
+        if nev == 3:
+            if ex1 > ex2:
+                ex1, ex2 = ex2, ex1
+                ek1, ek2 = ek2, ek1
+            if ex0 > ex1:
+                ex0, ex1 = ex1, ex0
+                ek0, ek1 = ek1, ek0
         for a in range(nev):
-            xa = ev_x[a]
-            if ev_k[a] == 0:
+            xa = ex0 if a == 0 else (ex1 if a == 1 else ex2)
+            ka = ek0 if a == 0 else (ek1 if a == 1 else ek2)
+            if ka == 0:
                 _on_w_extremum(trk, wext)
             else:
                 te = t + xa * hh
@@ -438,7 +451,7 @@ def _slip_phase(  # type: ignore[no-untyped-def]
                 if diag:
                     q2 = dense_eval(F, y, xa, 2)
                     q3 = dense_eval(F, y, xa, 3)
-                is_max = ev_k[a] > 0
+                is_max = ka > 0
                 if evbuf.shape[0] > 0:
                     _log(evbuf, evn, te, EV_SMAX if is_max else EV_SMIN, sv)
                 _on_s_extremum(trk, is_max, te, sv, q2, q3, track, conv_tol)
