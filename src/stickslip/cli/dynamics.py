@@ -157,6 +157,14 @@ def register(main: click.Group) -> None:
         default=None,
         help="Points per block (one task, one chunk of the store); default 32768.",
     )
+    @click.option(
+        "--backend",
+        type=click.Choice(["cpu", "cuda", "auto"]),
+        default="cpu",
+        show_default=True,
+        help="Integrate on this machine's cores, on a CUDA GPU (pip install 'stickslip[cuda]'), "
+        "or on the GPU where one is usable.",
+    )
     @scale_options
     @overwrite_option
     @handle_errors
@@ -167,6 +175,7 @@ def register(main: click.Group) -> None:
         no_plot: bool,
         quiet: bool,
         block_points: int | None,
+        backend: str,
         store: str | None,
         scheduler: str | None,
         workers: int | None,
@@ -223,6 +232,7 @@ def register(main: click.Group) -> None:
             scheduler=scheduler,
             workers=workers,
             block_points=block_points,
+            backend=backend,
         )
         if store is not None and out_path is None:
             ds = run_sweep(params, grid, **kw)

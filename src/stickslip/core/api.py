@@ -19,7 +19,7 @@ import numba
 import numpy as np
 import numpy.typing as npt
 
-from . import chain, checks, engine, variational
+from . import chain, checks, cuda, engine, variational
 from .laws import BUILTIN_LAWS, N_LAW_PARAMS
 from .memory import check_memory
 from .results import AttractorRows, FlowResult, ShootingRows, Status
@@ -132,6 +132,7 @@ def run_attractors(
     diag: bool = False,
     max_steps: int = 2_000_000,
     on_rows: Callable[[int], None] | None = None,
+    backend: str = "cpu",
 ) -> AttractorRows:
     """Run the attractor kernel for each row, in parallel.
 
@@ -160,11 +161,20 @@ def run_attractors(
     on_rows : callable, optional
         Called in this thread with the number of rows just finished, as blocks of
         rows finish (a progress bar's update).
+    backend : {"cpu", "cuda", "auto"}, optional
+        Where the rows run: this machine's cores (default), a CUDA GPU (the same
+        kernel compiled by numba-cuda, :mod:`stickslip.core.cuda`), or the GPU
+        where one is usable.
 
     Returns
     -------
     AttractorRows
         One row per parameter set, with named fields.
+
+    Raises
+    ------
+    CudaUnavailableError
+        For ``backend="cuda"`` where no CUDA device can run the kernel.
 
     """
     # first of all, from the input's size alone: the copies below and the output scale with it
@@ -181,6 +191,12 @@ def run_attractors(
     s0_a = z if s0 is None else _broadcast("s0", checks.finite_array("s0", s0), (n,))
     w0_a = z if w0 is None else _broadcast("w0", checks.finite_array("w0", w0), (n,))
     out = np.empty((n, engine.NOUT))
+    if cuda.resolve_backend(backend) == "cuda":
+        cuda.run_attractors_cuda(
+            kernel.engine.attractor_ws, law_a, lp_a, nu_a, s0_a, w0_a, bool(from_breakaway), rtol, atol,
+            max_slip_time, conv_tol, bool(diag), max_steps, out, on_rows,
+        )  # fmt: skip
+        return AttractorRows(out)
     if n <= SERIAL_ROWS:
         # a few rows (one command's cycle): the per-row kernel that attractor_rows calls,
         # straight from here, so that a command that never runs a batch does not compile

@@ -33,6 +33,7 @@ import xarray as xr
 from .. import defaults
 from ..bifurcation.attractors import polish_rows
 from ..core.api import Kernel, run_attractors
+from ..core.cuda import resolve_backend
 from ..core.laws import N_LAW_PARAMS
 from ..core.memory import check_memory
 from ..core.results import AttractorRows, Regime, Status
@@ -188,6 +189,7 @@ def sweep(
     scheduler: Any = None,
     workers: int | None = None,
     block_points: int | None = None,
+    backend: str = "cpu",
 ) -> xr.Dataset:
     """Compute the steady oscillation reached from rest at every point of a grid.
 
@@ -226,6 +228,11 @@ def sweep(
         Points per block (one task, one chunk of the store); default
         :data:`~stickslip.scale.SWEEP_BLOCK_POINTS`, whole trailing dimensions
         first (:func:`~stickslip.scale.chunk_shape`). An existing store keeps its own.
+    backend : {"cpu", "cuda", "auto"}, optional
+        Where the cycles are integrated: this machine's cores (default), a CUDA GPU
+        (``pip install "stickslip[cuda]"``; the same engine compiled for the GPU,
+        equal to the CPU's within 1e-9), or the GPU where one is usable. The
+        polishing of pure-slip orbits runs on the CPU either way.
 
     Returns
     -------
@@ -241,6 +248,7 @@ def sweep(
 
     """
     rtol, atol = validate_tolerances(rtol, atol)
+    backend = resolve_backend(backend)  # an unknown backend, or no GPU for "cuda": said before any work
     if not isinstance(base, DimensionlessParameters | PhysicalParameters):
         raise ValueError(f"base={base!r}: expected DimensionlessParameters or PhysicalParameters")
     if not grid:
@@ -263,7 +271,7 @@ def sweep(
         shown, si, unit = _grid_values(dataclasses.replace(p, name=name), name, values)
         coords[p.name] = (shown, unit, p.help)
         si_axes[p.name] = si
-    plan = SweepPlan(base, coords, si_axes, rtol, atol, max_slip_time, conv_tol)
+    plan = SweepPlan(base, coords, si_axes, rtol, atol, max_slip_time, conv_tol, backend)
     if store is None and scheduler is None and workers is None:
         # in process, the grid in memory (no Dask imported)
         check_sweep_size(plan.points)
@@ -300,6 +308,7 @@ class SweepPlan:
     atol: float
     max_slip_time: float
     conv_tol: float
+    backend: str = "cpu"
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -353,7 +362,7 @@ class SweepPlan:
         base = self.base
         kernel = base.law.kernel if isinstance(base, DimensionlessParameters) else base.law.spec.kernel()
         out, mult = _run_chunks(
-            kernel, lp, nu, self.rtol, self.atol, self.max_slip_time, self.conv_tol, progress
+            kernel, lp, nu, self.rtol, self.atol, self.max_slip_time, self.conv_tol, progress, self.backend
         )
         shape = tuple(len(v) for v in axes.values())
         return _variables(out, mult, nu, law_nd, scales, shape, self.coords_names)
@@ -497,6 +506,7 @@ def _run_chunks(
     max_slip_time: float,
     conv_tol: float,
     progress: ProgressLike,
+    backend: str = "cpu",
 ) -> tuple[AttractorRows, FloatArray]:
     n = nu.shape[0]
     out = AttractorRows.empty(n)
@@ -505,7 +515,7 @@ def _run_chunks(
     # block of a job: the job's bar counts blocks): each call into run_attractors starts its
     # threads and ends waiting on the slowest of them. The bar moves as the engine's blocks
     # of rows finish inside a call, and counts a block at the end of each call.
-    chunk = 20_000
+    chunk = 20_000 if backend == "cpu" else 1 << 22  # a GPU launch wants many rows
     bounds = [*range(0, n, chunk), n]
     pairs = list(itertools.pairwise(bounds))
     bar = Progress(n, len(pairs), progress, desc="sweep") if progress is not False else None
@@ -520,6 +530,7 @@ def _run_chunks(
             max_slip_time=max_slip_time,
             conv_tol=conv_tol,
             on_rows=None if bar is None else bar.advance,
+            backend=backend,
         )
         out[lo:hi], mult[lo:hi] = polish_rows((kernel, lp[lo:hi]), nu[lo:hi], rows)
         if bar is not None:

@@ -1,0 +1,188 @@
+"""The CUDA backend: the CPU engine compiled for a GPU, checked in numba's CUDA simulator.
+
+The simulator runs the kernel thread after thread, with the engine as Python
+(``NUMBA_ENABLE_CUDASIM=1``, ``NUMBA_DISABLE_JIT=1``: set at numba's import, hence
+the subprocesses); its results are compared with the compiled CPU engine's in
+this process. Tests that need a real GPU skip where there is none.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from stickslip import DimensionlessParameters
+from stickslip.core import cuda as core_cuda
+from stickslip.core import engine
+from stickslip.core.api import run_attractors
+from stickslip.dynamics.sweep import sweep
+from stickslip.laws import CubicLaw, ExpressionLaw, WeakeningLaw
+
+needs_numba_cuda = pytest.mark.skipif(
+    importlib.util.find_spec("numba_cuda") is None,
+    reason='numba-cuda is not installed (pip install "stickslip[test]" brings it)',
+)
+SIM = {**os.environ, "NUMBA_ENABLE_CUDASIM": "1", "NUMBA_DISABLE_JIT": "1"}
+NO_SIM = {k: v for k, v in os.environ.items() if k not in ("NUMBA_ENABLE_CUDASIM", "NUMBA_DISABLE_JIT")}
+
+# a grid per law, reaching stick-slip with pure slip (F1), steady sliding (F2, cubic)
+GRIDS = {
+    "F1": ["--law", "weakening", "--c", "3.8", "--nu", "0.001..20"],
+    "F2": ["--law", "weakening", "--c", "3.8", "--p", "0.5", "--nu", "0.01..5"],
+    "cubic": ["--law", "cubic", "--alpha", "1.2", "--gamma", "0.3", "--nu", "0.01..3"],
+    "expression": ["--law", "expr", "--f", "1/(1 + c*w) + 0.02*w", "--param", "c=3.8", "--nu", "0.001..20"],
+    "table": ["--law", "table", "--table", "mu_v.csv", "--preset", "zv", "--v0", "5 um/s..20 mm/s"],
+}
+
+
+def _stickslip(args: list[str], env: dict[str, str], cwd: Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "stickslip", *args], env=env, cwd=cwd, capture_output=True, text=True,
+        timeout=600,
+    )  # fmt: skip
+
+
+@needs_numba_cuda
+@pytest.mark.parametrize("law", list(GRIDS))
+def test_sweep_on_cuda_equals_the_cpu_sweep(law: str, tmp_path: Path) -> None:
+    common = [*GRIDS[law], "--log", "--num", "7", "--no-plot", "--quiet"]
+    v = np.linspace(0.0, 50.0, 600)  # mm/s, a measured law's table: the paper's F1 for zv
+    (tmp_path / "mu_v.csv").write_text(
+        "velocity [mm/s],friction coefficient [1]\n"
+        + "".join(f"{float(x)!r},{0.46 / (1 + 160 * float(x) * 1e-3)!r}\n" for x in v)
+    )
+    cpu = _stickslip(["sweep", *common, "--out", "cpu.nc"], NO_SIM, tmp_path)
+    assert cpu.returncode == 0, cpu.stderr
+    gpu = _stickslip(["sweep", *common, "--out", "cuda.nc", "--backend", "cuda"], SIM, tmp_path)
+    assert gpu.returncode == 0, gpu.stderr
+    a = xr.open_dataset(tmp_path / "cpu.nc")
+    b = xr.open_dataset(tmp_path / "cuda.nc")
+    assert set(a.data_vars) == set(b.data_vars) and len(a.data_vars) >= 10
+    for name in a.data_vars:
+        x, y = a[name].values, b[name].values
+        if x.dtype.kind == "f":
+            # the time at rest is the period less the slip time: to 1e-9 of the period
+            floor = {"stick_time": 1e-9 * float(np.nanmax(a.period.values)), "stick_fraction": 1e-9}
+            tol = {"rtol": 1e-9, "atol": floor.get(name, 0.0)}
+            np.testing.assert_allclose(y, x, **tol, equal_nan=True, err_msg=name)
+        else:
+            np.testing.assert_array_equal(y, x, err_msg=name)
+    assert len(set(np.asarray(a.regime.values).tolist())) == (1 if law == "table" else 2)
+    a.close()
+    b.close()
+
+
+_ROWS = """
+import json, sys
+import numpy as np
+from stickslip.core.api import run_attractors
+from stickslip.laws import WeakeningLaw
+rng = np.random.default_rng(7)
+n = 40
+nu = 10 ** rng.uniform(-4, 1.3, n)
+c = rng.uniform(0.5, 30.0, n)
+out = run_attractors(WeakeningLaw(c=1.0).kernel, c[:, None], nu, from_breakaway=True, rtol=1e-10,
+                     atol=1e-12, max_slip_time=float(sys.argv[1]), conv_tol=1e-8, max_steps=int(sys.argv[2]),
+                     backend=sys.argv[3])
+print(json.dumps(out.raw.tolist()))
+"""
+
+
+@needs_numba_cuda
+@pytest.mark.parametrize(("max_slip_time", "max_steps"), [(1e4, 2_000_000), (100.0, 40)])
+def test_rows_and_statuses_equal_the_cpu_engine(max_slip_time: float, max_steps: int) -> None:
+    """Random rows (their order shuffled on the GPU and put back), with failures in the second set."""
+    run = subprocess.run(
+        [sys.executable, "-c", _ROWS, str(max_slip_time), str(max_steps), "cuda"], env=SIM,
+        capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    gpu = np.array(json.loads(run.stdout.replace("NaN", "NaN")), dtype=float)
+    rng = np.random.default_rng(7)
+    nu = 10 ** rng.uniform(-4, 1.3, 40)
+    c = rng.uniform(0.5, 30.0, 40)
+    cpu = run_attractors(
+        WeakeningLaw(c=1.0).kernel, c[:, None], nu, from_breakaway=True, rtol=1e-10, atol=1e-12,
+        max_slip_time=max_slip_time, conv_tol=1e-8, max_steps=max_steps,
+    )  # fmt: skip
+    np.testing.assert_array_equal(gpu[:, 0], cpu.status)
+    np.testing.assert_array_equal(gpu[:, 1], cpu.regime)
+    # the measured cycle and the works, where the run finished; not the state and time where
+    # it ended nor its step counts: the engine as Python (in the simulator) differs from the
+    # compiled one in the last bits, as a GPU's fused multiply-adds would, and where that flips
+    # a step's acceptance the run ends elsewhere on the same attractor (or, failing at a step
+    # budget, after the same number of other steps)
+    ended = [engine.O_TRANSIENT, engine.O_S, engine.O_W, engine.O_T, engine.O_NSTEP, engine.O_NREJECT]
+    cycle = [k for k in range(engine.NOUT) if k not in ended]
+    ok = cpu.status == 0
+    got, want = gpu[ok][:, cycle], cpu.raw[ok][:, cycle]
+    np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-300, equal_nan=True)
+    codes = set(cpu.status.tolist())
+    regimes = set(cpu.regime.tolist())
+    if max_steps > 40:
+        assert codes == {0} and regimes == {0, 1}  # stick-slip and pure slip, all ok
+    else:
+        assert len(codes) == 3 and len(regimes) == 3  # two ways to fail beside ok
+
+
+def test_backends_are_named_and_checked() -> None:
+    p = DimensionlessParameters(0.01, WeakeningLaw(c=3.8))
+    with pytest.raises(ValueError, match="backend='gpu': expected one of 'cpu', 'cuda', 'auto'"):
+        sweep(p, {"nu": [0.01, 0.02]}, backend="gpu")
+    assert core_cuda.resolve_backend("cpu") == "cpu"
+    ok, why = core_cuda.cuda_status()
+    assert core_cuda.resolve_backend("auto") == ("cuda" if ok else "cpu")
+    if ok:
+        pytest.skip(f"a CUDA device is usable here ({why}): no error to check")
+    assert "\n" not in why and why
+    with pytest.raises(core_cuda.CudaUnavailableError, match="backend='cuda': "):
+        sweep(p, {"nu": [0.01, 0.02]}, backend="cuda")
+
+
+def test_command_line_without_a_gpu_says_why_in_one_line(tmp_path: Path) -> None:
+    ok, why = core_cuda.cuda_status()
+    if ok:
+        pytest.skip(f"a CUDA device is usable here ({why})")
+    run = _stickslip(
+        ["sweep", *GRIDS["F1"], "--num", "3", "--backend", "cuda", "--out", "x.nc"], NO_SIM, tmp_path
+    )
+    assert run.returncode == 1
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("Error: backend='cuda': "), run.stderr
+    assert not (tmp_path / "x.nc").exists()
+
+
+def test_rows_are_balanced_by_law_parameters_then_nu() -> None:
+    lp = np.array([[3.0, 0.0], [1.0, 0.0], [3.0, 0.0], [1.0, 1.0]])
+    nu = np.array([0.2, 0.5, 0.1, 0.1])
+    order = core_cuda.balance_order(lp, nu)
+    assert order.tolist() == [1, 3, 2, 0]
+
+
+def test_on_a_real_gpu_the_cycles_equal_the_cpu_engine() -> None:
+    ok, why = core_cuda.cuda_status()
+    if not ok or core_cuda.simulator():
+        pytest.skip(f"no CUDA device here: {why}")
+    rng = np.random.default_rng(1)
+    n = 20_000
+    nu = 10 ** rng.uniform(-5, -1, n)
+    c = rng.uniform(0.5, 50.0, n)
+    laws = [
+        (WeakeningLaw(c=1.0), c[:, None]),
+        (CubicLaw(alpha=1.2, gamma=0.3), np.tile([1.2, 0.3], (n, 1))),
+        (ExpressionLaw("1/(1 + c*w)", c=1.0), c[:, None]),
+    ]
+    for law, lp in laws:
+        kw = dict(from_breakaway=True, rtol=1e-9, atol=1e-12, max_slip_time=1e4, conv_tol=1e-8)
+        cpu = run_attractors(law.kernel, lp, nu, **kw)
+        gpu = run_attractors(law.kernel, lp, nu, backend="cuda", **kw)
+        np.testing.assert_array_equal(gpu.status, cpu.status)
+        np.testing.assert_allclose(gpu.raw, cpu.raw, rtol=1e-8, atol=1e-300, equal_nan=True)

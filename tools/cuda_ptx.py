@@ -1,0 +1,63 @@
+"""Compile the CUDA backend's kernel for a GPU on a machine without one (PTX for sm_90, an H100).
+
+Checks that the engine's source compiles for CUDA as it is (numba-cuda's typing and
+NVVM), law by law, where no GPU can run it: the simulator of the test suite runs the
+engine as Python and cannot tell. Needs numba-cuda with the CUDA toolkit's NVVM
+(``pip install "stickslip[cuda]"``). numba-cuda asks the current device for its
+compute capability when it compiles a device function, even for PTX alone; with no
+device that question is answered here with the target's.
+
+Run: python tools/cuda_ptx.py [--cc 9.0]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numba.cuda.dispatcher as cuda_dispatcher
+import numpy as np
+from numba import types
+from numba.cuda import compile_ptx
+
+from stickslip import Q_
+from stickslip.core import _cuda_kernel
+from stickslip.laws import CubicLaw, ExpressionLaw, TabulatedLaw, WeakeningLaw
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--cc", default="9.0", help="compute capability of the target (default 9.0, H100)")
+    args = ap.parse_args()
+    cc = tuple(int(v) for v in args.cc.split("."))
+
+    class _Target:
+        compute_capability = cc
+
+    cuda_dispatcher.get_current_device = lambda: _Target()  # type: ignore[attr-defined]
+    f1, f2, f3 = types.float64[:], types.float64[:, :], types.float64[:, :, :]
+    i1, i2 = types.int64[:], types.int64[:, :]
+    f, i, b = types.float64, types.int64, types.boolean
+    sig = (i1, f2, f1, f1, f1, b, f, f, f, f, i, f2, f3, f3, f2, f2, f2, f2, f1, f2, i1, f2, i2)
+    v = np.linspace(0.0, 0.05, 600)  # m/s
+    kernels = {
+        "F1/F2 (weakening)": WeakeningLaw(c=1.0).kernel,
+        "cubic": CubicLaw(alpha=1.2, gamma=0.3).kernel,
+        "expression 1/(1 + c*w) + 0.02*w": ExpressionLaw("1/(1 + c*w) + 0.02*w", c=1.0).kernel,
+        "table (600 velocities)": TabulatedLaw(Q_(v, "m/s"), 0.46 / (1 + 160 * v)).spec.kernel(),
+    }
+    for name, kernel in kernels.items():
+        kern = _cuda_kernel.make(kernel.engine.attractor_ws)
+        t0 = time.perf_counter()
+        ptx, _ = compile_ptx(kern.py_func, sig, cc=cc)
+        lines = ptx.splitlines()
+        fma = sum("fma.rn.f64" in ln for ln in lines)
+        div = sum("div.rn.f64" in ln for ln in lines)
+        print(
+            f"{name:34s} PTX for sm_{cc[0]}{cc[1]}: {len(lines):6d} lines, {fma} fma.rn.f64, "
+            f"{div} div.rn.f64, compiled in {time.perf_counter() - t0:.1f} s"
+        )
+
+
+if __name__ == "__main__":
+    main()
