@@ -105,7 +105,7 @@ def test_rows_and_statuses_equal_the_cpu_engine(max_slip_time: float, max_steps:
         capture_output=True, text=True, timeout=600,
     )  # fmt: skip
     assert run.returncode == 0, run.stderr
-    gpu = np.array(json.loads(run.stdout.replace("NaN", "NaN")), dtype=float)
+    gpu = np.array(json.loads(run.stdout), dtype=float)
     rng = np.random.default_rng(7)
     nu = 10 ** rng.uniform(-4, 1.3, 40)
     c = rng.uniform(0.5, 30.0, 40)
@@ -186,3 +186,33 @@ def test_on_a_real_gpu_the_cycles_equal_the_cpu_engine() -> None:
         gpu = run_attractors(law.kernel, lp, nu, backend="cuda", **kw)
         np.testing.assert_array_equal(gpu.status, cpu.status)
         np.testing.assert_allclose(gpu.raw, cpu.raw, rtol=1e-8, atol=1e-300, equal_nan=True)
+
+
+_STORE = """
+import json, sys
+import numpy as np
+from stickslip import DimensionlessParameters
+from stickslip.dynamics.sweep import load_sweep, sweep
+from stickslip.laws import WeakeningLaw
+p = DimensionlessParameters(0.01, WeakeningLaw(c=3.8))
+sweep(p, {"nu": np.geomspace(1e-3, 20, 5), "c": [2.0, 3.8]}, store=sys.argv[1], backend="cuda",
+      block_points=3, progress=False)
+ds = load_sweep(sys.argv[1])
+print(json.dumps({k: ds[k].values.tolist() for k in ("amplitude", "period", "regime")}))
+"""
+
+
+@needs_numba_cuda
+def test_a_sweep_on_cuda_streams_to_a_store(tmp_path: Path) -> None:
+    store = tmp_path / "map.zarr"
+    run = subprocess.run(
+        [sys.executable, "-c", _STORE, str(store)], env=SIM, capture_output=True, text=True, timeout=600
+    )
+    assert run.returncode == 0, run.stderr
+    got = json.loads(run.stdout)
+    p = DimensionlessParameters(0.01, WeakeningLaw(c=3.8))
+    want = sweep(p, {"nu": np.geomspace(1e-3, 20, 5), "c": [2.0, 3.8]}, progress=False)
+    np.testing.assert_allclose(got["amplitude"], want.amplitude.values, rtol=1e-9)
+    np.testing.assert_allclose(got["period"], want.period.values, rtol=1e-9)
+    regimes = [[str(v) for v in row] for row in want.regime.values]
+    assert [[str(v) for v in row] for row in got["regime"]] == regimes

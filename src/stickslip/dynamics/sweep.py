@@ -226,8 +226,9 @@ def sweep(
         this process and Dask is not imported.
     block_points : int, optional
         Points per block (one task, one chunk of the store); default
-        :data:`~stickslip.scale.SWEEP_BLOCK_POINTS`, whole trailing dimensions
-        first (:func:`~stickslip.scale.chunk_shape`). An existing store keeps its own.
+        :data:`~stickslip.scale.SWEEP_BLOCK_POINTS` (:data:`GPU_BLOCK_POINTS` on a GPU,
+        whose launches want many rows), whole trailing dimensions first
+        (:func:`~stickslip.scale.chunk_shape`). An existing store keeps its own.
     backend : {"cpu", "cuda", "auto"}, optional
         Where the cycles are integrated: this machine's cores (default), a CUDA GPU
         (``pip install "stickslip[cuda]"``; the same engine compiled for the GPU,
@@ -283,7 +284,8 @@ def sweep(
         isinstance(block_points, bool) or not isinstance(block_points, int) or block_points < 1
     ):
         raise ValueError(f"block_points={block_points!r}: expected a whole number of points >= 1")
-    layout = plan.layout(chunk_shape(plan.shape, block_points or SWEEP_BLOCK_POINTS))
+    default_block = SWEEP_BLOCK_POINTS if backend == "cpu" else GPU_BLOCK_POINTS
+    layout = plan.layout(chunk_shape(plan.shape, block_points or default_block))
     if store is None:
         check_sweep_size(plan.points)
     # every point validated before anything runs, block by block (bounded memory)
@@ -291,6 +293,11 @@ def sweep(
         plan.inputs(plan.sub_axes(block))
     return run_job(plan, layout, store=store, scheduler=scheduler, workers=workers, progress=progress,
                    desc="sweep", load=False)  # fmt: skip
+
+
+#: points per block of a sweep on a GPU (a store's chunk, one launch): an H100 holds about
+#: 270 000 threads at once
+GPU_BLOCK_POINTS = 1 << 20
 
 
 @dataclass(frozen=True)
