@@ -194,9 +194,9 @@ def illinois_sw(law, P, d, cs, s0, cw, w0, what, level, xa, ga, xb, gb):  # type
 # the one-block engine uses the same tableau written out for ``(s, w)``.
 
 
-@njit(cache=True)
-def vec_stage(y, K, h, j, n, out):  # type: ignore[no-untyped-def]
-    """Fill ``out[:n]`` with the state of stage ``j``: ``y + h sum_i A[j, i] K[i]``.
+@njit(cache=True, inline="always")
+def _vec_combine(y, K, h, coef, m, n, out):  # type: ignore[no-untyped-def]
+    """Fill ``out[:n]`` with ``y + h sum_{i < m} coef[i] K[i]``.
 
     The sum runs stage by stage over contiguous rows of ``K`` (so that the
     compiler vectorises it), in the same order for every component as a sum
@@ -204,8 +204,8 @@ def vec_stage(y, K, h, j, n, out):  # type: ignore[no-untyped-def]
     """
     for c in range(n):
         out[c] = 0.0
-    for i in range(j):
-        a = A[j, i]
+    for i in range(m):
+        a = coef[i]
         if a != 0.0:
             for c in range(n):
                 out[c] += a * K[i, c]
@@ -214,17 +214,15 @@ def vec_stage(y, K, h, j, n, out):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
+def vec_stage(y, K, h, j, n, out):  # type: ignore[no-untyped-def]
+    """Fill ``out[:n]`` with the state of stage ``j``: ``y + h sum_i A[j, i] K[i]``."""
+    _vec_combine(y, K, h, A[j], j, n, out)
+
+
+@njit(cache=True)
 def vec_advance(y, K, h, n, out):  # type: ignore[no-untyped-def]
-    """Fill ``out[:n]`` with the 8th-order solution at the end of the step (summed as :func:`vec_stage`)."""
-    for c in range(n):
-        out[c] = 0.0
-    for i in range(N_STAGES):
-        b = B[i]
-        if b != 0.0:
-            for c in range(n):
-                out[c] += b * K[i, c]
-    for c in range(n):
-        out[c] = y[c] + h * out[c]
+    """Fill ``out[:n]`` with the 8th-order solution at the end of the step."""
+    _vec_combine(y, K, h, B, N_STAGES, n, out)
 
 
 @njit(cache=True)
