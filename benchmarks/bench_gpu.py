@@ -9,10 +9,13 @@ equal, amplitudes to 1e-8). The device is named. Where no GPU is usable, the scr
 says why and stops: the speed is then unmeasured (the numbers of docs/benchmarks.md
 come from a run on a GPU, or say that there was none).
 
-diffrax (JAX) is not compared here: the issue's figure for it on an H100 is quoted
-in docs/benchmarks.md; a comparison in this script needs JAX on the GPU's machine.
+Where JAX and diffrax import, the same slip phases (from breakaway to the stop, F1, the
+same parameter sets) also run through diffrax (``Dopri8``, a PID step-size controller at
+the same tolerances, a terminal event at ``w = 0`` located by Newton's method, ``vmap``
+over the sets, double precision) on JAX's default device: phases per second and the
+spring force at the stop against the engine's.
 
-Run: python benchmarks/bench_gpu.py [--n 10000000] [--n-cpu 200000]
+Run: python benchmarks/bench_gpu.py [--n 10000000] [--n-cpu 200000] [--n-diffrax 1000000]
 """
 
 from __future__ import annotations
@@ -31,12 +34,56 @@ from stickslip.core.api import run_attractors
 from stickslip.laws import WeakeningLaw
 
 
+def diffrax_phases(nu: np.ndarray, c: np.ndarray) -> tuple[float, float, np.ndarray, str] | None:
+    """Slip phases from breakaway by diffrax: compile and run seconds, spring force at the stop, device.
+
+    None where JAX or diffrax does not import.
+    """
+    try:
+        import diffrax
+        import jax
+        import jax.numpy as jnp
+        import optimistix as optx
+    except ImportError:
+        return None
+    jax.config.update("jax_enable_x64", True)
+
+    def field(t, y, args):  # type: ignore[no-untyped-def]
+        nu_, c_ = args
+        return jnp.stack([nu_ - y[1], y[0] - 1.0 / (1.0 + c_ * y[1])])
+
+    def stopped(t, y, args, **kwargs):  # type: ignore[no-untyped-def]
+        return jnp.where(t > 0.0, y[1], 1.0)  # w = 0 at breakaway: not the stop
+
+    def phase(nu_, c_):  # type: ignore[no-untyped-def]
+        sol = diffrax.diffeqsolve(
+            diffrax.ODETerm(field), diffrax.Dopri8(), 0.0, 1e4, None, jnp.array([1.0, 0.0]), args=(nu_, c_),
+            stepsize_controller=diffrax.PIDController(rtol=RTOL, atol=ATOL),
+            event=diffrax.Event(stopped, optx.Newton(1e-12, 1e-14)), max_steps=100_000,
+            saveat=diffrax.SaveAt(t1=True),
+        )  # fmt: skip
+        return sol.ys[0, 0]
+
+    run = jax.jit(jax.vmap(phase))
+    t0 = time.perf_counter()
+    jax.block_until_ready(run(jnp.asarray(nu[:8]), jnp.asarray(c[:8])))
+    t_compile = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    s_stop = np.asarray(jax.block_until_ready(run(jnp.asarray(nu), jnp.asarray(c))))
+    return t_compile, time.perf_counter() - t0, s_stop, str(jax.devices()[0])
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=10_000_000, help="parameter sets on the GPU")
     ap.add_argument("--n-cpu", type=int, default=200_000, help="parameter sets on the CPU (the first ones)")
+    ap.add_argument("--n-diffrax", type=int, default=1_000_000, help="parameter sets for diffrax")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--diffrax-only", action="store_true", help="diffrax against the CPU engine (no GPU)")
     args = ap.parse_args()
+    if args.diffrax_only:
+        _diffrax_against_engine(args)
+        return
     ok, device = core_cuda.cuda_status()
     if not ok or core_cuda.simulator():
         print(f"no GPU to measure on: {device}; the GPU speed is unmeasured")
@@ -75,6 +122,43 @@ def main() -> None:
         f"agreement on the {m} common sets: statuses equal {same_status}, amplitude largest relative "
         f"difference {worst:.3e} (median {float(np.median(rel)):.3e})"
     )
+    k = min(args.n_diffrax, args.n)
+    got = diffrax_phases(nu[:k], c[:k])
+    if got is None:
+        print("diffrax: JAX or diffrax does not import here; not compared")
+        return
+    t_dc, t_d, s_stop, jdev = got
+    ref = gpu.s_stop[:k]
+    drel = np.abs(s_stop - ref) / np.abs(ref)
+    print(
+        f"diffrax: {k:8d} slip phases in {t_d:8.3f} s = {k / t_d:14.0f} phases/s on {jdev} "
+        f"(compile {t_dc:.1f} s); the GPU engine's cycles/s are {(args.n / t_gpu) / (k / t_d):.1f} x"
+    )
+    print(f"  spring force at the stop against the engine's: largest relative difference {drel.max():.3e}")
+
+
+def _diffrax_against_engine(args: argparse.Namespace) -> None:
+    """diffrax's slip phases against the CPU engine's on this machine: the comparison's code, checked."""
+    k = args.n_diffrax
+    _, nu, c = workload(k, args.seed)
+    got = diffrax_phases(nu, c)
+    if got is None:
+        print("diffrax: JAX or diffrax does not import here")
+        return
+    t_dc, t_d, s_stop, jdev = got
+    kernel = WeakeningLaw(c=1.0).kernel
+    kw = dict(from_breakaway=True, rtol=RTOL, atol=ATOL, max_slip_time=1e4, conv_tol=1e-8)
+    run_attractors(kernel, c[:8, None], nu[:8], **kw)
+    t0 = time.perf_counter()
+    cpu = run_attractors(kernel, c[:, None], nu, **kw)
+    t_cpu = time.perf_counter() - t0
+    drel = np.abs(s_stop - cpu.s_stop) / np.abs(cpu.s_stop)
+    print(
+        f"diffrax: {k} slip phases in {t_d:.3f} s = {k / t_d:.0f} phases/s on {jdev} (compile {t_dc:.1f} s)"
+    )
+    print(f"engine : {k} cycles in {t_cpu:.3f} s = {k / t_cpu:.0f} cycles/s on {os.cpu_count()} CPU cores")
+    worst, median = drel.max(), np.median(drel)
+    print(f"spring force at the stop: largest relative difference {worst:.3e} (median {median:.3e})")
 
 
 if __name__ == "__main__":
