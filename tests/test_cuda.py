@@ -83,7 +83,10 @@ def test_sweep_on_cuda_equals_the_cpu_sweep(law: str, tmp_path: Path) -> None:
 _ROWS = """
 import json, sys
 import numpy as np
+from stickslip.core import cuda
 from stickslip.core.api import run_attractors
+cuda.SIMULATOR_BATCH = 16  # three launches of four blocks for 40 rows: every index path
+cuda.THREADS_PER_BLOCK = 4
 from stickslip.laws import WeakeningLaw
 rng = np.random.default_rng(7)
 n = 40
@@ -224,3 +227,17 @@ def test_a_sweep_on_cuda_streams_to_a_store(tmp_path: Path) -> None:
     np.testing.assert_allclose(got["period"], want.period.values, rtol=1e-9)
     regimes = [[str(v) for v in row] for row in want.regime.values]
     assert [[str(v) for v in row] for row in got["regime"]] == regimes
+
+
+@needs_numba_cuda
+def test_a_table_too_long_for_the_gpu_is_refused_in_one_line(tmp_path: Path) -> None:
+    v = np.linspace(0.0, 50.0, core_cuda.MAX_TABLE_ROWS + 100)  # mm/s
+    (tmp_path / "mu_v.csv").write_text(
+        "velocity [mm/s],friction coefficient [1]\n"
+        + "".join(f"{float(x)!r},{0.46 / (1 + 160 * float(x) * 1e-3)!r}\n" for x in v)
+    )
+    args = [*GRIDS["table"], "--num", "3", "--backend", "cuda", "--out", "x.nc", "--no-plot"]
+    run = _stickslip(["sweep", *args], SIM, tmp_path)
+    assert run.returncode == 2, run.stderr
+    assert f"a table of {v.size} rows: the GPU kernel holds at most" in run.stderr
+    assert "Traceback" not in run.stderr

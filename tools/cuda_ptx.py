@@ -1,8 +1,10 @@
 """Compile the CUDA backend's kernel for a GPU on a machine without one (PTX for sm_90, an H100).
 
 Checks that the engine's source compiles for CUDA as it is (numba-cuda's typing and
-NVVM), law by law, where no GPU can run it: the simulator of the test suite runs the
-engine as Python and cannot tell. Needs numba-cuda with the CUDA toolkit's NVVM
+NVVM) and that the PTX assembles and links for the target (nvJitLink, ptxas), law by
+law, where no GPU can run it: the simulator of the test suite runs the engine as Python
+and cannot tell. (A table of 1000 rows does not link: its constant memory; the backend
+refuses tables over ``MAX_TABLE_ROWS`` in one line.) Needs numba-cuda with the CUDA toolkit's NVVM
 (``pip install "stickslip[cuda]"``). numba-cuda asks the current device for its
 compute capability when it compiles a device function, even for PTX alone; with no
 device that question is answered here with the target's.
@@ -13,6 +15,7 @@ Run: python tools/cuda_ptx.py [--cc 9.0]
 from __future__ import annotations
 
 import argparse
+import re
 import time
 
 import numba.cuda.dispatcher as cuda_dispatcher
@@ -35,8 +38,9 @@ def main() -> None:
         compute_capability = cc
 
     cuda_dispatcher.get_current_device = lambda: _Target()  # type: ignore[attr-defined]
-    f1, f2, f3 = types.float64[:], types.float64[:, :], types.float64[:, :, :]
-    i1, i2 = types.int64[:], types.int64[:, :]
+    # C-contiguous arrays, as a launch passes them
+    f1, f2, f3 = types.float64[::1], types.float64[:, ::1], types.float64[:, :, ::1]
+    i1, i2 = types.int64[::1], types.int64[:, ::1]
     f, i, b = types.float64, types.int64, types.boolean
     sig = (i1, f2, f1, f1, f1, b, f, f, f, f, i, f2, f3, f3, f2, f2, f2, f2, f1, f2, i1, f2, i2)
     v = np.linspace(0.0, 0.05, 600)  # m/s
@@ -46,6 +50,8 @@ def main() -> None:
         "expression 1/(1 + c*w) + 0.02*w": ExpressionLaw("1/(1 + c*w) + 0.02*w", c=1.0).kernel,
         "table (600 velocities)": TabulatedLaw(Q_(v, "m/s"), 0.46 / (1 + 160 * v)).spec.kernel(),
     }
+    v = np.linspace(0.0, 0.05, 1000)
+    kernels["table (1000 velocities)"] = TabulatedLaw(Q_(v, "m/s"), 0.46 / (1 + 160 * v)).spec.kernel()
     for name, kernel in kernels.items():
         kern = _cuda_kernel.make(kernel.engine.attractor_ws)
         t0 = time.perf_counter()
@@ -55,8 +61,33 @@ def main() -> None:
         div = sum("div.rn.f64" in ln for ln in lines)
         print(
             f"{name:34s} PTX for sm_{cc[0]}{cc[1]}: {len(lines):6d} lines, {fma} fma.rn.f64, "
-            f"{div} div.rn.f64, compiled in {time.perf_counter() - t0:.1f} s"
+            f"{div} div.rn.f64, compiled in {time.perf_counter() - t0:.1f} s; {_link(ptx, cc)}"
         )
+
+
+def _link(ptx: str, cc: tuple[int, ...]) -> str:
+    """Assemble and link the PTX for the target with nvJitLink (ptxas): what a launch would do."""
+    try:
+        from cuda.bindings import nvjitlink
+    except ImportError:
+        return "not linked (no nvJitLink here)"
+    handle = nvjitlink.create(2, [f"-arch=sm_{cc[0]}{cc[1]}", "-verbose"])
+    data = ptx.encode()
+    try:
+        nvjitlink.add_data(handle, nvjitlink.InputType.PTX, data, len(data), "kernel")
+        nvjitlink.complete(handle)
+    except Exception:
+        size = nvjitlink.get_error_log_size(handle)
+        log = bytearray(size)
+        nvjitlink.get_error_log(handle, log)
+        lines = [ln.strip() for ln in log.decode(errors="replace").splitlines() if ln.strip()]
+        errors = [ln for ln in lines if "error" in ln.lower()] or lines or ["(no log)"]
+        return "does NOT link: " + errors[-1]
+    size = nvjitlink.get_info_log_size(handle)
+    log = bytearray(size)
+    nvjitlink.get_info_log(handle, log)
+    used = re.findall(r"Used (\d+) registers", log.decode(errors="replace"))
+    return f"links, {max(map(int, used))} registers a thread" if used else "links"
 
 
 if __name__ == "__main__":

@@ -155,7 +155,8 @@ def register(main: click.Group) -> None:
         "--block-points",
         type=click.IntRange(min=1),
         default=None,
-        help="Points per block (one task, one chunk of the store); default 32768.",
+        help="Points per block (one task, one chunk of the store); default 32768, "
+        "1048576 with --backend cuda.",
     )
     @click.option(
         "--backend",

@@ -24,6 +24,8 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import sys
+import warnings
 from collections.abc import Callable
 from typing import Any
 
@@ -75,9 +77,21 @@ def cuda_status() -> tuple[bool, str]:
         dev = cuda.get_current_device()
         name = dev.name.decode() if isinstance(dev.name, bytes) else str(dev.name)
         cc = ".".join(str(v) for v in dev.compute_capability)
+        from numba.cuda.cudadrv import nvvm
+
+        if not nvvm.is_available():
+            return False, (
+                f"a GPU ({name}) but not the CUDA toolkit's compiler (NVVM): "
+                'pip install "stickslip[cuda]" brings it'
+            )
     except Exception as exc:
-        return False, f"no CUDA device usable ({type(exc).__name__}: {exc})"
+        return False, f"no CUDA device usable ({type(exc).__name__}: {_first_line(exc)})"
     return True, f"{name} (compute capability {cc})"
+
+
+def _first_line(exc: BaseException) -> str:
+    text = str(exc).strip()
+    return text.splitlines()[0] if text else type(exc).__name__
 
 
 def resolve_backend(backend: str) -> str:
@@ -138,6 +152,30 @@ def _batch_rows(n: int, width: int) -> int:
     return int(max(THREADS_PER_BLOCK, min(MAX_BATCH, free // 4 // per_row, n)))
 
 
+#: rows of a measured table a GPU kernel holds: the table goes to the GPU's constant
+#: memory (64 KB a module), one copy per function that reads it (measured: 88 bytes a
+#: row beside 2.5 KB; a 1000-row table fails to link for sm_90)
+MAX_TABLE_ROWS = 700
+
+
+def check_kernel(one: Any) -> None:
+    """Refuse, in one line, a law whose engine cannot build for a GPU (a table too long).
+
+    Raises
+    ------
+    ValueError
+        For a tabulated law of more than :data:`MAX_TABLE_ROWS` rows.
+
+    """
+    package = sys.modules.get(getattr(one, "__module__", "").rsplit(".", 1)[0] + ".laws")
+    breaks = getattr(package, "_X", None)
+    if breaks is not None and len(breaks) > MAX_TABLE_ROWS:
+        raise ValueError(
+            f"a table of {len(breaks)} rows: the GPU kernel holds at most {MAX_TABLE_ROWS} "
+            "(its constant memory); thin the table, or use backend='cpu'"
+        )
+
+
 def run_attractors_cuda(
     one: Any,
     law_a: np.ndarray,
@@ -161,7 +199,9 @@ def run_attractors_cuda(
     :func:`stickslip.core.api.run_attractors`).
     """
     from numba import cuda
+    from numba.core.errors import NumbaPerformanceWarning
 
+    check_kernel(one)
     kern = attractor_kernel(one)
     n = nu_a.shape[0]
     width = 4 if diag else 2
@@ -186,13 +226,23 @@ def run_attractors_cuda(
         evn = cuda.to_device(np.zeros((b, 1), dtype=np.int64))
         d_out = cuda.device_array((b, engine.NOUT))
         blocks = -(-b // THREADS_PER_BLOCK)
-        kern[blocks, THREADS_PER_BLOCK](
-            cuda.to_device(law_s[lo:hi]), cuda.to_device(lp_s[lo:hi]), cuda.to_device(nu_s[lo:hi]),
-            cuda.to_device(s0_s[lo:hi]), cuda.to_device(w0_s[lo:hi]), bool(from_breakaway),
-            float(rtol), float(atol), float(t_max), float(conv_tol), int(max_steps), d_out,
-            *work, *shared, evn,
-        )  # fmt: skip
-        res[lo:hi] = d_out.copy_to_host()
+        try:
+            with warnings.catch_warnings():
+                # a small grid under-uses the GPU: known (a small sweep, a store's last block)
+                warnings.simplefilter("ignore", NumbaPerformanceWarning)
+                kern[blocks, THREADS_PER_BLOCK](
+                    cuda.to_device(law_s[lo:hi]), cuda.to_device(lp_s[lo:hi]), cuda.to_device(nu_s[lo:hi]),
+                    cuda.to_device(s0_s[lo:hi]), cuda.to_device(w0_s[lo:hi]), bool(from_breakaway),
+                    float(rtol), float(atol), float(t_max), float(conv_tol), int(max_steps), d_out,
+                    *work, *shared, evn,
+                )  # fmt: skip
+            res[lo:hi] = d_out.copy_to_host()
+        except (ValueError, CudaUnavailableError):
+            raise
+        except Exception as exc:  # the toolkit, the driver, the GPU's memory: one line, not numba's trace
+            raise CudaUnavailableError(
+                f"backend='cuda': the GPU kernel failed ({type(exc).__name__}: {_first_line(exc)})"
+            ) from exc
         if on_rows is not None:
             on_rows(b)
     out[order] = res

@@ -295,8 +295,8 @@ def sweep(
                    desc="sweep", load=False)  # fmt: skip
 
 
-#: points per block of a sweep on a GPU (a store's chunk, one launch): an H100 holds about
-#: 270 000 threads at once
+#: points per block of a sweep on a GPU (a store's chunk, one launch): many launch waves of
+#: the 30 000-odd threads an H100 keeps resident with this kernel (199 registers a thread)
 GPU_BLOCK_POINTS = 1 << 20
 
 
