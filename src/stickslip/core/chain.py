@@ -511,7 +511,7 @@ def chain_run(  # type: ignore[no-untyped-def]
             ws[0] += 1.0
         else:
             ws[1] += x[j]
-    nv = 3 * n + 2  # (x, v) of the slipping blocks, two works, the stuck neighbours' x
+    nv = 2 * n + 2  # (x, v) of m slipping blocks, two works, at most n - m stuck neighbours: <= n + m + 2
     y = np.empty(nv)
     y_new = np.empty(nv)
     ytmp = np.empty(nv)
