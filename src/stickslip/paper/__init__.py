@@ -24,8 +24,10 @@ from .report import Claim, claims, write_report
 #: the criterion's trials computed in the second process of ``reproduce(parallel=True)``: the
 #: cubic law's (its engine compiles there while this process compiles the weakening law's)
 REMOTE_TRIALS = ("cubic_alpha",)
-#: the part of the appendix this process computes after its own trials (the others: the second)
-LOCAL_APPENDIX_PART = "inertia"
+#: the parts of the appendix this process computes after its own trials (the others: the second,
+#: after its trial: the critical stiffness, which compiles the quasi-static integrator, then the
+#: quasi-static runaway, which uses it; balanced on a cold start, docs/benchmarks.md)
+LOCAL_APPENDIX_PARTS = ("inertia", "portraits")
 
 __all__ = ["Claim", "PaperConfig", "ReproduceResult", "claims", "compute_paper", "reproduce"]
 
@@ -69,9 +71,10 @@ def reproduce(
     parallel : bool, optional
         Compute the criterion's trial on the cubic law (:data:`REMOTE_TRIALS`: its
         engine compiles there while this process compiles the weakening law's) and
-        two of the appendix's three parts (rate and state: the sympy-derived field
-        integrated by SciPy, the critical stiffness) in a second process while this
-        one computes the rest and the inertial slider, and render half the figures
+        two of the appendix's four parts (the critical stiffness and the quasi-static
+        slider's runaway, both on the quasi-static integrator) in a second process
+        while this one computes the rest, the inertial slider and the phase
+        portraits, and render half the figures
         there: the same files, in about half the time on two cores. The second process is started by
         ``multiprocessing`` (spawn), so the calling program's main module must be
         safe to import (an ``if __name__ == "__main__":`` guard); ``stickslip
@@ -102,12 +105,12 @@ def reproduce(
                 stack.callback(pool.terminate)
                 # the second process takes the trial on the cubic law (an engine of its own to
                 # compile, on the second core; this process finds it compiled when it needs it
-                # for the regime sequences) and two of the appendix's three parts
+                # for the regime sequences) and two of the appendix's four parts
                 other_trial = pool.apply_async(run_trials, kwds={"quick": quick, "keys": REMOTE_TRIALS})
                 remote_parts = {
                     name: pool.apply_async(appendix_part, (name, config.n_v0 < 20))
                     for name in APPENDIX_PARTS
-                    if name != LOCAL_APPENDIX_PART
+                    if name not in LOCAL_APPENDIX_PARTS
                 }
             # the criterion's trials (regime maps on both cores) while the second process works
             here = None if pool is None else tuple(m.key for m in TRIAL_MAPS if m.key not in REMOTE_TRIALS)
@@ -125,7 +128,7 @@ def reproduce(
                     )
 
             if pool is not None:
-                parts = {LOCAL_APPENDIX_PART: appendix_part(LOCAL_APPENDIX_PART, config.n_v0 < 20)}
+                parts = {name: appendix_part(name, config.n_v0 < 20) for name in LOCAL_APPENDIX_PARTS}
                 if other_trial.ready():
                     hand_over_trials()
             # this process draws its own trials' figures (meanwhile, with a second process)

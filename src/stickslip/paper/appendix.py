@@ -194,17 +194,6 @@ def _inertia(n_mass: int, n_points: int) -> xr.Dataset:
     ds = simulate_rate_state(
         p_in, [(duration, Q_(v0, "m/s"))], initial=(mu_ss + 1e-3, phi0), n_points=n_points, rtol=1e-9
     )
-    try:
-        simulate_rate_state(
-            _params(0.8 * kc),
-            [(duration, Q_(v0, "m/s"))],
-            initial=(mu_ss + 1e-3, phi0),
-            n_points=n_points,
-            rtol=1e-9,
-        )
-        runaway = "no runaway within the simulated time"
-    except RuntimeError as exc:
-        runaway = str(exc)
     # the slip-velocity maxima, located as events on the solver's dense output (not samples)
     vp = ds.velocity_peak.values
     tp = ds.velocity_peak_time.values
@@ -236,7 +225,7 @@ def _inertia(n_mass: int, n_points: int) -> xr.Dataset:
         attrs={
             "inertia_v0": v0,
             "inertia_demo_mass": m_demo,
-            "quasi_static_runaway": runaway,
+            "quasi_static_runaway": "",  # the part "runaway" (the quasi-static integrator)
             "cycle_peak_velocity": cycle_peak,
             "cycle_period": cycle_period,
             "cycle_last_peak_change": peak_change,
@@ -245,8 +234,33 @@ def _inertia(n_mass: int, n_points: int) -> xr.Dataset:
     )
 
 
+def _runaway(n_points: int) -> xr.Dataset:
+    """Run the inertia part's demonstration slider without its mass: quasi-static, it runs away.
+
+    A part of its own: it needs the quasi-static integrator, which the critical-stiffness
+    part compiles (the same process, in ``reproduce``), not the inertial one.
+    """
+    kc = (B - A) / Q_(DC).to("m").magnitude
+    dc: float = float(Q_(DC).to("m").magnitude)
+    v0 = 1e-3  # m/s, as in _inertia
+    mu_ss = float(_params(0.8 * kc).steady_state_friction(Q_(v0, "m/s")))
+    duration = Q_(3.0 if n_points > 3000 else 1.5, "s")
+    try:
+        simulate_rate_state(
+            _params(0.8 * kc),
+            [(duration, Q_(v0, "m/s"))],
+            initial=(mu_ss + 1e-3, Q_(dc / v0, "s")),
+            n_points=n_points,
+            rtol=1e-9,
+        )
+        runaway = "no runaway within the simulated time"
+    except RuntimeError as exc:
+        runaway = str(exc)
+    return xr.Dataset(attrs={"quasi_static_runaway": runaway})
+
+
 #: the appendix's parts, computed apart (``reproduce(parallel=True)`` shares them out) and merged
-APPENDIX_PARTS = ("portraits", "critical", "inertia")
+APPENDIX_PARTS = ("portraits", "critical", "runaway", "inertia")
 
 
 def appendix_part(name: str, quick: bool = False) -> xr.Dataset:
@@ -257,12 +271,14 @@ def appendix_part(name: str, quick: bool = False) -> xr.Dataset:
         return _critical_check((0.9, 0.97, 1.03, 1.1) if not quick else (0.9, 1.1), 800 if quick else 3000)
     if name == "inertia":
         return _inertia(6 if quick else 24, 2000 if quick else 6000)
+    if name == "runaway":
+        return _runaway(2000 if quick else 6000)
     raise ValueError(f"name={name!r}: expected one of {APPENDIX_PARTS}")
 
 
 def merge_appendix(parts: dict[str, xr.Dataset]) -> xr.Dataset:
     """Return the appendix from its parts (every name of :data:`APPENDIX_PARTS`)."""
-    portraits, critical, inertia = (parts[name] for name in APPENDIX_PARTS)
+    portraits, critical, runaway, inertia = (parts[name] for name in APPENDIX_PARTS)
     ds = xr.merge([portraits, critical, inertia], combine_attrs="override")
     ds.attrs = {
         "appendix_A": A,
@@ -272,7 +288,7 @@ def merge_appendix(parts: dict[str, xr.Dataset]) -> xr.Dataset:
         "appendix_D0": DC,
         "appendix_V_r": VR,
         "appendix_load": LOAD,
-        **{f"appendix_{k}": v for k, v in inertia.attrs.items()},
+        **{f"appendix_{k}": v for k, v in {**inertia.attrs, **runaway.attrs}.items()},
     }
     return ds
 
