@@ -164,6 +164,26 @@ def test_b_value_of_a_gutenberg_richter_sample() -> None:
     assert b_value(mt, mc=2.0, n_boot=0).b > 1.2
 
 
+def test_expected_cumulative_of_a_truncated_fit_meets_the_catalogue() -> None:
+    rng = np.random.default_rng(4)
+    m = _spike_plateau_power_law_bump(rng, 40000)
+    fit = b_value(m, mc=-2.0, m_max=0.5, n_boot=0)
+    above = int(np.sum(m > 0.5))
+    ends = fit.expected_cumulative([-2.0, 0.5], above)
+    # at the range's ends: every event from mc up, and those above m_max only
+    assert ends[0] == pytest.approx(np.sum(m >= -2.0), rel=1e-12)
+    assert ends[1] == pytest.approx(above, rel=1e-12)
+    # inside: the catalogue's own N(>= M) within its Poisson noise (the sample is b = 1 there)
+    for mm in (-1.5, -1.0, -0.5, 0.0):
+        n_obs = np.sum(m >= mm)
+        assert abs(fit.expected_cumulative(mm, above) - n_obs) < 4 * math.sqrt(n_obs - above)
+    # without an upper end: the Gutenberg-Richter line 10**(a - b M) itself
+    free = b_value(m[m <= 0.5], mc=-2.0, n_boot=0)
+    np.testing.assert_allclose(
+        free.expected_cumulative([-1.0, 0.0]), 10.0 ** (free.a - free.b * np.array([-1.0, 0.0]))
+    )
+
+
 def test_completeness_by_maximum_curvature() -> None:
     rng = np.random.default_rng(2)
     m = 1.0 + rng.exponential(1.0 / math.log(10), 50000)

@@ -96,6 +96,40 @@ class BValue:
         """Whether the events of the range pass as a power law (Kolmogorov-Smirnov, 5 %)."""
         return bool(self.ks <= KS_CRITICAL_5)
 
+    def expected_cumulative(self, m: npt.ArrayLike, n_above: int = 0) -> FloatArray:
+        """Return the fit's ``N(>= m)`` for ``mc <= m <= m_max``, to compare with a catalogue's.
+
+        The fitted law is truncated at ``m_max``: its ``n`` events have
+        ``N(>= m) = n (10**(-b (m - mc)) - q) / (1 - q)`` with
+        ``q = 10**(-b (m_max - mc))`` (``q = 0`` without ``m_max``; a flat
+        distribution where ``b = 0``), and the catalogue's events above
+        ``m_max``, which the fit leaves out by design, add to every ``N(>= m)``.
+
+        Parameters
+        ----------
+        m : array_like of float
+            Magnitudes (``log10`` of the moment), within the fitted range.
+        n_above : int, optional
+            The catalogue's events above ``m_max``.
+
+        Returns
+        -------
+        ndarray of float
+            Expected number of events of magnitude at least ``m`` (nan where
+            the fit is undefined, or ``b <= 0`` without an upper end).
+
+        """
+        mm = np.asarray(m, dtype=float)
+        top = math.isfinite(self.m_max)
+        if not math.isfinite(self.b) or (self.b <= 0.0 and not top):
+            return np.full(mm.shape, math.nan)
+        if self.b == 0.0:
+            share = (self.m_max - mm) / (self.m_max - self.mc)
+        else:
+            q = 10.0 ** (-self.b * (self.m_max - self.mc)) if top else 0.0
+            share = (10.0 ** (-self.b * (mm - self.mc)) - q) / (1.0 - q)
+        return np.asarray(self.n * share + n_above, dtype=float)
+
 
 def magnitude_frequency(
     m: npt.ArrayLike, bin_width: float = 0.1

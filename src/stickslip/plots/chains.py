@@ -29,7 +29,7 @@ def plot_magnitude_frequency(catalog: Any, fit: BValue, *, bin_width: float = 0.
         mm = np.linspace(fit.mc, top, 50)
         ax.semilogy(
             mm,
-            10.0 ** (fit.a - fit.b * mm),
+            fit.expected_cumulative(mm, int(np.sum(m > fit.m_max))),
             "-",
             color="C3",
             label=f"b = {fit.b:.3f} ± {fit.error:.3f} (Aki-Utsu, {fit.n} events)",
