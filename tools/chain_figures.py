@@ -1,7 +1,7 @@
 """Figures and numbers of docs/chain.md: the Kraków three-block scan and a Carlson-Langer catalogue.
 
 python tools/chain_figures.py krakow            # docs/images/krakow_lyapunov.png and the table
-python tools/chain_figures.py cl CATALOG.nc     # docs/images/cl_magnitude_frequency.png and b-values
+python tools/chain_figures.py cl CATALOG.nc [NAME] # docs/images/NAME.png (default cl_magnitude_frequency), b
 python tools/chain_figures.py cl-run CATALOG.nc # the 10^5-event catalogue, started or resumed
 """
 
@@ -38,7 +38,7 @@ def krakow() -> None:
     fig.savefig(IMAGES / "krakow_lyapunov.png", dpi=110)
 
 
-def cl(path: str) -> None:
+def cl(path: str, name: str = "cl_magnitude_frequency") -> None:
     cat = open_catalog(path)
     m = cat["magnitude"].values
     mc = completeness_magnitude(m)
@@ -60,7 +60,7 @@ def cl(path: str) -> None:
     print(f"over 100 blocks: {np.mean(nb > 100):.3%}; of all blocks: {np.mean(nb == nb.max()):.3%}")
     fig = plot_magnitude_frequency(cat, auto)
     IMAGES.mkdir(exist_ok=True)
-    fig.savefig(IMAGES / "cl_magnitude_frequency.png", dpi=110)
+    fig.savefig(IMAGES / f"{name}.png", dpi=110)
 
 
 def cl_run(path: str) -> None:
@@ -77,4 +77,4 @@ if __name__ == "__main__":
     elif sys.argv[1] == "cl-run":
         cl_run(sys.argv[2])
     else:
-        cl(sys.argv[2])
+        cl(*sys.argv[2:4])
