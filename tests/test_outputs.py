@@ -180,3 +180,35 @@ def test_envelope_keeps_every_extremum_to_the_end() -> None:
     assert xs[-1] == n - 1
     # every stretch of 100 samples is represented
     assert np.max(np.diff(xs)) <= 100
+
+
+def test_a_figure_is_laid_out_once_for_all_its_formats(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The SVG reuses the PNG's layout (one constrained layout, not two); the figure keeps its engine."""
+    import numpy as np
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    from stickslip.plots.figures import figure_bytes, save_figure
+    from stickslip.plots.style import subplots
+
+    runs = []
+    execute = ConstrainedLayoutEngine.execute
+
+    def counted(self: ConstrainedLayoutEngine, fig: object) -> object:
+        runs.append(1)
+        return execute(self, fig)
+
+    monkeypatch.setattr(ConstrainedLayoutEngine, "execute", counted)
+    fig, ax = subplots(figsize=(4.0, 3.0))
+    sc = ax.scatter(np.arange(5.0), np.arange(5.0), c=np.arange(5.0))
+    fig.colorbar(sc, ax=ax, label=r"$\mu_s W$")
+    ax.set_xlabel(r"time $\tau$ [$\sqrt{m/k}$]")
+    engine = fig.get_layout_engine()
+    assert isinstance(engine, ConstrainedLayoutEngine)
+    save_figure(fig, tmp_path / "f")
+    assert {p.name for p in tmp_path.iterdir()} >= {"f.png", "f.svg"}
+    assert len(runs) == 1
+    assert fig.get_layout_engine() is engine  # a figure changed later is laid out again
+    blobs = figure_bytes(fig)
+    assert set(blobs) == {"png", "svg"} and len(runs) == 2
