@@ -434,3 +434,34 @@ def test_command_line_bad_input() -> None:
         main, ["chain", "--blocks", "3", "--events", "5", "--c", "1", "--nu", "0.1", "--mc", "x"]
     )
     assert res.exit_code == 2 and "--mc='x'" in res.output
+
+
+def test_space_time_figure_of_a_large_catalogue_stays_small(tmp_path: Path) -> None:
+    """Clouds of points are images inside the SVG: 3000 events on 1000 blocks once made 63 MB."""
+    import xarray as xr
+
+    from stickslip.plots.chains import RASTER, plot_recurrence, plot_space_time
+    from stickslip.plots.figures import save_figure
+
+    rng = np.random.default_rng(5)
+    events, blocks = 400, 200
+    slip = np.where(rng.uniform(size=(events, blocks)) < 0.3, rng.uniform(0.01, 1.0, (events, blocks)), 0.0)
+    assert np.count_nonzero(slip) > 4 * RASTER
+    moment = slip.sum(axis=1)
+    cat = xr.Dataset(
+        {
+            "t_start": ("event", np.cumsum(rng.uniform(1.0, 2.0, events))),
+            "magnitude": ("event", np.log10(moment)),
+            "moment": ("event", moment),
+            "first_block": ("event", np.zeros(events, dtype=np.int64)),
+            "last_block": ("event", np.full(events, blocks - 1)),
+            "n_blocks": ("event", np.count_nonzero(slip, axis=1)),
+            "slip": (("event", "block"), slip),
+        },
+        attrs={"blocks": blocks, "slip_recorded": events},
+    )
+    save_figure(plot_space_time(cat), tmp_path / "st")
+    save_figure(plot_recurrence(cat), tmp_path / "rec")
+    # 24 000 squares drawn one by one: 3.6 MB of SVG (measured)
+    assert (tmp_path / "st.svg").stat().st_size < 1_000_000
+    assert b"<image" in (tmp_path / "st.svg").read_bytes()

@@ -13,6 +13,10 @@ from matplotlib.figure import Figure
 from ..chains.statistics import BValue, magnitude_frequency, recurrence_times
 from .style import subplots
 
+#: marks above which a cloud of points is drawn as an image inside vector files: a
+#: space-time figure of 3000 events on 1000 blocks was 63 MB of SVG squares, 157 kB so
+RASTER = 5000
+
 __all__ = ["plot_lyapunov", "plot_magnitude_frequency", "plot_recurrence", "plot_space_time"]
 
 
@@ -63,13 +67,14 @@ def plot_space_time(catalog: Any, *, max_events: int = 3000) -> Figure:
         # the blocks that slipped (an event may join separate patches: never draw its whole extent)
         kk = min(rec, k)
         ev, blk = np.nonzero(catalog["slip"].values[:kk] != 0.0)
-        sc = ax.scatter(blk, t0[ev], c=mag[ev], s=2.0, marker="s", linewidths=0, cmap="viridis")
+        cloud = {"rasterized": blk.size > RASTER, "linewidths": 0, "cmap": "viridis"}
+        sc = ax.scatter(blk, t0[ev], c=mag[ev], s=2.0, marker="s", **cloud)
         ax.set_title("blocks that slipped in each event", fontsize=10)
         t_top = t0[kk - 1] if kk else 1.0
     else:
         whole = (hi - lo + 1) == catalog["n_blocks"].values[:k]  # contiguous ruptures only
         segs = [((a - 0.4, t), (b + 0.4, t)) for a, b, t in zip(lo[whole], hi[whole], t0[whole], strict=True)]
-        sc = LineCollection(segs, cmap="viridis", linewidths=1.2)
+        sc = LineCollection(segs, cmap="viridis", linewidths=1.2, rasterized=len(segs) > RASTER)
         sc.set_array(np.nan_to_num(mag[whole], nan=vmin))
         ax.add_collection(sc)
         ax.set_title("contiguous ruptures", fontsize=10)
@@ -116,7 +121,7 @@ def plot_recurrence(catalog: Any) -> Figure:
     unit = catalog["t_start"].attrs.get("units", "1")
     a1.set_xlabel(f"time between event starts [{unit}]")
     a1.set_ylabel("events")
-    a2.semilogy(t0, catalog["moment"].values, ".", ms=2.0, color="0.3")
+    a2.semilogy(t0, catalog["moment"].values, ".", ms=2.0, color="0.3", rasterized=t0.size > RASTER)
     a2.set_xlabel(f"event start [{unit}]")
     a2.set_ylabel(f"moment [{catalog['moment'].attrs.get('units', '1')}]")
     return fig
