@@ -126,8 +126,12 @@ class BValue:
         if self.b == 0.0:
             share = (self.m_max - mm) / (self.m_max - self.mc)
         else:
-            q = 10.0 ** (-self.b * (self.m_max - self.mc)) if top else 0.0
-            share = (10.0 ** (-self.b * (mm - self.mc)) - q) / (1.0 - q)
+            beta = self.b * math.log(10.0)
+            share = np.exp(-beta * (mm - self.mc))
+            if top:  # (10**(-b u) - q) / (1 - q), exact for small b as well
+                share = (
+                    share * np.expm1(-beta * (self.m_max - mm)) / math.expm1(-beta * (self.m_max - self.mc))
+                )
         return np.asarray(self.n * share + n_above, dtype=float)
 
 

@@ -259,7 +259,9 @@ def _runaway(n_points: int) -> xr.Dataset:
     return xr.Dataset(attrs={"quasi_static_runaway": runaway})
 
 
-#: the appendix's parts, computed apart (``reproduce(parallel=True)`` shares them out) and merged
+#: the appendix's parts, computed apart (``reproduce(parallel=True)`` shares them out) and merged;
+#: the second process takes its parts in this order: "critical" compiles the quasi-static
+#: integrator that "runaway" then finds compiled (the results do not depend on the order)
 APPENDIX_PARTS = ("portraits", "critical", "runaway", "inertia")
 
 

@@ -31,9 +31,10 @@ def plot_magnitude_frequency(catalog: Any, fit: BValue, *, bin_width: float = 0.
     if np.isfinite(fit.b):
         top = fit.m_max if np.isfinite(fit.m_max) else float(np.nanmax(m))
         mm = np.linspace(fit.mc, top, 50)
+        line = fit.expected_cumulative(mm, int(np.sum(m > fit.m_max)))
         ax.semilogy(
             mm,
-            fit.expected_cumulative(mm, int(np.sum(m > fit.m_max))),
+            np.where(line > 0.0, line, np.nan),  # 0 at m_max with no event above: not drawn
             "-",
             color="C3",
             label=f"b = {fit.b:.3f} ± {fit.error:.3f} (Aki-Utsu, {fit.n} events)",

@@ -94,6 +94,7 @@ def save_figure(
     SVG ``Creator``); an existing file that is not a stickslip figure is kept unless
     ``overwrite``. With ``out`` (an :class:`~stickslip.io.output.OutputFolder`)
     ``stem`` is a name inside it and the files are staged with the run's others.
+    The figure is laid out for the first format; the others reuse that layout.
     """
     stem = os.fspath(stem)
     paths = []
