@@ -476,3 +476,47 @@ def test_space_time_figure_of_a_large_catalogue_stays_small(tmp_path: Path) -> N
     assert [ln.get_rasterized() for ln in rec.axes[1].lines] == [True]  # the moments against time
     small = plot_recurrence(cat.isel(event=slice(0, 100)))  # a few marks stay vector
     assert [ln.get_rasterized() for ln in small.axes[1].lines] == [False]
+
+
+def test_a_force_that_touches_the_threshold_and_turns_back_does_not_stall_the_chain() -> None:
+    """Three stiffly coupled blocks (ell = 1000): at t = 14.078 the middle one, at rest with its force
+    2e-12 above its threshold and falling (the outer blocks swing against each other), slips for
+    about 2e-5 inside a step of 4e-4. That slip was taken for none: the block stopped at once and
+    slipped on at once, again and again, without the time advancing (the command hung)."""
+    from stickslip.chains.model import initial_positions
+    from stickslip.core.api import ChainState, chain_advance
+    from stickslip.core.chain import CH_STALLED
+
+    p = ChainParameters(3, WeakeningLaw(c=3.0), 0.01, 1000.0)
+    st = ChainState.at_rest(initial_positions(3, "random", 0))
+    args = (p.law.kernel, p.law.core_params(), p.nu, p.ell2, False, True, p.phi)
+    cat, _, code = chain_advance(*args, st, max_events=5000, max_steps=400_000)
+    assert code != CH_STALLED
+    assert st.t > 20.0 and cat.shape[0] == 5000
+    assert np.all(np.diff(cat[:, 0]) >= 0.0)
+
+
+def test_b_value_of_identical_events_is_undefined() -> None:
+    """One block (or identical blocks) repeats one event: no spread, no power law, no b-value."""
+    m = np.full(50, -0.3) + np.random.default_rng(6).normal(0.0, 1e-12, 50)
+    fit = b_value(m, n_boot=20)
+    assert math.isnan(fit.b) and math.isnan(fit.error) and fit.n > 0
+    assert math.isnan(b_value(m, mc="auto", n_boot=0).b)
+    # a spread over more than a bin is fitted
+    assert math.isfinite(b_value(np.linspace(0.0, 1.0, 50), mc=0.0, n_boot=0).b)
+
+
+def test_command_line_text_report_without_a_b_value_and_bad_fit_ranges() -> None:
+    from click.testing import CliRunner
+
+    from stickslip.cli import main
+
+    base = ["chain", "--blocks", "3", "--events", "5", "--c", "3", "--ell", "1", "--quiet"]
+    # a sliding chain: no event, no b-value; the text report says so (it raised a TypeError)
+    res = CliRunner().invoke(main, [*base, "--nu", "10"])
+    assert res.exit_code == 1 and isinstance(res.exception, SystemExit)  # not a TypeError
+    assert "b-value              undefined" in res.output and "Traceback" not in res.output
+    for bad, word in ((["--mc", "nan"], "--mc"), (["--mc", "0", "--m-max", "-1"], "--m-max"),
+                      (["--m-max", "inf"], "--m-max")):  # fmt: skip
+        res = CliRunner().invoke(main, [*base, "--nu", "0.01", *bad])
+        assert res.exit_code == 2 and word in res.output, res.output

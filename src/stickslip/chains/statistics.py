@@ -310,6 +310,7 @@ def b_value(
         Seed of the bootstrap.
     bin_width : float
         Magnitude bins of the completeness estimate and grid of the range scan.
+        Magnitudes spread over less than a bin give no fit (``b`` nan).
 
     """
     mm = np.asarray(m, dtype=float)
@@ -329,7 +330,9 @@ def b_value(
         top = math.inf if m_max is None else float(m_max)
     sel = np.sort(mm[(mm >= mc_) & (mm <= top)])
     n = int(sel.size)
-    if n < 2 or not math.isfinite(mc_):
+    # magnitudes that do not spread over a bin (identical events: one block, identical blocks)
+    # say nothing of a power law; their "b" would be 1/(bin-level gap above mc), with no error
+    if n < 2 or not math.isfinite(mc_) or sel[-1] - sel[0] < bin_width:
         return BValue(math.nan, math.nan, math.nan, mc_, top, n, math.nan, math.nan, method)
     b = _mle(sel, mc_, top)
     shi = 2.3 * b * b * float(np.std(sel, ddof=1)) / math.sqrt(n) if math.isfinite(b) else math.nan

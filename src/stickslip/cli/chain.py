@@ -165,6 +165,9 @@ def register(main: click.Group) -> None:
             return
         if store or scheduler or workers:
             raise click.UsageError("--store, --scheduler and --workers go with --seeds (an ensemble)")
+        mc_ = _mc(mc)
+        if m_max is not None and not (math.isfinite(m_max) and (not isinstance(mc_, float) or m_max > mc_)):
+            raise click.UsageError(f"--m-max={m_max!r}: expected a finite magnitude above --mc ({mc})")
         kw: dict[str, Any] = dict(
             init=init,
             seed=seed,
@@ -172,7 +175,7 @@ def register(main: click.Group) -> None:
             transient=transient,
             rtol=opts["rtol"],
             atol=opts["atol"],
-            mc=_mc(mc),
+            mc=mc_,
             m_max=m_max,
             progress=False if quiet else None,
         )
@@ -229,15 +232,18 @@ def _report(res: Any, as_json: bool, out_dir: str | None = None) -> None:
         click.echo(f"blocks               {s['blocks']}")
         click.echo(f"events               {s['events']}")
         click.echo(f"simulated time       {s['simulated_time']:.10g} [{u['time']}]")
-        click.echo(f"mean recurrence      {s['mean_recurrence']} [{u['time']}]")
-        click.echo(f"mean moment          {s['mean_moment']} [{u['length']}]")
+        click.echo(f"mean recurrence      {_shown(s['mean_recurrence'])} [{u['time']}]")
+        click.echo(f"mean moment          {_shown(s['mean_moment'])} [{u['length']}]")
         click.echo(f"largest event        {s['largest_event_blocks']} blocks")
-        top = "" if s["b_value_m_max"] is None else f" to {s['b_value_m_max']:.2f}"
-        law = "" if s["b_value_power_law"] else "; not a power law at 5 %"
-        click.echo(
-            f"b-value              {s['b_value']} ± {s['b_value_err']} "
-            f"(M from {s['completeness_magnitude']:.2f}{top}, {s['b_value_range']}{law})"
-        )
+        if s["b_value"] is None:
+            click.echo("b-value              undefined (too few events, or their magnitudes do not spread)")
+        else:
+            top = "" if s["b_value_m_max"] is None else f" to {s['b_value_m_max']:.2f}"
+            law = "" if s["b_value_power_law"] else "; not a power law at 5 %"
+            click.echo(
+                f"b-value              {s['b_value']:.4g} ± {_shown(s['b_value_err'])} "
+                f"(M from {_shown(s['completeness_magnitude'], '.2f')}{top}, {s['b_value_range']}{law})"
+            )
         click.echo(f"status               {s['status']}")
         if out_dir:
             click.echo(f"wrote {out_dir}/catalog.nc, summary.json and figures")
@@ -250,14 +256,22 @@ def _report(res: Any, as_json: bool, out_dir: str | None = None) -> None:
         raise SystemExit(1)
 
 
+def _shown(value: float | None, spec: str = ".6g") -> str:
+    """Return a number of the summary as text, ``undefined`` where it has none (too few events)."""
+    return "undefined" if value is None else format(value, spec)
+
+
 def _mc(text: str) -> float | str | None:
     """``--mc``: a magnitude, ``auto`` or ``maxc`` (None: maximum curvature)."""
     if text in ("auto", "maxc"):
         return None if text == "maxc" else text
     try:
-        return float(text)
+        value = float(text)
     except ValueError:
-        raise click.UsageError(f"--mc={text!r}: expected a magnitude, 'auto' or 'maxc'") from None
+        value = math.nan
+    if not math.isfinite(value):
+        raise click.UsageError(f"--mc={text!r}: expected a finite magnitude, 'auto' or 'maxc'")
+    return value
 
 
 def _seeds(text: str) -> list[int]:

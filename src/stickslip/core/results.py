@@ -357,6 +357,12 @@ class ChainStatus(_Labelled):
         "the integration step fell below the resolution of the time: the friction law is singular "
         "or not finite where the motion went",
     )
+    STALLED = (
+        "stalled",
+        chain.CH_STALLED,
+        "the engine stopped making progress in time (events at one instant again and again): a "
+        "state it cannot resolve; please report it with the command",
+    )
     NONFINITE = (
         "not-finite",
         chain.CH_NONFINITE,
