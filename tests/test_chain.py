@@ -520,3 +520,18 @@ def test_command_line_text_report_without_a_b_value_and_bad_fit_ranges() -> None
                       (["--m-max", "inf"], "--m-max")):  # fmt: skip
         res = CliRunner().invoke(main, [*base, "--nu", "0.01", *bad])
         assert res.exit_code == 2 and word in res.output, res.output
+
+
+def test_command_line_refuses_negative_seeds_in_one_line() -> None:
+    from click.testing import CliRunner
+
+    from stickslip.cli import main
+
+    base = ["chain", "--blocks", "3", "--events", "5", "--c", "3", "--nu", "0.01", "--quiet"]
+    for bad, word in (
+        (["--seed", "-1"], "--seed"),
+        (["--seeds", "-2..0"], "--seeds"),
+        (["--seeds", "3,-1"], "--seeds"),
+    ):
+        res = CliRunner().invoke(main, [*base, *bad])
+        assert res.exit_code == 2 and word in res.output and "Traceback" not in res.output, res.output

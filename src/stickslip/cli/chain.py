@@ -31,7 +31,11 @@ def register(main: click.Group) -> None:
         "--coupling", default=None, help="Coupling stiffness k_c with units, e.g. '100 N/m' (physical input)."
     )
     @click.option(
-        "--seed", type=int, default=0, show_default=True, help="Seed of the initial positions and thresholds."
+        "--seed",
+        type=click.IntRange(min=0),
+        default=0,
+        show_default=True,
+        help="Seed of the initial positions and thresholds (a whole number >= 0).",
     )
     @click.option(
         "--init",
@@ -280,10 +284,16 @@ def _seeds(text: str) -> list[int]:
             a, b = (int(x) for x in text.split(".."))
             if b < a:
                 raise ValueError
-            return list(range(a, b + 1))
-        return [int(x) for x in text.split(",")]
+            seeds = list(range(a, b + 1))
+        else:
+            seeds = [int(x) for x in text.split(",")]
+        if min(seeds) < 0:
+            raise ValueError
+        return seeds
     except ValueError:
-        raise click.UsageError(f"--seeds={text!r}: expected A..B (A <= B) or A,B,C (whole numbers)") from None
+        raise click.UsageError(
+            f"--seeds={text!r}: expected A..B (0 <= A <= B) or A,B,C (whole numbers >= 0)"
+        ) from None
 
 
 def _ensemble(
@@ -345,7 +355,8 @@ def _ensemble(
         click.echo(f"members              {summary['members']}")
         click.echo(f"events               {summary['events']}")
         click.echo(
-            f"b-value              {summary['b_value_mean']} (spread {summary['b_value_std']} over seeds)"
+            f"b-value              {_shown(summary['b_value_mean'], '.4g')} "
+            f"(spread {_shown(summary['b_value_std'], '.2g')} over seeds)"
         )
         if out_dir:
             click.echo(f"wrote {out_dir}/ensemble.nc")
