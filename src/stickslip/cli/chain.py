@@ -342,10 +342,12 @@ def _ensemble(
         for s in ds.seed.values
     ]  # fmt: skip
     b = ds["b_value"].values
+    b_mean = float(np.nanmean(b)) if np.isfinite(b).any() else None
+    b_std = float(np.nanstd(b)) if np.isfinite(b).sum() > 1 else None
     summary = {
         "members": len(members),
-        "b_value_mean": float(np.nanmean(b)) if np.isfinite(b).any() else None,
-        "b_value_std": float(np.nanstd(b)) if np.isfinite(b).sum() > 1 else None,
+        "b_value_mean": b_mean,
+        "b_value_std": b_std,
         "events": int(ds["events"].sum()),
         "per_member": members,
     }
@@ -354,10 +356,7 @@ def _ensemble(
     else:
         click.echo(f"members              {summary['members']}")
         click.echo(f"events               {summary['events']}")
-        click.echo(
-            f"b-value              {_shown(summary['b_value_mean'], '.4g')} "
-            f"(spread {_shown(summary['b_value_std'], '.2g')} over seeds)"
-        )
+        click.echo(f"b-value              {_shown(b_mean, '.4g')} (spread {_shown(b_std, '.2g')} over seeds)")
         if out_dir:
             click.echo(f"wrote {out_dir}/ensemble.nc")
     bad = [m["seed"] for m in members if m["status"] != "ok"]
