@@ -535,3 +535,19 @@ def test_command_line_refuses_negative_seeds_in_one_line() -> None:
     ):
         res = CliRunner().invoke(main, [*base, *bad])
         assert res.exit_code == 2 and word in res.output and "Traceback" not in res.output, res.output
+
+
+def test_command_line_resume_never_replaces_a_finished_run(tmp_path: Path) -> None:
+    from click.testing import CliRunner
+
+    from stickslip.cli import main
+
+    base = ["chain", "--blocks", "3", "--events", "5", "--c", "3", "--ell", "1", "--quiet", "--no-plot"]
+    out = ["--out", str(tmp_path / "run")]
+    first = CliRunner().invoke(main, [*base, "--nu", "0.01", *out, "--resume"])
+    assert first.exit_code == 0 and "starting a new one" in first.output
+    before = (tmp_path / "run" / "catalog.nc").read_bytes()
+    # another set-up with --resume: once it silently replaced the finished catalogue
+    res = CliRunner().invoke(main, [*base, "--nu", "0.02", *out, "--resume"])
+    assert res.exit_code == 2 and "complete" in res.output
+    assert (tmp_path / "run" / "catalog.nc").read_bytes() == before

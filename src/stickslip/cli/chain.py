@@ -191,6 +191,13 @@ def register(main: click.Group) -> None:
             return
         os.makedirs(out_dir, exist_ok=True)
         partial = os.path.join(out_dir, ".catalog.partial.nc")
+        if resume and not os.path.exists(partial):
+            if os.path.exists(os.path.join(out_dir, "catalog.nc")):
+                raise click.UsageError(
+                    f"--resume: the run in {out_dir} is complete (catalog.nc), nothing to resume; "
+                    "run without --resume to replace it"
+                )
+            click.echo(f"stickslip: no interrupted run in {out_dir}: starting a new one", err=True)
         names = {"catalog.nc": "chain-catalog", "summary.json": "summary"}
         if not no_plot:
             names |= {f"{f}.{ext}": "figure" for f in _FIGURES for ext in ("png", "svg")}
