@@ -490,9 +490,9 @@ def test_a_force_that_touches_the_threshold_and_turns_back_does_not_stall_the_ch
     p = ChainParameters(3, WeakeningLaw(c=3.0), 0.01, 1000.0)
     st = ChainState.at_rest(initial_positions(3, "random", 0))
     args = (p.law.kernel, p.law.core_params(), p.nu, p.ell2, False, True, p.phi)
-    cat, _, code = chain_advance(*args, st, max_events=5000, max_steps=400_000)
+    cat, _, code = chain_advance(*args, st, max_events=200, max_steps=400_000)
     assert code != CH_STALLED
-    assert st.t > 20.0 and cat.shape[0] == 5000
+    assert st.t > 20.0 and cat.shape[0] == 200  # the first event ends at t = 19.43
     assert np.all(np.diff(cat[:, 0]) >= 0.0)
 
 
