@@ -17,6 +17,7 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -188,12 +189,7 @@ def _inertia(n_mass: int, n_points: int) -> xr.Dataset:
     # below k_c: the quasi-static slider runs away, the inertial one stays on a limit cycle
     m_demo = float(masses[np.searchsorted(eps, 1e-2)])
     p_in = _params(0.8 * kc, f"{m_demo} kg")
-    mu_ss = float(p_in.steady_state_friction(Q_(v0, "m/s")))
-    phi0 = Q_(dc / v0, "s")
-    duration = Q_(3.0 if n_points > 3000 else 1.5, "s")
-    ds = simulate_rate_state(
-        p_in, [(duration, Q_(v0, "m/s"))], initial=(mu_ss + 1e-3, phi0), n_points=n_points, rtol=1e-9
-    )
+    ds = simulate_rate_state(p_in, **_demo_run(p_in, n_points))
     # the slip-velocity maxima, located as events on the solver's dense output (not samples)
     vp = ds.velocity_peak.values
     tp = ds.velocity_peak_time.values
@@ -234,6 +230,23 @@ def _inertia(n_mass: int, n_points: int) -> xr.Dataset:
     )
 
 
+def _demo_run(params: RateStateParameters, n_points: int) -> dict[str, Any]:
+    """Return the run of the demonstration slider ``params`` below ``k_c``: 1 mm/s from near steady state.
+
+    The same for the inertial slider (part "inertia") and the quasi-static one (part "runaway").
+    """
+    dc = float(Q_(DC).to("m").magnitude)
+    v0 = 1e-3  # m/s: inertia matters at high driving velocity
+    mu_ss = float(params.steady_state_friction(Q_(v0, "m/s")))
+    duration = Q_(3.0 if n_points > 3000 else 1.5, "s")
+    return {
+        "history": [(duration, Q_(v0, "m/s"))],
+        "initial": (mu_ss + 1e-3, Q_(dc / v0, "s")),
+        "n_points": n_points,
+        "rtol": 1e-9,
+    }
+
+
 def _runaway(n_points: int) -> xr.Dataset:
     """Run the inertia part's demonstration slider without its mass: quasi-static, it runs away.
 
@@ -241,18 +254,9 @@ def _runaway(n_points: int) -> xr.Dataset:
     part compiles (the same process, in ``reproduce``), not the inertial one.
     """
     kc = (B - A) / Q_(DC).to("m").magnitude
-    dc: float = float(Q_(DC).to("m").magnitude)
-    v0 = 1e-3  # m/s, as in _inertia
-    mu_ss = float(_params(0.8 * kc).steady_state_friction(Q_(v0, "m/s")))
-    duration = Q_(3.0 if n_points > 3000 else 1.5, "s")
+    p_qs = _params(0.8 * kc)
     try:
-        simulate_rate_state(
-            _params(0.8 * kc),
-            [(duration, Q_(v0, "m/s"))],
-            initial=(mu_ss + 1e-3, Q_(dc / v0, "s")),
-            n_points=n_points,
-            rtol=1e-9,
-        )
+        simulate_rate_state(p_qs, **_demo_run(p_qs, n_points))
         runaway = "no runaway within the simulated time"
     except RuntimeError as exc:
         runaway = str(exc)
