@@ -551,3 +551,80 @@ def test_command_line_resume_never_replaces_a_finished_run(tmp_path: Path) -> No
     res = CliRunner().invoke(main, [*base, "--nu", "0.02", *out, "--resume"])
     assert res.exit_code == 2 and "complete" in res.output
     assert (tmp_path / "run" / "catalog.nc").read_bytes() == before
+
+
+def test_command_line_warns_where_seed_or_amplitude_cannot_matter() -> None:
+    from click.testing import CliRunner
+
+    from stickslip.cli import main
+
+    base = ["chain", "--blocks", "3", "--events", "3", "--c", "3", "--nu", "0.1", "--quiet", "--json"]
+    runs = {
+        "seed": CliRunner().invoke(main, [*base, "--init", "uniform", "--seed", "4"]),
+        "amplitude": CliRunner().invoke(main, [*base, "--init", "uniform", "--amplitude", "0.1"]),
+        "seeds thresholds": CliRunner().invoke(
+            main, [*base, "--init", "uniform", "--seed", "4", "--threshold-spread", "0.1"]
+        ),
+        "random": CliRunner().invoke(main, [*base, "--seed", "4"]),
+    }
+    for res in runs.values():
+        assert res.exit_code == 0, res.output
+    assert "warning: --seed does nothing with --init uniform" in runs["seed"].output
+    assert "warning: --amplitude does nothing with --init uniform" in runs["amplitude"].output
+    # the seed draws the thresholds; with random positions it draws those: no warning
+    assert "warning" not in runs["seeds thresholds"].output
+    assert "warning" not in runs["random"].output
+
+
+def test_a_stiff_random_start_is_warned_about() -> None:
+    # ell = 3000 and displacements of 0.01: coupling forces 7e4 times the threshold, a first
+    # event that rings for 40 s of computing (ell = 1e5: days) with nothing on the screen
+    law = WeakeningLaw(3.0)
+    with pytest.warns(UserWarning, match=r"times the static threshold \(ell = 3000\)"):
+        chain(ChainParameters(10, law, 0.01, ell=3000.0), 1, progress=False, t_max=1e-3)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        chain(ChainParameters(10, law, 0.01, ell=3000.0), 1, progress=False, t_max=1e-3, amplitude=1e-7)
+        chain(ChainParameters(10, law, 0.01, ell=10.0), 1, progress=False, t_max=1e-3)
+
+
+def test_the_progress_bar_shows_the_simulated_time(capsys: pytest.CaptureFixture[str]) -> None:
+    r = chain(ChainParameters(4, WeakeningLaw(3.0), 0.05, ell=2.0), 3, progress=True)
+    err = capsys.readouterr().err
+    # the time after the last call of the engine: a run with few events still shows it advances
+    assert f"t = {r.simulated_time:.4g}" in err, err
+    assert "event" in err
+
+
+def test_sigterm_leaves_a_resumable_chain_and_no_staging_folder(tmp_path: Path) -> None:
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "run"
+    cmd = [sys.executable, "-m", "stickslip.cli", "chain", "--blocks", "60", "--events", "10000000",
+           "--c", "3", "--nu", "0.01", "--ell", "3", "--quiet", "--no-plot", "--out", str(out)]  # fmt: skip
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    partial = out / ".catalog.partial.nc"
+    deadline = time.monotonic() + 120
+    while not partial.exists() and time.monotonic() < deadline and proc.poll() is None:
+        time.sleep(0.2)
+    time.sleep(2.0)  # some events recorded
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=60)
+    # before: killed at once (-15), the staging folder left behind, the catalogue not closed
+    assert proc.returncode == 128 + signal.SIGTERM, err
+    assert "stopped by SIGTERM" in err
+    assert not [n for n in os.listdir(out) if n.startswith(".stickslip-staging-")]
+    assert not (out / "catalog.nc").exists()
+    from stickslip.chains.catalog import read_state
+
+    _, done, _ = read_state(str(partial))
+    res = subprocess.run([*cmd[:7], str(done + 5), *cmd[8:], "--resume", "--json"],
+                         capture_output=True, text=True, timeout=300)  # fmt: skip
+    assert res.returncode == 0, res.stderr
+    assert json.loads(res.stdout)["events"] == done + 5

@@ -6,6 +6,8 @@ import json
 import math
 import os
 import tempfile
+import time
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -26,8 +28,13 @@ from .statistics import BValue, b_value
 
 __all__ = ["ChainResult", "chain"]
 
-#: steps per call of the compiled engine (about a second of work): progress and Ctrl-C in between
+#: steps per call of the compiled engine: at most, at least, and the first call's; in between,
+#: each call's budget is scaled to take about CALL_SECONDS (progress, Ctrl-C and SIGTERM are
+#: answered between calls; where a call pauses does not change the events, bit for bit)
 STEPS_PER_CALL = 2_000_000
+MIN_STEPS_PER_CALL = 4 * ce.STALL_STEPS
+FIRST_STEPS_PER_CALL = 50_000
+CALL_SECONDS = 0.5
 #: events per call (and per append to the catalogue)
 EVENTS_PER_CHUNK = 20_000
 
@@ -239,6 +246,7 @@ def chain(
     else:
         if state is None:
             state = ChainState.at_rest(initial_positions(n, init, seed, amplitude))
+            _warn_stiff_start(params, state)
         else:
             state = state.copy()
         if state.x.shape != (n,):
@@ -268,16 +276,14 @@ def chain(
     n_slips = 0
     status = ChainStatus.OK
     bar = progress_bar(events, unit="event", desc="chain", progress=progress)
+    advance = _Advance(args, state, t_max, rtol, atol, bar, factor[ce.C_T0], units["time"])
     if bar is not None and done:
         bar.update(done)
     try:
         # the transient: events not recorded
         left = int(transient)
         while left > 0:
-            cat, _, code = chain_advance(
-                *args, state, max_events=min(left, EVENTS_PER_CHUNK), t_max=t_max, rtol=rtol, atol=atol,
-                max_steps=STEPS_PER_CALL,
-            )  # fmt: skip
+            cat, _, code = advance(min(left, EVENTS_PER_CHUNK), 0)
             left -= cat.shape[0]
             if code not in (ce.CH_EVENTS, ce.CH_PAUSED):
                 status = ChainStatus.from_code(code)
@@ -287,10 +293,7 @@ def chain(
                 break
         while status is ChainStatus.OK and done < events:
             want_slips = max(0, record_slip - (writer.slip_recorded if writer else n_slips))
-            cat, slips, code = chain_advance(
-                *args, state, max_events=min(events - done, EVENTS_PER_CHUNK), t_max=t_max, rtol=rtol,
-                atol=atol, max_steps=STEPS_PER_CALL, slip_rows=want_slips,
-            )  # fmt: skip
+            cat, slips, code = advance(min(events - done, EVENTS_PER_CHUNK), want_slips)
             cat = cat * factor
             slips = slips * factor[ce.C_MOMENT]
             if writer is not None:
@@ -321,6 +324,80 @@ def chain(
     mags = ds["magnitude"].values
     fit = b_value(mags, mc=mc, m_max=m_max)
     return ChainResult(params, ds, path, status, float(t_end), state, fit, units)
+
+
+#: coupling force over static threshold at the start above which :func:`chain` warns
+STIFF_START = 1e4
+
+
+def _warn_stiff_start(params: ChainParameters, state: ChainState) -> None:
+    """Warn where the initial displacements load the coupling springs far past the thresholds.
+
+    The first event then rings at the coupling's frequency ``ell`` for a long time
+    (measured on 10 blocks, ``c = 3``, amplitude 0.01: ``ell = 1000``, 2 s;
+    ``ell = 3000``, 40 s; ``ell = 10^4``, minutes), with no event to show for it.
+    """
+    x = state.x
+    if x.shape[0] < 2:
+        return
+    if str(params.boundary) == "periodic":
+        lap = np.roll(x, -1) - 2 * x + np.roll(x, 1)
+    else:
+        lap = np.diff(x, append=x[-1]) - np.diff(x, prepend=x[0])
+    load = float(np.max(np.abs(lap) * params.ell2 / params.phi))
+    if load > STIFF_START:
+        warnings.warn(
+            f"the initial displacements load the coupling springs to {load:.3g} times the static "
+            f"threshold (ell = {params.ell:g}): the first event will ring for a long time; give a "
+            f"smaller amplitude (about 1/ell**2 = {1 / params.ell2:.2g}) or init='uniform'",
+            stacklevel=3,
+        )
+
+
+class _Advance:
+    """Calls of the compiled engine, each about :data:`CALL_SECONDS` of work.
+
+    The step budget of a call is scaled from the last call's time per step (a step
+    costs more where more blocks slip), between :data:`MIN_STEPS_PER_CALL` and
+    :data:`STEPS_PER_CALL`; the progress bar shows the simulated time after each
+    call, so that a run with few events (a stiff chain, a long event) still shows
+    that it advances.
+    """
+
+    def __init__(
+        self,
+        args: tuple[Any, Any, float, float, bool, bool, Any],
+        state: ChainState,
+        t_max: float,
+        rtol: float,
+        atol: float,
+        bar: Any,
+        time_factor: float,
+        time_unit: str,
+    ) -> None:
+        self.args, self.state, self.t_max, self.rtol, self.atol = args, state, t_max, rtol, atol
+        self.bar, self.time_factor, self.time_unit = bar, time_factor, time_unit
+        self.steps = FIRST_STEPS_PER_CALL
+
+    def __call__(
+        self, max_events: int, slip_rows: int
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], int]:
+        steps_before = self.state.sc[ce.S_NSTEP]
+        start = time.perf_counter()
+        out = chain_advance(
+            *self.args, self.state, max_events=max_events, t_max=self.t_max, rtol=self.rtol,
+            atol=self.atol, max_steps=self.steps, slip_rows=slip_rows,
+        )  # fmt: skip
+        took = time.perf_counter() - start
+        steps = self.state.sc[ce.S_NSTEP] - steps_before
+        if steps > 0 and took > 0:
+            per_step = took / steps
+            self.steps = int(min(STEPS_PER_CALL, max(MIN_STEPS_PER_CALL, CALL_SECONDS / per_step)))
+        if self.bar is not None:
+            t = self.state.t * self.time_factor
+            unit = "" if self.time_unit == "1" else f" {self.time_unit}"
+            self.bar.set_postfix_str(f"t = {t:.4g}{unit}", refresh=True)
+        return out
 
 
 def _in_memory(

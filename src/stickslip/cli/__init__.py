@@ -9,6 +9,8 @@ the options of a parameter set are built from the law registry (:mod:`~.options`
 
 from __future__ import annotations
 
+import signal
+import threading
 import warnings
 from typing import Any
 
@@ -25,6 +27,27 @@ __all__ = ["build_parameters", "describe_parameters", "main"]
 def main() -> None:
     """Friction oscillators: the one-block spring-slider, exact and fast."""
     warnings.showwarning = _one_line_warning
+    _exit_on_sigterm()
+
+
+def _exit_on_sigterm() -> None:
+    """Make SIGTERM (``kill``, a batch scheduler's time limit) end a command as Ctrl-C does.
+
+    Python's default for SIGTERM ends the process at once, skipping every ``finally``:
+    an output folder kept its hidden staging folder and a chain's partial catalogue was
+    not closed. Raised as ``SystemExit(143)`` instead, the clean-up runs and an
+    interrupted chain can be resumed (``--resume``). Only where SIGTERM still has its
+    default handler, and only in the main thread (where signal handlers live).
+    """
+    if threading.current_thread() is not threading.main_thread():
+        return
+    if signal.getsignal(signal.SIGTERM) is signal.SIG_DFL:
+        signal.signal(signal.SIGTERM, _terminated)
+
+
+def _terminated(signum: int, frame: Any) -> None:
+    click.echo("stickslip: stopped by SIGTERM (an interrupted chain goes on with --resume)", err=True)
+    raise SystemExit(128 + signum)
 
 
 def _one_line_warning(message: Any, category: Any, filename: str, lineno: int, *args: Any, **kw: Any) -> None:

@@ -163,6 +163,7 @@ def register(main: click.Group) -> None:
                 thresholds=phi,
                 backslip=backslip,
             )
+        _warn_unused_seed(init, threshold_spread)
         if seeds is not None:
             _ensemble(params, events, seeds, threshold_spread, init, amplitude, transient, opts, store,
                       scheduler, workers, quiet, as_json, out_dir, overwrite)  # fmt: skip
@@ -228,6 +229,28 @@ def register(main: click.Group) -> None:
         _report(res, as_json, out_dir)
 
     _ = chain
+
+
+def _warn_unused_seed(init: str, threshold_spread: float) -> None:
+    """Warn where --seed or --amplitude is given and cannot change the run."""
+    ctx = click.get_current_context()
+    given = [
+        f"--{name}"
+        for name in ("seed", "amplitude")
+        if ctx.get_parameter_source(name) is click.core.ParameterSource.COMMANDLINE
+    ]
+    if init != "uniform" or not given:
+        return
+    if "--seed" in given and threshold_spread != 0:
+        given.remove("--seed")  # it seeds the thresholds
+    if given:
+        verb = "does" if len(given) == 1 else "do"
+        also = "" if threshold_spread else ", equal thresholds without --threshold-spread"
+        click.echo(
+            f"warning: {' and '.join(given)} {verb} nothing with --init uniform "
+            f"(identical blocks at rest{also})",
+            err=True,
+        )
 
 
 def _jsonable(d: dict[str, Any]) -> dict[str, Any]:
