@@ -241,3 +241,27 @@ def test_a_table_too_long_for_the_gpu_is_refused_in_one_line(tmp_path: Path) -> 
     assert run.returncode == 2, run.stderr
     assert f"a table of {v.size} rows: the GPU kernel holds at most" in run.stderr
     assert "Traceback" not in run.stderr
+
+
+def test_the_gpu_path_counts_its_host_copies_before_allocating(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The rows' sorted copies and the sorted result: 272 bytes a row beyond the CPU path's."""
+    from stickslip.core import api, memory
+
+    n = 1_000_000
+    cpu_bytes = n * api.BYTES_PER_ROW
+    assert core_cuda.HOST_BYTES_PER_ROW == 8 * (1 + 1 + 8 + 3 + engine.NOUT)
+    # memory enough for the CPU path's rows, not for the GPU path's copies beside them
+    avail = int((cpu_bytes + 0.5 * n * core_cuda.HOST_BYTES_PER_ROW) / memory.FRACTION)
+    monkeypatch.setattr(memory, "available_memory", lambda: avail)
+    monkeypatch.setattr(core_cuda, "resolve_backend", lambda backend: "cuda")
+    reached: list[int] = []
+    monkeypatch.setattr(core_cuda, "run_attractors_cuda", lambda *a, **k: reached.append(1))
+    law = WeakeningLaw(c=1.0).kernel
+    kw = {"from_breakaway": True, "rtol": 1e-10, "atol": 1e-12, "max_slip_time": 1e4, "conv_tol": 1e-8}
+    with pytest.raises(memory.MemoryRequestError, match="1000000 parameter sets on the GPU needs about"):
+        run_attractors(law, np.full((n, 1), 3.0), np.full(n, 0.5), backend="cuda", **kw)
+    assert not reached
+    monkeypatch.setattr(core_cuda, "resolve_backend", lambda backend: "cpu")
+    monkeypatch.setattr(api, "in_blocks", lambda call, n, on_rows: reached.append(n))
+    run_attractors(law, np.full((n, 1), 3.0), np.full(n, 0.5), backend="cpu", **kw)  # the CPU path fits
+    assert reached == [n]

@@ -192,6 +192,7 @@ def run_attractors(
     w0_a = z if w0 is None else _broadcast("w0", checks.finite_array("w0", w0), (n,))
     out = np.empty((n, engine.NOUT))
     if cuda.resolve_backend(backend) == "cuda":
+        check_memory(n * (BYTES_PER_ROW + cuda.HOST_BYTES_PER_ROW), f"{n} parameter sets on the GPU")
         cuda.run_attractors_cuda(
             kernel.engine.attractor_ws, law_a, lp_a, nu_a, s0_a, w0_a, bool(from_breakaway), rtol, atol,
             max_slip_time, conv_tol, bool(diag), max_steps, out, on_rows,

@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from . import engine
+from .laws import N_LAW_PARAMS
 
 #: the backends of the attractor kernel
 BACKENDS = ("cpu", "cuda", "auto")
@@ -41,6 +42,9 @@ THREADS_PER_BLOCK = 128
 SIMULATOR_BATCH = 256
 #: rows per launch at most on a GPU (a launch also sizes itself to the free memory)
 MAX_BATCH = 1 << 22
+#: host memory of one row beyond the CPU path's (:data:`stickslip.core.api.BYTES_PER_ROW`): the
+#: rows' order, their sorted copies (law id, law parameters, nu, s0, w0) and the sorted result
+HOST_BYTES_PER_ROW = 8 * (1 + 1 + N_LAW_PARAMS + 3 + engine.NOUT)
 
 
 class CudaUnavailableError(RuntimeError):
