@@ -472,6 +472,11 @@ def test_space_time_figure_of_a_large_catalogue_stays_small(tmp_path: Path) -> N
     assert [c.get_rasterized() for c in segments.axes[0].collections if isinstance(c, LineCollection)] == [
         True
     ]
+    # the small events drawn last, on top of the large ones (they hid them at nu = 0.01)
+    for f in (fig, segments):
+        drawn = next(c for c in f.axes[0].collections if isinstance(c, (PathCollection, LineCollection)))
+        shown = np.asarray(drawn.get_array())
+        assert shown.size > RASTER and np.all(np.diff(shown) <= 0.0)
     rec = plot_recurrence(cat)
     assert [ln.get_rasterized() for ln in rec.axes[1].lines] == [True]  # the moments against time
     small = plot_recurrence(cat.isel(event=slice(0, 100)))  # a few marks stay vector

@@ -68,12 +68,17 @@ def plot_space_time(catalog: Any, *, max_events: int = 3000) -> Figure:
         # the blocks that slipped (an event may join separate patches: never draw its whole extent)
         kk = min(rec, k)
         ev, blk = np.nonzero(catalog["slip"].values[:kk] != 0.0)
+        # the largest events first, the small ones on top: at a fast drive ruptures of the
+        # whole chain overlap in time and would hide the small events drawn before them
+        order = _large_first(mag[ev])
+        ev, blk = ev[order], blk[order]
         cloud = {"rasterized": blk.size > RASTER, "linewidths": 0, "cmap": "viridis"}
         sc = ax.scatter(blk, t0[ev], c=mag[ev], s=2.0, marker="s", **cloud)
         ax.set_title("blocks that slipped in each event", fontsize=10)
         t_top = t0[kk - 1] if kk else 1.0
     else:
-        whole = (hi - lo + 1) == catalog["n_blocks"].values[:k]  # contiguous ruptures only
+        whole = np.flatnonzero((hi - lo + 1) == catalog["n_blocks"].values[:k])  # contiguous ruptures only
+        whole = whole[_large_first(mag[whole])]
         segs = [((a - 0.4, t), (b + 0.4, t)) for a, b, t in zip(lo[whole], hi[whole], t0[whole], strict=True)]
         sc = LineCollection(segs, cmap="viridis", linewidths=1.2, rasterized=len(segs) > RASTER)
         sc.set_array(np.nan_to_num(mag[whole], nan=vmin))
@@ -105,6 +110,11 @@ def plot_space_time(catalog: Any, *, max_events: int = 3000) -> Figure:
         ax2.set_title("slip of each block in each event", fontsize=10)
         fig.colorbar(im, ax=ax2, label=f"slip [{catalog['slip'].attrs.get('units', '1')}]")
     return fig
+
+
+def _large_first(mag: Any) -> Any:
+    """Return the order that draws the largest magnitudes first (NaN last), ties in catalogue order."""
+    return np.argsort(-np.nan_to_num(mag, nan=-np.inf), kind="stable")
 
 
 def plot_recurrence(catalog: Any) -> Figure:
