@@ -297,6 +297,19 @@ def test_events_do_not_depend_on_where_a_call_pauses() -> None:
     np.testing.assert_array_equal(whole[:, same], steps[:, same])
     np.testing.assert_allclose(whole[:, works], steps[:, works], rtol=1e-11, atol=1e-12)
     np.testing.assert_array_equal(one.x, paused.x)
+    # a budget of work pauses as a budget of steps does, and changes nothing either
+    worked = start.copy()
+    rows, calls, done = [], 0, 0
+    while done < 40:
+        cat, _, status = chain_advance(*args, worked, max_events=40 - done, max_work=100.0)
+        rows.append(cat)
+        calls += 1
+        done += cat.shape[0]
+    got = np.concatenate(rows)
+    assert calls > 100
+    np.testing.assert_array_equal(whole[:, same], got[:, same])
+    np.testing.assert_allclose(whole[:, works], got[:, works], rtol=1e-11, atol=1e-12)
+    assert worked.sc[core_chain.S_NWORK] == one.sc[core_chain.S_NWORK] > 0
 
 
 def test_carlson_langer_blocks_never_slip_backward() -> None:
@@ -501,6 +514,40 @@ def test_a_force_that_touches_the_threshold_and_turns_back_does_not_stall_the_ch
     assert np.all(np.diff(cat[:, 0]) >= 0.0)
 
 
+def test_the_stall_guard_counts_over_calls() -> None:
+    """Steps without progress in time are counted over calls, not per call: a run in short calls
+    (a second of work each) must still end a stall instead of pausing in it forever."""
+    from stickslip.core import chain as core_chain
+    from stickslip.core.api import ChainState, chain_advance
+
+    p = ChainParameters(3, WeakeningLaw(c=3.0), 0.01, 10.0)
+    st = ChainState.at_rest(np.array([0.0, 0.003, 0.001]))
+    args = (p.law.kernel, p.law.core_params(), p.nu, p.ell2, False, True, p.phi)
+    chain_advance(*args, st, max_events=3)
+    st.sc[core_chain.S_STALL] = core_chain.STALL_STEPS - 5  # as if 9995 steps had made no progress
+    with_progress = st.copy()
+    _, _, code = chain_advance(*args, with_progress, max_events=3, max_steps=3)
+    # kept over the pause (a call used to start it again at 0: a stall that spans calls of
+    # fewer than STALL_STEPS steps was never caught)
+    assert code == core_chain.CH_PAUSED and with_progress.sc[core_chain.S_STALL] == core_chain.STALL_STEPS - 5
+    # the counter is read at the start of a call: past the guard, the call ends at once
+    st.sc[core_chain.S_STALL] = core_chain.STALL_STEPS + 1
+    _, _, code = chain_advance(*args, st, max_events=3, max_steps=3)
+    assert code == core_chain.CH_STALLED
+
+
+def test_a_state_of_another_engine_version_is_refused() -> None:
+    from stickslip.core import chain as core_chain
+    from stickslip.core.api import ChainState, chain_advance
+
+    p = ChainParameters(3, WeakeningLaw(c=3.0), 0.01, 10.0)
+    st = ChainState.at_rest(np.zeros(3))
+    old = ChainState(st.x, st.v, st.mode, st.sc[:14].copy(), st.ev_x0, st.ev_flag, st.ev_list)
+    args = (p.law.kernel, p.law.core_params(), p.nu, p.ell2, False, True, p.phi)
+    with pytest.raises(ValueError, match=f"14 scalars, expected {core_chain.NSC}"):
+        chain_advance(*args, old, max_events=1)
+
+
 def test_b_value_of_identical_events_is_undefined() -> None:
     """One block (or identical blocks) repeats one event: no spread, no power law, no b-value."""
     m = np.full(50, -0.3) + np.random.default_rng(6).normal(0.0, 1e-12, 50)
@@ -579,6 +626,26 @@ def test_command_line_warns_where_seed_or_amplitude_cannot_matter() -> None:
     # the seed draws the thresholds; with random positions it draws those: no warning
     assert "warning" not in runs["seeds thresholds"].output
     assert "warning" not in runs["random"].output
+    ensemble = ["chain", "--blocks", "3", "--events", "3", "--c", "3", "--nu", "0.1", "--quiet", "--json"]
+    same = CliRunner().invoke(main, [*ensemble, "--seeds", "1..2", "--init", "uniform"])
+    seed = CliRunner().invoke(main, [*ensemble, "--seeds", "1..2", "--seed", "7"])
+    assert same.exit_code == 0 and seed.exit_code == 0, same.output + seed.output
+    assert "members of --seeds are identical" in same.output
+    assert "--seed is not used with --seeds" in seed.output
+
+
+def test_the_command_line_gives_sigterm_back_when_it_ends() -> None:
+    import signal
+
+    from click.testing import CliRunner
+
+    from stickslip.cli import main
+
+    before = signal.getsignal(signal.SIGTERM)
+    res = CliRunner().invoke(main, ["chain", "--blocks", "2", "--events", "2", "--c", "3", "--nu", "0.1"])
+    assert res.exit_code == 0, res.output
+    # a program (or a test run) that calls main keeps its own SIGTERM afterwards
+    assert signal.getsignal(signal.SIGTERM) is before
 
 
 def test_a_stiff_random_start_is_warned_about() -> None:
@@ -633,3 +700,62 @@ def test_sigterm_leaves_a_resumable_chain_and_no_staging_folder(tmp_path: Path) 
                          capture_output=True, text=True, timeout=300)  # fmt: skip
     assert res.returncode == 0, res.stderr
     assert json.loads(res.stdout)["events"] == done + 5
+
+
+class _Stop(Exception):
+    pass
+
+
+def _raise_stop(signum: int, frame: object) -> None:
+    raise _Stop
+
+
+def test_a_signal_while_a_chunk_is_written_waits_for_rows_and_state(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A SIGTERM between a chunk's rows and its state once left a catalogue whose rows ran ahead of
+    its state: resumed, it simulated those events again (320 duplicated rows in the review's run)."""
+    import os
+    import signal
+
+    from stickslip.chains import catalog
+    from stickslip.chains import run as chain_run_module
+
+    p = ChainParameters(20, CarlsonLangerLaw(alpha=2.5, sigma=0.01), 0.01, 3.0)
+    whole = chain(p, 300, progress=False)
+    monkeypatch.setattr(chain_run_module, "WORK_PER_CALL", 3e4)  # many chunks
+    appends = {"n": 0}
+    append = catalog.CatalogWriter.append
+
+    def signalled_append(self: catalog.CatalogWriter, rows: object, slips: object) -> None:
+        appends["n"] += 1
+        append(self, rows, slips)  # type: ignore[arg-type]
+        if appends["n"] == 3:
+            os.kill(os.getpid(), signal.SIGTERM)  # the rows written, not yet the state
+
+    monkeypatch.setattr(catalog.CatalogWriter, "append", signalled_append)
+    path = tmp_path / "cat.nc"
+    before = signal.signal(signal.SIGTERM, _raise_stop)
+    try:
+        with pytest.raises(_Stop):
+            chain(p, 300, out=path, progress=False)
+    finally:
+        signal.signal(signal.SIGTERM, before)
+    assert appends["n"] == 3
+    monkeypatch.setattr(catalog.CatalogWriter, "append", append)
+    resumed = chain(p, 300, out=path, resume=True, progress=False)
+    t0 = resumed.catalog["t_start"].values
+    assert t0.size == 300 and np.all(np.diff(t0) > 0.0)
+    np.testing.assert_allclose(t0, whole.catalog["t_start"].values, rtol=1e-12, atol=1e-9)
+
+
+def test_one_command_gives_one_catalogue_bit_for_bit(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The calls' budget is fixed work, not wall-clock time: where calls pause moves the events'
+    works in their last bits, so a budget from the clock made two runs of one command differ."""
+    from stickslip.chains import run as chain_run_module
+
+    monkeypatch.setattr(chain_run_module, "WORK_PER_CALL", 2e4)
+    p = ChainParameters(20, CarlsonLangerLaw(alpha=2.5, sigma=0.01), 0.01, 3.0)
+    a, b = (chain(p, 200, progress=False).catalog for _ in range(2))
+    for name in a.data_vars:
+        np.testing.assert_array_equal(a[name].values, b[name].values)

@@ -159,6 +159,11 @@ def read_state(path: str) -> tuple[ChainState, int, dict[str, Any]]:
         arrays = [np.array(ds[f"state_{n}"][:]) for n in _STATE]
         n = len(ds.dimensions["event"])
         attrs = {k: ds.getncattr(k) for k in ds.ncattrs()}
+    if arrays[3].shape != (ce.NSC,):
+        raise DataError(
+            f"{path}: its state was stored by another version of stickslip's chain engine "
+            f"({arrays[3].shape[0]} scalars, expected {ce.NSC}): it cannot be resumed; start the run again"
+        )
     state = ChainState(
         arrays[0].astype(np.float64), arrays[1].astype(np.float64), arrays[2].astype(np.int64),
         arrays[3].astype(np.float64), arrays[4].astype(np.float64), arrays[5].astype(np.int8),

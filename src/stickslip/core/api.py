@@ -594,15 +594,23 @@ def chain_advance(
     rtol: float = 1e-10,
     atol: float = 1e-12,
     max_steps: int = 2_000_000,
+    max_work: float = np.inf,
     slip_rows: int = 0,
 ) -> tuple[FloatArray, FloatArray, int]:
     """Advance a chain (``state``, updated in place) by up to ``max_events`` complete events.
 
     Returns ``(catalogue rows (events x chain.NCAT), slips (first slip_rows events x N), status)``
-    with a ``chain.CH_*`` status; ``CH_PAUSED`` means the step budget of this call
-    ran out: call again to go on (the state is exact, not an approximation).
+    with a ``chain.CH_*`` status; ``CH_PAUSED`` means the budget of this call ran out
+    (``max_steps`` steps, or ``max_work`` units of work: ``chain.WORK_STEP`` plus the
+    slipping blocks per step): call again to go on (the state is exact, not an
+    approximation; where a call pauses changes the events' works in their last bits only).
     """
     n = state.x.shape[0]
+    if state.sc.shape != (chain.NSC,):
+        raise ValueError(
+            f"state: {state.sc.shape[0]} scalars, expected {chain.NSC} (a state of another version of "
+            "stickslip's chain engine)"
+        )
     lpa = np.zeros(N_LAW_PARAMS)
     lp_in = np.asarray(lp, dtype=np.float64).ravel()
     lpa[: lp_in.size] = lp_in
@@ -612,6 +620,7 @@ def chain_advance(
     written, status = kernel.chain_engine.chain_run(
         kernel.law_id, lpa, float(nu), float(ell2), bool(periodic), bool(backward), phia,
         state.x, state.v, state.mode, state.sc, state.ev_x0, state.ev_flag, state.ev_list,
-        int(max_events), float(t_max), float(rtol), float(atol), int(max_steps), cat, slips,
+        int(max_events), float(t_max), float(rtol), float(atol), int(max_steps), float(max_work), cat,
+        slips,
     )  # fmt: skip
     return cat[:written], slips[: min(written, slips.shape[0])], int(status)

@@ -88,7 +88,9 @@ S_NREJ = 10
 S_EV_N = 11
 S_EV_LO = 12
 S_EV_HI = 13
-NSC = 14
+S_STALL = 14  # events in a row without progress in time, counted over calls
+S_NWORK = 15  # work done, counted as WORK_STEP plus the slipping blocks per step (the calls' budget)
+NSC = 16
 
 # catalogue columns
 C_T0 = 0
@@ -110,6 +112,8 @@ SIMULTANEOUS = 1e-12
 PROBE_MIN = 2.0**-40
 #: steps in a row that end at an event without advancing the time: the engine stops (CH_STALLED)
 STALL_STEPS = 10_000
+#: the cost of a step beside its slipping blocks', in blocks (the work budget of a call)
+WORK_STEP = 8
 #: a stuck block this close to its threshold (units of static friction, times
 #: ``1 + nu tau`` for the rounding of the load) breaks away
 BREAK_TOL = 1e-13
@@ -476,16 +480,22 @@ def chain_run(  # type: ignore[no-untyped-def]
     rtol,
     atol,
     max_steps,
+    max_work,
     cat,
     slips,
 ):
-    """Advance the chain until ``max_events`` events are complete, ``t_max``, or ``max_steps``.
+    """Advance the chain until ``max_events`` events are complete, ``t_max``, ``max_steps`` or ``max_work``.
 
     The state (``x``, ``v``, ``mode``, ``sc`` and the event work arrays) is
     updated in place, so that calling again continues exactly where this call
     stopped. Complete events are written to the rows of ``cat`` (``NCAT``
     columns) and, for the first ``slips.shape[0]`` of them, each block's slip
     to the rows of ``slips``.
+
+    A call pauses (``CH_PAUSED``) after ``max_steps`` steps or ``max_work`` units of
+    work (a step counts ``WORK_STEP`` plus its slipping blocks: about proportional to
+    its time); where it pauses changes nothing but the rounding of the events' works
+    (summed per segment, and a pause starts a segment).
 
     Returns ``(events_written, status)`` with a ``CH_*`` status.
     """
@@ -529,7 +539,8 @@ def chain_run(  # type: ignore[no-untyped-def]
     pk_v = np.empty(n)
     written = 0
     steps = 0
-    stalled = 0
+    work = 0.0
+    stalled = int(sc[S_STALL])
     t = sc[S_T]
     while True:
         if stalled > STALL_STEPS:
@@ -543,6 +554,7 @@ def chain_run(  # type: ignore[no-untyped-def]
                 written += 1
             if written >= max_events:
                 sc[S_T] = t
+                sc[S_STALL] = stalled
                 return written, CH_EVENTS
             tb = tree[1]
             if tb > t_max:
@@ -622,7 +634,7 @@ def chain_run(  # type: ignore[no-untyped-def]
         nev = 0
         # ------------------------------------------------------------- steps
         while True:
-            if steps >= max_steps:
+            if steps >= max_steps or work >= max_work:
                 for k in range(m):
                     x[idx[k]] = y[2 * k]
                     v[idx[k]] = y[2 * k + 1]
@@ -630,6 +642,7 @@ def chain_run(  # type: ignore[no-untyped-def]
                 sc[S_EV_WF] += y[2 * m + 1]
                 sc[S_T] = t
                 sc[S_H] = h
+                sc[S_STALL] = stalled
                 return written, CH_PAUSED
             t_far = tree[1]
             limit = min(t_far, t_max) - t
@@ -647,6 +660,8 @@ def chain_run(  # type: ignore[no-untyped-def]
             err = vec_error(y, y_new, K, h, nctl, rtol, atol)
             steps += 1
             sc[S_NSTEP] += 1.0
+            work += WORK_STEP + m
+            sc[S_NWORK] += WORK_STEP + m
             if not math.isfinite(err) or err > 1.0:
                 sc[S_NREJ] += 1.0
                 if math.isfinite(err):
