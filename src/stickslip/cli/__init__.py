@@ -27,22 +27,25 @@ __all__ = ["build_parameters", "describe_parameters", "main"]
 def main() -> None:
     """Friction oscillators: the one-block spring-slider, exact and fast."""
     warnings.showwarning = _one_line_warning
-    _exit_on_sigterm()
+    _exit_on_sigterm(click.get_current_context())
 
 
-def _exit_on_sigterm() -> None:
+def _exit_on_sigterm(ctx: click.Context) -> None:
     """Make SIGTERM (``kill``, a batch scheduler's time limit) end a command as Ctrl-C does.
 
     Python's default for SIGTERM ends the process at once, skipping every ``finally``:
     an output folder kept its hidden staging folder and a chain's partial catalogue was
     not closed. Raised as ``SystemExit(143)`` instead, the clean-up runs and an
     interrupted chain can be resumed (``--resume``). Only where SIGTERM still has its
-    default handler, and only in the main thread (where signal handlers live).
+    default handler, only in the main thread (where signal handlers live), and for
+    the command only: the default comes back when it ends (a program or a test run
+    that calls :func:`main` keeps its own SIGTERM).
     """
     if threading.current_thread() is not threading.main_thread():
         return
     if signal.getsignal(signal.SIGTERM) is signal.SIG_DFL:
         signal.signal(signal.SIGTERM, _terminated)
+        ctx.call_on_close(lambda: signal.signal(signal.SIGTERM, signal.SIG_DFL))
 
 
 def _terminated(signum: int, frame: Any) -> None:

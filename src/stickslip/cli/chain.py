@@ -163,7 +163,7 @@ def register(main: click.Group) -> None:
                 thresholds=phi,
                 backslip=backslip,
             )
-        _warn_unused_seed(init, threshold_spread)
+        _warn_unused_seed(init, threshold_spread, seeds is not None)
         if seeds is not None:
             _ensemble(params, events, seeds, threshold_spread, init, amplitude, transient, opts, store,
                       scheduler, workers, quiet, as_json, out_dir, overwrite)  # fmt: skip
@@ -231,26 +231,31 @@ def register(main: click.Group) -> None:
     _ = chain
 
 
-def _warn_unused_seed(init: str, threshold_spread: float) -> None:
-    """Warn where --seed or --amplitude is given and cannot change the run."""
+def _warn_unused_seed(init: str, threshold_spread: float, ensemble: bool) -> None:
+    """Warn where --seed or --amplitude is given and cannot change the run (or the members differ not)."""
     ctx = click.get_current_context()
     given = [
         f"--{name}"
         for name in ("seed", "amplitude")
         if ctx.get_parameter_source(name) is click.core.ParameterSource.COMMANDLINE
     ]
+    if ensemble:
+        if "--seed" in given:
+            click.echo("warning: --seed is not used with --seeds (each member has its own seed)", err=True)
+        if init == "uniform" and not threshold_spread:
+            click.echo(
+                "warning: with --init uniform and no --threshold-spread the members of --seeds are identical",
+                err=True,
+            )
+        given = [g for g in given if g != "--seed"]
     if init != "uniform" or not given:
         return
     if "--seed" in given and threshold_spread != 0:
         given.remove("--seed")  # it seeds the thresholds
     if given:
         verb = "does" if len(given) == 1 else "do"
-        also = "" if threshold_spread else ", equal thresholds without --threshold-spread"
-        click.echo(
-            f"warning: {' and '.join(given)} {verb} nothing with --init uniform "
-            f"(identical blocks at rest{also})",
-            err=True,
-        )
+        what = "all blocks at rest at one place" + ("" if threshold_spread else ", equal thresholds")
+        click.echo(f"warning: {' and '.join(given)} {verb} nothing with --init uniform ({what})", err=True)
 
 
 def _jsonable(d: dict[str, Any]) -> dict[str, Any]:
