@@ -21,7 +21,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 PY=.venv/bin/python
 NAMES="pint flexcache flexparser platformdirs netCDF4 cftime zarr numcodecs donfig google-crc32c
-dask distributed tblib partd locket zict importlib_metadata lazy-importer"
+dask distributed tornado tblib partd locket zict importlib_metadata lazy-importer"
 mkdir -p .whl
 for name in $NAMES; do
   version=$("$PY" -c "import importlib.metadata as m; print(m.version('$name'))")

@@ -240,7 +240,7 @@ def run_attractors_cuda(
                     float(rtol), float(atol), float(t_max), float(conv_tol), int(max_steps), d_out,
                     *work, *shared, evn,
                 )  # fmt: skip
-            res[lo:hi] = d_out.copy_to_host()
+            d_out.copy_to_host(res[lo:hi])  # into the result: no temporary of the batch's size
         except (ValueError, CudaUnavailableError):
             raise
         except Exception as exc:  # the toolkit, the driver, the GPU's memory: one line, not numba's trace
