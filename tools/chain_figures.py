@@ -1,7 +1,8 @@
 """Figures and numbers of docs/chain.md: the Kraków three-block scan and a Carlson-Langer catalogue.
 
 python tools/chain_figures.py krakow            # docs/images/krakow_lyapunov.png and the table
-python tools/chain_figures.py cl CATALOG.nc [NAME] # docs/images/NAME.png (default cl_magnitude_frequency), b
+python tools/chain_figures.py cl CATALOG.nc [NAME] # docs/images/NAME.png (default cl_magnitude_frequency
+                                                   # and cl_space_time), b
 python tools/chain_figures.py cl-run CATALOG.nc # the 10^5-event catalogue, started or resumed
 """
 
@@ -15,7 +16,7 @@ import numpy as np
 from stickslip.chains import ChainParameters, b_value, chain, completeness_magnitude, open_catalog
 from stickslip.chains.lyapunov import lyapunov_exponent
 from stickslip.laws import CarlsonLangerLaw, WeakeningLaw
-from stickslip.plots.chains import plot_lyapunov, plot_magnitude_frequency
+from stickslip.plots.chains import plot_lyapunov, plot_magnitude_frequency, plot_space_time
 
 IMAGES = Path(__file__).resolve().parent.parent / "docs" / "images"
 
@@ -61,6 +62,8 @@ def cl(path: str, name: str = "cl_magnitude_frequency") -> None:
     fig = plot_magnitude_frequency(cat, auto)
     IMAGES.mkdir(exist_ok=True)
     fig.savefig(IMAGES / f"{name}.png", dpi=110)
+    if name == "cl_magnitude_frequency":
+        plot_space_time(cat).savefig(IMAGES / "cl_space_time.png", dpi=90)
 
 
 def cl_run(path: str) -> None:
