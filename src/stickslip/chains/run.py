@@ -289,6 +289,7 @@ def chain(
         while left > 0:
             cat, _, code = advance(min(left, EVENTS_PER_CHUNK), 0)
             left -= cat.shape[0]
+            advance.show(f"transient {transient - left}/{transient}, ")
             if code not in (ce.CH_EVENTS, ce.CH_PAUSED):
                 status = ChainStatus.from_code(code)
                 break
@@ -312,6 +313,7 @@ def chain(
             done += cat.shape[0]
             if bar is not None:
                 bar.update(cat.shape[0])
+            advance.show()
             if code not in (ce.CH_EVENTS, ce.CH_PAUSED):
                 status = ChainStatus.from_code(code)
             elif state.in_event and state.t - state.sc[ce.S_EV_T0] > longest:
@@ -391,8 +393,9 @@ class _Advance:
 
     A step of ``m`` slipping blocks counts ``chain.WORK_STEP + m`` (a budget in steps
     lasts seconds in a rupture of thousands of blocks, microseconds on three). The
-    progress bar shows the simulated time after each call, so that a run with few
-    events (a stiff chain, a long event) still shows that it advances.
+    progress bar shows the simulated time after each call (and the transient's events,
+    which it does not count), so that a run with few events (a stiff chain, a long
+    event, the transient) still shows that it advances.
     """
 
     def __init__(
@@ -412,15 +415,17 @@ class _Advance:
     def __call__(
         self, max_events: int, slip_rows: int
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], int]:
-        out = chain_advance(
+        return chain_advance(
             *self.args, self.state, max_events=max_events, t_max=self.t_max, rtol=self.rtol,
             atol=self.atol, max_steps=STEPS_PER_CALL, max_work=WORK_PER_CALL, slip_rows=slip_rows,
         )  # fmt: skip
+
+    def show(self, note: str = "") -> None:
+        """Show the simulated time (after ``note``) on the progress bar, if there is one."""
         if self.bar is not None:
             t = self.state.t * self.time_factor
             unit = "" if self.time_unit == "1" else f" {self.time_unit}"
-            self.bar.set_postfix_str(f"t = {t:.4g}{unit}", refresh=True)
-        return out
+            self.bar.set_postfix_str(f"{note}t = {t:.4g}{unit}", refresh=True)
 
 
 def _in_memory(
