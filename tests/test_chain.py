@@ -282,33 +282,27 @@ def test_events_do_not_depend_on_where_a_call_pauses() -> None:
     chain_advance(*args, start, max_events=300, max_steps=10**8)
     one = start.copy()
     whole, _, _ = chain_advance(*args, one, max_events=40, max_steps=10**8)
-    paused = start.copy()
-    rows, calls, done = [], 0, 0
-    while done < 40:
-        cat, _, status = chain_advance(*args, paused, max_events=40 - done, max_steps=1)
-        rows.append(cat)
-        calls += 1
-        done += cat.shape[0]
-        assert status in (core_chain.CH_EVENTS, core_chain.CH_PAUSED)
-    steps = np.concatenate(rows)
-    assert calls > 1000 and whole.shape == steps.shape == (40, core_chain.NCAT)
+
+    def in_calls(state: ChainState, **budget: float) -> tuple[npt.NDArray[np.float64], int]:
+        rows, calls, done = [], 0, 0
+        while done < 40:
+            cat, _, status = chain_advance(*args, state, max_events=40 - done, **budget)  # type: ignore[arg-type]
+            rows.append(cat)
+            calls += 1
+            done += cat.shape[0]
+            assert status in (core_chain.CH_EVENTS, core_chain.CH_PAUSED)
+        return np.concatenate(rows), calls
+
     works = [core_chain.C_WD, core_chain.C_WF]  # summed in other pieces: rounding
     same = [c for c in range(core_chain.NCAT) if c not in works]
-    np.testing.assert_array_equal(whole[:, same], steps[:, same])
-    np.testing.assert_allclose(whole[:, works], steps[:, works], rtol=1e-11, atol=1e-12)
-    np.testing.assert_array_equal(one.x, paused.x)
-    # a budget of work pauses as a budget of steps does, and changes nothing either
-    worked = start.copy()
-    rows, calls, done = [], 0, 0
-    while done < 40:
-        cat, _, status = chain_advance(*args, worked, max_events=40 - done, max_work=100.0)
-        rows.append(cat)
-        calls += 1
-        done += cat.shape[0]
-    got = np.concatenate(rows)
-    assert calls > 100
-    np.testing.assert_array_equal(whole[:, same], got[:, same])
-    np.testing.assert_allclose(whole[:, works], got[:, works], rtol=1e-11, atol=1e-12)
+    paused, worked = start.copy(), start.copy()
+    # a budget of one step, and a budget of work: they pause alike, and change nothing
+    for state, budget, least in ((paused, {"max_steps": 1}, 1000), (worked, {"max_work": 100.0}, 100)):
+        got, calls = in_calls(state, **budget)
+        assert calls > least and whole.shape == got.shape == (40, core_chain.NCAT)
+        np.testing.assert_array_equal(whole[:, same], got[:, same])
+        np.testing.assert_allclose(whole[:, works], got[:, works], rtol=1e-11, atol=1e-12)
+        np.testing.assert_array_equal(one.x, state.x)
     assert worked.sc[core_chain.S_NWORK] == one.sc[core_chain.S_NWORK] > 0
 
 
