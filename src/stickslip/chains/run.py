@@ -37,8 +37,6 @@ __all__ = ["ChainResult", "chain"]
 #: fixed budget, not one from the clock: one command gives one catalogue, bit for bit (where
 #: a call pauses moves the events' works in their last bits)
 WORK_PER_CALL = 2e6
-#: steps per call at most, whatever the work (a bound, not the budget)
-STEPS_PER_CALL = 10**9
 #: events per call (and per append to the catalogue)
 EVENTS_PER_CHUNK = 20_000
 
@@ -344,14 +342,11 @@ def _warn_stiff_start(params: ChainParameters, state: ChainState) -> None:
     (measured on 10 blocks, ``c = 3``, amplitude 0.01: ``ell = 1000``, 2 s;
     ``ell = 3000``, 40 s; ``ell = 10^4``, minutes), with no event to show for it.
     """
-    x = state.x
+    x, periodic = state.x, str(params.boundary) == "periodic"
     if x.shape[0] < 2:
         return
-    if str(params.boundary) == "periodic":
-        lap = np.roll(x, -1) - 2 * x + np.roll(x, 1)
-    else:
-        lap = np.diff(x, append=x[-1]) - np.diff(x, prepend=x[0])
-    load = float(np.max(np.abs(lap) * params.ell2 / params.phi))
+    force = [ce.stuck_force(x, j, state.t, params.nu, params.ell2, periodic) for j in range(x.shape[0])]
+    load = float(np.max(np.abs(force) / params.phi))
     if load > STIFF_START:
         warnings.warn(
             f"the initial displacements load the coupling springs to {load:.3g} times the static "
@@ -417,7 +412,7 @@ class _Advance:
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], int]:
         return chain_advance(
             *self.args, self.state, max_events=max_events, t_max=self.t_max, rtol=self.rtol,
-            atol=self.atol, max_steps=STEPS_PER_CALL, max_work=WORK_PER_CALL, slip_rows=slip_rows,
+            atol=self.atol, max_work=WORK_PER_CALL, slip_rows=slip_rows,
         )  # fmt: skip
 
     def show(self, note: str = "") -> None:

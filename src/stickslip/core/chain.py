@@ -539,7 +539,7 @@ def chain_run(  # type: ignore[no-untyped-def]
     pk_v = np.empty(n)
     written = 0
     steps = 0
-    work = 0.0
+    work_start = sc[S_NWORK]
     stalled = int(sc[S_STALL])
     t = sc[S_T]
     while True:
@@ -634,7 +634,7 @@ def chain_run(  # type: ignore[no-untyped-def]
         nev = 0
         # ------------------------------------------------------------- steps
         while True:
-            if steps >= max_steps or work >= max_work:
+            if steps >= max_steps or sc[S_NWORK] - work_start >= max_work:
                 for k in range(m):
                     x[idx[k]] = y[2 * k]
                     v[idx[k]] = y[2 * k + 1]
@@ -660,7 +660,6 @@ def chain_run(  # type: ignore[no-untyped-def]
             err = vec_error(y, y_new, K, h, nctl, rtol, atol)
             steps += 1
             sc[S_NSTEP] += 1.0
-            work += WORK_STEP + m
             sc[S_NWORK] += WORK_STEP + m
             if not math.isfinite(err) or err > 1.0:
                 sc[S_NREJ] += 1.0
