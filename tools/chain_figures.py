@@ -1,17 +1,21 @@
 """Figures and numbers of docs/chain.md: the Kraków three-block scan and a Carlson-Langer catalogue.
 
 python tools/chain_figures.py krakow            # docs/images/krakow_lyapunov.png and the table
-python tools/chain_figures.py cl CATALOG.nc [NAME] # docs/images/NAME.png (default cl_magnitude_frequency
-                                                   # and cl_space_time), b
-python tools/chain_figures.py cl-run CATALOG.nc # the 10^5-event catalogue, started or resumed
+python tools/chain_figures.py cl CATALOG.nc[,MORE.nc] [NAME] # docs/images/NAME.png (default
+                                      # cl_magnitude_frequency and cl_space_time), b; several
+                                      # catalogues (independent chains) are pooled
+python tools/chain_figures.py cl-run CATALOG.nc [SEED [EVENTS]] # the catalogue (seed 1, 10^5 events),
+                                      # started or resumed
 """
 
 from __future__ import annotations
 
+import json
 import sys
 from pathlib import Path
 
 import numpy as np
+import xarray as xr
 
 from stickslip.chains import ChainParameters, b_value, chain, completeness_magnitude, open_catalog
 from stickslip.chains.lyapunov import lyapunov_exponent
@@ -39,8 +43,13 @@ def krakow() -> None:
     fig.savefig(IMAGES / "krakow_lyapunov.png", dpi=110)
 
 
-def cl(path: str, name: str = "cl_magnitude_frequency") -> None:
-    cat = open_catalog(path)
+def cl(paths: str, name: str = "cl_magnitude_frequency") -> None:
+    cats = [open_catalog(p) for p in paths.split(",")]
+    for p, c in zip(paths.split(","), cats, strict=True):
+        seed = json.loads(c.attrs["setup"])["seed"]
+        print(f"{p}: {c.sizes['event']} events, seed {seed}, t = {float(c['t_end'][-1]):.4g}")
+    pooled = [c.drop_dims(["recorded_event", "block"], errors="ignore") for c in cats]
+    cat = cats[0] if len(cats) == 1 else xr.concat(pooled, "event", combine_attrs="drop_conflicts")
     m = cat["magnitude"].values
     mc = completeness_magnitude(m)
     print(f"events {m.size}, blocks {cat.attrs['blocks']}, Mc (max. curvature) {mc:.2f}")
@@ -63,14 +72,17 @@ def cl(path: str, name: str = "cl_magnitude_frequency") -> None:
     IMAGES.mkdir(exist_ok=True)
     fig.savefig(IMAGES / f"{name}.png", dpi=110)
     if name == "cl_magnitude_frequency":
-        plot_space_time(cat).savefig(IMAGES / "cl_space_time.png", dpi=90)
+        plot_space_time(cats[0]).savefig(IMAGES / "cl_space_time.png", dpi=90)
 
 
-def cl_run(path: str) -> None:
-    """Carlson and Langer's set on 1000 blocks: 10^5 events after 2000 of transient (hours on one core)."""
+def cl_run(path: str, seed: str = "1", events: str = "100000") -> None:
+    """Carlson and Langer's set on 1000 blocks: 10^5 events after 2000 of transient (hours on one core).
+
+    Another seed gives an independent chain (its own random start): ``cl`` pools their catalogues.
+    """
     p = ChainParameters(blocks=1000, law=CarlsonLangerLaw(alpha=2.5, sigma=0.01), nu=0.01, ell=10.0)
-    kw = {"transient": 2000, "record_slip": 3000, "seed": 1, "progress": True}
-    r = chain(p, 100_000, out=path, resume=Path(path).exists(), **kw)
+    kw = {"transient": 2000, "record_slip": 3000, "seed": int(seed), "progress": True}
+    r = chain(p, int(events), out=path, resume=Path(path).exists(), **kw)
     print(r.summary())
 
 
@@ -78,6 +90,6 @@ if __name__ == "__main__":
     if sys.argv[1] == "krakow":
         krakow()
     elif sys.argv[1] == "cl-run":
-        cl_run(sys.argv[2])
+        cl_run(*sys.argv[2:5])
     else:
         cl(*sys.argv[2:4])
