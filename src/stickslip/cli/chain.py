@@ -163,16 +163,18 @@ def register(main: click.Group) -> None:
                 thresholds=phi,
                 backslip=backslip,
             )
+        if seeds is None:  # the usage errors first, then the warnings
+            if store or scheduler or workers:
+                raise click.UsageError("--store, --scheduler and --workers go with --seeds (an ensemble)")
+            mc_ = _mc(mc)
+            above = not isinstance(mc_, float) or (m_max is not None and m_max > mc_)
+            if m_max is not None and not (math.isfinite(m_max) and above):
+                raise click.UsageError(f"--m-max={m_max!r}: expected a finite magnitude above --mc ({mc})")
         _warn_unused_seed(init, threshold_spread, seeds is not None)
         if seeds is not None:
             _ensemble(params, events, seeds, threshold_spread, init, amplitude, transient, opts, store,
                       scheduler, workers, quiet, as_json, out_dir, overwrite)  # fmt: skip
             return
-        if store or scheduler or workers:
-            raise click.UsageError("--store, --scheduler and --workers go with --seeds (an ensemble)")
-        mc_ = _mc(mc)
-        if m_max is not None and not (math.isfinite(m_max) and (not isinstance(mc_, float) or m_max > mc_)):
-            raise click.UsageError(f"--m-max={m_max!r}: expected a finite magnitude above --mc ({mc})")
         kw: dict[str, Any] = dict(
             init=init,
             seed=seed,
