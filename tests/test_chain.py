@@ -626,6 +626,10 @@ def test_command_line_warns_where_seed_or_amplitude_cannot_matter() -> None:
     assert same.exit_code == 0 and seed.exit_code == 0, same.output + seed.output
     assert "members of --seeds are identical" in same.output
     assert "--seed is not used with --seeds" in seed.output
+    # a usage error comes alone, before any warning
+    misuse = CliRunner().invoke(main, [*base, "--init", "uniform", "--seed", "4", "--workers", "2"])
+    assert misuse.exit_code == 2 and "go with --seeds" in misuse.output
+    assert "warning" not in misuse.output
 
 
 def test_the_command_line_gives_sigterm_back_when_it_ends() -> None:
@@ -719,6 +723,7 @@ def test_a_signal_while_a_chunk_is_written_waits_for_rows_and_state(
     p = ChainParameters(20, CarlsonLangerLaw(alpha=2.5, sigma=0.01), 0.01, 3.0)
     whole = chain(p, 300, progress=False)
     monkeypatch.setattr(chain_run_module, "WORK_PER_CALL", 3e4)  # many chunks
+    monkeypatch.setattr(chain_run_module, "FLUSH_SECONDS", 0.0)  # each written at once
     appends = {"n": 0}
     append = catalog.CatalogWriter.append
 
@@ -738,6 +743,51 @@ def test_a_signal_while_a_chunk_is_written_waits_for_rows_and_state(
         signal.signal(signal.SIGTERM, before)
     assert appends["n"] == 3
     monkeypatch.setattr(catalog.CatalogWriter, "append", append)
+    resumed = chain(p, 300, out=path, resume=True, progress=False)
+    t0 = resumed.catalog["t_start"].values
+    assert t0.size == 300 and np.all(np.diff(t0) > 0.0)
+    np.testing.assert_allclose(t0, whole.catalog["t_start"].values, rtol=1e-12, atol=1e-9)
+
+
+def test_rows_held_in_memory_are_written_with_their_state_when_a_run_is_stopped(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Rows are written every FLUSH_SECONDS, not after every call: a run stopped between two
+    writes writes the rows it holds with the state after them. Stopped inside a call, that
+    call's rows are lost and the state before it is kept, so the resumed run has every event
+    once."""
+    import os
+    import signal
+
+    from stickslip.chains import run as chain_run_module
+
+    p = ChainParameters(20, CarlsonLangerLaw(alpha=2.5, sigma=0.01), 0.01, 3.0)
+    whole = chain(p, 300, progress=False)
+    monkeypatch.setattr(chain_run_module, "WORK_PER_CALL", 3e4)
+    monkeypatch.setattr(chain_run_module, "FLUSH_SECONDS", 1e9)  # nothing written before the end
+    calls = {"n": 0}
+    advance = chain_run_module.chain_advance
+
+    def signalled_advance(*args: object, **kw: object) -> object:
+        calls["n"] += 1
+        out = advance(*args, **kw)  # type: ignore[arg-type]
+        if calls["n"] == 6:
+            os.kill(os.getpid(), signal.SIGTERM)  # this call done, its rows not yet taken
+        return out
+
+    monkeypatch.setattr(chain_run_module, "chain_advance", signalled_advance)
+    path = tmp_path / "cat.nc"
+    before = signal.signal(signal.SIGTERM, _raise_stop)
+    try:
+        with pytest.raises(_Stop):
+            chain(p, 300, out=path, progress=False)
+    finally:
+        signal.signal(signal.SIGTERM, before)
+    monkeypatch.setattr(chain_run_module, "chain_advance", advance)
+    from stickslip.chains.catalog import read_state
+
+    _, written, _ = read_state(str(path))
+    assert 0 < written < 300  # the five calls' rows, written when the run stopped
     resumed = chain(p, 300, out=path, resume=True, progress=False)
     t0 = resumed.catalog["t_start"].values
     assert t0.size == 300 and np.all(np.diff(t0) > 0.0)
