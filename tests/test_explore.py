@@ -116,27 +116,45 @@ def _free_port() -> int:
         return int(s.getsockname()[1])
 
 
-@pytest.fixture(scope="module")
-def server(tmp_path_factory):
-    port = _free_port()
-    log_path = tmp_path_factory.mktemp("explore") / "server.log"
+def _start_explorer(log_path):  # type: ignore[no-untyped-def]
+    """Start ``stickslip explore`` on a free port; return the process and its URL once it listens.
+
+    The port is free when chosen but may be taken before the server binds it (another
+    test, another program): the server then exits, and another port is tried.
+    """
     env = dict(os.environ, PYTHONUNBUFFERED="1")
-    with open(log_path, "w") as log:
-        proc = subprocess.Popen(
-            [sys.executable, "-m", "stickslip.cli", "explore", "--port", str(port), "--no-browser"],
-            stdout=log,
-            stderr=subprocess.STDOUT,
-            env=env,
-        )
-    url = f"http://127.0.0.1:{port}/"
-    try:
-        # the server says where it listens once it does; then one request, which builds the
-        # first page (the engine compiled on a cold cache: a long timeout, a single try)
+    for _ in range(3):
+        port = _free_port()
+        with open(log_path, "w") as log:
+            proc = subprocess.Popen(
+                [sys.executable, "-m", "stickslip.cli", "explore", "--port", str(port), "--no-browser"],
+                stdout=log,
+                stderr=subprocess.STDOUT,
+                env=env,
+            )
+        url = f"http://127.0.0.1:{port}/"
+        # the server says where it listens once it does (the engine compiled on a cold
+        # cache: a long timeout)
         deadline = time.time() + 180
         while f"stickslip explorer: {url}" not in log_path.read_text():
-            if proc.poll() is not None or time.time() > deadline:
+            if proc.poll() is not None:
+                break
+            if time.time() > deadline:
+                proc.kill()
                 pytest.fail(f"explore did not start on {url}: {log_path.read_text()}")
             time.sleep(0.2)
+        else:
+            return proc, url
+        if "in use" not in log_path.read_text().lower():
+            pytest.fail(f"explore did not start on {url}: {log_path.read_text()}")
+    pytest.fail(f"explore found no free port in three tries: {log_path.read_text()}")
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory):
+    proc, url = _start_explorer(tmp_path_factory.mktemp("explore") / "server.log")
+    try:
+        # one request, which builds the first page (a long timeout, a single try)
         with urllib.request.urlopen(url, timeout=300) as r:
             html = r.read().decode()
         yield url, html
@@ -148,6 +166,8 @@ def server(tmp_path_factory):
             proc.kill()
 
 
+# the tests of one server on one worker (`.ci/run`: --dist loadgroup): it starts once
+@pytest.mark.xdist_group("explore_server")
 def test_serves_a_page_that_names_stickslip(server):
     url, html = server
     assert url.startswith("http://127.0.0.1:")
@@ -217,6 +237,7 @@ def _force(driver):
     )
 
 
+@pytest.mark.xdist_group("explore_server")
 def test_browser_slider_updates_plots_and_export(server, browser, tmp_path):
     url, _ = server
     d = browser

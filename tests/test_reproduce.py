@@ -12,6 +12,10 @@ from stickslip.paper.compute import measured_trends
 from stickslip.paper.figures import FIGURES, make_figures
 from stickslip.paper.trial import TRIAL_MAPS
 
+# one worker runs this module (`.ci/run`: --dist loadgroup), so that its fixture's
+# reproduce --quick (20 s) runs once, not once per worker
+pytestmark = pytest.mark.xdist_group("reproduce_quick")
+
 
 @pytest.fixture(scope="module")
 def quick_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
