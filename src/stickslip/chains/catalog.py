@@ -2,10 +2,11 @@
 
 A catalogue is a NetCDF file with an unlimited ``event`` dimension; rows are
 appended as the chain produces them, so a catalogue of millions of events never
-sits in memory. After every chunk the file also holds the chain's exact state
-(``state_*`` variables) and is flushed: a run that is killed can be continued
-from its last chunk (:func:`stickslip.chains.chain` with ``resume=True``), and
-gives the same catalogue as an uninterrupted run.
+sits in memory. With the rows (every few seconds, and when the run stops) the file
+also takes the chain's exact state after them (``state_*`` variables) and is
+flushed: a run that is killed can be continued from its last write
+(:func:`stickslip.chains.chain` with ``resume=True``), and gives the same catalogue
+as an uninterrupted run.
 """
 
 from __future__ import annotations
