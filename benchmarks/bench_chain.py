@@ -16,12 +16,19 @@ computing); a fault or a lab machine loads far slower. ``--nu`` adds rows for
 each row sees about as many events): there the chain sticks as a whole between
 events, which the exact engine jumps over and the fixed-step loop steps through.
 
-Run: python benchmarks/bench_chain.py [--nu 0.001 0.0001]
+``--floor`` adds the cost of the engine's own DOP853 step alone (its vector field and
+its sums, with the error norm; no events, no dense output, no root finding) per
+slipping block, for a cluster of 40 and one of 1000 slipping blocks: the least that any
+scheme built on these steps pays per block and step, however it handles the events.
+
+Run: python benchmarks/bench_chain.py [--nu 0.001 0.0001] [--floor]
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib
+import sys
 import time
 
 import numpy as np
@@ -70,6 +77,90 @@ def fixed_step(x, v, t0, nu, ell2, alpha, sigma, dt, t_end, starts):  # type: ig
     return events
 
 
+def _dop853_steps(law: CarlsonLangerLaw):  # type: ignore[no-untyped-def]
+    """Return ``steps(m, ell2, h, nsteps)``: DOP853 steps of ``m`` blocks slipping forward.
+
+    Compiled from the functions of the law's own chain engine (the one ``chain`` runs):
+    its vector field and its DOP853 sums. The blocks form one cluster between two stuck
+    neighbours; the step is fixed (the error norm is computed, as in the engine, but
+    does not act), no event is sought. The blocks slide steadily with the driver at
+    ``v = nu = 0.05``, an unstable state on a weakening law: it is set again every 50
+    steps, before rounding errors have grown.
+    """
+    eng = law.kernel.chain_engine
+    pkg = sys.modules[eng.__package__]
+    dop = importlib.import_module(f"{pkg.__name__}.dop853")
+    C = importlib.import_module(f"{pkg.__name__}._dop853_tableau").C
+    rhs, N_STAGES, N_STAGES_EXTENDED = eng._rhs, dop.N_STAGES, dop.N_STAGES_EXTENDED
+    vec_stage, vec_advance, vec_error = dop.vec_stage, dop.vec_advance, dop.vec_error
+    law_id = law.kernel.law_id
+    lp = np.zeros(8)
+    lp[: law.core_params().size] = law.core_params()
+    P = tuple(float(q) for q in lp)
+    nu = 0.05
+    x0 = -float(law.value(nu))  # steady sliding: x = nu t - f(nu)
+
+    @njit
+    def steps(m, ell2, h, nsteps):  # type: ignore[no-untyped-def]
+        nvar = 2 * m + 2
+        nv = nvar + 2
+        y = np.zeros(nv)
+        y_new = np.zeros(nv)
+        ytmp = np.zeros(nv)
+        K = np.zeros((N_STAGES_EXTENDED, nv))
+        nbl = np.empty(m, np.int64)
+        nbr = np.empty(m, np.int64)
+        for k in range(m):
+            nbl[k] = 2 * (k - 1) if k > 0 else nvar
+            nbr[k] = 2 * (k + 1) if k < m - 1 else nvar + 1
+        y[nvar] = x0  # the stuck neighbours, in line
+        y[nvar + 1] = x0
+        ytmp[nvar : nvar + 2] = x0
+        y_new[nvar : nvar + 2] = x0
+        dk = np.ones(m, np.int64)
+        phk = np.ones(m)
+        ctx = (law_id, P, nu, ell2, nbl, nbr, dk, phk, m, 0.0, 0, 0.0)
+        t = 0.0
+        acc = 0.0
+        for i in range(nsteps):
+            if i % 50 == 0:
+                for k in range(m):
+                    y[2 * k] = x0
+                    y[2 * k + 1] = nu
+                t = 0.0
+                rhs(ctx, t, y, K[0])
+            for s in range(1, N_STAGES):
+                vec_stage(y, K, h, s, nvar, ytmp)
+                rhs(ctx, t + C[s] * h, ytmp, K[s])
+            vec_advance(y, K, h, nvar, y_new)
+            rhs(ctx, t + h, y_new, K[N_STAGES])
+            acc += vec_error(y, y_new, K, h, 2 * m, 1e-10, 1e-12)
+            for c in range(nvar):
+                y[c] = y_new[c]
+                K[0, c] = K[N_STAGES, c]
+            t += h
+        return acc
+
+    return steps
+
+
+def floor(law: CarlsonLangerLaw) -> None:
+    """Print the cost of one DOP853 step per slipping block, best of three."""
+    steps = _dop853_steps(law)
+    for m in (40, 1000):
+        steps(m, ELL * ELL, 0.016, 10)
+        n = int(4e6 // m)
+        best = np.inf
+        for _ in range(3):
+            t0 = time.perf_counter()
+            steps(m, ELL * ELL, 0.016, n)
+            best = min(best, time.perf_counter() - t0)
+        print(
+            f"DOP853 step alone, {m:>4} slipping blocks: {best / n * 1e6:7.2f} us per step, "
+            f"{best / (n * m) * 1e9:6.1f} ns per block and step"
+        )
+
+
 def exact(p: ChainParameters, state: ChainState, t_span: float, rtol: float = 1e-10, atol: float = 1e-12):  # type: ignore[no-untyped-def]
     st = state.copy()
     t_end = st.t + t_span
@@ -112,8 +203,11 @@ def main() -> None:
     parser.add_argument(
         "--nu", type=float, nargs="*", default=[], help="more rows: 1000 blocks at these driving velocities"
     )
+    parser.add_argument("--floor", action="store_true", help="also the cost of the DOP853 step alone")
     a = parser.parse_args()
     law = CarlsonLangerLaw(alpha=ALPHA, sigma=SIGMA)
+    if a.floor:
+        floor(law)
     print(f"Carlson-Langer chain: alpha={ALPHA}, sigma={SIGMA}, ell={ELL}; fixed step dt={DT}")
     print(
         f"{'nu':>7} {'blocks':>6} {'sim. time':>9} {'exact s':>8} {'events':>7} {'ev/s':>8} {'time/s':>8} "
