@@ -47,7 +47,13 @@ def cl(paths: str, name: str = "cl_magnitude_frequency") -> None:
     cats = [open_catalog(p) for p in paths.split(",")]
     for p, c in zip(paths.split(","), cats, strict=True):
         seed = json.loads(c.attrs["setup"])["seed"]
-        print(f"{p}: {c.sizes['event']} events, seed {seed}, t = {float(c['t_end'][-1]):.4g}")
+        one = b_value(c["magnitude"].values, mc=-2.0, m_max=0.0)
+        t0 = c["t_start"].values
+        print(
+            f"{p}: {c.sizes['event']} events, seed {seed}, t = {float(c['t_end'][-1]):.4g}, "
+            f"recurrence {np.mean(np.diff(t0)):.4g}, b = {one.b:.3f} ± {one.error:.3f} over [-2, 0] "
+            f"({one.n} events), whole chain {np.mean(c['n_blocks'].values == c.attrs['blocks']):.1%}"
+        )
     pooled = [c.drop_dims(["recorded_event", "block"], errors="ignore") for c in cats]
     cat = cats[0] if len(cats) == 1 else xr.concat(pooled, "event", combine_attrs="drop_conflicts")
     m = cat["magnitude"].values
