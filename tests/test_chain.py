@@ -14,6 +14,7 @@ from chain_reference import reference_chain
 import stickslip as ss
 from stickslip.chains import (
     ChainParameters,
+    ChainResult,
     b_value,
     chain,
     completeness_magnitude,
@@ -709,6 +710,26 @@ def _raise_stop(signum: int, frame: object) -> None:
     raise _Stop
 
 
+def _stopped_by_sigterm(p: ChainParameters, path: Path) -> None:
+    """Run 300 events into ``path`` until a SIGTERM (sent by a patched function) stops the run."""
+    import signal
+
+    before = signal.signal(signal.SIGTERM, _raise_stop)
+    try:
+        with pytest.raises(_Stop):
+            chain(p, 300, out=path, progress=False)
+    finally:
+        signal.signal(signal.SIGTERM, before)
+
+
+def _resumes_to(p: ChainParameters, path: Path, whole: ChainResult) -> None:
+    """The stopped run, resumed, has the 300 events of the run never stopped, each once."""
+    resumed = chain(p, 300, out=path, resume=True, progress=False)
+    t0 = resumed.catalog["t_start"].values
+    assert t0.size == 300 and np.all(np.diff(t0) > 0.0)
+    np.testing.assert_allclose(t0, whole.catalog["t_start"].values, rtol=1e-12, atol=1e-9)
+
+
 def test_a_signal_while_a_chunk_is_written_waits_for_rows_and_state(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -735,18 +756,10 @@ def test_a_signal_while_a_chunk_is_written_waits_for_rows_and_state(
 
     monkeypatch.setattr(catalog.CatalogWriter, "append", signalled_append)
     path = tmp_path / "cat.nc"
-    before = signal.signal(signal.SIGTERM, _raise_stop)
-    try:
-        with pytest.raises(_Stop):
-            chain(p, 300, out=path, progress=False)
-    finally:
-        signal.signal(signal.SIGTERM, before)
+    _stopped_by_sigterm(p, path)
     assert appends["n"] == 3
     monkeypatch.setattr(catalog.CatalogWriter, "append", append)
-    resumed = chain(p, 300, out=path, resume=True, progress=False)
-    t0 = resumed.catalog["t_start"].values
-    assert t0.size == 300 and np.all(np.diff(t0) > 0.0)
-    np.testing.assert_allclose(t0, whole.catalog["t_start"].values, rtol=1e-12, atol=1e-9)
+    _resumes_to(p, path, whole)
 
 
 def test_rows_held_in_memory_are_written_with_their_state_when_a_run_is_stopped(
@@ -777,21 +790,13 @@ def test_rows_held_in_memory_are_written_with_their_state_when_a_run_is_stopped(
 
     monkeypatch.setattr(chain_run_module, "chain_advance", signalled_advance)
     path = tmp_path / "cat.nc"
-    before = signal.signal(signal.SIGTERM, _raise_stop)
-    try:
-        with pytest.raises(_Stop):
-            chain(p, 300, out=path, progress=False)
-    finally:
-        signal.signal(signal.SIGTERM, before)
+    _stopped_by_sigterm(p, path)
     monkeypatch.setattr(chain_run_module, "chain_advance", advance)
     from stickslip.chains.catalog import read_state
 
     _, written, _ = read_state(str(path))
     assert 0 < written < 300  # the five calls' rows, written when the run stopped
-    resumed = chain(p, 300, out=path, resume=True, progress=False)
-    t0 = resumed.catalog["t_start"].values
-    assert t0.size == 300 and np.all(np.diff(t0) > 0.0)
-    np.testing.assert_allclose(t0, whole.catalog["t_start"].values, rtol=1e-12, atol=1e-9)
+    _resumes_to(p, path, whole)
 
 
 def test_one_command_gives_one_catalogue_bit_for_bit(monkeypatch: pytest.MonkeyPatch) -> None:
