@@ -44,8 +44,9 @@ def krakow() -> None:
 
 
 def cl(paths: str, name: str = "cl_magnitude_frequency") -> None:
-    cats = [open_catalog(p) for p in paths.split(",")]
-    for p, c in zip(paths.split(","), cats, strict=True):
+    names = paths.split(",")
+    cats = [open_catalog(p) for p in names]
+    for p, c in zip(names, cats, strict=True):
         seed = json.loads(c.attrs["setup"])["seed"]
         one = b_value(c["magnitude"].values, mc=-2.0, m_max=0.0)
         t0 = c["t_start"].values

@@ -322,12 +322,11 @@ def chain(
     finally:
         if bar is not None:
             bar.close()
-        if writer is not None:
+        if pending is not None:
             try:
-                if pending is not None:
-                    pending.flush()
+                pending.flush()
             finally:
-                writer.close(complete=status is ChainStatus.OK)
+                pending.writer.close(complete=status is ChainStatus.OK)
     t_end = state.t * (factor[ce.C_T0])
     if writer is not None and path is not None:
         ds = open_catalog(path)
