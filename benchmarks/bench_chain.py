@@ -36,6 +36,7 @@ from numba import njit
 
 from stickslip.chains import ChainParameters
 from stickslip.core.api import ChainState, chain_advance
+from stickslip.core.laws import N_LAW_PARAMS
 from stickslip.laws import CarlsonLangerLaw
 
 ALPHA, SIGMA, NU, ELL = 2.5, 0.01, 0.01, 10.0
@@ -81,11 +82,12 @@ def _dop853_steps(law: CarlsonLangerLaw):  # type: ignore[no-untyped-def]
     """Return ``steps(m, ell2, h, nsteps)``: DOP853 steps of ``m`` blocks slipping forward.
 
     Compiled from the functions of the law's own chain engine (the one ``chain`` runs):
-    its vector field and its DOP853 sums. The blocks form one cluster between two stuck
-    neighbours; the step is fixed (the error norm is computed, as in the engine, but
-    does not act), no event is sought. The blocks slide steadily with the driver at
-    ``v = nu = 0.05``, an unstable state on a weakening law: it is set again every 50
-    steps, before rounding errors have grown.
+    its vector field and its DOP853 sums. The blocks form a ring (no stuck neighbour to
+    hold back its ends); the step is fixed (the error norm is computed, as in the
+    engine, but does not act), no event is sought. The blocks slide steadily with the
+    driver at ``v = nu = 0.05``, an unstable state on a weakening law: it is set again
+    every 50 steps, before rounding errors have grown (``steps`` returns the summed
+    error norms, which stay at rounding level).
     """
     eng = law.kernel.chain_engine
     pkg = sys.modules[eng.__package__]
@@ -94,7 +96,7 @@ def _dop853_steps(law: CarlsonLangerLaw):  # type: ignore[no-untyped-def]
     rhs, N_STAGES, N_STAGES_EXTENDED = eng._rhs, dop.N_STAGES, dop.N_STAGES_EXTENDED
     vec_stage, vec_advance, vec_error = dop.vec_stage, dop.vec_advance, dop.vec_error
     law_id = law.kernel.law_id
-    lp = np.zeros(8)
+    lp = np.zeros(N_LAW_PARAMS)
     lp[: law.core_params().size] = law.core_params()
     P = tuple(float(q) for q in lp)
     nu = 0.05
@@ -103,20 +105,15 @@ def _dop853_steps(law: CarlsonLangerLaw):  # type: ignore[no-untyped-def]
     @njit
     def steps(m, ell2, h, nsteps):  # type: ignore[no-untyped-def]
         nvar = 2 * m + 2
-        nv = nvar + 2
-        y = np.zeros(nv)
-        y_new = np.zeros(nv)
-        ytmp = np.zeros(nv)
-        K = np.zeros((N_STAGES_EXTENDED, nv))
+        y = np.zeros(nvar)
+        y_new = np.zeros(nvar)
+        ytmp = np.zeros(nvar)
+        K = np.zeros((N_STAGES_EXTENDED, nvar))
         nbl = np.empty(m, np.int64)
         nbr = np.empty(m, np.int64)
         for k in range(m):
-            nbl[k] = 2 * (k - 1) if k > 0 else nvar
-            nbr[k] = 2 * (k + 1) if k < m - 1 else nvar + 1
-        y[nvar] = x0  # the stuck neighbours, in line
-        y[nvar + 1] = x0
-        ytmp[nvar : nvar + 2] = x0
-        y_new[nvar : nvar + 2] = x0
+            nbl[k] = 2 * ((k - 1) % m)
+            nbr[k] = 2 * ((k + 1) % m)
         dk = np.ones(m, np.int64)
         phk = np.ones(m)
         ctx = (law_id, P, nu, ell2, nbl, nbr, dk, phk, m, 0.0, 0, 0.0)
