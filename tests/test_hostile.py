@@ -148,10 +148,12 @@ def test_oversized_field_in_a_table(tmp_path: Path) -> None:
 
 
 def _fast(call, exc: type[Exception], match: str) -> None:
+    # the regressions never returned at all; 5 s leaves room for a loaded machine (a 1 s bound
+    # was close to CI's two busy cores) and still catches any that hangs
     t0 = time.perf_counter()
     with pytest.raises(exc, match=match):
         call()
-    assert time.perf_counter() - t0 < 1.0
+    assert time.perf_counter() - t0 < 5.0
 
 
 def test_api_bad_arguments_raise_at_once() -> None:

@@ -12,7 +12,14 @@ from .catalog import open_catalog
 from .ensemble import chain_ensemble
 from .model import Boundary, ChainParameters, Init, initial_positions, static_thresholds
 from .run import ChainResult, chain
-from .statistics import BValue, b_value, completeness_magnitude, magnitude_frequency, recurrence_times
+from .statistics import (
+    BValue,
+    b_value,
+    block_length,
+    completeness_magnitude,
+    magnitude_frequency,
+    recurrence_times,
+)
 
 __all__ = [
     "BValue",
@@ -21,6 +28,7 @@ __all__ = [
     "ChainResult",
     "Init",
     "b_value",
+    "block_length",
     "chain",
     "chain_ensemble",
     "completeness_magnitude",

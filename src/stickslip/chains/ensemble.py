@@ -39,7 +39,7 @@ _FIELDS: dict[str, tuple[str, str]] = {
     "mean_moment": ("float64", "mean moment (sum of the blocks' slips) per event"),
     "largest_event_blocks": ("int64", "blocks that slipped in the largest event"),
     "b_value": ("float64", "Gutenberg-Richter b-value (Aki-Utsu maximum likelihood)"),
-    "b_value_err": ("float64", "b-value standard error (bootstrap)"),
+    "b_value_err": ("float64", "b-value standard error (block bootstrap)"),
     "completeness_magnitude": ("float64", "lower magnitude of the b-value fit (its power-law range)"),
     "b_value_m_max": ("float64", "upper magnitude of the b-value fit (nan: none)"),
     "status": ("int8", "how the run ended"),

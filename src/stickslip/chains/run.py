@@ -98,6 +98,7 @@ class ChainResult:
             "largest_event_blocks": int(np.max(nb)) if nb.size else 0,
             "b_value": self.b.b,
             "b_value_err": self.b.error,
+            "b_value_block": self.b.block,
             "completeness_magnitude": self.b.mc,
             "b_value_m_max": self.b.m_max if math.isfinite(self.b.m_max) else None,
             "b_value_range": self.b.method,
@@ -333,7 +334,7 @@ def chain(
     else:
         ds = _in_memory(rows_mem, slips_mem, n, attrs, units)
     mags = ds["magnitude"].values
-    fit = b_value(mags, mc=mc, m_max=m_max)
+    fit = b_value(mags, mc=mc, m_max=m_max, block="auto")  # in time order: blocks of events
     return ChainResult(params, ds, path, status, float(t_end), state, fit, units)
 
 

@@ -7,8 +7,13 @@ has a b-value 3/2 times this one.
 * b-value by maximum likelihood: Aki (1965), ``b = log10(e) / (mean(M) - M_c)``
   for continuous magnitudes above the completeness ``M_c``; with an upper
   bound ``M_max`` the likelihood of the doubly truncated exponential (Page
-  1968) is maximised instead. Its error by bootstrap (resampling the events)
-  beside the Shi and Bolt (1982) formula.
+  1968) is maximised instead. Its error by bootstrap beside the Shi and Bolt
+  (1982) formula. Successive events of a chain are not independent (a large
+  event unloads the chain, small ones follow), and resampling them one by one
+  understates the error; ``block="auto"`` resamples runs of successive events
+  (the circular block bootstrap, Politis and Romano 1992) of a length chosen
+  from the magnitudes' autocorrelation (Politis and White 2004, corrected by
+  Patton, Politis and White 2009).
 * Completeness ``M_c``: maximum curvature (Wiemer and Wyss 2000), the bin with
   the most events; the synthetic catalogue misses no small events, so no
   correction is added.
@@ -37,6 +42,7 @@ from scipy.optimize import brentq
 __all__ = [
     "BValue",
     "b_value",
+    "block_length",
     "completeness_magnitude",
     "magnitude_frequency",
     "power_law_range",
@@ -78,6 +84,9 @@ class BValue:
     method : str
         How the range was chosen: ``"given"``, ``"maximum curvature"`` or
         ``"power-law range"`` (:func:`power_law_range`).
+    block : int
+        Events per block of the bootstrap behind ``error`` (1: events resampled
+        one by one, as if independent).
 
     """
 
@@ -90,6 +99,7 @@ class BValue:
     a: float
     ks: float = math.nan
     method: str = "given"
+    block: int = 1
 
     @property
     def power_law(self) -> bool:
@@ -282,6 +292,63 @@ def power_law_range(
     return math.nan, math.nan, math.nan
 
 
+def block_length(x: npt.ArrayLike) -> int:
+    """Return the block length of a circular block bootstrap of the mean of the series ``x``.
+
+    The rule of Politis and White (2004) with the correction of Patton,
+    Politis and White (2009): the autocovariances up to twice the first lag
+    ``m`` after which ``K_N = max(5, sqrt(log10 n))`` successive
+    autocorrelations are all insignificant (below ``2 sqrt(log10(n) / n)``),
+    weighted by the flat-top window, give the block length ``(2 G**2 /
+    D)**(1/3) n**(1/3)`` that minimises the error of the variance estimate.
+    Without a run of insignificant lags, the window reaches ``m_max =
+    ceil(sqrt(n)) + K_N``; the length is at most ``min(3 sqrt(n), n / 3)``,
+    as in the ``arch`` package's ``optimal_block_length``. Independent values
+    give 1 (rounded up from a fraction); a series that repeats each value
+    ``r`` times gives about ``r`` or more.
+
+    Parameters
+    ----------
+    x : array of float
+        The series in its order (a catalogue's magnitudes in time order).
+
+    Returns
+    -------
+    int
+        Values per block, at least 1 (1 for fewer than 8 values or a constant
+        series).
+
+    """
+    xs = np.asarray(x, dtype=float)
+    n = xs.size
+    if n < 8:
+        return 1
+    d = xs - xs.mean()
+    var = float(d @ d) / n
+    if not var > 0.0:
+        return 1
+    k_n = max(5, math.ceil(math.sqrt(math.log10(n))))
+    m_max = min(math.ceil(math.sqrt(n)) + k_n, n - 1)
+    # autocovariances up to m_max by FFT (zero-padded: not circular)
+    size = 1 << int(2 * n - 1).bit_length()
+    f = np.fft.rfft(d, size)
+    acov = np.fft.irfft(f * np.conj(f), size)[: m_max + 1] / n
+    small = np.abs(acov[1:] / acov[0]) < 2.0 * math.sqrt(math.log10(n) / n)  # small[k - 1]: lag k
+    runs = [m for m in range(m_max - k_n + 1) if small[m : m + k_n].all()]
+    big_m = min(2 * max(runs[0], 1), m_max) if runs else m_max
+    k = np.arange(1, big_m + 1)
+    t = k / big_m
+    window = np.where(t <= 0.5, 1.0, 2.0 * (1.0 - t))
+    g_big = 2.0 * float(np.sum(window * k * acov[1 : big_m + 1]))
+    g0 = float(acov[0] + 2.0 * np.sum(window * acov[1 : big_m + 1]))
+    d_cb = 4.0 / 3.0 * g0 * g0
+    if not d_cb > 0.0:
+        return 1
+    length = (2.0 * g_big * g_big / d_cb) ** (1.0 / 3.0) * n ** (1.0 / 3.0)
+    cap = math.ceil(min(3.0 * math.sqrt(n), n / 3.0))
+    return int(min(max(math.ceil(length), 1), cap))
+
+
 def b_value(
     m: npt.ArrayLike,
     mc: float | str | None = None,
@@ -290,6 +357,7 @@ def b_value(
     n_boot: int = 200,
     seed: int | None = 0,
     bin_width: float = 0.1,
+    block: int | str = 1,
 ) -> BValue:
     """Fit the b-value of magnitudes ``m`` above ``mc`` (and below ``m_max``) by maximum likelihood.
 
@@ -308,6 +376,13 @@ def b_value(
         Bootstrap resamples for the error (0: none, error nan).
     seed : int, optional
         Seed of the bootstrap.
+    block : int or "auto"
+        Events per block of the bootstrap. 1: the events in the range are
+        resampled one by one, which assumes they are independent. ``L > 1``:
+        the circular block bootstrap, runs of ``L`` successive events in the
+        range (``m`` must then be in time order), which keeps the correlation
+        of successive events in the error. ``"auto"``: ``L`` by
+        :func:`block_length` of the magnitudes in the range.
     bin_width : float
         Magnitude bins of the completeness estimate and grid of the range scan.
         Magnitudes spread over less than a bin give no fit (``b`` nan).
@@ -315,6 +390,11 @@ def b_value(
     """
     mm = np.asarray(m, dtype=float)
     mm = mm[np.isfinite(mm)]
+    if isinstance(block, str):
+        if block != "auto":
+            raise ValueError(f"block={block!r}: expected a whole number of events >= 1 or 'auto'")
+    elif isinstance(block, bool) or not isinstance(block, (int, np.integer)) or block < 1:
+        raise ValueError(f"block={block!r}: expected a whole number of events >= 1 or 'auto'")
     if isinstance(mc, str):
         if mc != "auto":
             raise ValueError(f"mc={mc!r}: expected a magnitude, 'auto' or None (maximum curvature)")
@@ -328,7 +408,8 @@ def b_value(
         method = "maximum curvature" if mc is None else "given"
         mc_ = completeness_magnitude(mm, bin_width) if mc is None else float(mc)
         top = math.inf if m_max is None else float(m_max)
-    sel = np.sort(mm[(mm >= mc_) & (mm <= top)])
+    in_order = mm[(mm >= mc_) & (mm <= top)]  # the events of the range, in the catalogue's order
+    sel = np.sort(in_order)
     n = int(sel.size)
     # magnitudes that do not spread over a bin (identical events: one block, identical blocks)
     # say nothing of a power law; their "b" would be 1/(bin-level gap above mc), with no error
@@ -336,13 +417,34 @@ def b_value(
         return BValue(math.nan, math.nan, math.nan, mc_, top, n, math.nan, math.nan, method)
     b = _mle(sel, mc_, top)
     shi = 2.3 * b * b * float(np.std(sel, ddof=1)) / math.sqrt(n) if math.isfinite(b) else math.nan
+    length = block_length(in_order) if block == "auto" else min(int(block), n)
     err = math.nan
     if n_boot > 0:
-        rng = np.random.default_rng(seed)
-        boots = [_mle(rng.choice(sel, n), mc_, top) for _ in range(n_boot)]
-        err = float(np.nanstd(boots, ddof=1))
+        err = _bootstrap_error(in_order, mc_, top, length, n_boot, seed)
     a = math.log10(n) + b * mc_ if math.isfinite(b) else math.nan
-    return BValue(float(b), err, shi, mc_, top, n, a, _ks(sel, mc_, top, b), method)
+    return BValue(float(b), err, shi, mc_, top, n, a, _ks(sel, mc_, top, b), method, length)
+
+
+def _bootstrap_error(
+    x: FloatArray, mc: float, top: float, length: int, n_boot: int, seed: int | None
+) -> float:
+    """Return the b-value's standard deviation over circular block bootstrap resamples of ``x``.
+
+    ``length`` 1: the events one by one (independent draws).
+    """
+    rng = np.random.default_rng(seed)
+    n = x.size
+    if length <= 1:  # the sorted events, as before blocks (the same draws for a seed)
+        s = np.sort(x)
+        boots = [_mle(rng.choice(s, n), mc, top) for _ in range(n_boot)]
+    else:
+        blocks = -(-n // length)
+        run = np.arange(length)
+        boots = []
+        for _ in range(n_boot):
+            idx = ((rng.integers(0, n, blocks)[:, None] + run) % n).ravel()[:n]
+            boots.append(_mle(x[idx], mc, top))
+    return float(np.nanstd(boots, ddof=1))
 
 
 def recurrence_times(t_start: npt.ArrayLike) -> FloatArray:

@@ -283,7 +283,8 @@ def _report(res: Any, as_json: bool, out_dir: str | None = None) -> None:
             law = "" if s["b_value_power_law"] else "; not a power law at 5 %"
             click.echo(
                 f"b-value              {s['b_value']:.4g} ± {_shown(s['b_value_err'])} "
-                f"(M from {_shown(s['completeness_magnitude'], '.2f')}{top}, {s['b_value_range']}{law})"
+                f"(M from {_shown(s['completeness_magnitude'], '.2f')}{top}, {s['b_value_range']}{law}; "
+                f"error by bootstrap in blocks of {s['b_value_block']} events)"
             )
         click.echo(f"status               {s['status']}")
         if out_dir:
