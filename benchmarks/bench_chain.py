@@ -21,7 +21,20 @@ its sums, with the error norm; no events, no dense output, no root finding) per
 slipping block, for a cluster of 40 and one of 1000 slipping blocks: the least that any
 scheme built on these steps pays per block and step, however it handles the events.
 
-Run: python benchmarks/bench_chain.py [--nu 0.001 0.0001] [--floor]
+``--accuracy`` compares the two at equal accuracy instead of equal step size, on 100
+and 1000 blocks at ``nu = 0.01``: the fixed-step loop at dt = 0.005 and below (to 5e-7
+on 100 blocks, 5e-6 on 1000), and the exact engine at rtol 1e-6, 1e-8 and 1e-10, each
+with its event-time error and its cost per simulated time unit; then, for each
+tolerance of the exact engine, the cost of the loop at the largest step run whose
+error is as small (measured), and at the step where its error, a power law in dt
+fitted where the loop finds the same events, would be as small (extrapolated). Both
+start at rest just after an event of over half the chain; the error is the largest
+over the small events before the next large one (at most 30, matched in order),
+against the exact engine at rtol 1e-12. How a large event ends is the chain's chaos,
+not accuracy: on 1000 blocks its end moves by 100 time units between rtol 1e-10 and
+1e-12.
+
+Run: python benchmarks/bench_chain.py [--nu 0.001 0.0001] [--floor] [--accuracy]
 """
 
 from __future__ import annotations
@@ -184,6 +197,90 @@ def exact(p: ChainParameters, state: ChainState, t_span: float, rtol: float = 1e
     return np.concatenate(rows), st
 
 
+def _start(law: CarlsonLangerLaw, n: int, nu: float, transient: int) -> tuple[ChainParameters, ChainState]:
+    """The chain after ``transient`` events from a random start (seed 1), both loops compiled."""
+    p = ChainParameters(n, law, nu, ELL)
+    st = ChainState.at_rest(np.random.default_rng(1).uniform(0.0, 0.01, n))
+    chain_advance(
+        law.kernel, law.core_params(), nu, p.ell2, False, False, p.phi, st, max_events=transient,
+        max_steps=10**9,
+    )  # fmt: skip
+    exact(p, st, 1.0)  # compile
+    fixed_step(st.x.copy(), st.v.copy(), st.t, nu, p.ell2, ALPHA, SIGMA, DT, st.t + 1.0, np.zeros(1))
+    return p, st
+
+
+def _fixed_error(p: ChainParameters, start: ChainState, dt: float, span: float, ref: np.ndarray, k: int):  # type: ignore[no-untyped-def]
+    """Time the fixed-step loop over ``span``; its largest error on the first ``k`` starts; its events."""
+    starts = np.zeros(max(k, 1))
+    t0 = time.perf_counter()
+    nf = fixed_step(start.x.copy(), start.v.copy(), start.t, p.nu, p.ell2, ALPHA, SIGMA, dt, start.t + span,
+                    starts)  # fmt: skip
+    tf = time.perf_counter() - t0
+    m = min(k, nf)
+    return tf, float(np.max(np.abs(starts[:m] - ref[:m, 0]))) if m else float("nan"), int(nf)
+
+
+def _after_big_event(p: ChainParameters, state: ChainState) -> ChainState:
+    """The chain at rest just after its next event over half the chain (the events after it are small)."""
+    st = state.copy()
+    while True:
+        cat, _, _ = chain_advance(
+            p.law.kernel, p.law.core_params(), p.nu, p.ell2, False, False, p.phi, st, max_events=1,
+            max_steps=10**9,
+        )  # fmt: skip
+        if cat.shape[0] and cat[-1, 3] > p.blocks / 2:
+            return st
+
+
+def accuracy(law: CarlsonLangerLaw) -> None:
+    """Print both loops' event-time errors and costs, and the loop's cost at the engine's accuracy."""
+    for n, transient, span, smallest in ((100, 3000, 3000.0, DT / 10000), (1000, 300, 600.0, DT / 1000)):
+        p, start = _start(law, n, NU, transient)
+        start = _after_big_event(p, start)
+        ref, _ = exact(p, start, span, rtol=1e-12, atol=1e-14)
+        k = _before_divergence(ref, n, 31) - 1  # the small events before the next large one
+        short = float(ref[k - 1, 1] - start.t) + 1.0  # to the end of the k-th event
+        print(
+            f"Equal accuracy: {n} blocks, nu = {NU}, from the end of a large event, the next {k} (small) "
+            f"events ({short:.1f} time units); cost in ms per simulated time unit (the exact engine's over "
+            f"{span:g}), largest event-time error"
+        )
+        fixed = []
+        dt = DT
+        while dt >= smallest * 0.99:
+            tf, err, _ = _fixed_error(p, start, dt, short, ref, k)
+            fixed.append((dt, tf / short * 1e3, err))
+            print(f"fixed step dt = {dt:<7g} {tf / short * 1e3:10.4f} ms  error {err:.1e}")
+            dt /= 10
+        dts, costs, errs = (np.array(c) for c in zip(*fixed, strict=True))
+        # the steps at which the loop finds the same events (its error well below their spacing)
+        same = errs < 1e-2
+        if same.sum() >= 2:
+            order, lead = np.polyfit(np.log(dts[same]), np.log(errs[same]), 1)
+            print(f"the loop's error goes as dt^{order:.2f} where it finds the same events")
+        for rtol in (1e-6, 1e-8, 1e-10):
+            t0 = time.perf_counter()
+            rows, _ = exact(p, start, span, rtol=rtol, atol=rtol * 1e-2)
+            te = time.perf_counter() - t0
+            cost = te / span * 1e3
+            kk = min(k, rows.shape[0])
+            err = float(np.max(np.abs(rows[:kk, 0] - ref[:kk, 0])))
+            good = np.flatnonzero(errs <= err)
+            if good.size:  # measured: the cheapest step of the loop at least as accurate
+                i = good[0]
+                verdict = f"the loop as accurate at dt = {dts[i]:g}: {costs[i] / cost:.3g} x the exact engine"
+            else:
+                verdict = (
+                    f"the loop is less accurate even at dt = {dts[-1]:g}, at {costs[-1] / cost:.3g} x the "
+                    f"exact engine"
+                )
+            if same.sum() >= 2:
+                dt_eq = float(np.exp((np.log(max(err, 1e-16)) - lead) / order))
+                verdict += f" (at dt = {dt_eq:.1e} by the fit: {costs[-1] * dts[-1] / dt_eq / cost:.3g} x)"
+            print(f"exact rtol = {rtol:<7g} {cost:10.4f} ms  error {err:.1e}  -> {verdict}")
+
+
 def _before_divergence(ref: np.ndarray, n: int, most: int) -> int:
     """Events to compare: at most ``most``, up to and including the first that takes over half the chain.
 
@@ -201,10 +298,15 @@ def main() -> None:
         "--nu", type=float, nargs="*", default=[], help="more rows: 1000 blocks at these driving velocities"
     )
     parser.add_argument("--floor", action="store_true", help="also the cost of the DOP853 step alone")
+    parser.add_argument(
+        "--accuracy", action="store_true", help="also both loops at equal event-time accuracy"
+    )
     a = parser.parse_args()
     law = CarlsonLangerLaw(alpha=ALPHA, sigma=SIGMA)
     if a.floor:
         floor(law)
+    if a.accuracy:
+        accuracy(law)
     print(f"Carlson-Langer chain: alpha={ALPHA}, sigma={SIGMA}, ell={ELL}; fixed step dt={DT}")
     print(
         f"{'nu':>7} {'blocks':>6} {'sim. time':>9} {'exact s':>8} {'events':>7} {'ev/s':>8} {'time/s':>8} "
@@ -213,25 +315,7 @@ def main() -> None:
     rows_ = [(NU, 100, 3000, 3000.0), (NU, 1000, 300, 600.0)]
     rows_ += [(nu, 1000, 300, 6.0 / nu) for nu in a.nu]
     for nu, n, transient, span in rows_:
-        p = ChainParameters(n, law, nu, ELL)
-        st = ChainState.at_rest(np.random.default_rng(1).uniform(0.0, 0.01, n))
-        chain_advance(
-            law.kernel,
-            law.core_params(),
-            nu,
-            p.ell2,
-            False,
-            False,
-            p.phi,
-            st,
-            max_events=transient,
-            max_steps=10**9,
-        )
-        start = st.copy()
-        exact(p, start, 1.0)  # compile
-        fixed_step(
-            start.x.copy(), start.v.copy(), start.t, nu, p.ell2, ALPHA, SIGMA, DT, start.t + 1.0, np.zeros(1)
-        )
+        p, start = _start(law, n, nu, transient)
         t0 = time.perf_counter()
         rows, _ = exact(p, start, span)
         te = time.perf_counter() - t0
@@ -239,13 +323,7 @@ def main() -> None:
         k = _before_divergence(ref, n, 30)
         k = min(k, rows.shape[0])
         err_exact = float(np.max(np.abs(rows[:k, 0] - ref[:k, 0]))) if k else float("nan")
-        starts = np.zeros(10)
-        x, v = start.x.copy(), start.v.copy()
-        t0 = time.perf_counter()
-        nf = fixed_step(x, v, start.t, nu, p.ell2, ALPHA, SIGMA, DT, start.t + span, starts)
-        tf = time.perf_counter() - t0
-        m = min(5, nf, _before_divergence(ref, n, 5))
-        err_fixed = float(np.max(np.abs(starts[:m] - ref[:m, 0]))) if m else float("nan")
+        tf, err_fixed, nf = _fixed_error(p, start, DT, span, ref, _before_divergence(ref, n, 5))
         print(
             f"{nu:>7.0e} {n:>6} {span:>9.0f} {te:>8.3f} {rows.shape[0]:>7} {rows.shape[0] / te:>8.1f} "
             f"{span / te:>8.1f} "
