@@ -448,6 +448,8 @@ def test_cli_regime_map_and_chain_ensemble_resume_from_their_stores(tmp_path: Pa
     assert res.returncode == 0, res.stderr
     out = json.loads(res.stdout)
     assert out["members"] == 3 and out["events"] == 120
+    errs = [m["b_value_err"] for m in out["per_member"] if m["b_value_err"] is not None]
+    assert out["b_value_err_mean"] == (pytest.approx(float(np.mean(errs))) if errs else None)
     assert [m["seed"] for m in out["per_member"]] == [1, 2, 3]
     # one member's catalogue matches a single run of that seed
     single = _cli(

@@ -381,11 +381,15 @@ def _ensemble(
     ]  # fmt: skip
     b = ds["b_value"].values
     b_mean = float(np.nanmean(b)) if np.isfinite(b).any() else None
-    b_std = float(np.nanstd(b)) if np.isfinite(b).sum() > 1 else None
+    b_std = float(np.nanstd(b, ddof=1)) if np.isfinite(b).sum() > 1 else None  # the sample spread
+    # each member's own error (block bootstrap) beside the spread: far below it, the error understates
+    err = ds["b_value_err"].values
+    err_mean = float(np.nanmean(err)) if np.isfinite(err).any() else None
     summary = {
         "members": len(members),
         "b_value_mean": b_mean,
         "b_value_std": b_std,
+        "b_value_err_mean": err_mean,
         "events": int(ds["events"].sum()),
         "per_member": members,
     }
@@ -394,7 +398,10 @@ def _ensemble(
     else:
         click.echo(f"members              {summary['members']}")
         click.echo(f"events               {summary['events']}")
-        click.echo(f"b-value              {_shown(b_mean, '.4g')} (spread {_shown(b_std, '.2g')} over seeds)")
+        click.echo(
+            f"b-value              {_shown(b_mean, '.4g')} (spread {_shown(b_std, '.2g')} over seeds; "
+            f"each member's error {_shown(err_mean, '.2g')} on average)"
+        )
         if out_dir:
             click.echo(f"wrote {out_dir}/ensemble.nc")
     bad = [m["seed"] for m in members if m["status"] != "ok"]
