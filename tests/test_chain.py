@@ -198,6 +198,10 @@ def test_block_bootstrap_error_meets_the_spread_of_correlated_catalogues() -> No
     assert float(np.mean(plain)) < 0.6 * spread  # iid resampling understates it
     assert float(np.mean(blocked)) == pytest.approx(spread, rel=0.3)
     assert min(lengths) >= 5
+    # a block as long as the catalogue would resample rotations of it, all with its mean (error 0):
+    # a given block is held to min(3 sqrt(n), n / 3)
+    whole = b_value(m, mc=1.0, n_boot=100, block=10**6)
+    assert whole.block == math.ceil(3 * math.sqrt(whole.n)) and whole.error > 0.3 * spread
     with pytest.raises(ValueError, match="block"):
         b_value(m, mc=1.0, block=0)
     with pytest.raises(ValueError, match="block"):

@@ -297,8 +297,9 @@ def block_length(x: npt.ArrayLike) -> int:
 
     The rule of Politis and White (2004) with the correction of Patton,
     Politis and White (2009): the autocovariances up to twice the first lag
-    ``m`` after which ``K_N = max(5, sqrt(log10 n))`` successive
-    autocorrelations are all insignificant (below ``2 sqrt(log10(n) / n)``),
+    ``m`` from which ``K_N = max(5, sqrt(log10 n))`` successive
+    autocorrelations (lags ``m`` to ``m + K_N - 1``, as in Patton's code and
+    the ``arch`` package) are all insignificant (below ``2 sqrt(log10(n) / n)``),
     weighted by the flat-top window, give the block length ``(2 G**2 /
     D)**(1/3) n**(1/3)`` that minimises the error of the variance estimate.
     Without a run of insignificant lags, the window reaches ``m_max =
@@ -334,7 +335,8 @@ def block_length(x: npt.ArrayLike) -> int:
     f = np.fft.rfft(d, size)
     acov = np.fft.irfft(f * np.conj(f), size)[: m_max + 1] / n
     small = np.abs(acov[1:] / acov[0]) < 2.0 * math.sqrt(math.log10(n) / n)  # small[k - 1]: lag k
-    runs = [m for m in range(m_max - k_n + 1) if small[m : m + k_n].all()]
+    # the first m >= 1 with lags m .. m + K_N - 1 insignificant, as in Patton's code and arch's
+    runs = [m for m in range(1, m_max - k_n + 1) if small[m - 1 : m - 1 + k_n].all()]
     big_m = min(2 * max(runs[0], 1), m_max) if runs else m_max
     k = np.arange(1, big_m + 1)
     t = k / big_m
@@ -381,7 +383,9 @@ def b_value(
         resampled one by one, which assumes they are independent. ``L > 1``:
         the circular block bootstrap, runs of ``L`` successive events in the
         range (``m`` must then be in time order), which keeps the correlation
-        of successive events in the error. ``"auto"``: ``L`` by
+        of successive events in the error; ``L`` is held to at most
+        ``min(3 sqrt(n), n / 3)`` of the ``n`` events (``BValue.block`` says
+        what was used). ``"auto"``: ``L`` by
         :func:`block_length` of the magnitudes in the range.
     bin_width : float
         Magnitude bins of the completeness estimate and grid of the range scan.
@@ -417,7 +421,10 @@ def b_value(
         return BValue(math.nan, math.nan, math.nan, mc_, top, n, math.nan, math.nan, method)
     b = _mle(sel, mc_, top)
     shi = 2.3 * b * b * float(np.std(sel, ddof=1)) / math.sqrt(n) if math.isfinite(b) else math.nan
-    length = block_length(in_order) if block == "auto" else min(int(block), n)
+    # a block near n resamples rotations of the catalogue, all with its mean: an error of 0;
+    # a given block is held to the cap of "auto" (at least three blocks)
+    cap = math.ceil(min(3.0 * math.sqrt(n), n / 3.0))
+    length = block_length(in_order) if block == "auto" else min(int(block), cap)
     err = math.nan
     if n_boot > 0:
         err = _bootstrap_error(in_order, mc_, top, length, n_boot, seed)
