@@ -177,25 +177,18 @@ def floor(law: CarlsonLangerLaw) -> None:
         )
 
 
+def _advance(p: ChainParameters, st: ChainState, **kw):  # type: ignore[no-untyped-def]
+    """The engine's ``chain_advance`` on the chain ``p`` from ``st`` (advanced in place)."""
+    return chain_advance(p.law.kernel, p.law.core_params(), p.nu, p.ell2, False, False, p.phi, st, **kw)
+
+
 def exact(p: ChainParameters, state: ChainState, t_span: float, rtol: float = 1e-10, atol: float = 1e-12):  # type: ignore[no-untyped-def]
     st = state.copy()
     t_end = st.t + t_span
     rows = []
     while st.t < t_end:
-        cat, _, code = chain_advance(
-            p.law.kernel,
-            p.law.core_params(),
-            p.nu,
-            p.ell2,
-            False,
-            False,
-            p.phi,
-            st,
-            max_events=10**6,
-            t_max=t_end,
-            rtol=rtol,
-            atol=atol,
-            max_steps=5_000_000,
+        cat, _, code = _advance(
+            p, st, max_events=10**6, t_max=t_end, rtol=rtol, atol=atol, max_steps=5_000_000
         )
         rows.append(cat)
         if code not in (0, 2):
@@ -207,10 +200,7 @@ def _start(law: CarlsonLangerLaw, n: int, nu: float, transient: int) -> tuple[Ch
     """The chain after ``transient`` events from a random start (seed 1), both loops compiled."""
     p = ChainParameters(n, law, nu, ELL)
     st = ChainState.at_rest(np.random.default_rng(1).uniform(0.0, 0.01, n))
-    chain_advance(
-        law.kernel, law.core_params(), nu, p.ell2, False, False, p.phi, st, max_events=transient,
-        max_steps=10**9,
-    )  # fmt: skip
+    _advance(p, st, max_events=transient, max_steps=10**9)
     exact(p, st, 1.0)  # compile
     fixed_step(st.x.copy(), st.v.copy(), st.t, nu, p.ell2, ALPHA, SIGMA, DT, st.t + 1.0, np.zeros(1))
     return p, st
@@ -232,10 +222,7 @@ def _after_big_event(p: ChainParameters, state: ChainState) -> ChainState:
     """The chain at rest just after its next event over half the chain (the events after it are small)."""
     st = state.copy()
     while True:
-        cat, _, _ = chain_advance(
-            p.law.kernel, p.law.core_params(), p.nu, p.ell2, False, False, p.phi, st, max_events=1,
-            max_steps=10**9,
-        )  # fmt: skip
+        cat, _, _ = _advance(p, st, max_events=1, max_steps=10**9)
         if cat.shape[0] and cat[-1, 3] > p.blocks / 2:
             return st
 

@@ -325,19 +325,18 @@ def block_length(x: npt.ArrayLike) -> int:
     if n < 8:
         return 1
     d = xs - xs.mean()
-    var = float(d @ d) / n
-    if not var > 0.0:
-        return 1
     k_n = max(5, math.ceil(math.sqrt(math.log10(n))))
     m_max = min(math.ceil(math.sqrt(n)) + k_n, n - 1)
     # autocovariances up to m_max by FFT (zero-padded: not circular)
     size = 1 << int(2 * n - 1).bit_length()
     f = np.fft.rfft(d, size)
     acov = np.fft.irfft(f * np.conj(f), size)[: m_max + 1] / n
+    if not acov[0] > 0.0:  # a constant series
+        return 1
     small = np.abs(acov[1:] / acov[0]) < 2.0 * math.sqrt(math.log10(n) / n)  # small[k - 1]: lag k
     # the first m >= 1 with lags m .. m + K_N - 1 insignificant, as in Patton's code and arch's
-    runs = [m for m in range(1, m_max - k_n + 1) if small[m - 1 : m - 1 + k_n].all()]
-    big_m = min(2 * max(runs[0], 1), m_max) if runs else m_max
+    m_hat = next((m for m in range(1, m_max - k_n + 1) if small[m - 1 : m - 1 + k_n].all()), None)
+    big_m = m_max if m_hat is None else min(2 * m_hat, m_max)
     k = np.arange(1, big_m + 1)
     t = k / big_m
     window = np.where(t <= 0.5, 1.0, 2.0 * (1.0 - t))
@@ -347,8 +346,12 @@ def block_length(x: npt.ArrayLike) -> int:
     if not d_cb > 0.0:
         return 1
     length = (2.0 * g_big * g_big / d_cb) ** (1.0 / 3.0) * n ** (1.0 / 3.0)
-    cap = math.ceil(min(3.0 * math.sqrt(n), n / 3.0))
-    return int(min(max(math.ceil(length), 1), cap))
+    return int(min(max(math.ceil(length), 1), _longest_block(n)))
+
+
+def _longest_block(n: int) -> int:
+    """Return the longest block of ``n`` values, ``min(3 sqrt(n), n / 3)`` (three blocks at least)."""
+    return math.ceil(min(3.0 * math.sqrt(n), n / 3.0))
 
 
 def b_value(
@@ -394,10 +397,8 @@ def b_value(
     """
     mm = np.asarray(m, dtype=float)
     mm = mm[np.isfinite(mm)]
-    if isinstance(block, str):
-        if block != "auto":
-            raise ValueError(f"block={block!r}: expected a whole number of events >= 1 or 'auto'")
-    elif isinstance(block, bool) or not isinstance(block, (int, np.integer)) or block < 1:
+    whole = isinstance(block, (int, np.integer)) and not isinstance(block, bool) and block >= 1
+    if block != "auto" and not whole:
         raise ValueError(f"block={block!r}: expected a whole number of events >= 1 or 'auto'")
     if isinstance(mc, str):
         if mc != "auto":
@@ -422,12 +423,11 @@ def b_value(
     b = _mle(sel, mc_, top)
     shi = 2.3 * b * b * float(np.std(sel, ddof=1)) / math.sqrt(n) if math.isfinite(b) else math.nan
     # a block near n resamples rotations of the catalogue, all with its mean: an error of 0;
-    # a given block is held to the cap of "auto" (at least three blocks)
-    cap = math.ceil(min(3.0 * math.sqrt(n), n / 3.0))
-    length = block_length(in_order) if block == "auto" else min(int(block), cap)
+    # a given block is held to the longest of "auto" (at least three blocks)
+    length = block_length(in_order) if block == "auto" else min(int(block), _longest_block(n))
     err = math.nan
-    if n_boot > 0:
-        err = _bootstrap_error(in_order, mc_, top, length, n_boot, seed)
+    if n_boot > 0:  # event by event: the sorted events, as before blocks (the same draws for a seed)
+        err = _bootstrap_error(sel if length <= 1 else in_order, mc_, top, length, n_boot, seed)
     a = math.log10(n) + b * mc_ if math.isfinite(b) else math.nan
     return BValue(float(b), err, shi, mc_, top, n, a, _ks(sel, mc_, top, b), method, length)
 
@@ -441,9 +441,8 @@ def _bootstrap_error(
     """
     rng = np.random.default_rng(seed)
     n = x.size
-    if length <= 1:  # the sorted events, as before blocks (the same draws for a seed)
-        s = np.sort(x)
-        boots = [_mle(rng.choice(s, n), mc, top) for _ in range(n_boot)]
+    if length <= 1:
+        boots = [_mle(rng.choice(x, n), mc, top) for _ in range(n_boot)]
     else:
         blocks = -(-n // length)
         run = np.arange(length)
