@@ -23,6 +23,7 @@ from stickslip.chains import (
     static_thresholds,
 )
 from stickslip.chains.lyapunov import event_map, lyapunov_exponent
+from stickslip.chains.statistics import KS_CRITICAL_5, power_law_range, slope_change
 from stickslip.laws import CarlsonLangerLaw, CubicLaw, WeakeningLaw
 
 TIGHT = {"rtol": 1e-11, "atol": 1e-13}
@@ -271,6 +272,42 @@ def test_power_law_range_between_the_spike_and_the_bump() -> None:
     assert not b_value(spikes, mc="auto", n_boot=0).power_law
     with pytest.raises(ValueError, match="mc='best'"):
         b_value(m, mc="best")
+
+
+def _truncated_gr(rng: np.random.Generator, n: int, b: float, lo: float, hi: float) -> np.ndarray:
+    beta = b * math.log(10.0)
+    return lo - np.log1p(rng.uniform(size=n) * math.expm1(-beta * (hi - lo))) / beta
+
+
+def test_slope_change_holds_its_level_and_sees_a_knee() -> None:
+    """One slope against two: 1 % of true power laws rejected, down to a few events in a half."""
+    rng = np.random.default_rng(7)
+    for n, hi in ((40, 3.0), (400, 2.0)):  # about 1 and 40 events above the cut
+        p = np.array([slope_change(_truncated_gr(rng, n, 1.0, 0.0, hi), 0.0, hi)[3] for _ in range(1500)])
+        assert np.isfinite(p).all()
+        assert 0.003 <= np.mean(p < 0.01) <= 0.02 and 0.03 <= np.mean(p < 0.05) <= 0.07
+    # b = 1 from M = -2, flattening to b = 0.4 above 0 (1 % of the events): KS alone takes the
+    # whole catalogue, whose halves differ (1.00 and 0.49); the default range stops lower
+    rng = np.random.default_rng(0)
+    x = -2.0 + rng.exponential(1.0 / math.log(10), 5000)
+    tail = x > 0.0
+    x[tail] = rng.exponential(1.0 / (0.4 * math.log(10)), int(tail.sum()))
+    x = x[x < 3.0]
+    lo, hi, ks = power_law_range(x, slope_level=0.0)
+    ks_only = b_value(x, mc=lo, m_max=None if math.isinf(hi) else hi, n_boot=0)
+    assert ks <= KS_CRITICAL_5 and math.isinf(hi) and not ks_only.power_law
+    assert ks_only.slope_p < 1e-5 and ks_only.b_upper < 0.6 < 0.95 < ks_only.b_lower
+    assert "the slope changes across the range" in ks_only.verdict
+    auto = b_value(x, mc="auto", n_boot=0)
+    assert auto.power_law and auto.verdict == "" and auto.m_max < 2.5 and abs(auto.b - 1.0) < 0.03
+    assert auto.slope_p == pytest.approx(slope_change(x, auto.mc, auto.m_max)[3], rel=1e-12)
+    # events of a half all at its lower end: no slope to compare, no overflow on a steep sample
+    assert math.isnan(slope_change([0.0, 0.3, 0.5, 0.5, 0.5], 0.0, 1.0)[3])
+    assert slope_change([0.0, 0.1, 0.2, 1.0 + 1e-5, 1.0 + 2e-5], 0.0, 2.0)[3] < 0.01
+    steep = b_value([1e-4, 2e-4, 3e-4], mc=0.0, m_max=2.0, n_boot=0, bin_width=1e-5)
+    assert steep.b == pytest.approx(math.log10(math.e) / 2e-4, rel=1e-6)
+    with pytest.raises(ValueError, match="slope_level"):
+        power_law_range(x, slope_level=1.0)
 
 
 def test_catalogue_streams_to_netcdf_and_resumes(tmp_path: Path) -> None:
@@ -611,6 +648,22 @@ def test_command_line_text_report_without_a_b_value_and_bad_fit_ranges() -> None
                       (["--m-max", "inf"], "--m-max")):  # fmt: skip
         res = CliRunner().invoke(main, [*base, "--nu", "0.01", *bad])
         assert res.exit_code == 2 and word in res.output, res.output
+
+
+def test_command_line_reports_the_halves_of_the_fitted_range() -> None:
+    from click.testing import CliRunner
+
+    from stickslip.cli import main
+
+    args = ["chain", "--law", "carlson-langer", "--alpha", "2.5", "--sigma", "0.01", "--nu", "0.01"]
+    args += ["--ell", "10", "--blocks", "30", "--events", "600", "--seed", "1", "--quiet"]
+    res = CliRunner().invoke(main, args)
+    assert res.exit_code == 0, res.output
+    line = next(x for x in res.output.splitlines() if x.startswith("halves of the range"))
+    js = CliRunner().invoke(main, [*args, "--json"])
+    s = json.loads(js.output)
+    assert f"below M = {s['b_value_split']:.2f}" in line and f"p = {s['b_value_slope_p']:.2g}" in line
+    assert f"b = {s['b_value_lower']:.4g} below" in line and f"{s['b_value_upper']:.4g} above" in line
 
 
 def test_command_line_refuses_negative_seeds_in_one_line() -> None:

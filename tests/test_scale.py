@@ -26,6 +26,8 @@ import xarray as xr
 import stickslip as ss
 from stickslip.bifurcation.regime_map import regime_map
 from stickslip.chains import ChainParameters, chain_ensemble
+from stickslip.chains import ensemble as ensemble_module
+from stickslip.chains.statistics import STATISTICS_VERSION
 from stickslip.dynamics.sweep import load_sweep, sweep
 from stickslip.laws import WeakeningLaw
 from stickslip.scale import ProgressInfo, StoreError, chunk_shape
@@ -411,7 +413,9 @@ def test_regime_map_through_the_store_and_the_cluster(client: Any, tmp_path: Pat
         regime_map(law, "p", [0.1, 0.3], 0.05, 2.0, n_nu=41, progress=False, store=store)
 
 
-def test_chain_ensemble_through_the_store_and_the_cluster(client: Any, tmp_path: Path) -> None:
+def test_chain_ensemble_through_the_store_and_the_cluster(
+    client: Any, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     params = ChainParameters(6, WeakeningLaw(c=3.0, p=0.0), 0.01, 2.0)
     kw: dict[str, Any] = dict(threshold_spread=0.1, progress=False)
     ref = chain_ensemble(params, 60, [1, 2, 3], **kw)
@@ -425,6 +429,11 @@ def test_chain_ensemble_through_the_store_and_the_cluster(client: Any, tmp_path:
     again = chain_ensemble(params, 60, [1, 2, 3], store=store, **kw)
     assert run_of(again)["computed"] == 1
     assert_same(ref, again)
+    # members' b-values of other statistics are another job: resuming would mix the two
+    monkeypatch.setattr(ensemble_module, "STATISTICS_VERSION", STATISTICS_VERSION + 1)
+    old = f"holds another job .*statistics of version {STATISTICS_VERSION}\\)"
+    with pytest.raises(StoreError, match=old):
+        chain_ensemble(params, 60, [1, 2, 3], store=store, **kw)
 
 
 def _cli(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:

@@ -8,6 +8,8 @@ python tools/chain_figures.py cl-run CATALOG.nc [SEED [EVENTS]] # the catalogue 
                                       # started or resumed
 python tools/chain_figures.py bootstrap [MEMBERS]  # the b-value's bootstrap errors against the spread
                                       # over MEMBERS (40) chains of 300 blocks (10 min on 2 cores)
+python tools/chain_figures.py range-vs-size  # the default range and b on the first n events of two
+                                      # catalogues, with and without the slope test (2 min)
 """
 
 from __future__ import annotations
@@ -19,7 +21,14 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from stickslip.chains import ChainParameters, b_value, chain, completeness_magnitude, open_catalog
+from stickslip.chains import (
+    ChainParameters,
+    b_value,
+    chain,
+    completeness_magnitude,
+    open_catalog,
+    power_law_range,
+)
 from stickslip.chains.lyapunov import lyapunov_exponent
 from stickslip.laws import CarlsonLangerLaw, WeakeningLaw
 from stickslip.plots.chains import plot_lyapunov, plot_magnitude_frequency, plot_space_time
@@ -128,6 +137,29 @@ def bootstrap(members: str = "40") -> None:
         )
 
 
+def range_vs_size() -> None:
+    """The default range and b on the first n events of two catalogues, with and without the slope test."""
+    cl = CarlsonLangerLaw(alpha=2.5, sigma=0.01)
+    sets = {
+        "1000 blocks, nu = 0.001": (ChainParameters(blocks=1000, law=cl, nu=0.001, ell=10.0), 100000),
+        "300 blocks, nu = 0.01": (ChainParameters(blocks=300, law=cl, nu=0.01, ell=10.0), 50000),
+    }
+    print("| catalogue | events | KS alone: range, b | KS and one slope (default): range, b | halves |")
+    print("|---|---|---|---|---|")
+    for name, (p, events) in sets.items():
+        m = chain(p, events, transient=2000, seed=1, progress=False).catalog["magnitude"].values
+        for n in (1000, 3000, 10000, 30000, events):
+            x = m[:n]
+            lo, hi, _ = power_law_range(x, slope_level=0.0)
+            old = b_value(x, mc=lo, m_max=None if np.isinf(hi) else hi, block="auto")
+            new = b_value(x, mc="auto", block="auto")
+            print(
+                f"| {name} | {n} | [{old.mc:.1f}, {old.m_max:.1f}]: {old.b:.3f} ± {old.error:.3f} "
+                f"| [{new.mc:.1f}, {new.m_max:.1f}]: {new.b:.3f} ± {new.error:.3f} "
+                f"| {new.b_lower:.3f} / {new.b_upper:.3f} (p {new.slope_p:.2g}) |"
+            )
+
+
 if __name__ == "__main__":
     if sys.argv[1] == "krakow":
         krakow()
@@ -135,5 +167,7 @@ if __name__ == "__main__":
         cl_run(*sys.argv[2:5])
     elif sys.argv[1] == "bootstrap":
         bootstrap(*sys.argv[2:3])
+    elif sys.argv[1] == "range-vs-size":
+        range_vs_size()
     else:
         cl(*sys.argv[2:4])

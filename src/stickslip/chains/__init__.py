@@ -18,7 +18,9 @@ from .statistics import (
     block_length,
     completeness_magnitude,
     magnitude_frequency,
+    power_law_range,
     recurrence_times,
+    slope_change,
 )
 
 __all__ = [
@@ -35,6 +37,8 @@ __all__ = [
     "initial_positions",
     "magnitude_frequency",
     "open_catalog",
+    "power_law_range",
     "recurrence_times",
+    "slope_change",
     "static_thresholds",
 ]

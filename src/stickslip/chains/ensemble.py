@@ -28,6 +28,7 @@ from ..scale.progress import ProgressLike
 from ..scale.store import Block, Layout, Variable
 from .model import ChainParameters, static_thresholds
 from .run import chain
+from .statistics import STATISTICS_VERSION
 
 __all__ = ["EnsembleJob", "chain_ensemble"]
 
@@ -161,11 +162,15 @@ class EnsembleJob:
                 "seeds": self.seeds,
                 "run": [self.events, self.threshold_spread, self.init, self.amplitude, self.transient],
                 "tolerances": [self.rtol, self.atol],
+                # a store of members' b-values from other statistics is another job: resuming
+                # it would mix the two (the range and the error of b changed in version 2)
+                "statistics": STATISTICS_VERSION,
             },
             attrs=self._attrs(),
             describe=(
                 f"an ensemble of {self.seeds.size} chains of {p.blocks} blocks ({p.law.name} law, "
-                f"nu={p.nu:g}, ell={p.ell:g}), {self.events} events each"
+                f"nu={p.nu:g}, ell={p.ell:g}), {self.events} events each, "
+                f"b-values by the statistics of version {STATISTICS_VERSION}"
             ),
         )
 

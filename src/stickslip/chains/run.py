@@ -103,6 +103,10 @@ class ChainResult:
             "b_value_m_max": self.b.m_max if math.isfinite(self.b.m_max) else None,
             "b_value_range": self.b.method,
             "b_value_power_law": self.b.power_law,
+            "b_value_lower": self.b.b_lower,
+            "b_value_upper": self.b.b_upper,
+            "b_value_split": self.b.m_split,
+            "b_value_slope_p": self.b.slope_p,
             "status": str(self.status),
             "units": dict(self.units),
         }

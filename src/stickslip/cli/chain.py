@@ -280,12 +280,13 @@ def _report(res: Any, as_json: bool, out_dir: str | None = None) -> None:
             click.echo("b-value              undefined (too few events, or their magnitudes do not spread)")
         else:
             top = "" if s["b_value_m_max"] is None else f" to {s['b_value_m_max']:.2f}"
-            law = "" if s["b_value_power_law"] else "; not a power law at 5 %"
+            law = "" if s["b_value_power_law"] else f"; {res.b.verdict}"
             click.echo(
                 f"b-value              {s['b_value']:.4g} ± {_shown(s['b_value_err'])} "
                 f"(M from {_shown(s['completeness_magnitude'], '.2f')}{top}, {s['b_value_range']}{law}; "
                 f"error by bootstrap in blocks of {s['b_value_block']} events)"
             )
+            click.echo(f"halves of the range  {_halves(s)}")
         click.echo(f"status               {s['status']}")
         if out_dir:
             click.echo(f"wrote {out_dir}/catalog.nc, summary.json and figures")
@@ -296,6 +297,17 @@ def _report(res: Any, as_json: bool, out_dir: str | None = None) -> None:
             f"stickslip: the chain did not finish: {ChainStatus.from_label(s['status']).message}", err=True
         )
         raise SystemExit(1)
+
+
+def _halves(s: dict[str, Any]) -> str:
+    """Return the b-values of the fitted range's halves and the test of one slope, in words."""
+    if s["b_value_slope_p"] is None:
+        return "not compared (the events of a half all at its lower end)"
+    return (
+        f"b = {_shown(s['b_value_lower'], '.4g')} below M = {s['b_value_split']:.2f}, "
+        f"{_shown(s['b_value_upper'], '.4g')} above "
+        f"(one slope: p = {s['b_value_slope_p']:.2g})"
+    )
 
 
 def _shown(value: float | None, spec: str = ".6g") -> str:
