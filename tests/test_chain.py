@@ -13,6 +13,7 @@ from chain_reference import reference_chain
 
 import stickslip as ss
 from stickslip.chains import (
+    BValue,
     ChainParameters,
     ChainResult,
     b_value,
@@ -285,18 +286,21 @@ def test_slope_change_holds_its_level_and_sees_a_knee() -> None:
     for n, hi in ((40, 3.0), (400, 2.0)):  # about 1 and 40 events above the cut
         p = np.array([slope_change(_truncated_gr(rng, n, 1.0, 0.0, hi), 0.0, hi)[3] for _ in range(1500)])
         assert np.isfinite(p).all()
-        assert 0.003 <= np.mean(p < 0.01) <= 0.02 and 0.03 <= np.mean(p < 0.05) <= 0.07
-    # b = 1 from M = -2, flattening to b = 0.4 above 0 (1 % of the events): KS alone takes the
-    # whole catalogue, whose halves differ (1.00 and 0.49); the default range stops lower
+        # 1500 draws: the rate's own spread is 0.26 % at 1 %, 0.56 % at 5 %
+        assert 0.002 <= np.mean(p < 0.01) <= 0.025 and 0.025 <= np.mean(p < 0.05) <= 0.08
+    # b = 1 from M = -2, flattening to b = 0.4 above 0 (1 % of the events): KS alone takes a
+    # range whose halves differ (seeds 0-7: b 1.01-1.03 below, 0.37-0.67 above, p <= 6e-4);
+    # the default range passes both tests (here it stops at 1.5; on one seed in eight it is
+    # the tail itself, b = 0.5 from 0 up: a power law over more magnitude units)
     rng = np.random.default_rng(0)
-    x = -2.0 + rng.exponential(1.0 / math.log(10), 5000)
+    x = -2.0 + rng.exponential(1.0 / math.log(10), 10000)
     tail = x > 0.0
     x[tail] = rng.exponential(1.0 / (0.4 * math.log(10)), int(tail.sum()))
     x = x[x < 3.0]
     lo, hi, ks = power_law_range(x, slope_level=0.0)
     ks_only = b_value(x, mc=lo, m_max=None if math.isinf(hi) else hi, n_boot=0)
-    assert ks <= KS_CRITICAL_5 and math.isinf(hi) and not ks_only.power_law
-    assert ks_only.slope_p < 1e-5 and ks_only.b_upper < 0.6 < 0.95 < ks_only.b_lower
+    assert ks <= KS_CRITICAL_5 and hi > 2.5 and not ks_only.power_law
+    assert ks_only.slope_p < 1e-3 and ks_only.b_upper < 0.7 < 0.95 < ks_only.b_lower
     assert "the slope changes across the range" in ks_only.verdict
     auto = b_value(x, mc="auto", n_boot=0)
     assert auto.power_law and auto.verdict == "" and auto.m_max < 2.5 and abs(auto.b - 1.0) < 0.03
@@ -308,6 +312,12 @@ def test_slope_change_holds_its_level_and_sees_a_knee() -> None:
     assert steep.b == pytest.approx(math.log10(math.e) / 2e-4, rel=1e-6)
     with pytest.raises(ValueError, match="slope_level"):
         power_law_range(x, slope_level=1.0)
+    # the verdict of a fit without a b-value, and of an empty half
+    assert "no b-value" in b_value(np.full(5, 1.0), mc=0.0, n_boot=0).verdict
+    flat = b_value(np.random.default_rng(1).uniform(0.0, 1.0, 300), mc=0.0, m_max=4.0, n_boot=0)
+    assert math.isnan(flat.b_upper) and flat.slope_p < 0.01 and "Kolmogorov" in flat.verdict
+    empty_top = BValue(1.0, 0.1, 0.1, 0.0, 4.0, 300, 2.5, 0.5, b_lower=1.0, m_split=2.0, slope_p=1e-3)
+    assert empty_top.verdict.endswith("b = 1 below M = 2.00, none (no events) above (p = 0.001)")
 
 
 def test_catalogue_streams_to_netcdf_and_resumes(tmp_path: Path) -> None:

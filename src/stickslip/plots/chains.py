@@ -40,7 +40,7 @@ def plot_magnitude_frequency(catalog: Any, fit: BValue, *, bin_width: float = 0.
             label=f"b = {fit.b:.3f} ± {fit.error:.3f} (Aki-Utsu, {fit.n} events)",
         )
         span = f"{fit.mc:.2f} <= M" + (f" <= {fit.m_max:.2f}" if np.isfinite(fit.m_max) else "")
-        law = "" if fit.power_law else ", not a power law at 5 %"
+        law = "" if fit.power_law else f", {fit.verdict}"
         ax.axvline(fit.mc, color="C3", ls=":", lw=1.0, label=f"fitted over {span} ({fit.method}{law})")
         if np.isfinite(fit.m_max):
             ax.axvline(fit.m_max, color="C3", ls=":", lw=1.0)
