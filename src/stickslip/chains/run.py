@@ -203,9 +203,11 @@ def chain(
         Tolerances of the slip integration.
     mc : float or "auto", optional
         Lower magnitude of the b-value fit. Default ``"auto"``: both ends of the
-        range that is a power law (:func:`~.statistics.power_law_range`; a chain's
-        catalogue has a spike of one-block events below it and a bump of
-        chain-wide ruptures above it); None: the completeness magnitude by
+        range that is a power law (:func:`~.statistics.power_law_range`: KS
+        and one slope against two; a chain's catalogue has a spike of
+        one-block events below it and a bump of chain-wide ruptures above it;
+        the range depends on the catalogue's size where the slope drifts: fix
+        it to compare catalogues); None: the completeness magnitude by
         maximum curvature, no upper end unless ``m_max``.
     m_max : float, optional
         Upper magnitude of the b-value fit.

@@ -73,7 +73,8 @@ def register(main: click.Group) -> None:
         show_default=True,
         metavar="M|auto|maxc",
         help="Lower magnitude of the b-value fit: a number; auto, the range that passes as a power law "
-        "(both ends, Kolmogorov-Smirnov at 5 %); maxc, the completeness magnitude by maximum curvature.",
+        "(both ends: Kolmogorov-Smirnov at 5 %, one slope against two at 1 %); "
+        "maxc, the completeness magnitude by maximum curvature.",
     )
     @click.option("--m-max", type=float, default=None, help="Upper magnitude of the b-value fit.")
     @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
