@@ -19,6 +19,7 @@ from stickslip.chains import (
     b_value,
     block_length,
     chain,
+    chain_ensemble,
     completeness_magnitude,
     open_catalog,
     static_thresholds,
@@ -738,6 +739,48 @@ def test_command_line_warns_where_seed_or_amplitude_cannot_matter() -> None:
     misuse = CliRunner().invoke(main, [*base, "--init", "uniform", "--seed", "4", "--workers", "2"])
     assert misuse.exit_code == 2 and "go with --seeds" in misuse.output
     assert "warning" not in misuse.output
+
+
+def test_an_ensemble_fits_every_member_over_the_range_given() -> None:
+    """--mc and --m-max reach every member of --seeds (they were dropped without a word)."""
+    from click.testing import CliRunner
+
+    from stickslip.cli import main
+
+    p = ChainParameters(30, CarlsonLangerLaw(alpha=2.5, sigma=0.01), 0.01, 10.0)
+    own = chain_ensemble(p, 300, [1, 2], transient=50, progress=False)
+    fixed = chain_ensemble(p, 300, [1, 2], transient=50, mc=-2.0, m_max=0.0, progress=False)
+    assert (fixed["completeness_magnitude"].values == -2.0).all() and (
+        fixed["b_value_m_max"].values == 0.0
+    ).all()
+    assert (
+        fixed.attrs["b_value_fit"] == "from -2 to 0"
+        and own.attrs["b_value_fit"] == "each member's power-law range"
+    )
+    for s in (1, 2):  # each member's b is its own chain's over that range
+        one = chain(p, 300, transient=50, seed=s, mc=-2.0, m_max=0.0, progress=False)
+        assert fixed["b_value"].sel(seed=s).item() == one.b.b
+        one.catalog.close()
+    np.testing.assert_array_equal(own["mean_moment"].values, fixed["mean_moment"].values)
+    base = ["chain", "--law", "carlson-langer", "--alpha", "2.5", "--sigma", "0.01", "--nu", "0.01"]
+    base += ["--ell", "10", "--blocks", "30", "--events", "300", "--transient", "50", "--seeds", "1..2"]
+    res = CliRunner().invoke(main, [*base, "--mc", "-2", "--m-max", "0", "--quiet", "--json"])
+    assert res.exit_code == 0, res.output
+    out = json.loads(res.output)
+    assert out["b_value_fit"] == "from -2 to 0"
+    assert [m["completeness_magnitude"] for m in out["per_member"]] == [-2.0, -2.0]
+    assert out["b_value_mean"] == pytest.approx(float(np.mean(fixed["b_value"].values)), rel=1e-12)
+    bad = CliRunner().invoke(main, [*base, "--mc", "0", "--m-max", "-1", "--quiet"])
+    assert bad.exit_code == 2 and "--m-max" in bad.output
+    for kw, word in (
+        ({"mc": "best"}, "mc="),
+        ({"mc": math.nan}, "mc="),
+        ({"mc": 0.0, "m_max": -1.0}, "m_max="),
+    ):
+        with pytest.raises(ValueError, match=word):
+            chain_ensemble(p, 10, [1], progress=False, **kw)  # type: ignore[arg-type]
+        with pytest.raises(ValueError, match=word):
+            chain(p, 10, progress=False, **kw)  # type: ignore[arg-type]
 
 
 def test_the_command_line_gives_sigterm_back_when_it_ends() -> None:

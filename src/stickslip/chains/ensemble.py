@@ -28,7 +28,7 @@ from ..scale.progress import ProgressLike
 from ..scale.store import Block, Layout, Variable
 from .model import ChainParameters, static_thresholds
 from .run import chain
-from .statistics import STATISTICS_VERSION
+from .statistics import STATISTICS_VERSION, check_fit_range
 
 __all__ = ["EnsembleJob", "chain_ensemble"]
 
@@ -58,6 +58,8 @@ def chain_ensemble(
     transient: int = 0,
     rtol: float = defaults.RTOL,
     atol: float = defaults.ATOL,
+    mc: float | str | None = "auto",
+    m_max: float | None = None,
     store: str | os.PathLike[str] | None = None,
     scheduler: Any = None,
     workers: int | None = None,
@@ -78,6 +80,11 @@ def chain_ensemble(
         Heterogeneous thresholds ``1 + s U(-1, 1)`` drawn with each member's seed.
     init, amplitude, transient, rtol, atol
         As in :func:`~.run.chain`.
+    mc, m_max : optional
+        The range of every member's b-value fit, as in :func:`~.run.chain`
+        (default: each member's own power-law range). A range fixed for all
+        compares the members over the same magnitudes; each member's own
+        range adds the choice of the range to the spread of b.
     store : path, optional
         Zarr store of the members' numbers, with each member's catalogue in
         ``catalogs/``; resumable.
@@ -105,9 +112,10 @@ def chain_ensemble(
     if seed_arr.size == 0 or np.unique(seed_arr).size != seed_arr.size:
         raise ValueError(f"seeds={seeds!r}: expected at least one seed, each once")
     static_thresholds(params.blocks, threshold_spread, 0)  # checks the spread
+    mc, m_max = check_fit_range(mc, m_max)
     catalogs = None if store is None else os.path.join(os.path.abspath(os.fspath(store)), "catalogs")
     job = EnsembleJob(params, int(events), seed_arr, float(threshold_spread), str(init), float(amplitude),
-                      int(transient), float(rtol), float(atol), catalogs)  # fmt: skip
+                      int(transient), float(rtol), float(atol), catalogs, mc, m_max)  # fmt: skip
     from ..scale import run_job
 
     return run_job(job, job.layout(), store=store, scheduler=scheduler, workers=workers, progress=progress,
@@ -128,6 +136,8 @@ class EnsembleJob:
     rtol: float
     atol: float
     catalogs: str | None
+    mc: float | str | None = "auto"
+    m_max: float | None = None
 
     def task(self, block: Block) -> _Member:
         """Return the computation of one member."""
@@ -165,6 +175,7 @@ class EnsembleJob:
                 # a store of members' b-values from other statistics is another job: resuming
                 # it would mix the two (the range and the error of b changed in version 2)
                 "statistics": STATISTICS_VERSION,
+                "fit": [self.mc, self.m_max],
             },
             attrs=self._attrs(),
             describe=(
@@ -191,7 +202,15 @@ class EnsembleJob:
             "boundary": str(p.boundary),
             "events_per_member": self.events,
             "threshold_spread": self.threshold_spread,
+            "b_value_fit": self._fit(),
         }
+
+    def _fit(self) -> str:
+        """Return the range of the members' b-value fits, in words (an attribute of the dataset)."""
+        if self.mc == "auto":
+            return "each member's power-law range" + ("" if self.m_max is None else f" below {self.m_max:g}")
+        low = "maximum curvature" if self.mc is None else f"{self.mc:g}"
+        return f"from {low}" + ("" if self.m_max is None else f" to {self.m_max:g}")
 
     def dataset(self, arrays: dict[str, Any]) -> xr.Dataset:
         """Return the ensemble's Dataset from its arrays."""
@@ -220,7 +239,8 @@ class _Member:
             out = os.path.join(job.catalogs, f"seed-{self.seed}.nc")
         res = chain(
             p, job.events, init=job.init, seed=self.seed, amplitude=job.amplitude, transient=job.transient,
-            out=out, resume=out is not None, rtol=job.rtol, atol=job.atol, progress=False,
+            out=out, resume=out is not None, rtol=job.rtol, atol=job.atol, mc=job.mc, m_max=job.m_max,
+            progress=False,
         )  # fmt: skip
         s = res.summary()
         res.catalog.close()

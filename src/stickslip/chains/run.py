@@ -28,7 +28,7 @@ from ..io.errors import DataError
 from ..io.progress import progress_bar
 from .catalog import COLUMNS, CatalogWriter, open_catalog, read_state
 from .model import ChainParameters, Init, initial_positions
-from .statistics import BValue, b_value
+from .statistics import BValue, b_value, check_fit_range
 
 __all__ = ["ChainResult", "chain"]
 
@@ -237,6 +237,7 @@ def chain(
     rtol, atol = validate_tolerances(rtol, atol)
     if not (t_max > 0):
         raise ValueError(f"t_max={t_max!r}: expected a positive time")
+    mc, m_max = check_fit_range(mc, m_max)  # before the run, not after it
     try:
         init_s = str(Init(init)) if state is None else "state"
     except ValueError:

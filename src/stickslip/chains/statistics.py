@@ -50,6 +50,7 @@ __all__ = [
     "BValue",
     "b_value",
     "block_length",
+    "check_fit_range",
     "completeness_magnitude",
     "magnitude_frequency",
     "power_law_range",
@@ -190,6 +191,33 @@ class BValue:
                     share * np.expm1(-beta * (self.m_max - mm)) / math.expm1(-beta * (self.m_max - self.mc))
                 )
         return np.asarray(self.n * share + n_above, dtype=float)
+
+
+def check_fit_range(mc: float | str | None, m_max: float | None) -> tuple[float | str | None, float | None]:
+    """Return the range ``(mc, m_max)`` of a b-value fit, checked; ``ValueError`` names a bad end.
+
+    ``mc``: a finite magnitude, ``"auto"`` (:func:`power_law_range`) or None
+    (maximum curvature); ``m_max``: None or a finite magnitude, above ``mc``
+    where ``mc`` is a magnitude.
+    """
+    if isinstance(mc, str):
+        if mc != "auto":
+            raise ValueError(f"mc={mc!r}: expected a magnitude, 'auto' or None (maximum curvature)")
+    elif mc is not None:
+        try:
+            mc = float(mc)
+        except (TypeError, ValueError):
+            raise ValueError(f"mc={mc!r}: expected a magnitude, 'auto' or None (maximum curvature)") from None
+        if not math.isfinite(mc):
+            raise ValueError(f"mc={mc!r}: expected a finite magnitude")
+    if m_max is not None:
+        try:
+            m_max = float(m_max)
+        except (TypeError, ValueError):
+            raise ValueError(f"m_max={m_max!r}: expected a magnitude or None") from None
+        if not math.isfinite(m_max) or (isinstance(mc, float) and not m_max > mc):
+            raise ValueError(f"m_max={m_max!r}: expected a finite magnitude above mc={mc!r}")
+    return mc, m_max
 
 
 def magnitude_frequency(
@@ -531,9 +559,8 @@ def b_value(
     whole = isinstance(block, (int, np.integer)) and not isinstance(block, bool) and block >= 1
     if block != "auto" and not whole:
         raise ValueError(f"block={block!r}: expected a whole number of events >= 1 or 'auto'")
+    mc, m_max = check_fit_range(mc, m_max)
     if isinstance(mc, str):
-        if mc != "auto":
-            raise ValueError(f"mc={mc!r}: expected a magnitude, 'auto' or None (maximum curvature)")
         mc_, top, _ = power_law_range(mm, m_max=m_max, bin_width=bin_width)
         method = "power-law range"
         if not math.isfinite(mc_):  # too few events to scan: the whole catalogue

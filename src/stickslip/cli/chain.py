@@ -164,16 +164,17 @@ def register(main: click.Group) -> None:
                 thresholds=phi,
                 backslip=backslip,
             )
-        if seeds is None:  # the usage errors first, then the warnings
-            if store or scheduler or workers:
-                raise click.UsageError("--store, --scheduler and --workers go with --seeds (an ensemble)")
-            mc_ = _mc(mc)
-            above = not isinstance(mc_, float) or (m_max is not None and m_max > mc_)
-            if m_max is not None and not (math.isfinite(m_max) and above):
-                raise click.UsageError(f"--m-max={m_max!r}: expected a finite magnitude above --mc ({mc})")
+        # the usage errors first, then the warnings
+        if seeds is None and (store or scheduler or workers):
+            raise click.UsageError("--store, --scheduler and --workers go with --seeds (an ensemble)")
+        mc_ = _mc(mc)
+        above = not isinstance(mc_, float) or (m_max is not None and m_max > mc_)
+        if m_max is not None and not (math.isfinite(m_max) and above):
+            raise click.UsageError(f"--m-max={m_max!r}: expected a finite magnitude above --mc ({mc})")
         _warn_unused_seed(init, threshold_spread, seeds is not None)
         if seeds is not None:
-            _ensemble(params, events, seeds, threshold_spread, init, amplitude, transient, opts, store,
+            fit = {"mc": mc_, "m_max": m_max}
+            _ensemble(params, events, seeds, threshold_spread, init, amplitude, transient, opts, fit, store,
                       scheduler, workers, quiet, as_json, out_dir, overwrite)  # fmt: skip
             return
         kw: dict[str, Any] = dict(
@@ -356,6 +357,7 @@ def _ensemble(
     amplitude: float,
     transient: int,
     opts: dict[str, Any],
+    fit: dict[str, Any],
     store: str | None,
     scheduler: str | None,
     workers: int | None,
@@ -370,7 +372,7 @@ def _ensemble(
 
     ds = chain_ensemble(
         params, events, _seeds(seeds), threshold_spread=spread, init=init, amplitude=amplitude,
-        transient=transient, rtol=opts["rtol"], atol=opts["atol"], store=store, scheduler=scheduler,
+        transient=transient, rtol=opts["rtol"], atol=opts["atol"], **fit, store=store, scheduler=scheduler,
         workers=workers, progress=False if quiet else None,
     )  # fmt: skip
     if store is not None:
@@ -403,6 +405,7 @@ def _ensemble(
         "b_value_mean": b_mean,
         "b_value_std": b_std,
         "b_value_err_mean": err_mean,
+        "b_value_fit": ds.attrs["b_value_fit"],
         "events": int(ds["events"].sum()),
         "per_member": members,
     }
@@ -413,7 +416,7 @@ def _ensemble(
         click.echo(f"events               {summary['events']}")
         click.echo(
             f"b-value              {_shown(b_mean, '.4g')} (spread {_shown(b_std, '.2g')} over seeds; "
-            f"each member's error {_shown(err_mean, '.2g')} on average)"
+            f"each member's error {_shown(err_mean, '.2g')} on average; fitted {ds.attrs['b_value_fit']})"
         )
         if out_dir:
             click.echo(f"wrote {out_dir}/ensemble.nc")
