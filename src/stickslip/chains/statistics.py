@@ -200,24 +200,25 @@ def check_fit_range(mc: float | str | None, m_max: float | None) -> tuple[float 
     (maximum curvature); ``m_max``: None or a finite magnitude, above ``mc``
     where ``mc`` is a magnitude.
     """
-    if isinstance(mc, str):
-        if mc != "auto":
-            raise ValueError(f"mc={mc!r}: expected a magnitude, 'auto' or None (maximum curvature)")
-    elif mc is not None:
-        try:
-            mc = float(mc)
-        except (TypeError, ValueError):
-            raise ValueError(f"mc={mc!r}: expected a magnitude, 'auto' or None (maximum curvature)") from None
-        if not math.isfinite(mc):
-            raise ValueError(f"mc={mc!r}: expected a finite magnitude")
+    if isinstance(mc, str) and mc != "auto":
+        raise ValueError(f"mc={mc!r}: expected a magnitude, 'auto' or None (maximum curvature)")
+    if mc is not None and not isinstance(mc, str):
+        mc = _magnitude("mc", mc, "a finite magnitude, 'auto' or None (maximum curvature)")
     if m_max is not None:
-        try:
-            m_max = float(m_max)
-        except (TypeError, ValueError):
-            raise ValueError(f"m_max={m_max!r}: expected a magnitude or None") from None
-        if not math.isfinite(m_max) or (isinstance(mc, float) and not m_max > mc):
+        m_max = _magnitude("m_max", m_max, f"a finite magnitude above mc={mc!r}, or None")
+        if isinstance(mc, float) and not m_max > mc:
             raise ValueError(f"m_max={m_max!r}: expected a finite magnitude above mc={mc!r}")
     return mc, m_max
+
+
+def _magnitude(name: str, value: object, expected: str) -> float:
+    try:
+        out = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        out = math.nan
+    if not math.isfinite(out):
+        raise ValueError(f"{name}={value!r}: expected {expected}")
+    return out
 
 
 def magnitude_frequency(
