@@ -219,6 +219,16 @@ BAD = [
     (["simulate", "--preset", "zv", "--duration", "-3 s", "--no-plot"], "must be positive"),
     (["simulate", "--nu", "0.1", "--c", "3", "--points", "1", "--no-plot"], "n_points=1"),
     (["simulate", "--nu", "0.1", "--c", "3", "--cycles", "0", "--no-plot"], "cycles=0.0"),
+    # options that reached nothing in that combination: refused, no longer dropped without a word
+    (["simulate", "--nu", "0.1", "--c", "3", "--duration", "50", "--cycles", "3"], "--duration or --cycles"),
+    (["cycle", "--law", "expr", "--mu", "0.46/(1+160*v)", "--preset", "zv", "--mu-s", "0.9"], "is --static"),
+    (["cycle", "--law", "expr", "--mu", "0.46/(1+160*v)", "--preset", "zv", "--a", "1 s/m"], "--a: not opt"),
+    (["regimes", "--c", "3.8", "--nu-min", "0.05", "--nu-max", "2", "--rtol", "1e-8"], "own tolerances"),
+    (["cycle", "--law", "expr", "--f", "1/(1+3*w)", "--nu", "0.1", "--interpolation", "cubic"], "law table"),
+    (
+        ["chain", "--blocks", "5", "--events", "3", "--nu", "0.1", "--c", "3", "--seeds", "1,2", "--resume"],
+        "an ensemble resumes from its --store",
+    ),
 ]
 
 

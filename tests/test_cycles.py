@@ -111,3 +111,18 @@ def test_cli(tmp_path) -> None:
     assert d["budget"]["energy_error"] < 1e-8
     assert (tmp_path / "cycles.png").stat().st_size > 20_000
     assert (tmp_path / "catalog_quasi-dynamic.csv").read_text().count("\n") > 10
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--stiffness", "1.5e7 Pa/m", "--stiffness-ratio", "0.7"], "--stiffness or --stiffness-ratio"),
+        (["--mass", "1e9 kg/m^2"], "give --inertial with it"),
+    ],
+)
+def test_cli_refuses_options_that_would_reach_nothing(args: list[str], message: str, tmp_path) -> None:
+    """Once ignored without a word: the ratio beside a stiffness, a mass without the inertial slider."""
+    res = CliRunner().invoke(
+        main, ["earthquake-cycles", "--duration", "10 yr", *args, "--out", str(tmp_path)]
+    )
+    assert res.exit_code == 2 and message in res.output, res.output

@@ -260,6 +260,14 @@ def test_ratestate_cli(tmp_path) -> None:
     )
     assert res.exit_code == 0, res.output
     assert "hold 10 s: peak friction change" in res.output
+    # --sample reaches the slide-hold-slide run (it was dropped, with --atol)
+    fine = [*RS, "--stiffness-per-load", "5 1/mm", "--holds", "1 s", "--v-slide", "1 um/s"]
+    a = CliRunner().invoke(main, [*fine, "--out", str(tmp_path / "a")])
+    b = CliRunner().invoke(main, [*fine, "--sample", "0.5 s", "--out", str(tmp_path / "b")])
+    assert a.exit_code == 0 and b.exit_code == 0, a.output + b.output
+    na = xr.load_dataset(tmp_path / "a" / "ratestate.nc").sizes["time"]
+    nb = xr.load_dataset(tmp_path / "b" / "ratestate.nc").sizes["time"]
+    assert na != nb
 
 
 @pytest.mark.parametrize(
@@ -271,6 +279,14 @@ def test_ratestate_cli(tmp_path) -> None:
         (["--stiffness", "1e4 N/m", "--steps", "1 um/s"], "needs load"),
         (["--stiffness-per-load", "5 N", "--steps", "1 um/s"], "has dimension"),
         (["--stiffness-per-load", "5 1/mm", "--steps", "1 um/s", "--law", "ruina"], "unknown name 'ruina'"),
+        # one protocol's options given to another reached nothing (they were dropped without a word)
+        (["--stiffness-per-load", "5 1/mm", "--steps", "1 um/s", "--v-slide", "1 um/s"], "--v-slide goes"),
+        (
+            ["--stiffness-per-load", "5/mm", "--steps", "1um/s", "--durations", "1s", "--displacement", "1m"],
+            "give --displacement (one for all)",
+        ),
+        (["--stiffness-per-load", "5 1/mm", "--holds", "1 s", "--v-slide", "1 um/s", "--atol", "-1"], "atol"),
+        (["--stiffness-per-load", "5 1/mm", "--steps", "1 um/s", "--nagata-c", "50"], "with --law nagata"),
     ],
 )
 def test_ratestate_cli_errors(args: list[str], message: str, tmp_path) -> None:

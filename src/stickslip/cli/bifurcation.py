@@ -81,6 +81,17 @@ def register(main: click.Group) -> None:
 
         if opts.get("nu") is not None:
             raise click.UsageError("--nu: 'regimes' scans nu; give --nu-min and --nu-max instead")
+        ctx = click.get_current_context()
+        given = [
+            f"--{k}"
+            for k in ("rtol", "atol", "v0")
+            if ctx.get_parameter_source(k) is click.core.ParameterSource.COMMANDLINE
+        ]
+        unused = [g for g in given if g != "--v0"]
+        if unused:  # they reached nothing: the continuation sets its own tolerances
+            raise click.UsageError(f"{', '.join(unused)}: 'regimes' sets its own tolerances")
+        if given:
+            click.echo("warning: --v0 does nothing in 'regimes' (it scans nu; only beta is used)", err=True)
         physical = any(
             opts.get(k) is not None
             for k in ("v0", "mass", "beta", "stiffness", "load", "preset", "mu", "table")

@@ -167,6 +167,8 @@ def register(main: click.Group) -> None:
         # the usage errors first, then the warnings
         if seeds is None and (store or scheduler or workers):
             raise click.UsageError("--store, --scheduler and --workers go with --seeds (an ensemble)")
+        if seeds is not None and resume:
+            raise click.UsageError("--resume is for one chain's --out; an ensemble resumes from its --store")
         mc_ = _mc(mc)
         above = not isinstance(mc_, float) or (m_max is not None and m_max > mc_)
         if m_max is not None and not (math.isfinite(m_max) and above):

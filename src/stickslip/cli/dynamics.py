@@ -103,6 +103,9 @@ def register(main: click.Group) -> None:
         from ..dynamics.trajectory import simulate as run
         from ..io.output import OutputFolder
 
+        given = click.get_current_context().get_parameter_source("cycles")
+        if duration is not None and given is click.core.ParameterSource.COMMANDLINE:
+            raise click.UsageError("give --duration or --cycles, not both")
         params = build_parameters(opts, default_preset=True)
         dur: Any = duration
         if duration is not None and isinstance(params, DimensionlessParameters):

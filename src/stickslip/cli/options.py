@@ -498,10 +498,13 @@ def _physical_setup(opts: dict[str, Any], what: str) -> dict[str, Any]:
     o = dict(opts)
     if o.get("preset") == "zv":
         _zv_defaults(o)
-    dim_given, _ = _law_values_given(o)
-    stray = [k for k in dim_given if k != "nu"]
+    dim_given, phys_given = _law_values_given(o)
+    # a registered law's options (--a, --mu-s, --mu0, ...) set nothing here: refused, not dropped
+    stray = [k for k in dim_given if k != "nu"] + [k for k in phys_given if k not in (*SETUP, "beta")]
     if stray:
-        raise click.UsageError(f"{', '.join(map(opt, stray))}: not options of {what}")
+        static = any(k == "mu_s" or k in _static_aliases() for k in stray)
+        hint = " (the static coefficient is --static)" if static else ""
+        raise click.UsageError(f"{', '.join(map(opt, stray))}: not options of {what}{hint}")
     return o
 
 
@@ -514,6 +517,10 @@ def _expression(opts: dict[str, Any]) -> DimensionlessParameters | PhysicalParam
     for k in ("table",):
         if opts.get(k) is not None:
             raise click.UsageError(f"{opt(k)} belongs to --law table")
+    ctx = click.get_current_context(silent=True)
+    source = None if ctx is None else ctx.get_parameter_source("interpolation")
+    if source is click.core.ParameterSource.COMMANDLINE:
+        raise click.UsageError("--interpolation belongs to --law table (a formula is not interpolated)")
     given = params_of(opts)
     static = opts.get("static")
     if f is not None:
@@ -546,6 +553,8 @@ def _table(opts: dict[str, Any]) -> PhysicalParameters:
     for k in ("f", "mu"):
         if opts.get(k) is not None:
             raise click.UsageError(f"{opt(k)} belongs to --law expr")
+    if opts.get("param"):
+        raise click.UsageError("--param belongs to --law expr: a table has no parameters (its points)")
     o = _physical_setup(opts, "--law table (a physical law)")
     if o.get("nu") is not None:
         raise click.UsageError("--nu: a table is physical: give --v0 --mass --stiffness --load")

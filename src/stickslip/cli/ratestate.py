@@ -235,6 +235,16 @@ def register(main: click.Group) -> None:
             )
         if steps is None and (durations or displacements):
             raise click.UsageError("--durations and --displacements go with --steps")
+        # options of one protocol given to another reach nothing: refused, not dropped
+        if holds is None and v_slide is not None:
+            raise click.UsageError("--v-slide goes with --holds")
+        if history is not None and displacement is not None:
+            raise click.UsageError("--displacement goes with --steps or --holds, not --history")
+        if (durations or displacements) and displacement is not None:
+            raise click.UsageError("give --displacement (one for all) or --durations/--displacements")
+        laws = law or ("aging",)
+        if nagata_c != 0.0 and "nagata" not in laws:
+            raise click.UsageError(f"--nagata-c goes with --law nagata (the laws here: {', '.join(laws)})")
         params = RateStateParameters(
             a=a,
             b=b if len(b) > 1 else b[0],
@@ -269,7 +279,7 @@ def register(main: click.Group) -> None:
             if v_slide is None:
                 raise click.UsageError("--holds needs --v-slide")
             assert holds is not None
-            ds = slide_hold_slide(params, v_slide, _split(holds), displacement=displacement, rtol=rtol)
+            ds = slide_hold_slide(params, v_slide, _split(holds), displacement=displacement, **opts)
         from ..io.lab import format_lab_record
         from ..io.output import OutputFolder, text_writer
 
@@ -302,6 +312,9 @@ def register(main: click.Group) -> None:
         if "peak_friction_change" in ds:
             for t_h, dmu in zip(ds.hold_time.values, ds.peak_friction_change.values, strict=True):
                 click.echo(f"hold {t_h:g} s: peak friction change {dmu:.6g}")
+
+
+_COMMANDLINE = click.core.ParameterSource.COMMANDLINE
 
 
 def _split(text: str) -> list[str]:
@@ -461,6 +474,11 @@ def register_cycles(main: click.Group) -> None:
         from ..ratestate.cycles import YEAR, SpringSliderFault, recurrence_estimate
         from ..ratestate.cycles import earthquake_cycles as run_cycles
 
+        ctx = click.get_current_context()
+        if stiffness is not None and ctx.get_parameter_source("stiffness_ratio") is _COMMANDLINE:
+            raise click.UsageError("give --stiffness or --stiffness-ratio, not both")
+        if mass is not None and not inertial:
+            raise click.UsageError("--mass is the inertial slider's: give --inertial with it")
         fault = SpringSliderFault(
             a=a, b=b, dc=dc, normal_stress=normal_stress, plate_rate=plate_rate, f0=f0, v0=v0, eta=eta,
             stiffness=stiffness, stiffness_ratio=stiffness_ratio, mass=mass,

@@ -595,13 +595,16 @@ def slide_hold_slide(
     *,
     displacement: Any = None,
     n_points: int = 400,
+    sample: Any = None,
     rtol: float | None = None,
+    atol: float = 1e-15,
 ) -> xr.Dataset:
     """Run a slide-hold-slide test: slide, then for each hold time hold and slide again.
 
     Returns the time series and, over a ``hold`` dimension, ``hold_time`` (s) and
     ``peak_friction_change`` (the peak friction on reloading minus the steady
-    friction before the hold: the healing).
+    friction before the hold: the healing). ``n_points``, ``sample``, ``rtol``
+    and ``atol`` are those of :func:`simulate_rate_state`.
     """
     v = parse_quantity(v_slide, "v_slide", "[length] / [time]", "1 um/s")
     d = (
@@ -618,7 +621,7 @@ def slide_hold_slide(
         hist += [(hq, Q_(0.0, "m/s")), slide]
     if not hold_s:
         raise ValueError("holds is empty: give at least one hold time")
-    ds = simulate_rate_state(params, hist, n_points=n_points, rtol=rtol)
+    ds = simulate_rate_state(params, hist, n_points=n_points, sample=sample, rtol=rtol, atol=atol)
     t = ds.time.values
     bounds = np.concatenate([[0.0], np.cumsum([_history([h])[0][0] for h in hist])])
     mu = ds.friction.values
