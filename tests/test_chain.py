@@ -735,6 +735,8 @@ def test_command_line_warns_where_seed_or_amplitude_cannot_matter() -> None:
     assert same.exit_code == 0 and seed.exit_code == 0, same.output + seed.output
     assert "members of --seeds are identical" in same.output
     assert "--seed is not used with --seeds" in seed.output
+    noplot = CliRunner().invoke(main, [*ensemble, "--seeds", "1..2", "--no-plot"])
+    assert noplot.exit_code == 0 and "--no-plot does nothing with --seeds" in noplot.output
     # a usage error comes alone, before any warning
     misuse = CliRunner().invoke(main, [*base, "--init", "uniform", "--seed", "4", "--workers", "2"])
     assert misuse.exit_code == 2 and "go with --seeds" in misuse.output

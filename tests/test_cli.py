@@ -224,6 +224,7 @@ BAD = [
     (["cycle", "--law", "expr", "--mu", "0.46/(1+160*v)", "--preset", "zv", "--mu-s", "0.9"], "is --static"),
     (["cycle", "--law", "expr", "--mu", "0.46/(1+160*v)", "--preset", "zv", "--a", "1 s/m"], "--a: not opt"),
     (["regimes", "--c", "3.8", "--nu-min", "0.05", "--nu-max", "2", "--rtol", "1e-8"], "own tolerances"),
+    (["regimes", "--c", "3.8", "--nu-min", "0.05", "--nu-max", "2", "--map-n", "5"], "--map-n goes with"),
     (["cycle", "--law", "expr", "--f", "1/(1+3*w)", "--nu", "0.1", "--interpolation", "cubic"], "law table"),
     (
         ["chain", "--blocks", "5", "--events", "3", "--nu", "0.1", "--c", "3", "--seeds", "1,2", "--resume"],

@@ -87,6 +87,8 @@ def register(main: click.Group) -> None:
             for k in ("rtol", "atol", "v0")
             if ctx.get_parameter_source(k) is click.core.ParameterSource.COMMANDLINE
         ]
+        if map_spec is None and ctx.get_parameter_source("map_n") is click.core.ParameterSource.COMMANDLINE:
+            raise click.UsageError("--map-n goes with --map (the points of the mapped parameter)")
         unused = [g for g in given if g != "--v0"]
         if unused:  # they reached nothing: the continuation sets its own tolerances
             raise click.UsageError(f"{', '.join(unused)}: 'regimes' sets its own tolerances")

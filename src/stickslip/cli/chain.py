@@ -169,6 +169,8 @@ def register(main: click.Group) -> None:
             raise click.UsageError("--store, --scheduler and --workers go with --seeds (an ensemble)")
         if seeds is not None and resume:
             raise click.UsageError("--resume is for one chain's --out; an ensemble resumes from its --store")
+        if seeds is not None and no_plot:
+            click.echo("warning: --no-plot does nothing with --seeds (an ensemble draws no figure)", err=True)
         mc_ = _mc(mc)
         above = not isinstance(mc_, float) or (m_max is not None and m_max > mc_)
         if m_max is not None and not (math.isfinite(m_max) and above):
