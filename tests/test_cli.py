@@ -347,3 +347,12 @@ def test_sweep_bad_input(args: list[str], message: str, tmp_path: Path) -> None:
     assert res.exit_code == 2, res.output
     assert message in res.output
     assert "Traceback" not in res.output
+
+
+def test_sweep_warns_where_num_and_log_space_no_range(tmp_path: Path) -> None:
+    """--num and --log space ranges 'A..B' only: over lists they did nothing, without a word."""
+    lists = run("sweep", "--nu", "0.1,0.2", "--c", "3", "--num", "5", "--log", "--out", f"{tmp_path}/a.nc")
+    assert lists.exit_code == 0, lists.output
+    assert "warning: --num and --log space ranges" in lists.output
+    ranged = run("sweep", "--nu", "0.1..0.2", "--c", "3", "--num", "2", "--out", str(tmp_path / "b.nc"))
+    assert ranged.exit_code == 0 and "warning" not in ranged.output, ranged.output

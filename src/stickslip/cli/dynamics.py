@@ -213,6 +213,10 @@ def register(main: click.Group) -> None:
                 "nothing to sweep: give a range such as --v0 '5 um/s..1000 um/s' "
                 "or a list such as --b '0 s/m,100 s/m'"
             )
+        source = click.get_current_context().get_parameter_source("num")
+        num_given = source is click.core.ParameterSource.COMMANDLINE
+        if (num_given or log_spacing) and not any(".." in str(v) for v in ranged.values()):
+            click.echo("warning: --num and --log space ranges 'A..B'; the axes here are lists", err=True)
         # each axis parsed once; its first value fixes the base set-up
         user = params_of(opts)
         grid: dict[str, Any] = {}
