@@ -356,3 +356,24 @@ def test_sweep_warns_where_num_and_log_space_no_range(tmp_path: Path) -> None:
     assert "warning: --num and --log space ranges" in lists.output
     ranged = run("sweep", "--nu", "0.1..0.2", "--c", "3", "--num", "2", "--out", str(tmp_path / "b.nc"))
     assert ranged.exit_code == 0 and "warning" not in ranged.output, ranged.output
+
+
+def test_file_flags_warn_where_no_file_is_written(tmp_path: Path) -> None:
+    """--overwrite and --no-plot act on --out's files: without --out they reached nothing, unsaid."""
+    store = run(
+        "sweep", "--nu", "0.1,0.2", "--c", "3", "--store", f"{tmp_path}/s.zarr", "--no-plot", "--overwrite"
+    )
+    assert store.exit_code == 0, store.output
+    assert "warning: --no-plot and --overwrite do nothing with --store alone" in store.output
+    written = run("sweep", "--nu", "0.1,0.2", "--c", "3", "--store", f"{tmp_path}/t.zarr",
+                  "--out", f"{tmp_path}/t.nc", "--no-plot", "--overwrite")  # fmt: skip
+    assert written.exit_code == 0 and "warning" not in written.output, written.output
+    chain = ["chain", "--blocks", "3", "--events", "3", "--c", "3", "--nu", "0.1", "--quiet", "--json"]
+    one = run(*chain, "--no-plot")
+    assert one.exit_code == 0 and "warning: --no-plot does nothing without --out" in one.output, one.output
+    ensemble = run(*chain, "--seeds", "1..2", "--overwrite")
+    assert ensemble.exit_code == 0 and "warning: --overwrite does nothing without --out" in ensemble.output
+    regimes = run("regimes", "--c", "3", "--nu-min", "0.2", "--nu-max", "0.4", "--overwrite")
+    assert regimes.exit_code == 0 and "warning: --overwrite does nothing without --out" in regimes.output
+    quiet = run("regimes", "--c", "3", "--nu-min", "0.2", "--nu-max", "0.4")
+    assert quiet.exit_code == 0 and "warning" not in quiet.output, quiet.output

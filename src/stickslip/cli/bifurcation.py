@@ -10,7 +10,15 @@ import numpy as np
 
 from ..models.parameters import PhysicalParameters
 from .errors import handle_errors
-from .options import build_parameters, law_command, overwrite_option, parse_axis, scale_options, scale_report
+from .options import (
+    build_parameters,
+    law_command,
+    overwrite_option,
+    parse_axis,
+    scale_options,
+    scale_report,
+    warn_unwritten,
+)
 
 __all__ = ["register"]
 
@@ -78,6 +86,8 @@ def register(main: click.Group) -> None:
 
         if map_spec is None and (store or scheduler or workers):
             raise click.UsageError("--store, --scheduler and --workers go with --map (the regime map)")
+        if out_dir is None:
+            warn_unwritten(("overwrite",), "without --out")
 
         if opts.get("nu") is not None:
             raise click.UsageError("--nu: 'regimes' scans nu; give --nu-min and --nu-max instead")

@@ -11,7 +11,14 @@ import click
 import numpy as np
 
 from .errors import handle_errors
-from .options import build_parameters, law_command, overwrite_option, scale_options, scale_report
+from .options import (
+    build_parameters,
+    law_command,
+    overwrite_option,
+    scale_options,
+    scale_report,
+    warn_unwritten,
+)
 
 __all__ = ["register"]
 
@@ -171,6 +178,8 @@ def register(main: click.Group) -> None:
             raise click.UsageError("--resume is for one chain's --out; an ensemble resumes from its --store")
         if seeds is not None and no_plot:
             click.echo("warning: --no-plot does nothing with --seeds (an ensemble draws no figure)", err=True)
+        if out_dir is None:
+            warn_unwritten(("overwrite",) if seeds is not None else ("no_plot", "overwrite"), "without --out")
         mc_ = _mc(mc)
         above = not isinstance(mc_, float) or (m_max is not None and m_max > mc_)
         if m_max is not None and not (math.isfinite(m_max) and above):

@@ -197,7 +197,7 @@ def register(main: click.Group) -> None:
         from ..dynamics.sweep import sweep as run_sweep
         from ..io.output import OutputFolder
         from ..plots.figures import plot_sweep, save_figure
-        from .options import params_of
+        from .options import params_of, warn_unwritten
 
         if num < 2:
             raise click.UsageError(f"invalid value: --num={num}: expected at least 2 points per range")
@@ -243,6 +243,9 @@ def register(main: click.Group) -> None:
             backend=backend,
         )
         if store is not None and out_path is None:
+            warn_unwritten(
+                ("no_plot", "overwrite"), "with --store alone (the store is the output; add --out for files)"
+            )
             ds = run_sweep(params, grid, **kw)
             scale_report(ds)
             _regime_counts(ds)

@@ -325,6 +325,24 @@ def overwrite_option(func: Callable[..., Any]) -> Any:
     )(func)
 
 
+def warn_unwritten(flags: Sequence[str], why: str) -> None:
+    """Warn that those of ``flags`` (parameter names) given on the command line do nothing.
+
+    ``--overwrite`` and ``--no-plot`` act on files; where a command writes none (no ``--out``),
+    they reach nothing, and saying so beats dropping them without a word.
+    """
+    ctx = click.get_current_context()
+    given = [
+        "--" + f.replace("_", "-")
+        for f in flags
+        if ctx.get_parameter_source(f) is click.core.ParameterSource.COMMANDLINE
+    ]
+    if given:
+        click.echo(
+            f"warning: {' and '.join(given)} {'does' if len(given) == 1 else 'do'} nothing {why}", err=True
+        )
+
+
 # ----------------------------------------------------------------------------- building a parameter set
 
 
