@@ -112,7 +112,9 @@ class BValue:
     slope_p : float
         The p-value of one slope against two (the halves apart); below
         :data:`SLOPE_CHANGE_LEVEL` the slope changes across the range, and it
-        is not a power law.
+        is not a power law. Nan where the test cannot be made (fewer than 2
+        events, or a half's events all at its lower end): ``power_law`` then
+        rests on KS alone.
 
     """
 
@@ -322,7 +324,9 @@ def slope_change(m: npt.ArrayLike, mc: float, m_max: float = math.inf) -> tuple[
     b_lower, b_upper, m_split, p : float
         The halves' b-values (nan for a half without events: its share is
         0, its slope free), the cut and the p-value (small: the slope
-        changes; nan with fewer than 2 events). The test holds its level
+        changes; nan with fewer than 2 events, and where a half's events all
+        sit at its lower end, whose slope has no finite fit: the b-values and
+        p nan, the cut given; :func:`power_law_range` then judges by KS alone). The test holds its level
         with few events in a half, down to one (rejections of truncated
         Gutenberg-Richter samples with 1-60 events above the cut: 0.6-1.6 %
         at 1 %, measured), but it is weak there.
