@@ -75,6 +75,21 @@ def test_dimensionless_sweep_equals_single_calls() -> None:
         assert bool(ds.steady_sliding_stable[i, 0]) == r.steady_sliding_stable
 
 
+def test_a_sweep_at_loose_tolerances_equals_cycle_on_slip_reversal() -> None:
+    """The slip-reversal orbit is measured again after polishing: at the sweep's tolerances.
+
+    It once ran at the defaults, so a sweep at rtol=1e-4 gave 4.917371 (the default's
+    amplitude) where cycle() gave 4.918455.
+    """
+    p = DimensionlessParameters(nu=1.0, law=CubicLaw(alpha=0.8235369798017035, gamma=0.04601251002566534))
+    for rtol in (1e-4, 1e-10):
+        r = cycle(p, rtol=rtol, probe=False)
+        ds = sweep(p, {"nu": [1.0]}, rtol=rtol, progress=False)
+        assert r.backward_slips > 0  # slip reversal: polished by the return map
+        assert float(ds.amplitude[0]) == r.amplitude and float(ds.peak_velocity[0]) == r.peak_velocity
+    assert cycle(p, rtol=1e-4, probe=False).amplitude - cycle(p, probe=False).amplitude > 1e-4
+
+
 def test_netcdf_round_trip(tmp_path: Path) -> None:
     ds = sweep(zv_parameters(), {"v0": Q_([5.0, 50.0, 500.0], "um/s")}, progress=False)
     path = tmp_path / "sub" / "sweep.nc"

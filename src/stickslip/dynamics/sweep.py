@@ -539,7 +539,9 @@ def _run_chunks(
             on_rows=None if bar is None else bar.advance,
             backend=backend,
         )
-        out[lo:hi], mult[lo:hi] = polish_rows((kernel, lp[lo:hi]), nu[lo:hi], rows)
+        # the slip-reversal orbits are measured again on the polished orbit: at the sweep's
+        # tolerances, as cycle() does (they once ran at the defaults)
+        out[lo:hi], mult[lo:hi] = polish_rows((kernel, lp[lo:hi]), nu[lo:hi], rows, rtol=rtol, atol=atol)
         if bar is not None:
             bar.update(0)
     if bar is not None:
