@@ -99,6 +99,10 @@ def test_bad_fault() -> None:
         SpringSliderFault(stiffness_ratio=1.5)
     with pytest.raises(ValueError, match="normal_stress"):
         SpringSliderFault(normal_stress="50 m")
+    # checked before the compiled loop: a nan rtol made it spin without end
+    for bad in ({"rtol": float("nan")}, {"rtol": -1.0}, {"atol": 0.0}, {"max_steps": 0}):
+        with pytest.raises(ValueError, match=f"{next(iter(bad))}="):
+            earthquake_cycles(BP1, "1 yr", **bad)
 
 
 def test_cli(tmp_path) -> None:

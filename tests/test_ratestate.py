@@ -181,6 +181,17 @@ def test_inertial_model() -> None:
     assert ds.friction.values[-1] == pytest.approx(float(p.steady_state_friction("10 um/s")), abs=1e-6)
 
 
+def test_inertial_model_takes_the_absolute_tolerance() -> None:
+    """atol reaches the inertial slider's Radau (it was fixed at 1e-12 / 1e-10 whatever was given)."""
+    p = RateStateParameters(**BASE, stiffness="1e4 N/m", load="10 N", mass="1 kg")
+    hist = [("10 s", "1 um/s"), ("30 s", "10 um/s")]
+    default = simulate_rate_state(p, hist, n_points=50)
+    tight = simulate_rate_state(p, hist, n_points=50, atol=1e-12)
+    loose = simulate_rate_state(p, hist, n_points=50, atol=1e-3)
+    assert abs(default.friction - tight.friction).max() < 1e-9
+    assert abs(default.friction - loose.friction).max() > 1e-6
+
+
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
@@ -197,6 +208,7 @@ def test_inertial_model() -> None:
         ({"stiffness_per_load": None, "stiffness": "1e4 N/m"}, "needs load"),
         ({"stiffness_per_load": None}, "give stiffness and load"),
         ({"mass": "1 kg"}, "mass needs load"),
+        ({"nagata_c": 0.5}, "nagata_c=0.5 with state_law='aging'"),  # it reached nothing
     ],
 )
 def test_bad_parameters(kwargs: dict, message: str) -> None:
@@ -222,6 +234,11 @@ def test_bad_protocol_input() -> None:
         velocity_steps(p, ["1 um/s", "0 um/s"])
     with pytest.raises(ValueError, match="holds is empty"):
         slide_hold_slide(p, "1 um/s", [])
+    with pytest.raises(ValueError, match="displacement='1 mm': one displacement for every step"):
+        velocity_steps(p, ["1 um/s", "10 um/s"], durations=["10 s", "30 s"], displacement="1 mm")
+    for bad in ({"max_steps": 0}, {"max_steps": 1.5}, {"max_seconds": float("nan")}, {"max_seconds": -1}):
+        with pytest.raises(ValueError, match=f"{next(iter(bad))}="):
+            simulate_rate_state(p, [("10 s", "1 um/s")], **bad)
     with pytest.raises(ValueError, match="quasi-static"):
         linear_stability(RateStateParameters(**BASE, stiffness="1e4 N/m", load="1 N", mass="1 kg"), "1 um/s")
 
@@ -424,7 +441,7 @@ def test_inertial_radau_is_scipys(n_states: int) -> None:
     y0 = np.concatenate([[mu_ss + 1e-3], [1e-3], np.zeros(n_states)])
     t_s = np.linspace(0.0, 0.75, 751)
     rtol = 1e-9
-    t_out, y_out, _, peaks = protocols._radau(p, history, y0.copy(), t_s, rtol, 10**6, 60.0)
+    t_out, y_out, _, peaks = protocols._radau(p, history, y0.copy(), t_s, rtol, None, 10**6, 60.0)
     atol = np.concatenate([[1e-12, 1e-12 * 2e-3], np.full(n_states, 1e-10)])
     segs = [t_s[(t_s >= 0.0) & (t_s <= 0.5)], t_s[(t_s > 0.5) & (t_s <= 0.75)]]
     ref, ref_peaks, ref_steps = _scipy_radau(p, history, y0, segs, rtol, atol)

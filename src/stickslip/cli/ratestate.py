@@ -177,9 +177,9 @@ def register(main: click.Group) -> None:
     @click.option(
         "--atol",
         type=float,
-        default=1e-15,
-        show_default=True,
-        help="Absolute tolerance on the spring friction and the log-states.",
+        default=None,
+        help="Absolute tolerance on the spring friction and the log-states "
+        "(default 1e-15 quasi-static; inertial 1e-12 on the friction, 1e-10 on the log-states).",
     )
     @out_dir_option("Output folder for ratestate.nc, ratestate.csv (a record) and ratestate.png/.svg.")
     @overwrite_option
@@ -207,7 +207,7 @@ def register(main: click.Group) -> None:
         history: str | None,
         sample: str | None,
         rtol: float | None,
-        atol: float,
+        atol: float | None,
         out_dir: str,
         overwrite: bool,
     ) -> None:

@@ -267,6 +267,13 @@ def earthquake_cycles(
 
     """
     t_end = float(parse_quantity(duration, "duration", "[time]", "3000 yr").to("s").magnitude)
+    # checked here: a nan tolerance once made the compiled loop spin without end
+    if isinstance(rtol, bool) or not (isinstance(rtol, float | int) and 1e-13 <= rtol <= 1e-3):
+        raise ValueError(f"rtol={rtol!r}: expected a relative tolerance between 1e-13 and 1e-3")
+    if isinstance(atol, bool) or not (isinstance(atol, float | int) and 0 < atol <= 1e-3):
+        raise ValueError(f"atol={atol!r}: expected an absolute tolerance in (0, 1e-3]")
+    if isinstance(max_steps, bool) or not isinstance(max_steps, int | np.integer) or max_steps < 1:
+        raise ValueError(f"max_steps={max_steps!r}: expected a positive integer")
     ve = float(parse_quantity(v_event, "v_event", "[length] / [time]", "1 mm/s").to("m/s").magnitude)
     P, S = fault.core_arrays(inertial)
     y0 = _initial(fault, P, S, inertial)

@@ -151,6 +151,11 @@ class RateStateParameters:
         ]
         set_(self, "nagata_c", cs[0] if len(set(cs)) == 1 else tuple(cs))
         for law, b_i, c_i in zip(self.laws, bs, cs, strict=True):
+            if law != "nagata" and c_i != 0:  # it would reach nothing
+                raise ValueError(
+                    f"nagata_c={c_i!r} with state_law={law!r}: the Nagata coefficient belongs to "
+                    "state_law='nagata' (give nagata_c=0, or state_law='nagata')"
+                )
             if law == "nagata" and c_i > 0 and b_i == 0:
                 raise ValueError("nagata_c > 0 needs b > 0 (the Nagata term is (c/b) Phi mu')")
         set_(self, "mu0", check_number(self.mu0, "mu0", what="a positive reference friction"))

@@ -101,7 +101,7 @@ def simulate_rate_state(
     n_points: int = 400,
     sample: Any = None,
     rtol: float | None = None,
-    atol: float = 1e-15,
+    atol: float | None = None,
     max_steps: int = 2_000_000,
     max_seconds: float = 60.0,
 ) -> xr.Dataset:
@@ -124,9 +124,12 @@ def simulate_rate_state(
         Output at exactly these times from the integrator's dense output:
         ``"1 s"`` gives 0, 1, 2, ... s to the end; or the times themselves (s).
     rtol, atol : float, optional
-        Relative and absolute tolerances (on the spring friction and the log-states);
+        Relative and absolute tolerances (on the spring friction and the log-states;
+        with inertia the velocity's is ``atol`` times the fastest load-point velocity);
         ``rtol`` defaults to 3e-13 for the quasi-static slider (velocities to about 1e-9
-        relative: the velocity is exponential in friction / A) and 1e-10 with inertia.
+        relative: the velocity is exponential in friction / A) and 1e-10 with inertia,
+        ``atol`` to 1e-15 for the quasi-static slider and with inertia to 1e-12 on the
+        friction and 1e-10 on the log-states.
     max_steps, max_seconds : optional
         Bounds on the work: beyond them the integration stops with an error.
 
@@ -165,8 +168,12 @@ def simulate_rate_state(
         rtol = 1e-10 if params.inertial else 3e-13
     if not (isinstance(rtol, float | int) and 1e-13 <= rtol <= 1e-3):
         raise ValueError(f"rtol={rtol!r}: expected a relative tolerance between 1e-13 and 1e-3")
-    if not (isinstance(atol, float | int) and 0 < atol <= 1e-3):
+    if atol is not None and not (isinstance(atol, float | int) and 0 < atol <= 1e-3):
         raise ValueError(f"atol={atol!r}: expected an absolute tolerance in (0, 1e-3]")
+    if isinstance(max_steps, bool) or not isinstance(max_steps, int | np.integer) or max_steps < 1:
+        raise ValueError(f"max_steps={max_steps!r}: expected a positive integer")
+    if isinstance(max_seconds, bool) or not (isinstance(max_seconds, float | int) and max_seconds > 0):
+        raise ValueError(f"max_seconds={max_seconds!r}: expected a positive number of seconds")
     P, S = params.core_arrays()
     n = params.n_states
     vr = float(P[core.P_VR])
@@ -214,10 +221,12 @@ def simulate_rate_state(
     else:
         t_s = sample_times(sample, total)
     if params.inertial:
-        t_out, y_out, vlp, peaks = _radau(params, hist, y, t_s, rtol, max_steps, max_seconds)
+        t_out, y_out, vlp, peaks = _radau(params, hist, y, t_s, rtol, atol, max_steps, max_seconds)
         u_out = None
     else:
-        t_out, y_out, u_out, vlp, peaks = _dop853(params, hist, y, t_s, rtol, atol, max_steps, max_seconds)
+        t_out, y_out, u_out, vlp, peaks = _dop853(
+            params, hist, y, t_s, rtol, 1e-15 if atol is None else atol, max_steps, max_seconds
+        )
     ds = _dataset(params, t_out, y_out, u_out, vlp, hist)
     return _with_peaks(ds, params, peaks)
 
@@ -328,6 +337,7 @@ def _radau(
     y: FloatArray,
     t_s: FloatArray,
     rtol: float,
+    atol: float | None,
     max_steps: int,
     max_seconds: float,
 ) -> tuple[FloatArray, FloatArray, FloatArray, dict[str, list[tuple[float, FloatArray]]]]:
@@ -337,7 +347,8 @@ def _radau(
     nv = y.size
     vr = float(P[core.P_VR])
     v_scale = max([v for _, v in hist if v > 0], default=vr)
-    atol = np.concatenate([[1e-12, 1e-12 * v_scale], np.full(n, 1e-10)])
+    a_mu, a_theta = (1e-12, 1e-10) if atol is None else (atol, atol)
+    atols = np.concatenate([[a_mu, a_mu * v_scale], np.full(n, a_theta)])
     started = time.monotonic()
     steps_total = 0
     times: list[FloatArray] = []
@@ -363,7 +374,7 @@ def _radau(
             # at most 20 000 steps per call, and never past the bound on the whole run
             budget = min(20_000, max_steps - steps_total - int(ws.st[radau.ST_STEPS]))
             status, nsamp, nev = radau.integrate_in(
-                P, S, n, float(v_lp), y, t1, rtol, atol, t_eval[js:], out[js:], ev, max(budget, 0), *ws
+                P, S, n, float(v_lp), y, t1, rtol, atols, t_eval[js:], out[js:], ev, max(budget, 0), *ws
             )
             js += nsamp
             for r in ev[:nev]:
@@ -516,6 +527,11 @@ def step_history(
         raise ValueError(f"velocities={velocities!r}: expected a sequence of velocities")
     if durations is not None and displacements is not None:
         raise ValueError("give durations or displacements for the steps, not both")
+    if displacement is not None and (durations is not None or displacements is not None):
+        raise ValueError(
+            f"displacement={displacement!r}: one displacement for every step, or durations/displacements "
+            "for each, not both"
+        )
     for name, seq in (("durations", durations), ("displacements", displacements)):
         if seq is not None and (isinstance(seq, str) or len(seq) != len(velocities)):
             raise ValueError(f"{name}={seq!r}: expected one per velocity ({len(velocities)} velocities)")
@@ -547,7 +563,7 @@ def velocity_steps(
     n_points: int = 400,
     sample: Any = None,
     rtol: float | None = None,
-    atol: float = 1e-15,
+    atol: float | None = None,
 ) -> xr.Dataset:
     """Run a velocity-step test: each load-point velocity held for a duration or a displacement.
 
@@ -597,7 +613,7 @@ def slide_hold_slide(
     n_points: int = 400,
     sample: Any = None,
     rtol: float | None = None,
-    atol: float = 1e-15,
+    atol: float | None = None,
 ) -> xr.Dataset:
     """Run a slide-hold-slide test: slide, then for each hold time hold and slide again.
 
