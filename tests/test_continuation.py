@@ -218,6 +218,16 @@ def test_regimes_bad_input() -> None:
         regime_map(CUBIC, "c", [1.0], 0.5, 1.0)
     with pytest.raises(ValueError, match="regime map of the coulomb law"):
         regime_map(CoulombLaw(kinetic=0.5), "kinetic", [0.5], 0.5, 1.0)
+    # the shooting tolerance: nan or negative once lost the pure-slip branch without a word
+    for tol in (float("nan"), -1.0, 0.0, 1.0):
+        with pytest.raises(ValueError, match="tol="):
+            regimes(CUBIC, 0.5, 1.0, tol=tol)
+    assert len(regimes(CUBIC, 0.5, 1.5, n_grid=np.int64(11)).intervals) == 3
+    # every value and the nu grid are checked before the first row (the map's n_nu, not n_grid)
+    with pytest.raises(ValueError, match="n_nu=4"):
+        regime_map(CUBIC, "alpha", [0.5], 0.5, 1.0, n_nu=4)
+    with pytest.raises(ValueError, match="gamma"):
+        regime_map(CUBIC, "gamma", [1 / 6, -1.0], 0.5, 1.0, progress=False)
 
 
 def run(*args: str):

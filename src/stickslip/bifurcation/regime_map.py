@@ -86,7 +86,7 @@ def regime_map(
     nu_min, nu_max : float
         Range of ``nu`` (a logarithmic grid when it spans more than a factor 20).
     n_nu : int, optional
-        Points of the ``nu`` grid.
+        Points of the ``nu`` grid (at least 5).
     progress : bool or callable, optional
         Progress bar (None: on a terminal, for long maps); a callable receives a
         :class:`~stickslip.scale.ProgressInfo` after each row.
@@ -111,11 +111,12 @@ def regime_map(
     vals = np.asarray(values, dtype=float)
     if vals.ndim != 1 or vals.size < 1 or not np.all(np.isfinite(vals)):
         raise ValueError(f"values={values!r}: expected a 1-d sequence of finite numbers")
-    _with(law, param, float(vals[0]))  # checks the name
+    for v in vals:  # the name, and every value before any row runs (not row by row, in the store)
+        _with(law, param, float(v))
     if not (0 < nu_min < nu_max) or not math.isfinite(nu_max):
         raise ValueError(f"nu_min={nu_min!r}, nu_max={nu_max!r}: expected 0 < nu_min < nu_max")
-    if isinstance(n_nu, bool) or not isinstance(n_nu, int | np.integer) or n_nu < 3:
-        raise ValueError(f"n_nu={n_nu!r}: expected a whole number of nu points >= 3")
+    if isinstance(n_nu, bool) or not isinstance(n_nu, int | np.integer) or n_nu < 5:
+        raise ValueError(f"n_nu={n_nu!r}: expected a whole number of nu points >= 5")
     job = RegimeMapJob(law, param, vals, float(nu_min), float(nu_max), int(n_nu))
     from ..scale import run_job
 

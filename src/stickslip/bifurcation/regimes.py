@@ -618,7 +618,7 @@ def regimes(
     Raises
     ------
     ValueError
-        For a non-positive or reversed range or too small a grid.
+        For a non-positive or reversed range, too small a grid or a tolerance out of range.
 
     Examples
     --------
@@ -634,8 +634,13 @@ def regimes(
     hi = check_number(nu_max, "nu_max")
     if hi <= lo:
         raise ValueError(f"nu_max={nu_max!r}: expected a value above nu_min={nu_min!r}")
-    if not (isinstance(n_grid, int) and n_grid >= 5):
+    if isinstance(n_grid, bool) or not (isinstance(n_grid, int | np.integer) and n_grid >= 5):
         raise ValueError(f"n_grid={n_grid!r}: expected an integer of at least 5")
+    n_grid = int(n_grid)
+    # as pure_slip_orbit's: a nan or negative tol once lost the pure-slip branch without a word
+    if isinstance(tol, bool) or not (isinstance(tol, float | int) and 1e-13 <= tol <= 1e-3):
+        raise ValueError(f"tol={tol!r}: expected a shooting tolerance between 1e-13 and 1e-3")
+    tol = float(tol)
     # Hopf points in a wider window: a branch born just outside the range may enter it
     h_all = hopf_points(law, max(lo / 10.0, 1e-6), min(hi * 10.0, 1e6))
     hopf_in = tuple(h for h in h_all if lo <= h.nu <= hi)
