@@ -43,6 +43,8 @@ def test_cycle_bad_params() -> None:
         ({"duration": -1.0}, "duration=-1.0"),
         ({"duration": "10 s"}, "duration="),
         ({"cycles": 0}, "cycles=0"),
+        ({"initial": (0.0, 0.0, 5.0)}, "initial=\\(0.0, 0.0, 5.0\\): expected a pair"),  # 5 was dropped
+        ({"cycles": 5, "duration": 10.0}, "cycles=5 and duration=10.0: give one or the other"),  # ignored
     ],
 )
 def test_simulate_bad_options(kwargs: dict, message: str) -> None:

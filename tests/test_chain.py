@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -21,11 +22,13 @@ from stickslip.chains import (
     chain,
     chain_ensemble,
     completeness_magnitude,
+    magnitude_frequency,
     open_catalog,
     static_thresholds,
 )
 from stickslip.chains.lyapunov import event_map, lyapunov_exponent
 from stickslip.chains.statistics import KS_CRITICAL_5, power_law_range, slope_change
+from stickslip.io.errors import DataError
 from stickslip.laws import CarlsonLangerLaw, CubicLaw, WeakeningLaw
 
 TIGHT = {"rtol": 1e-11, "atol": 1e-13}
@@ -426,6 +429,7 @@ def test_heterogeneous_thresholds_are_seeded() -> None:
         ({"boundary": "open"}, "boundary='open'"),
         ({"thresholds": np.ones(3)}, "thresholds: expected 4 values"),
         ({"thresholds": -np.ones(4)}, "thresholds: expected positive"),
+        ({"backslip": "no"}, "backslip='no'"),  # was stored, and counted as true
     ],
 )
 def test_bad_parameters_are_named(kwargs: dict[str, object], message: str) -> None:
@@ -443,6 +447,53 @@ def test_bad_run_arguments_are_named(tmp_path: Path) -> None:
         chain(p, 5, init="sideways")
     with pytest.raises(ValueError, match="does not exist"):
         chain(p, 5, out=tmp_path / "no" / "such.nc")
+    with pytest.raises(ValueError, match=r"events=2\.5"):
+        chain(p, 2.5)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="seed=-1"):
+        chain(p, 5, seed=-1)
+    with pytest.raises(ValueError, match="t_max='2 s': a dimensionless chain takes a number"):
+        chain(p, 5, t_max="2 s")  # type: ignore[arg-type]
+    # resume: without out it did nothing; beside state= it blamed the set-up
+    with pytest.raises(ValueError, match="resume=True needs out"):
+        chain(p, 5, resume=True)
+    first = chain(p, 5, out=tmp_path / "a.nc", progress=False)
+    first.catalog.close()
+    with pytest.raises(ValueError, match="state= and resume=True"):
+        chain(p, 8, out=tmp_path / "a.nc", resume=True, state=first.state)
+    # another atol is another set-up (it was resumed, mixing two tolerances)
+    with pytest.raises(DataError, match="another set-up"):
+        chain(p, 8, out=tmp_path / "a.nc", resume=True, atol=1e-6, progress=False)
+    again = chain(p, 8, out=tmp_path / "a.nc", resume=True, progress=False)
+    assert again.events == 8
+    again.catalog.close()
+    # the ensemble checks the same before its store is made (events=2.7 ran 2, seeds 1.7 ran 1)
+    for kw, message in (
+        ({"events": 2.7}, "events=2.7"),
+        ({"events": 0}, "events=0"),
+        ({"transient": 1.9}, "transient=1.9"),
+        ({"seeds": [1.7, 2.0]}, r"seeds\[0\]=1.7"),
+        ({"seeds": [-1]}, r"seeds\[0\]=-1"),
+        ({"amplitude": "x"}, "amplitude='x'"),
+        ({"init": "sideways"}, "init='sideways'"),
+        ({"rtol": float("nan")}, "rtol=nan"),
+    ):
+        args: dict[str, Any] = {"events": 3, "seeds": [1, 2]} | kw
+        with pytest.raises(ValueError, match=message):
+            chain_ensemble(p, store=tmp_path / "e.zarr", progress=False, **args)
+        assert not (tmp_path / "e.zarr").exists()
+    # b_value's own arguments
+    m = np.random.default_rng(0).exponential(0.43, 200)
+    for kw, message in (
+        ({"n_boot": -5}, "n_boot=-5"),
+        ({"n_boot": 2.5}, "n_boot=2.5"),
+        ({"seed": -1}, "seed=-1"),
+        ({"bin_width": 0.0}, "bin_width=0.0"),
+        ({"bin_width": float("nan")}, "bin_width=nan"),
+    ):
+        with pytest.raises(ValueError, match=message):
+            b_value(m, mc=0.0, **kw)
+    with pytest.raises(ValueError, match=r"bin_width=-0\.1"):
+        magnitude_frequency(m, -0.1)
 
 
 def test_physical_chain_has_units() -> None:
@@ -460,6 +511,14 @@ def test_physical_chain_has_units() -> None:
     np.testing.assert_allclose(r.catalog["t_start"].values, d.catalog["t_start"].values * t_unit, rtol=1e-12)
     with pytest.raises(ValueError, match="coupling"):
         ChainParameters.from_physical(phys, blocks=3, coupling="3 m")
+    # a physical chain's times: a number in units of sqrt(m/k_p), or a time with units
+    half = r.simulated_time / t_unit / 2  # units of sqrt(m/k_p): stops before the 10th event
+    by_number = chain(p, 10, t_max=half, progress=False)
+    by_units = chain(p, 10, t_max=f"{half * t_unit!r} s", progress=False)
+    assert by_number.events < 10 and by_units.events == by_number.events
+    assert by_units.simulated_time == pytest.approx(by_number.simulated_time, rel=1e-12)
+    with pytest.raises(ValueError, match="max_event_duration='3 m'"):
+        chain(p, 10, max_event_duration="3 m", progress=False)
 
 
 def test_command_line_json(tmp_path: Path) -> None:

@@ -59,6 +59,14 @@ def test_fit_needs_v0_and_load() -> None:
     bare = type(rec)(rec.name, rec.time, rec.force)
     with pytest.raises(ValueError, match="needs the driving velocity and the normal load"):
         fit_record(bare)
+    # starting values of parameters that are not fitted reached nothing, without a word
+    for guess, message in (
+        ({"mass": 5.0}, "'mass' is not a fitted parameter"),
+        ({"b": 10.0}, r"'b' is not a fitted parameter \(b is fitted with fit_b=True\)"),
+        ({"k": -1.0}, r"guess\['k'\]=-1.0 must be positive"),
+    ):
+        with pytest.raises(ValueError, match=message):
+            fit_record(rec, guess=guess)
 
 
 def test_fit_cli(tmp_path: Path) -> None:

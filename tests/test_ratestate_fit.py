@@ -124,6 +124,22 @@ def test_bad_input(tmp_path) -> None:
     assert res.exit_code != 0
     assert "expected [length] / [time]" in res.output
     assert "Traceback" not in res.output
+    # the fit's own arguments, checked before it runs (an unknown key of initial did nothing,
+    # a partial one was a KeyError, a bad value scipy's bounds error)
+    rec = read_lab_record(_record(tmp_path, "aging", ONE, STEPS_ONE, ONE["k_per_um"]), need_friction=True)
+    for kw, message in (
+        ({"initial": {"dc": 1e-5, "typo": 1.0}}, "initial: 'typo' is not a fitted parameter"),
+        ({"initial": {"stiffness_per_load": 2e3}}, "'stiffness_per_load' is not a fitted parameter"),
+        ({"initial": {"a": -0.01}}, r"initial\['a'\]=-0.01 must be positive"),
+        ({"initial": {"a": "x"}}, r"initial\['a'\]='x'"),
+        ({"window": ("5 s",)}, "expected \\(start, end\\) times"),
+        ({"mu0": "0.6 N"}, "mu0='0.6 N'"),
+    ):
+        with pytest.raises(ValueError, match=message):
+            fit_rate_state(rec, **kw)
+    # some starting values: the others from the steps
+    fit = fit_rate_state(rec, initial={"dc": 2e-5})
+    _check(fit.values, fit.errors, _truth_values(ONE))
 
 
 def test_slide_hold_slide_record(tmp_path) -> None:

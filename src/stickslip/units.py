@@ -19,7 +19,7 @@ Q_ = ureg.Quantity
 
 QuantityLike = pint.Quantity | str
 
-__all__ = ["Q_", "QuantityLike", "check_number", "parse_quantity", "ureg"]
+__all__ = ["Q_", "QuantityLike", "check_count", "check_number", "check_seed", "parse_quantity", "ureg"]
 
 
 def parse_quantity(
@@ -187,6 +187,31 @@ def check_number(
         rel = "<=" if upper_inclusive else "<"
         raise ValueError(f"{name}={value!r}: expected {what} {rel} {upper}")
     return x
+
+
+def check_count(value: Any, name: str, *, minimum: int = 1, what: str = "") -> int:
+    """Return ``value`` as an int after checking that it is a whole number >= ``minimum``.
+
+    A float, even a whole one, is refused: ``events=2.7`` once ran 2 events.
+
+    Raises
+    ------
+    ValueError
+        Naming ``name``, the value and what was expected.
+
+    """
+    import numpy as np
+
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
+        raise ValueError(f"{name}={value!r}: expected {what or 'a whole number'} >= {minimum}")
+    return int(value)
+
+
+def check_seed(seed: Any, name: str = "seed") -> int | None:
+    """Return a random seed (None or a whole number >= 0), or a ValueError naming ``name``."""
+    if seed is None:
+        return None
+    return check_count(seed, name, minimum=0, what="None or a whole-number seed")
 
 
 def _check_finite_sign(name: str, shown: Any, x: float, allow_zero: bool, what: str) -> None:

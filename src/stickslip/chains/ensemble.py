@@ -24,10 +24,12 @@ import xarray as xr
 
 from .. import defaults
 from ..core.results import ChainStatus
+from ..dynamics.cycle import validate_tolerances
 from ..scale.progress import ProgressLike
 from ..scale.store import Block, Layout, Variable
-from .model import ChainParameters, static_thresholds
-from .run import chain
+from ..units import check_count, check_number
+from .model import ChainParameters, Init, static_thresholds
+from .run import chain, check_events
 from .statistics import STATISTICS_VERSION, check_fit_range
 
 __all__ = ["EnsembleJob", "chain_ensemble"]
@@ -105,10 +107,21 @@ def chain_ensemble(
     """
     if not isinstance(params, ChainParameters):
         raise ValueError(f"params={params!r}: expected ChainParameters")
+    if isinstance(seeds, str) or not isinstance(seeds, Sequence | np.ndarray | range):
+        raise ValueError(f"seeds={seeds!r}: expected a sequence of whole numbers")
+    # whole numbers, checked: seeds=[1.7, 2.2] once ran the members of seeds 1 and 2
+    seed_arr = np.array(
+        [check_count(s, f"seeds[{i}]", minimum=0, what="a whole-number seed") for i, s in enumerate(seeds)],
+        dtype=np.int64,
+    )
+    # before the store is made: events=2.7 once ran 2 events, and events=0 failed in a member
+    events, transient = check_events(events, transient)
+    rtol, atol = validate_tolerances(rtol, atol)
+    amplitude = check_number(amplitude, "amplitude", what="a positive displacement amplitude")
     try:
-        seed_arr = np.array([int(s) for s in seeds], dtype=np.int64)
-    except (TypeError, ValueError):
-        raise ValueError(f"seeds={seeds!r}: expected a sequence of whole numbers") from None
+        init = str(Init(init))
+    except ValueError:
+        raise ValueError(f"init={init!r}: expected 'uniform' or 'random'") from None
     if seed_arr.size == 0 or np.unique(seed_arr).size != seed_arr.size:
         raise ValueError(f"seeds={seeds!r}: expected at least one seed, each once")
     static_thresholds(params.blocks, threshold_spread, 0)  # checks the spread

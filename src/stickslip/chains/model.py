@@ -16,7 +16,7 @@ import numpy.typing as npt
 
 from ..laws import DimensionlessLaw
 from ..models import DimensionlessParameters, PhysicalParameters, Scales
-from ..units import check_number, parse_quantity
+from ..units import check_number, check_seed, parse_quantity
 
 __all__ = ["Boundary", "ChainParameters", "Init", "initial_positions", "static_thresholds"]
 
@@ -105,6 +105,9 @@ class ChainParameters:
             object.__setattr__(self, "thresholds", phi)
         if self.backslip is None:
             object.__setattr__(self, "backslip", self.law.name not in _NO_BACKSLIP)
+        elif not isinstance(self.backslip, bool | np.bool_):  # "no" was stored, and counted as true
+            raise ValueError(f"backslip={self.backslip!r}: expected True, False or None (the law's default)")
+        object.__setattr__(self, "backslip", bool(self.backslip))
 
     @property
     def ell2(self) -> float:
@@ -175,7 +178,7 @@ def static_thresholds(blocks: int, spread: float, seed: int | None) -> FloatArra
         raise ValueError(f"spread={spread!r}: expected a threshold spread in [0, 1)")
     if s == 0.0:
         return None
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     return 1.0 + s * rng.uniform(-1.0, 1.0, blocks)
 
 
@@ -192,4 +195,4 @@ def initial_positions(blocks: int, init: Init | str, seed: int | None, amplitude
     if kind is Init.UNIFORM:
         return np.zeros(blocks)
     a = check_number(amplitude, "amplitude", what="a positive displacement amplitude")
-    return np.random.default_rng(seed).uniform(0.0, a, blocks)
+    return np.random.default_rng(check_seed(seed)).uniform(0.0, a, blocks)

@@ -26,6 +26,7 @@ from ..core.results import ChainStatus
 from ..dynamics.cycle import validate_tolerances
 from ..io.errors import DataError
 from ..io.progress import progress_bar
+from ..units import check_count, check_seed, parse_quantity
 from .catalog import COLUMNS, CatalogWriter, open_catalog, read_state
 from .model import ChainParameters, Init, initial_positions
 from .statistics import BValue, b_value, check_fit_range
@@ -130,9 +131,15 @@ def _units(params: ChainParameters) -> tuple[dict[str, str], npt.NDArray[np.floa
     return {"time": "s", "length": "m", "velocity": "m/s", "energy": "J"}, factor
 
 
-def _setup(params: ChainParameters, init: str, seed: int | None, amplitude: float, rtol: float) -> str:
+def _setup(
+    params: ChainParameters, init: str, seed: int | None, amplitude: float, rtol: float, atol: float
+) -> str:
+    # atol joins the identity where it is not the default: a catalogue resumed at another atol
+    # mixed two tolerances without a word, and catalogues written before it was kept still resume
+    extra = {} if atol == defaults.ATOL else {"atol": atol}
     return json.dumps(
-        {
+        extra
+        | {
             "blocks": params.blocks,
             "law": params.law.name,
             "law_params": params.law.params,
@@ -148,6 +155,24 @@ def _setup(params: ChainParameters, init: str, seed: int | None, amplitude: floa
         },
         sort_keys=True,
     )
+
+
+def check_events(events: Any, transient: Any) -> tuple[int, int]:
+    """Return ``events`` (>= 1) and ``transient`` (>= 0) as ints, or a ValueError naming the one at fault."""
+    return (
+        check_count(events, "events", what="a whole number of events"),
+        check_count(transient, "transient", minimum=0, what="a whole number of events"),
+    )
+
+
+def _duration(name: str, value: Any, params: ChainParameters) -> float:
+    """Return a time in units of ``sqrt(m/k_p)``: from a number, or (a physical chain) a time with units."""
+    if isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool):
+        return float(value)
+    if params.scales is None:
+        raise ValueError(f"{name}={value!r}: a dimensionless chain takes a number (units of sqrt(m/k_p))")
+    q = parse_quantity(value, name, "[time]", "10 s")
+    return float((q / params.scales.time).to("").magnitude)
 
 
 def chain(
@@ -194,11 +219,14 @@ def chain(
         Stream the catalogue to this NetCDF file (nothing held in memory);
         default: in memory.
     resume : bool
-        Continue the catalogue ``out`` of an interrupted run of the same set-up.
+        Continue the catalogue ``out`` of an interrupted run of the same set-up
+        (tolerances included), from the state saved in it (no ``state``); where
+        ``out`` does not exist, start it.
     record_slip : int
         Keep each block's slip for this many first events (space-time diagram).
-    t_max : float
-        Stop at this time (units of ``sqrt(m/k_p)``) if the events are not complete.
+    t_max : float or time
+        Stop at this time (units of ``sqrt(m/k_p)``; a physical chain also takes a
+        time with units, e.g. ``"2 s"``) if the events are not complete.
     rtol, atol : float
         Tolerances of the slip integration.
     mc : float or "auto", optional
@@ -211,8 +239,9 @@ def chain(
         maximum curvature, no upper end unless ``m_max``.
     m_max : float, optional
         Upper magnitude of the b-value fit.
-    max_event_duration : float, optional
-        An event longer than this (units of ``sqrt(m/k_p)``) ends the run with
+    max_event_duration : float or time, optional
+        An event longer than this (units of ``sqrt(m/k_p)``, or a time with units
+        for a physical chain) ends the run with
         status ``sliding``: the blocks never all stick again. Default
         ``1000 / nu + 1000``, a thousand loading times.
     progress : bool, optional
@@ -230,11 +259,12 @@ def chain(
     """
     if not isinstance(params, ChainParameters):
         raise ValueError(f"params={params!r}: expected ChainParameters")
-    if isinstance(events, bool) or not isinstance(events, (int, np.integer)) or events < 1:
-        raise ValueError(f"events={events!r}: expected a positive whole number of events")
-    if isinstance(transient, bool) or not isinstance(transient, (int, np.integer)) or transient < 0:
-        raise ValueError(f"transient={transient!r}: expected a whole number of events >= 0")
+    events, transient = check_events(events, transient)
+    seed = check_seed(seed)
     rtol, atol = validate_tolerances(rtol, atol)
+    if resume and out is None:
+        raise ValueError("resume=True needs out (the catalogue of the interrupted run to continue)")
+    t_max = _duration("t_max", t_max, params)
     if not (t_max > 0):
         raise ValueError(f"t_max={t_max!r}: expected a positive time")
     mc, m_max = check_fit_range(mc, m_max)  # before the run, not after it
@@ -246,11 +276,16 @@ def chain(
     kernel = params.law.kernel
     lp = params.law.core_params()
     units, factor = _units(params)
-    setup = _setup(params, init_s, seed, amplitude, rtol)
+    setup = _setup(params, init_s, seed, amplitude, rtol, atol)
     attrs = {"setup": setup, "blocks": n, "law": params.law.name, "nu": params.nu, "ell": params.ell}
     path = None if out is None else os.fspath(out)
     done = 0
     if path is not None and resume and os.path.exists(path):
+        if state is not None:
+            raise ValueError(
+                f"state= and resume=True: the run in {path} continues from the state saved in it; "
+                "give one or the other"
+            )
         st, done, fattrs = read_state(path)
         if fattrs.get("setup") != setup:
             raise DataError(f"{path}: made with another set-up; resume needs the same set-up")
@@ -272,7 +307,11 @@ def chain(
             if not os.path.isdir(folder):
                 raise ValueError(f"out={path!r}: the folder {folder} does not exist")
             writer = CatalogWriter(path, n, attrs, units, slip_rows=record_slip)
-    longest = 1000.0 / params.nu + 1000.0 if max_event_duration is None else float(max_event_duration)
+    longest = (
+        1000.0 / params.nu + 1000.0
+        if max_event_duration is None
+        else _duration("max_event_duration", max_event_duration, params)
+    )
     if not longest > 0:
         raise ValueError(f"max_event_duration={max_event_duration!r}: expected a positive duration")
     phi = params.phi

@@ -46,6 +46,8 @@ import numpy.typing as npt
 from scipy.optimize import brentq
 from scipy.stats import chi2
 
+from ..units import check_count, check_number, check_seed
+
 __all__ = [
     "BValue",
     "b_value",
@@ -227,6 +229,7 @@ def magnitude_frequency(
     m: npt.ArrayLike, bin_width: float = 0.1
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Return bin centres, counts per bin and the cumulative counts ``N(>= lower edge)``."""
+    bin_width = _bin_width(bin_width)
     mm = np.asarray(m, dtype=float)
     mm = mm[np.isfinite(mm)]
     if mm.size == 0:
@@ -247,6 +250,10 @@ def completeness_magnitude(m: npt.ArrayLike, bin_width: float = 0.1) -> float:
     if centres.size == 0:
         return math.nan
     return float(centres[int(np.argmax(counts))] - 0.5 * bin_width)
+
+
+def _bin_width(value: object) -> float:
+    return check_number(value, "bin_width", what="a positive bin width (magnitude units)")
 
 
 def _mle(m: FloatArray, mc: float, m_max: float) -> float:
@@ -561,6 +568,9 @@ def b_value(
     """
     mm = np.asarray(m, dtype=float)
     mm = mm[np.isfinite(mm)]
+    n_boot = check_count(n_boot, "n_boot", minimum=0, what="a whole number of bootstrap resamples")
+    seed = check_seed(seed)
+    bin_width = _bin_width(bin_width)
     whole = isinstance(block, (int, np.integer)) and not isinstance(block, bool) and block >= 1
     if block != "auto" and not whole:
         raise ValueError(f"block={block!r}: expected a whole number of events >= 1 or 'auto'")

@@ -118,7 +118,12 @@ def register(main: click.Group) -> None:
         with OutputFolder(out_dir, "simulate", overwrite=overwrite) as out:
             out.expect({"trajectory.csv": "trajectory"} | ({} if no_plot else figure_names("spring_force")))
             traj = run(
-                params, duration=dur, cycles=cycles, n_points=points, rtol=opts["rtol"], atol=opts["atol"]
+                params,
+                duration=dur,
+                cycles=None if dur is not None else cycles,
+                n_points=points,
+                rtol=opts["rtol"],
+                atol=opts["atol"],
             )
             written = [traj.to_csv("trajectory.csv", out=out)]
             if not no_plot:

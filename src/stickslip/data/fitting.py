@@ -49,7 +49,7 @@ from ..io.records import Record
 from ..laws import PhysicalWeakeningLaw
 from ..laws.weakening import WEAKENING
 from ..models.parameters import PhysicalParameters
-from ..units import Q_
+from ..units import Q_, check_number
 from .records import CycleTable, RecordSummary, clean_force, measure_record
 
 __all__ = ["FitResult", "fit_record"]
@@ -258,6 +258,21 @@ CHI2_WARN = 2.0
 METHODS = ("waveform", "features")
 
 
+def _check_guess(guess: dict[str, float] | None, names: tuple[str, ...]) -> dict[str, float] | None:
+    """Return the starting values as floats; a key that is not fitted would reach nothing."""
+    if guess is None:
+        return None
+    if not isinstance(guess, dict):
+        raise ValueError(f"guess={guess!r}: expected a dict of starting values by parameter name")
+    out = {}
+    for key, value in guess.items():
+        if key not in names:
+            extra = " (b is fitted with fit_b=True)" if key == "b" else ""
+            raise ValueError(f"guess: {key!r} is not a fitted parameter{extra}; expected one of {names}")
+        out[key] = check_number(value, f"guess[{key!r}]", what="a positive starting value (SI)")
+    return out
+
+
 def fit_record(
     record: Record,
     *,
@@ -304,6 +319,7 @@ def fit_record(
     v0 = float(record.v0.to("m/s").magnitude)
     load = float(record.load.to("N").magnitude)
     names = ("mu_s", "a", "k", "m", "b") if fit_b else ("mu_s", "a", "k", "m")
+    guess = _check_guess(guess, names)
     coords = ("mu_s", "d", "k", "m", "b") if fit_b else names  # see _values
     theta, jac, chi2, data_a, err_a = _fit_features(record, table, summary, coords, v0, load, guess)
     cov = np.linalg.pinv(jac.T @ jac)
@@ -404,7 +420,8 @@ def _with_b_at_bound(
     linearised (Fisher) error understates it: ``b`` moves the stick time, and with it every
     later drop, far from linearly.
     """
-    f1 = fit_record(record, fit_b=False, guess=guess, method=method)
+    f1_guess = None if guess is None else {k: v for k, v in guess.items() if k != "b"}
+    f1 = fit_record(record, fit_b=False, guess=f1_guess, method=method)
     v0 = float(record.v0.to("m/s").magnitude)  # type: ignore[union-attr]
     load = float(record.load.to("N").magnitude)  # type: ignore[union-attr]
     theta = np.log([f1.values[n] for n in f1.names])

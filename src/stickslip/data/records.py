@@ -394,9 +394,10 @@ def synthetic_record(
     """
     from ..bifurcation.orbits import law_arrays
     from ..core.api import run_trajectory
+    from ..core.memory import check_memory
     from ..core.results import Status
     from ..models.parameters import PhysicalParameters
-    from ..units import parse_quantity
+    from ..units import check_seed, parse_quantity
 
     if not isinstance(params, PhysicalParameters):
         raise ValueError(f"params={params!r}: expected PhysicalParameters")
@@ -414,7 +415,10 @@ def synthetic_record(
         raise ValueError(f"drift={drift!r}: expected a force per time such as '0.1 mN/s' (may be negative)")
     k_drift = float(dq.to("N/s").magnitude)
     t0 = parse_quantity(start, "start", "[time]", "100 s", allow_zero=True).to("s").magnitude
+    seed_ = check_seed(seed)
     n = round(dur * fs) + 1
+    # time, the engine's states, force and velocity: about 8 arrays of n floats
+    check_memory(8.0 * 8 * n, f"duration * rate = {n} samples", "a shorter record or a lower rate")
     t = t0 + np.arange(n) / fs
     sc = params.scales
     d = params.dimensionless()
@@ -423,7 +427,7 @@ def synthetic_record(
     y, _, _, status = run_trajectory(kernel, lp, d.nu, 0.0, 0.0, tau, rtol=1e-10, atol=1e-12)
     if status != Status.OK:
         raise RuntimeError("synthetic_record: the integration failed")
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(seed_)
     force = y[:, 0] * sc.force.to("N").magnitude + sigma * rng.standard_normal(n) + k_drift * (t - t0)
     vel = y[:, 1] * sc.velocity.to("m/s").magnitude if with_velocity else None
     return Record(name, t - t0, force, None, vel, params.v0, params.load, {})

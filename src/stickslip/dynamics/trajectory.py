@@ -100,7 +100,7 @@ def simulate(
     params: DimensionlessParameters | PhysicalParameters,
     *,
     duration: Any = None,
-    cycles: float = 3.0,
+    cycles: float | None = None,
     n_points: int = 4000,
     initial: tuple[float, float] = (0.0, 0.0),
     rtol: float = defaults.RTOL,
@@ -117,7 +117,7 @@ def simulate(
         number (units of ``sqrt(m/k)``) for dimensionless ones. Default: from rest
         to the end of ``cycles`` steady cycles.
     cycles : float, optional
-        Number of steady cycles when ``duration`` is not given. Default 3.
+        Number of steady cycles, instead of ``duration`` (not both). Default 3.
     n_points : int, optional
         Number of uniform samples (event times are added). Default 4000.
     initial : (float, float), optional
@@ -141,9 +141,11 @@ def simulate(
         "sample fewer points (events are always added) or simulate a shorter duration",
     )
     try:
-        s0, w0 = (float(initial[0]), float(initial[1]))
-    except (TypeError, ValueError, IndexError):
+        s0, w0 = (float(v) for v in initial)  # exactly two: a third value was dropped
+    except (TypeError, ValueError):
         raise ValueError(f"initial={initial!r}: expected a pair (spring force, velocity)") from None
+    if cycles is not None and duration is not None:  # cycles reached nothing
+        raise ValueError(f"cycles={cycles!r} and duration={duration!r}: give one or the other")
     bound = 1e6
     if not (math.isfinite(s0) and math.isfinite(w0) and abs(s0) <= bound and abs(w0) <= bound):
         raise ValueError(
@@ -151,7 +153,7 @@ def simulate(
             "static friction force and of mu_s W / sqrt(k m))"
         )
     if duration is None:
-        cycles = check_number(cycles, "cycles", what="a positive number of cycles")
+        cycles = check_number(3.0 if cycles is None else cycles, "cycles", what="a positive number of cycles")
         res = cycle(dp, rtol=max(rtol, 1e-9), atol=atol, probe=False)
         period = res.period if math.isfinite(res.period) else 2.0 * math.pi
         t_end = max(0.0, -s0) / dp.nu + 1.0 / dp.nu + cycles * period

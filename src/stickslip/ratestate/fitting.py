@@ -36,7 +36,7 @@ from scipy.optimize import least_squares
 from ..core.noise import noise_level
 from ..io.errors import DataError
 from ..io.lab import LabRecord
-from ..units import Q_, parse_quantity
+from ..units import Q_, check_number, parse_quantity
 from .model import STATE_LAWS, RateStateParameters
 from .protocols import simulate_rate_state
 
@@ -201,7 +201,9 @@ def fit_rate_state(
     window : (time, time), optional
         Fit only the samples in this range (times on the record's clock).
     initial : dict, optional
-        Starting values (SI) instead of the estimates read from the steps.
+        Starting values (SI) of some or all fitted parameters (``a``, ``b``,
+        ``dc``; ``b_2``, ``dc_2``; ``stiffness_per_load`` with
+        ``fit_stiffness``), instead of the estimates read from the steps.
 
     Returns
     -------
@@ -216,7 +218,12 @@ def fit_rate_state(
     if record.friction is None:
         raise DataError(f"{record.name}: the record has no friction column to fit")
     meta = record.metadata
-    mu0_v = float(_option(mu0, meta, "mu0", "mu0"))
+    mu0_raw = _option(mu0, meta, "mu0", "mu0")
+    try:
+        mu0_v = float(mu0_raw)
+    except (TypeError, ValueError):
+        raise ValueError(f"mu0={mu0_raw!r}: expected a reference friction coefficient (a number)") from None
+    mu0_v = check_number(mu0_v, "mu0", what="a positive reference friction coefficient")
     vr = parse_quantity(_option(v_ref, meta, "v_ref", "v_ref"), "v_ref", "[length] / [time]", "1 um/s")
     kw_q = parse_quantity(
         _option(stiffness_per_load, meta, "stiffness_per_load", "stiffness_per_load"),
@@ -236,6 +243,8 @@ def fit_rate_state(
     t_all = record.time - record.time[0]
     sel = np.ones(t_all.size, dtype=bool)
     if window is not None:
+        if isinstance(window, str) or not isinstance(window, tuple | list) or len(window) != 2:
+            raise ValueError(f"window={window!r}: expected (start, end) times, e.g. ('5 s', '60 s')")
         lo, hi = (
             float(parse_quantity(w, "window", "[time]", "10 s").to("s").magnitude) - record.time[0]
             for w in window
@@ -260,7 +269,12 @@ def fit_rate_state(
         + (["b_2", "dc_2"] if n_states == 2 else [])
         + (["stiffness_per_load"] if fit_stiffness else [])
     )
-    start = initial or _initial(t, mu, x, v, n_states, kw0)
+    # the estimates read from the steps, with the user's starting values over them
+    start = _initial(t, mu, x, v, n_states, kw0)
+    for key, value in (initial or {}).items():
+        if key not in names:
+            raise ValueError(f"initial: {key!r} is not a fitted parameter here; expected one of {names}")
+        start[key] = check_number(value, f"initial[{key!r}]", what="a positive starting value (SI)")
     x0 = np.log([start[n] for n in names])
     sigma = noise_level(mu)
     if not math.isfinite(sigma) or sigma <= 0:
