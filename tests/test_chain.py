@@ -24,6 +24,7 @@ from stickslip.chains import (
     completeness_magnitude,
     magnitude_frequency,
     open_catalog,
+    recurrence_times,
     static_thresholds,
 )
 from stickslip.chains.lyapunov import event_map, lyapunov_exponent
@@ -494,6 +495,8 @@ def test_bad_run_arguments_are_named(tmp_path: Path) -> None:
             b_value(m, mc=0.0, **kw)
     with pytest.raises(ValueError, match=r"bin_width=-0\.1"):
         magnitude_frequency(m, -0.1)
+    with pytest.raises(ValueError, match=r"t_start\[2\]: the event starts are not in increasing order"):
+        recurrence_times([0.0, 2.0, 1.0])
 
 
 def test_physical_chain_has_units() -> None:

@@ -91,6 +91,15 @@ def test_errors_weight_the_fit(tmp_path: Path) -> None:
         list(zip(v, a, err / 1e3, strict=True)),
     )
     assert classify_file(path).slope == pytest.approx(r.slope, rel=1e-9)
+    # the same with pint quantities: numpy stripped their units, and 10 mN counted as 10 N
+    q = classify(Q_(v, "um/s"), Q_(a, "mN"), Q_(err / 1e3, "N"))
+    assert q.slope == pytest.approx(r.slope, rel=1e-9)
+    with pytest.raises(ValueError, match="amplitude_err: units meter / second do not convert"):
+        classify(v, Q_(a, "mN"), Q_(err, "m/s"))
+    with pytest.raises(ValueError, match="give both with units, or neither"):
+        classify(v, a, Q_(err, "N"))
+    with pytest.raises(ValueError, match="velocity: units newton: expected a velocity"):
+        classify(Q_(v, "N"), a)
 
 
 def test_too_few_points() -> None:

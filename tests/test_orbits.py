@@ -77,5 +77,8 @@ def test_bad_input() -> None:
         pure_slip_orbit(DimensionlessParameters(nu=0.97, law=LAW), tol=1.0)
     with pytest.raises(ValueError, match="params="):
         pure_slip_orbit("nu=0.97")  # type: ignore[arg-type]
+    for bad in ((1.1,), (1.1, -6.3), ("x", 6.3)):  # (1.1,) was an IndexError
+        with pytest.raises(ValueError, match="guess="):
+            pure_slip_orbit(DimensionlessParameters(nu=0.97, law=LAW), guess=bad)  # type: ignore[arg-type]
     guessed = pure_slip_orbit(DimensionlessParameters(nu=0.97, law=LAW), guess=(1.1, 6.3))
     assert guessed.period == pytest.approx(cubic_orbit_reference(0.97, LAW.alpha, LAW.gamma).period, rel=1e-9)

@@ -53,6 +53,11 @@ def test_stick_slip_record_measured(noise: str, drift: str, rate: str) -> None:
     )
     table, s = measure_record(rec)
     assert s.n_cycles >= 20
+    for bad in (0, 2.5, "3"):
+        with pytest.raises(ValueError, match="min_cycles="):
+            measure_record(rec, min_cycles=bad)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="confidence=7"):
+        analyze_records([rec], confidence=7)
     assert s.amplitude == pytest.approx(true.amplitude, rel=0.015)
     assert s.period == pytest.approx(true.period, rel=0.005)
     assert s.stick_fraction == pytest.approx(true.stick_fraction, abs=0.01)

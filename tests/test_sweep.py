@@ -159,6 +159,11 @@ def test_bad_grids(grid: dict, message: str) -> None:
         sweep(zv_parameters(), grid, progress=False)
 
 
+def test_block_points_is_checked_in_process_too() -> None:
+    with pytest.raises(ValueError, match="block_points=-3"):
+        sweep(zv_parameters(), {"v0": ["5 um/s"]}, progress=False, block_points=-3)
+
+
 def test_bad_dimensionless_grid() -> None:
     base = DimensionlessParameters(nu=0.01, law=WeakeningLaw(c=2.0))
     with pytest.raises(ValueError, match="nu=nan"):

@@ -258,6 +258,12 @@ def test_table_conventions(tmp_path: Path) -> None:
     slope = law.derivative(ss.Q_(80.0, "um/s")).to("s/m").magnitude
     assert slope < 0
     assert float(law.coefficient(v)[3]) == pytest.approx(85 / 196 + slope * 20e-6, rel=1e-12)
+    # coefficients as pint quantities: dimensionless ones converted, forces refused
+    vq = ss.Q_([0.0, 10.0, 20.0, 40.0, 80.0], "um/s")
+    pct = TabulatedLaw(vq, ss.Q_([50.0, 45.0, 44.0, 43.0, 42.0], "percent"))
+    assert pct.mu_s == pytest.approx(0.5)
+    with pytest.raises(ValueError, match="friction in newton: expected coefficients"):
+        TabulatedLaw(vq, ss.Q_([0.5, 0.45, 0.44, 0.43, 0.42], "N"))
     assert nd.range_warning(42.0 * 90e-6) is not None and "beyond the table" in nd.range_warning(42.0 * 90e-6)
     assert nd.range_warning(42.0 * 50e-6) is None
     assert pickle.loads(pickle.dumps(law)) == law

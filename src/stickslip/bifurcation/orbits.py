@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -139,7 +140,19 @@ def pure_slip_orbit(
                 "give guess=(s0, period), e.g. from stickslip.cycle"
             )
         guess = (f_nu + a, 2.0 * math.pi)
-    return _shot(law, nu, float(guess[0]), float(guess[1]), tol, max_iter)
+    s0, period = _check_guess(guess)
+    return _shot(law, nu, s0, period, tol, max_iter)
+
+
+def _check_guess(guess: Any) -> tuple[float, float]:
+    """Return ``(s0, period)`` as floats: a finite spring force and a positive period."""
+    try:
+        s0, period = (float(g) for g in guess)
+    except (TypeError, ValueError):
+        raise ValueError(f"guess={guess!r}: expected a pair (s0, period) of numbers") from None
+    if not (math.isfinite(s0) and math.isfinite(period) and period > 0):
+        raise ValueError(f"guess={guess!r}: expected a finite s0 and a positive period")
+    return s0, period
 
 
 def _shot(
@@ -243,7 +256,7 @@ def return_map_orbit(
 
     """
     kernel, lp = law_arrays(law)
-    return return_map_orbit_core(kernel, lp, nu, guess, tol=tol, max_iter=max_iter)
+    return return_map_orbit_core(kernel, lp, nu, _check_guess(guess), tol=tol, max_iter=max_iter)
 
 
 def return_map_orbit_core(

@@ -628,5 +628,9 @@ def _bootstrap_error(
 
 
 def recurrence_times(t_start: npt.ArrayLike) -> FloatArray:
-    """Return the times between successive event starts."""
-    return np.diff(np.asarray(t_start, dtype=float))
+    """Return the times between successive event starts (in the order of a catalogue: increasing)."""
+    dt = np.diff(np.asarray(t_start, dtype=float))
+    if np.any(dt < 0):  # unsorted starts gave negative recurrence times
+        i = int(np.flatnonzero(dt < 0)[0]) + 1
+        raise ValueError(f"t_start[{i}]: the event starts are not in increasing order (as in a catalogue)")
+    return dt

@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
+import pint
 from scipy import stats
 
 from ..io.errors import DataError
@@ -73,7 +74,12 @@ def _finite_or_none(x: float) -> float | None:
     return x if math.isfinite(x) else None
 
 
-def _as_array(name: str, x: Any) -> npt.NDArray[np.float64]:
+def _as_array(name: str, x: Any, unit: Any = None) -> npt.NDArray[np.float64]:
+    if isinstance(x, pint.Quantity):  # its magnitudes in ``unit`` (numpy would strip the units)
+        try:
+            x = x.to(unit).magnitude if unit is not None else x.magnitude
+        except pint.DimensionalityError:
+            raise ValueError(f"{name}: units {x.units} do not convert to {unit}") from None
     try:
         a = np.asarray(x, dtype=float)
     except (TypeError, ValueError):
@@ -103,7 +109,8 @@ def classify(
     amplitude : array_like
         Oscillation amplitudes (> 0), any unit.
     amplitude_err : array_like, optional
-        One-sigma errors of the amplitudes (same unit); weights the fit.
+        One-sigma errors of the amplitudes (same unit, or pint quantities
+        converted to the amplitudes' unit); weights the fit.
     confidence : float, optional
         Confidence level of the slope interval. Default 0.95.
     min_points : int, optional
@@ -120,8 +127,14 @@ def classify(
         amplitudes, negative errors, or an invalid ``confidence``.
 
     """
+    if isinstance(velocity, pint.Quantity) and not velocity.check("[length] / [time]"):
+        raise ValueError(f"velocity: units {velocity.units}: expected a velocity, e.g. um/s")
     v = _as_array("velocity", velocity)
     a = _as_array("amplitude", amplitude)
+    # the errors in the amplitudes' unit: 10 mN beside amplitudes in N was read as 10 N
+    a_unit = amplitude.units if isinstance(amplitude, pint.Quantity) else None
+    if (a_unit is None) != (not isinstance(amplitude_err, pint.Quantity)) and amplitude_err is not None:
+        raise ValueError("amplitude and amplitude_err: give both with units, or neither")
     if v.shape != a.shape:
         raise ValueError(f"velocity has {v.size} values and amplitude {a.size}: expected equal lengths")
     if np.any(v <= 0):
@@ -136,7 +149,7 @@ def classify(
         raise ValueError(f"min_points={min_points!r}: expected an integer >= 3")
     sigma = None
     if amplitude_err is not None:
-        e = _as_array("amplitude_err", amplitude_err)
+        e = _as_array("amplitude_err", amplitude_err, a_unit)
         if e.shape != a.shape:
             raise ValueError("amplitude_err: expected one error per amplitude")
         if np.any(e < 0):

@@ -228,6 +228,8 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
         If the record holds fewer than ``min_cycles`` cycles or no oscillation.
 
     """
+    if isinstance(min_cycles, bool) or not isinstance(min_cycles, int | np.integer) or min_cycles < 1:
+        raise ValueError(f"min_cycles={min_cycles!r}: expected a whole number of cycles >= 1")
     t, f = record.time, record.force
     n = f.size
     if n < 20:
@@ -471,6 +473,8 @@ def analyze_records(records: list[Record], *, confidence: float = 0.95) -> tuple
 
     if not records:
         raise ValueError("no records to analyze")
+    if isinstance(confidence, bool) or not (isinstance(confidence, float | int) and 0.5 <= confidence < 1):
+        raise ValueError(f"confidence={confidence!r}: expected a level in [0.5, 1), e.g. 0.95")
     rows = []
     failed = []
     for rec in records:

@@ -273,6 +273,11 @@ def sweep(
         coords[p.name] = (shown, unit, p.help)
         si_axes[p.name] = si
     plan = SweepPlan(base, coords, si_axes, rtol, atol, max_slip_time, conv_tol, backend)
+    # checked in every mode, though it is used only with a store or a cluster
+    if block_points is not None and (
+        isinstance(block_points, bool) or not isinstance(block_points, int) or block_points < 1
+    ):
+        raise ValueError(f"block_points={block_points!r}: expected a whole number of points >= 1")
     if store is None and scheduler is None and workers is None:
         # in process, the grid in memory (no Dask imported)
         check_sweep_size(plan.points)
@@ -280,10 +285,6 @@ def sweep(
         return plan.dataset(arrays)
     from ..scale import SWEEP_BLOCK_POINTS, chunk_shape, run_job
 
-    if block_points is not None and (
-        isinstance(block_points, bool) or not isinstance(block_points, int) or block_points < 1
-    ):
-        raise ValueError(f"block_points={block_points!r}: expected a whole number of points >= 1")
     default_block = SWEEP_BLOCK_POINTS if backend == "cpu" else GPU_BLOCK_POINTS
     layout = plan.layout(chunk_shape(plan.shape, block_points or default_block))
     if store is None:

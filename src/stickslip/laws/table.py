@@ -174,6 +174,10 @@ class TabulatedLaw(PhysicalLaw):
         if interpolation not in INTERPOLATIONS:
             raise ValueError(f"interpolation={interpolation!r}: expected one of {', '.join(INTERPOLATIONS)}")
         v_si = _velocities(v, name)
+        if isinstance(mu, pint.Quantity):  # a coefficient: N was taken as one, 50 percent as 50
+            if not mu.dimensionless:
+                raise ValueError(f"{name}: friction in {mu.units}: expected coefficients (dimensionless)")
+            mu = mu.to("").magnitude
         mu_a = np.asarray(mu, dtype=float)
         if mu_a.ndim != 1 or mu_a.size != v_si.size:
             raise ValueError(f"{name}: {mu_a.size} friction values for {v_si.size} velocities")
