@@ -459,14 +459,36 @@ def test_bad_run_arguments_are_named(tmp_path: Path) -> None:
         chain(p, 5, resume=True)
     first = chain(p, 5, out=tmp_path / "a.nc", progress=False)
     first.catalog.close()
-    with pytest.raises(ValueError, match="state= and resume=True"):
+    with pytest.raises(DataError, match="started with init='random'; resume it the same way"):
         chain(p, 8, out=tmp_path / "a.nc", resume=True, state=first.state)
     # another atol is another set-up (it was resumed, mixing two tolerances)
-    with pytest.raises(DataError, match="another set-up"):
+    with pytest.raises(DataError, match=r"another set-up \(atol differ\)"):
         chain(p, 8, out=tmp_path / "a.nc", resume=True, atol=1e-6, progress=False)
     again = chain(p, 8, out=tmp_path / "a.nc", resume=True, progress=False)
     assert again.events == 8
     again.catalog.close()
+    # a run started from a given state resumes with it
+    from_state = chain(p, 5, state=first.state, out=tmp_path / "s.nc", progress=False)
+    from_state.catalog.close()
+    with pytest.raises(DataError, match=r"started from a given state \(state=\)"):
+        chain(p, 8, out=tmp_path / "s.nc", resume=True, progress=False)
+    resumed = chain(p, 8, state=first.state, out=tmp_path / "s.nc", resume=True, progress=False)
+    assert resumed.events == 8
+    resumed.catalog.close()
+    # a catalogue written before the set-up kept atol resumes, with a warning, and takes it
+    import netCDF4
+
+    old = chain(p, 5, out=tmp_path / "old.nc", progress=False)
+    old.catalog.close()
+    with netCDF4.Dataset(tmp_path / "old.nc", "a") as nc:
+        setup = json.loads(nc.getncattr("setup"))
+        del setup["atol"]
+        nc.setncattr("setup", json.dumps(setup, sort_keys=True))
+    with pytest.warns(UserWarning, match="written before its atol was recorded"):
+        later = chain(p, 8, out=tmp_path / "old.nc", resume=True, progress=False)
+    later.catalog.close()
+    with netCDF4.Dataset(tmp_path / "old.nc") as nc:
+        assert json.loads(nc.getncattr("setup"))["atol"] == ss.defaults.ATOL
     # the ensemble checks the same before its store is made (events=2.7 ran 2, seeds 1.7 ran 1)
     for kw, message in (
         ({"events": 2.7}, "events=2.7"),
@@ -482,11 +504,15 @@ def test_bad_run_arguments_are_named(tmp_path: Path) -> None:
         with pytest.raises(ValueError, match=message):
             chain_ensemble(p, store=tmp_path / "e.zarr", progress=False, **args)
         assert not (tmp_path / "e.zarr").exists()
+    # uniform positions take no amplitude, as in chain()
+    same = chain_ensemble(p, 3, [1], init="uniform", amplitude=0.0, progress=False)
+    assert int(same["events"][0]) == 3
     # b_value's own arguments
     m = np.random.default_rng(0).exponential(0.43, 200)
     for kw, message in (
         ({"n_boot": -5}, "n_boot=-5"),
         ({"n_boot": 2.5}, "n_boot=2.5"),
+        ({"n_boot": 1}, "n_boot=1: expected 0"),
         ({"seed": -1}, "seed=-1"),
         ({"bin_width": 0.0}, "bin_width=0.0"),
         ({"bin_width": float("nan")}, "bin_width=nan"),

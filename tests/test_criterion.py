@@ -94,6 +94,8 @@ def test_errors_weight_the_fit(tmp_path: Path) -> None:
     # the same with pint quantities: numpy stripped their units, and 10 mN counted as 10 N
     q = classify(Q_(v, "um/s"), Q_(a, "mN"), Q_(err / 1e3, "N"))
     assert q.slope == pytest.approx(r.slope, rel=1e-9)
+    # (a common scale of the errors leaves the slope alone: the interval shows the unit)
+    assert q.slope_ci == pytest.approx(r.slope_ci, rel=1e-9)
     with pytest.raises(ValueError, match="amplitude_err: units meter / second do not convert"):
         classify(v, Q_(a, "mN"), Q_(err, "m/s"))
     with pytest.raises(ValueError, match="give both with units, or neither"):

@@ -209,6 +209,15 @@ def test_inertial_model_takes_the_absolute_tolerance() -> None:
         ({"stiffness_per_load": None}, "give stiffness and load"),
         ({"mass": "1 kg"}, "mass needs load"),
         ({"nagata_c": 0.5}, "nagata_c=0.5 with state_law='aging'"),  # it reached nothing
+        (
+            {
+                "b": [0.01, 0.005],
+                "dc": ["10 um", "100 um"],
+                "state_law": ["nagata", "aging"],
+                "nagata_c": [2.0, 2.0],
+            },
+            r"nagata_c\[1\]=2.0: state variable 1 follows state_law='aging'",
+        ),
     ],
 )
 def test_bad_parameters(kwargs: dict, message: str) -> None:
@@ -216,6 +225,13 @@ def test_bad_parameters(kwargs: dict, message: str) -> None:
     args = {k: v for k, v in args.items() if v is not None}
     with pytest.raises(ValueError, match=message.replace("(", r"\(")):
         RateStateParameters(**args)
+
+
+def test_one_nagata_coefficient_reaches_the_nagata_state_variables() -> None:
+    """One c for all, beside another law (the CLI's --law nagata --law aging --nagata-c 2)."""
+    two = {"b": [0.01, 0.005], "dc": ["10 um", "100 um"], "stiffness_per_load": "1 1/mm"}
+    p = RateStateParameters(**{**BASE, **two}, state_law=["nagata", "aging"], nagata_c=2.0)
+    assert p.laws == ("nagata", "aging") and p.nagata_c == 2.0
 
 
 def test_bad_protocol_input() -> None:

@@ -9,6 +9,7 @@ import pytest
 from click.testing import CliRunner
 from rsf_generator import generate, write_csv
 
+from stickslip import Q_
 from stickslip.cli import main
 from stickslip.io.errors import DataError
 from stickslip.io.lab import read_lab_record
@@ -137,9 +138,10 @@ def test_bad_input(tmp_path) -> None:
     ):
         with pytest.raises(ValueError, match=message):
             fit_rate_state(rec, **kw)
-    # some starting values: the others from the steps
-    fit = fit_rate_state(rec, initial={"dc": 2e-5})
+    # some starting values: the others from the steps; a window as a pint array
+    fit = fit_rate_state(rec, initial={"dc": 2e-5}, window=Q_([0.0, 1e4], "s"))
     _check(fit.values, fit.errors, _truth_values(ONE))
+    assert fit.samples == rec.time.size
 
 
 def test_slide_hold_slide_record(tmp_path) -> None:

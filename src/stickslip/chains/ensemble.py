@@ -117,11 +117,17 @@ def chain_ensemble(
     # before the store is made: events=2.7 once ran 2 events, and events=0 failed in a member
     events, transient = check_events(events, transient)
     rtol, atol = validate_tolerances(rtol, atol)
-    amplitude = check_number(amplitude, "amplitude", what="a positive displacement amplitude")
     try:
         init = str(Init(init))
     except ValueError:
         raise ValueError(f"init={init!r}: expected 'uniform' or 'random'") from None
+    if init == Init.RANDOM:  # as chain(): uniform positions take no amplitude (it stays in the identity)
+        amplitude = check_number(amplitude, "amplitude", what="a positive displacement amplitude")
+    else:
+        try:
+            amplitude = float(amplitude)
+        except (TypeError, ValueError):
+            raise ValueError(f"amplitude={amplitude!r}: expected a number") from None
     if seed_arr.size == 0 or np.unique(seed_arr).size != seed_arr.size:
         raise ValueError(f"seeds={seeds!r}: expected at least one seed, each once")
     static_thresholds(params.blocks, threshold_spread, 0)  # checks the spread

@@ -134,12 +134,11 @@ def _units(params: ChainParameters) -> tuple[dict[str, str], npt.NDArray[np.floa
 def _setup(
     params: ChainParameters, init: str, seed: int | None, amplitude: float, rtol: float, atol: float
 ) -> str:
-    # atol joins the identity where it is not the default: a catalogue resumed at another atol
-    # mixed two tolerances without a word, and catalogues written before it was kept still resume
-    extra = {} if atol == defaults.ATOL else {"atol": atol}
+    # atol joined the set-up on 2026-11-24: a catalogue resumed at another atol mixed two
+    # tolerances without a word (catalogues written before resume with a warning)
     return json.dumps(
-        extra
-        | {
+        {
+            "atol": atol,
             "blocks": params.blocks,
             "law": params.law.name,
             "law_params": params.law.params,
@@ -154,6 +153,33 @@ def _setup(
             "rtol": rtol,
         },
         sort_keys=True,
+    )
+
+
+def _check_same_setup(path: str, saved: str, setup: str) -> None:
+    """Refuse to resume the catalogue ``path`` unless it was made with ``setup``; say what differs."""
+    if saved == setup:
+        return
+    try:
+        old, new = json.loads(saved), json.loads(setup)
+    except ValueError:
+        old, new = {}, {None: None}
+    differ = sorted(str(k) for k in old.keys() | new.keys() if old.get(k) != new.get(k))
+    if differ == ["atol"] and "atol" not in old:
+        # written before the set-up kept atol: at the default, or, a member of an ensemble, at the
+        # store's own tolerances (its identity holds them)
+        warnings.warn(
+            f"{path}: written before its atol was recorded; resumed assuming atol={new['atol']!r}",
+            stacklevel=3,
+        )
+        return
+    if "init" in differ and "state" in (old.get("init"), new.get("init")):
+        how = (
+            "from a given state (state=)" if old.get("init") == "state" else f"with init={old.get('init')!r}"
+        )
+        raise DataError(f"{path}: the run was started {how}; resume it the same way")
+    raise DataError(
+        f"{path}: made with another set-up ({', '.join(differ)} differ); resume needs the same set-up"
     )
 
 
@@ -220,8 +246,8 @@ def chain(
         default: in memory.
     resume : bool
         Continue the catalogue ``out`` of an interrupted run of the same set-up
-        (tolerances included), from the state saved in it (no ``state``); where
-        ``out`` does not exist, start it.
+        (tolerances included, and ``state`` where it was started from one), from
+        the state saved in it; where ``out`` does not exist, start it.
     record_slip : int
         Keep each block's slip for this many first events (space-time diagram).
     t_max : float or time
@@ -281,15 +307,12 @@ def chain(
     path = None if out is None else os.fspath(out)
     done = 0
     if path is not None and resume and os.path.exists(path):
-        if state is not None:
-            raise ValueError(
-                f"state= and resume=True: the run in {path} continues from the state saved in it; "
-                "give one or the other"
-            )
         st, done, fattrs = read_state(path)
-        if fattrs.get("setup") != setup:
-            raise DataError(f"{path}: made with another set-up; resume needs the same set-up")
-        writer: CatalogWriter | None = CatalogWriter(path, n, attrs, units, resume=True)
+        saved = str(fattrs.get("setup"))
+        _check_same_setup(path, saved, setup)
+        resumed = CatalogWriter(path, n, {**attrs, "setup": saved}, units, resume=True)
+        resumed.ds.setncattr("setup", setup)  # an older set-up (no atol) takes the full one
+        writer: CatalogWriter | None = resumed
         transient = 0
         state = st
     else:

@@ -549,7 +549,7 @@ def b_value(
         Upper end of the fit (the power law of small events, below a bump of
         large ones); default none.
     n_boot : int
-        Bootstrap resamples for the error (0: none, error nan).
+        Bootstrap resamples for the error (0: none, error nan; else at least 2).
     seed : int, optional
         Seed of the bootstrap.
     block : int or "auto"
@@ -569,6 +569,8 @@ def b_value(
     mm = np.asarray(m, dtype=float)
     mm = mm[np.isfinite(mm)]
     n_boot = check_count(n_boot, "n_boot", minimum=0, what="a whole number of bootstrap resamples")
+    if n_boot == 1:  # one resample has no spread
+        raise ValueError("n_boot=1: expected 0 (no error) or at least 2 bootstrap resamples")
     seed = check_seed(seed)
     bin_width = _bin_width(bin_width)
     whole = isinstance(block, (int, np.integer)) and not isinstance(block, bool) and block >= 1

@@ -109,8 +109,8 @@ def classify(
     amplitude : array_like
         Oscillation amplitudes (> 0), any unit.
     amplitude_err : array_like, optional
-        One-sigma errors of the amplitudes (same unit, or pint quantities
-        converted to the amplitudes' unit); weights the fit.
+        One-sigma errors of the amplitudes (same unit; pint quantities where the
+        amplitudes are, converted to their unit); weights the fit.
     confidence : float, optional
         Confidence level of the slope interval. Default 0.95.
     min_points : int, optional

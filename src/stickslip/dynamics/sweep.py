@@ -275,7 +275,7 @@ def sweep(
     plan = SweepPlan(base, coords, si_axes, rtol, atol, max_slip_time, conv_tol, backend)
     # checked in every mode, though it is used only with a store or a cluster
     if block_points is not None and (
-        isinstance(block_points, bool) or not isinstance(block_points, int) or block_points < 1
+        isinstance(block_points, bool) or not isinstance(block_points, int | np.integer) or block_points < 1
     ):
         raise ValueError(f"block_points={block_points!r}: expected a whole number of points >= 1")
     if store is None and scheduler is None and workers is None:

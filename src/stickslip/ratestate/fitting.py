@@ -243,11 +243,17 @@ def fit_rate_state(
     t_all = record.time - record.time[0]
     sel = np.ones(t_all.size, dtype=bool)
     if window is not None:
-        if isinstance(window, str) or not isinstance(window, tuple | list) or len(window) != 2:
-            raise ValueError(f"window={window!r}: expected (start, end) times, e.g. ('5 s', '60 s')")
+        try:
+            if isinstance(window, str):
+                raise ValueError
+            w0, w1 = window  # a pair: a tuple, a list, an array, a pint array
+        except (TypeError, ValueError):
+            expected = "expected (start, end) times, e.g. ('5 s', '60 s')"
+            raise ValueError(f"window={window!r}: {expected}") from None
         lo, hi = (
-            float(parse_quantity(w, "window", "[time]", "10 s").to("s").magnitude) - record.time[0]
-            for w in window
+            float(parse_quantity(w, "window", "[time]", "10 s", allow_negative=True).to("s").magnitude)
+            - record.time[0]
+            for w in (w0, w1)
         )
         sel = (t_all >= lo) & (t_all <= hi)
         if sel.sum() < 10:

@@ -149,13 +149,22 @@ class RateStateParameters:
             check_number(c, "nagata_c", allow_zero=True, what="a non-negative Nagata coefficient c")
             for c in cs
         ]
+        # a coefficient that reaches no Nagata state variable did nothing, without a word (one value
+        # is shared by all, and reaches those that are Nagata's; one each must be 0 for the others)
+        if "nagata" not in self.laws and any(c != 0 for c in cs):
+            raise ValueError(
+                f"nagata_c={self.nagata_c!r} with state_law={self.state_law!r}: the Nagata coefficient "
+                "acts on state_law='nagata' only"
+            )
+        each = _many(self.nagata_c)
         set_(self, "nagata_c", cs[0] if len(set(cs)) == 1 else tuple(cs))
-        for law, b_i, c_i in zip(self.laws, bs, cs, strict=True):
-            if law != "nagata" and c_i != 0:  # it would reach nothing
+        for i, (law, c_i) in enumerate(zip(self.laws, cs, strict=True)):
+            if each and law != "nagata" and c_i != 0:
                 raise ValueError(
-                    f"nagata_c={c_i!r} with state_law={law!r}: the Nagata coefficient belongs to "
-                    "state_law='nagata' (give nagata_c=0, or state_law='nagata')"
+                    f"nagata_c[{i}]={c_i!r}: state variable {i} follows state_law={law!r}, not "
+                    "'nagata': expected 0"
                 )
+        for law, b_i, c_i in zip(self.laws, bs, cs, strict=True):
             if law == "nagata" and c_i > 0 and b_i == 0:
                 raise ValueError("nagata_c > 0 needs b > 0 (the Nagata term is (c/b) Phi mu')")
         set_(self, "mu0", check_number(self.mu0, "mu0", what="a positive reference friction"))
