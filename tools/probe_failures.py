@@ -463,7 +463,11 @@ def api_cases() -> list[tuple[str, str, str, str]]:
         import stickslip as S
         from stickslip.core.api import run_attractors, run_trajectory
         from stickslip.bifurcation.regimes import regimes
+        from stickslip.chains import ChainParameters, chain_ensemble
+        from stickslip.data.criterion import classify
+        from stickslip.ratestate.cycles import earthquake_cycles
         d = S.DimensionlessParameters(nu=0.1, law=S.WeakeningLaw(c=3.0))
+        three = ChainParameters(3, S.WeakeningLaw(c=1.0), 0.1, 1.0)
         base = dict(law=0, lp=[3.8, 0, 0], nu=[0.1], rtol=1e-10, atol=1e-12, max_slip_time=1e5, conv_tol=1e-8)
         run_attractors(**base, from_breakaway=True)
         cases = {
@@ -485,6 +489,13 @@ def api_cases() -> list[tuple[str, str, str, str]]:
           "PhysicalParameters(mass=5, ...)": lambda: S.PhysicalParameters(mass=5, stiffness="62 N/m",
                                                                          load="196 mN", v0="1 um/s",
                                                                          law=S.f1(0.46, "160 s/m")),
+          # found by the API audit of 2026-11-24: a hang, a truncation, units stripped
+          "earthquake_cycles(rtol=nan)": lambda: earthquake_cycles(rtol=math.nan),
+          "chain_ensemble(events=2.7)": lambda: chain_ensemble(three, 2.7, [1, 2]),
+          "classify(errors in m/s)": lambda: classify([1, 2, 4, 8], S.Q_([1, 2, 3, 4], "mN"),
+                                                      S.Q_([1, 1, 1, 1], "m/s")),
+          "TabulatedLaw(friction in N)": lambda: S.TabulatedLaw(S.Q_([0, 1, 2, 3, 4], "um/s"),
+                                                                S.Q_([0.5, 0.4, 0.4, 0.4, 0.4], "N")),
         }
         out = {}
         for name, call in cases.items():
