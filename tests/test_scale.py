@@ -119,6 +119,24 @@ def test_default_run_imports_no_distributed() -> None:
     assert out.stdout.strip() == "[]"
 
 
+def test_a_store_begun_with_the_old_polishing_is_another_job(
+    base: Any, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """At other tolerances than the defaults, a store from before 2026-11-24 would mix two polishings."""
+    import stickslip.dynamics.sweep as sw
+
+    store = tmp_path / "old.zarr"
+    with monkeypatch.context() as m:  # the identity such a store has: no "polish" key
+        m.setattr(sw.defaults, "RTOL", 1e-8)
+        sweep(base, _grid(), progress=False, store=store, rtol=1e-8, block_points=80)
+    with pytest.raises(StoreError, match="holds another job"):
+        sweep(base, _grid(), progress=False, store=store, rtol=1e-8)
+    # at the defaults nothing changed: such stores still resume
+    same = tmp_path / "default.zarr"
+    sweep(base, _grid(), progress=False, store=same, block_points=80)
+    sweep(base, _grid(), progress=False, store=same)
+
+
 def test_another_grid_is_a_one_line_error_and_the_store_is_untouched(base: Any, tmp_path: Path) -> None:
     store = tmp_path / "s.zarr"
     sweep(base, _grid(), progress=False, store=store, block_points=80)

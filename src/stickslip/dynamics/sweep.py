@@ -425,6 +425,10 @@ class SweepPlan:
             "law": self.base.law.describe(),
             "tolerances": [self.rtol, self.atol, self.max_slip_time, self.conv_tol],
         }
+        if (self.rtol, self.atol) != (defaults.RTOL, defaults.ATOL):
+            # slip-reversal orbits were re-measured at the default tolerances before 2026-11-24:
+            # a store of such a sweep begun then is another job (its rows would mix the two)
+            identity["polish"] = "at the sweep's tolerances"
         grid = ", ".join(
             f"{k} ({len(v)} values {v[0]:.4g}..{v[-1]:.4g}{' ' + u if u else ''})"
             for k, (v, u, _) in self.coords.items()
