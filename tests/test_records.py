@@ -180,6 +180,9 @@ BAD = [
     ("time [s],force [N]\n0,1\n1,\n2,\n3,4\n", "2 missing/NaN values in 1 run(s), the longest 2"),
     ("time [s],force [N]\n0,1\n1,nan\n2,3\n", "missing/NaN"),
     ("# v0 = fast\ntime [s],force [N]\n0,1\n1,2\n2,3\n", "v0='fast'"),
+    # a cell too many (decimal commas): pandas kept the first cells and dropped the rest, unsaid
+    ("time [s],force [mN]\n0,1,5\n1,2,5\n2,3,5\n", "line 2 has 3 cells, the header has 2 (decimal commas?"),
+    ("time [s],force [mN]\n0,1\n1,2\n2,3,4", "line 4 has 3 cells, the header has 2"),
 ]
 
 
@@ -214,6 +217,22 @@ def test_folder_errors(tmp_path: Path) -> None:
         read_records(bad_index)
     with pytest.raises(ValueError, match="no such file or folder"):
         read_records(tmp_path / "nope")
+
+
+def test_text_layouts_that_read(tmp_path: Path) -> None:
+    """Trailing empty cells, quotes, CR line ends, a U+2028 in a comment: every row read."""
+    layouts = {
+        "trailing.csv": "time [s],force [mN],\n0,1,\n1,2,\n2,3,\n",
+        "quoted.csv": 'time [s],force [mN]\n0,"1"\n1,2\n2,3\n',
+        "cr.csv": "time [s],force [mN]\r0,1\r1,2\r2,3\r",
+        # str.splitlines split the comment here, found the header a line late, and lost t = 0
+        "u2028.csv": "# note = a\u2028# b\ntime [s],force [mN]\n0,1\n1,2\n2,3\n",
+    }
+    for name, content in layouts.items():
+        (tmp_path / name).write_bytes(content.encode())
+        rec = read_record(tmp_path / name)
+        np.testing.assert_array_equal(rec.time, [0.0, 1.0, 2.0])
+        np.testing.assert_allclose(rec.force, [1e-3, 2e-3, 3e-3], rtol=1e-12)
 
 
 def test_too_few_cycles(tmp_path: Path) -> None:
