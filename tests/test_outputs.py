@@ -26,11 +26,15 @@ def _run(args: list[str]) -> subprocess.CompletedProcess[str]:
     )
 
 
+#: the header of a trajectory CSV (a file stickslip recognises as its own)
+TRAJECTORY = "time [s],position [m],velocity [m/s],spring_force [N],phase"
+
+
 def test_kill_during_a_write_leaves_the_previous_file(tmp_path: Path) -> None:
     """A process killed (SIGKILL) in the middle of writing: the old file is intact, no debris
     but the temporary file, which is never the target."""
     target = tmp_path / "data.csv"
-    target.write_text("time [s],position [m]\n0,1\n")  # stickslip's trajectory header: replaceable
+    target.write_text(TRAJECTORY + "\n0,1\n")  # stickslip's trajectory header: replaceable
     before = target.read_bytes()
     script = textwrap.dedent(
         f"""
@@ -39,7 +43,7 @@ def test_kill_during_a_write_leaves_the_previous_file(tmp_path: Path) -> None:
 
         def write(path):
             with open(path, "w") as fh:
-                fh.write("time [s],position [m]\\n" + "1,2\\n" * 100000)
+                fh.write("time [s],position [m],velocity [m/s],spring_force [N],phase\\n" + "1,2\\n" * 100000)
                 fh.flush()
                 os.kill(os.getpid(), signal.SIGKILL)  # dies half way, the file still open
 
@@ -52,7 +56,7 @@ def test_kill_during_a_write_leaves_the_previous_file(tmp_path: Path) -> None:
     debris = [p.name for p in tmp_path.iterdir() if p.name != "data.csv"]
     assert len(debris) == 1 and debris[0].startswith(".data.csv.") and ".part" in debris[0]
     # the next write replaces the file and removes the dead writer's temporary file
-    atomic_write(target, lambda p: Path(p).write_text("time [s],position [m]\n2,3\n"), kind="trajectory")
+    atomic_write(target, lambda p: Path(p).write_text(TRAJECTORY + "\n2,3\n"), kind="trajectory")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["data.csv"]
 
 
@@ -136,7 +140,7 @@ def test_stale_staging_of_a_dead_run_is_removed(tmp_path: Path) -> None:
 
 def test_disk_errors_name_the_file_and_keep_the_old_one(tmp_path: Path) -> None:
     target = tmp_path / "x.csv"
-    target.write_text("time [s],position [m]\n")
+    target.write_text(TRAJECTORY + "\n")
 
     def full(path: str) -> None:
         with open(path, "w") as fh:
@@ -147,7 +151,7 @@ def test_disk_errors_name_the_file_and_keep_the_old_one(tmp_path: Path) -> None:
         atomic_write(target, full, kind="trajectory")
     assert info.value.filename == str(target)
     assert "No space left" in str(info.value)
-    assert target.read_text() == "time [s],position [m]\n"
+    assert target.read_text() == TRAJECTORY + "\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["x.csv"]
 
 
@@ -212,3 +216,31 @@ def test_a_figure_is_laid_out_once_for_all_its_formats(
     assert fig.get_layout_engine() is engine  # a figure changed later is laid out again
     blobs = figure_bytes(fig)
     assert set(blobs) == {"png", "svg"} and len(runs) == 2
+
+
+def test_a_measured_record_is_not_taken_for_a_trajectory(tmp_path: Path) -> None:
+    """Any CSV starting 'time [' counted as stickslip's trajectory, and was replaced without a word."""
+    from stickslip import Q_
+    from stickslip.io import write_columns
+
+    mine = tmp_path / "trajectory.csv"
+    mine.write_text("time [s],force [mN]\n0,1\n1,2\n")
+    assert own_kind(mine) is None
+    with pytest.raises(ForeignFileError, match="not a file stickslip wrote"):
+        write_columns(mine, {"time [s]": [0.0, 1.0]})
+    assert mine.read_text() == "time [s],force [mN]\n0,1\n1,2\n"
+    sim = ["simulate", "--nu", "0.1", "--c", "3", "--no-plot", "--out"]
+    res = CliRunner().invoke(main, [*sim, str(tmp_path)])
+    assert res.exit_code != 0 and "trajectory.csv" in res.output
+    assert mine.read_text() == "time [s],force [mN]\n0,1\n1,2\n"
+    # its own trajectory is replaced, as before
+    ours = tmp_path / "ours"
+    for _ in range(2):
+        res = CliRunner().invoke(main, [*sim, str(ours)])
+        assert res.exit_code == 0, res.output
+    assert own_kind(ours / "trajectory.csv") == "trajectory"
+    # pint columns in the unit of their header (numpy stripped the units: 1 mN was written as 1 N)
+    path = write_columns(tmp_path / "q.csv", {"force [N]": Q_([1.0, 2.0], "mN")})
+    assert Path(path).read_text().splitlines()[1:] == ["0.001", "0.002"]
+    with pytest.raises(ValueError, match="do not convert to m"):
+        write_columns(tmp_path / "r.csv", {"force [m]": Q_([1.0], "mN")})

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import os
+import re
 from collections.abc import Mapping
 from typing import Any
 
@@ -15,6 +16,28 @@ __all__ = ["write_columns"]
 
 #: rows formatted at a time
 CHUNK = 100_000
+
+
+def _column(header: str, values: Any) -> np.ndarray:
+    """Return a column's values; a pint quantity in the unit its header names (numpy stripped it)."""
+    import pint
+
+    if isinstance(values, pint.Quantity):
+        m = re.search(r"\[([^]]*)\]\s*$", header)
+        if m is None:
+            raise ValueError(
+                f"column {header!r}: values with units need a unit in the header, e.g. 'force [N]'"
+            )
+        try:
+            values = values.to(m.group(1)).magnitude
+        except (pint.DimensionalityError, pint.UndefinedUnitError, AttributeError, ValueError):
+            raise ValueError(
+                f"column {header!r}: values in {values.units} do not convert to {m.group(1)}"
+            ) from None
+    out = np.asarray(values)
+    if out.ndim != 1:
+        raise ValueError(f"column {header!r}: expected a 1-d sequence of values, got shape {out.shape}")
+    return out
 
 
 def write_columns(
@@ -32,7 +55,8 @@ def write_columns(
     path : str or path-like
         Output file (a name inside ``out`` when given); parent folders are created.
     columns : Mapping[str, array_like]
-        Header (for instance ``"time [s]"``) to values.
+        Header (for instance ``"time [s]"``) to values (pint quantities are
+        written in the unit of their header).
     kind : str, optional
         What the file is, for :func:`~stickslip.io.output.check_target`.
     out : OutputFolder, optional
@@ -51,7 +75,7 @@ def write_columns(
         If the columns differ in length, or the path names a foreign file.
 
     """
-    arrays = {k: np.asarray(v) for k, v in columns.items()}
+    arrays = {k: _column(k, v) for k, v in columns.items()}
     lengths = {len(v) for v in arrays.values()}
     if len(lengths) > 1:
         raise ValueError(f"columns have different lengths: { {k: len(v) for k, v in arrays.items()} }")

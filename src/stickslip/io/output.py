@@ -74,9 +74,12 @@ class ForeignFileError(DataError):
     """An output path names a file that stickslip did not write (or not of that kind)."""
 
 
-#: the header row (its start) of each kind of CSV that stickslip writes
-CSV_HEADERS = {
-    "trajectory": ("time [",),
+#: the header row (its start) of each kind of CSV that stickslip writes; a trajectory's
+#: whole header, unit for unit (a user's "time [s],force [mN]" file was taken for one, and replaced)
+CSV_HEADERS: dict[str, tuple[str | re.Pattern[str], ...]] = {
+    "trajectory": (
+        re.compile(r"time \[[^]]*\],position \[[^]]*\],velocity \[[^]]*\],spring_force \[[^]]*\],phase$"),
+    ),
     "records-summary": ("name,n_cycles,",),
     "fit-parameters": ("parameter,value,error,unit",),
     "ratestate-record": ("# stickslip rate-and-state record",),
@@ -105,7 +108,7 @@ def own_kind(path: str | os.PathLike[str]) -> str | None:
     if ext == ".csv":
         first = head.split(b"\n", 1)[0].decode("utf-8", "replace").strip()
         for kind, starts in CSV_HEADERS.items():
-            if first.startswith(starts):
+            if any(st.match(first) if isinstance(st, re.Pattern) else first.startswith(st) for st in starts):
                 return kind
     return None
 
