@@ -125,6 +125,10 @@ def test_bad_input(tmp_path) -> None:
     assert res.exit_code != 0
     assert "expected [length] / [time]" in res.output
     assert "Traceback" not in res.output
+    # a friction column in percent is read as coefficients (60 % was 60)
+    pct = tmp_path / "pct.csv"
+    pct.write_text("time [s],load-point velocity [um/s],friction [%]\n0,1,60\n1,1,60.5\n2,1,61\n")
+    np.testing.assert_allclose(read_lab_record(pct, need_friction=True).friction, [0.6, 0.605, 0.61])
     # the fit's own arguments, checked before it runs (an unknown key of initial did nothing,
     # a partial one was a KeyError, a bad value scipy's bounds error)
     rec = read_lab_record(_record(tmp_path, "aging", ONE, STEPS_ONE, ONE["k_per_um"]), need_friction=True)

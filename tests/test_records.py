@@ -148,6 +148,12 @@ def test_long_table_and_tsv(tmp_path: Path) -> None:
     assert [r.name for r in recs] == ["a", "b"]
     assert recs[1].v0.to("um/s").magnitude == pytest.approx(200)
     assert recs[0].load.to("N").magnitude == pytest.approx(0.196)
+    # a row without a record name was dropped by the grouping, without a word
+    lines = path.read_text().splitlines()
+    lines[3] = "\t" + lines[3].split("\t", 1)[1]
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ValueError, match="row 4 has no record name"):
+        read_records(path)
 
 
 def test_header_metadata_and_units(tmp_path: Path) -> None:

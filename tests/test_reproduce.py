@@ -105,6 +105,22 @@ def test_report_states_claims_and_beta_inconsistency(quick_run: Path) -> None:
     assert f"{t['zv']['slope']:+.3f}" in md
 
 
+def test_config_and_load_claim_wording() -> None:
+    """One point per curve ran and flipped five claims; claim 6 said 'both increase' whatever the sign."""
+    from stickslip.paper.compute import PaperConfig
+    from stickslip.paper.report import _directions
+
+    for bad in ({"n_v0": 1}, {"n_load": 2.5}, {"n_time": 0}):
+        with pytest.raises(ValueError, match=f"{next(iter(bad))}="):
+            PaperConfig(**bad)
+    assert _directions([0.5, 0.4], [0.1, 0.2]) == (
+        "the amplitude increases with the load, the period increases with the load"
+    )
+    assert _directions([-0.98, -0.7], [0.1, -0.2]) == (
+        "the amplitude decreases with the load, the period goes either way with the load"
+    )
+
+
 def test_reproduce_bad_out(tmp_path: Path) -> None:
     f = tmp_path / "file"
     f.write_text("x")

@@ -171,7 +171,8 @@ def read_lab_record(path: str | os.PathLike[str], *, need_friction: bool = False
             raise DataError(
                 f"{p}: column {fcol!r} has unit [{units[fcol]:~}], expected a dimensionless friction [1]"
             )
-        mu = f
+        # in the unit given: 60 % is 0.6 (it was taken as 60)
+        mu = f if units[fcol] is None else f * float(ureg.Quantity(1.0, units[fcol]).to("").magnitude)
     return LabRecord(os.path.basename(p), t, v, x, mu, dict(layout.meta))
 
 

@@ -229,6 +229,11 @@ def read_records(path: str | os.PathLike[str]) -> list[Record]:
     df, units, meta = _read(p, p)
     if "record" not in df.columns:
         return [_record_from_frame(df, units, meta, os.path.basename(p), p)]
+    names = df["record"]
+    blank = names.isna() | (names.astype(str).str.strip() == "")
+    if blank.any():  # groupby skipped such rows without a word
+        i = int(np.flatnonzero(blank.to_numpy())[0])
+        raise DataError(f"{p}: row {i + 2} has no record name (column 'record' is empty)")
     out = []
     for name, part in df.groupby("record", sort=False):
         where = f"{p} (record {name!r})"

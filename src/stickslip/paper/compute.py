@@ -71,6 +71,13 @@ class PaperConfig:
     n_load: int = 24
     n_time: int = 4000
 
+    def __post_init__(self) -> None:
+        # one point per curve ran, and turned five claims from supported to contradicted
+        for name, low in (("n_v0", 3), ("n_load", 3), ("n_time", 2)):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < low:
+                raise ValueError(f"{name}={value!r}: expected a whole number >= {low} (a slope needs points)")
+
     @classmethod
     def quick(cls) -> PaperConfig:
         """Return a reduced configuration for tests."""

@@ -130,7 +130,7 @@ def claims(ds: xr.Dataset) -> list[Claim]:
             + ", ".join(f"{s:+.2f}" for s in la)
             + "; d log(period)/d log(W) = "
             + ", ".join(f"{s:+.2f}" for s in lp)
-            + f" at v0 = {', '.join(vs)} um/s: both increase with the load. The paper does not say in "
+            + f" at v0 = {', '.join(vs)} um/s: {_directions(la, lp)}. The paper does not say in "
             "which direction the measured ones go, so the agreement cannot be checked from its text.",
             "not testable from the paper",
         )
@@ -274,6 +274,19 @@ def _appendix_claims(ds: xr.Dataset) -> list[Claim]:
             "shown",
         ),
     ]
+
+
+def _directions(amplitude: list[float], period: list[float]) -> str:
+    """Say how the amplitude and the period go with the load, from their slopes (it said 'both increase')."""
+
+    def way(slopes: list[float], what: str) -> str:
+        if all(s > 0 for s in slopes):
+            return f"the {what} increases with the load"
+        if all(s < 0 for s in slopes):
+            return f"the {what} decreases with the load"
+        return f"the {what} goes either way with the load"
+
+    return f"{way(amplitude, 'amplitude')}, {way(period, 'period')}"
 
 
 def _mass_claim(ds: xr.Dataset) -> Claim:
