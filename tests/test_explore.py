@@ -29,6 +29,7 @@ from click.testing import CliRunner
 from stickslip import DimensionlessParameters, WeakeningLaw, cycle, simulate
 from stickslip.cli import main
 from stickslip.explore import Setup, command, compute, parse_params, view_csv
+from stickslip.explore.session import slider_range
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 CHROMEDRIVER = shutil.which("chromedriver")
@@ -98,6 +99,13 @@ def test_csv_and_bad_input():
     with pytest.raises(ValueError, match="c"):
         compute(Setup(params={"c": -2.0, "p": 0.0}))
     assert command(Setup(nu=0.05)).startswith("stickslip cycle --law weakening --nu 0.05")
+    # a bad scale was blamed on beta; an unknown parameter was a StopIteration or a list error
+    with pytest.raises(ValueError, match=r"mass=-1\.0 must be positive"):
+        Setup(physical=True, mass=-1.0)
+    with pytest.raises(ValueError, match="'zz' is not a parameter of the weakening law"):
+        slider_range("weakening", "zz", 1.0)
+    with pytest.raises(ValueError, match="c=nan: expected a finite value"):
+        slider_range("weakening", "c", float("nan"))
 
 
 def test_explore_option_errors():

@@ -225,6 +225,18 @@ def test_folder_errors(tmp_path: Path) -> None:
         read_records(tmp_path / "nope")
 
 
+def test_given_v0_and_load_are_what_the_metadata_say(tmp_path: Path) -> None:
+    """An override left the header's value in .metadata; v0=nan dropped the header's value."""
+    path = tmp_path / "hdr.csv"
+    path.write_text("# v0 = 10 um/s\n# load = 196 mN\ntime [s],force [mN]\n0,1\n1,2\n2,3\n")
+    rec = read_record(path, v0="5 um/s")
+    assert rec.v0.to("um/s").magnitude == pytest.approx(5.0)
+    assert S.Q_(rec.metadata["v0"]).to("um/s").magnitude == pytest.approx(5.0)
+    assert rec.metadata["load"] == "196 mN"
+    with pytest.raises(ValueError, match="v0=nan"):
+        read_record(path, v0=float("nan"))
+
+
 def test_text_layouts_that_read(tmp_path: Path) -> None:
     """Trailing empty cells, quotes, CR line ends, a U+2028 in a comment: every row read."""
     layouts = {

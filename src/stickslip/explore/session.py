@@ -32,7 +32,7 @@ from ..laws import ExpressionLaw, registry
 from ..laws.base import DimensionlessLaw
 from ..models import DimensionlessParameters, PhysicalParameters, zv_parameters
 from ..models.parameters import beta_of
-from ..units import Q_
+from ..units import Q_, check_number
 
 __all__ = [
     "EXPR",
@@ -98,7 +98,9 @@ class Setup:
     expression : str
         The formula ``f(w)`` of an ``expr`` law (dimensionless, ``f(0+) = 1``).
     physical : bool
-        Show (and export) the set-up in SI units with the scales below.
+        Show (and export) the set-up in SI units with the scales below. A
+        formula law (``expr``) is dimensionless and stays so (``View.units``
+        says which units are shown; the page says so too).
     mass, stiffness, load, mu_s : float
         The physical scales: kg, N/m, N, and the static friction coefficient.
 
@@ -113,6 +115,10 @@ class Setup:
     stiffness: float = ZV_SCALES[1]
     load: float = ZV_SCALES[2]
     mu_s: float = ZV_SCALES[3]
+
+    def __post_init__(self) -> None:
+        for name in ("mass", "stiffness", "load", "mu_s"):  # a bad scale was blamed on beta
+            check_number(getattr(self, name), name, what=f"a positive {name} scale")
 
     def dimensionless_law(self) -> DimensionlessLaw:
         """Return the friction law (dimensionless)."""
@@ -217,6 +223,14 @@ def parse_params(text: str) -> dict[str, float]:
     return out
 
 
+def _spec(parameters: Any, name: str, law: str) -> Any:
+    """Return the parameter ``name`` of a law's spec, or a ValueError naming the law's parameters."""
+    for p in parameters:
+        if p.name == name:
+            return p
+    raise ValueError(f"{name!r} is not a parameter of the {law} law (it has {[p.name for p in parameters]})")
+
+
 def slider_range(law: str, name: str, value: float) -> tuple[float, float, float]:
     """Return ``(start, end, step)`` of a slider for a law parameter, inside its bounds.
 
@@ -226,7 +240,9 @@ def slider_range(law: str, name: str, value: float) -> tuple[float, float, float
     top = max(4.0 * abs(value), 1.0)
     if law == EXPR:
         return (-top if value < 0 else 0.0), top, top / 400.0
-    p = next(p for p in registry.get(law).spec.parameters if p.name == name)
+    if not math.isfinite(value):
+        raise ValueError(f"{name}={value!r}: expected a finite value")
+    p = _spec(registry.get(law).spec.parameters, name, law)
     lo = p.lower if math.isfinite(p.lower) else -top
     hi = p.upper if math.isfinite(p.upper) else top
     step = (hi - lo) / 400.0
@@ -268,7 +284,7 @@ def regime_diagram(
     nus = np.geomspace(nu / 100.0, nu * 100.0, DIAGRAM_SHAPE[0])
     hi = 3.0 * abs(value) if value != 0.0 else 1.0
     lo = hi / DIAGRAM_SHAPE[1]
-    spec = law.spec.parameters[[p.name for p in law.spec.parameters].index(param)]
+    spec = _spec(law.spec.parameters, param, law.name)
     if math.isfinite(spec.upper):
         hi = min(hi, spec.upper * (1.0 - 1.0 / DIAGRAM_SHAPE[1]))
         lo = min(lo, hi / 2.0)

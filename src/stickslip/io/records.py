@@ -154,9 +154,16 @@ def _record_from_frame(
 
     x = optional("displacement", "[length]", "m")
     v = optional("velocity", "[length] / [time]", "m/s")
+    for key, given in (("v0", v0), ("load", load)):
+        if isinstance(given, float) and np.isnan(given):  # it dropped the header's value, unsaid
+            raise DataError(f"{where}: {key}=nan: expected a quantity, or None for the header's")
     v0q = _quantity(v0 if v0 is not None else meta.get("v0"), "v0", "[length] / [time]", "10 um/s", where)
     loadq = _quantity(load if load is not None else meta.get("load"), "load", "[force]", "196 mN", where)
-    return Record(name, t, f, x, v, v0q, loadq, dict(meta))
+    meta = dict(meta)
+    for key, given, used in (("v0", v0, v0q), ("load", load, loadq)):
+        if given is not None and used is not None:  # the metadata say what .v0 and .load are
+            meta[key] = f"{used.magnitude!r} {used.units}"
+    return Record(name, t, f, x, v, v0q, loadq, meta)
 
 
 def _quantity(value: Any, name: str, dimension: str, example: str, where: str) -> pint.Quantity | None:
