@@ -237,6 +237,32 @@ def test_given_v0_and_load_are_what_the_metadata_say(tmp_path: Path) -> None:
         read_record(path, v0=float("nan"))
 
 
+def test_writers_and_tables_refuse_what_would_not_read_back(tmp_path: Path) -> None:
+    """A title line crashed in pandas; a line break in metadata corrupted the file; and more."""
+    from stickslip.io.lab import format_lab_record
+    from stickslip.io.records import Record, format_record
+    from stickslip.io.tables import read_table
+
+    title = tmp_path / "title.csv"
+    title.write_text("Experiment 12\ntime [s],force [mN]\n0,1\n1,2\n2,3\n")
+    with pytest.raises(ValueError, match="a title line\\? put '# ' before it"):
+        read_record(title)
+    rec = Record("x", np.arange(3.0), np.ones(3), metadata={"note": "a\nb"})
+    with pytest.raises(ValueError, match="a line break in a header line"):
+        format_record(rec)
+    with pytest.raises(ValueError, match="force_unit='mN]'"):
+        format_record(Record("x", np.arange(3.0), np.ones(3)), force_unit="mN]")
+    with pytest.raises(ValueError, match="v0=1e-05 has no unit"):
+        Record("x", np.arange(3.0), np.ones(3), v0=1e-5)
+    with pytest.raises(ValueError, match="expected 1-d columns of one length"):
+        format_lab_record(np.arange(3.0), np.ones(2), np.ones(3))
+    table = tmp_path / "t.csv"
+    table.write_text("Velocity [um/s],mu [1]\n1,0.5\n2,0.4\n")
+    assert set(read_table(table, ["Velocity"], ["MU"])) == {"velocity", "mu"}  # case-insensitive
+    with pytest.raises(ValueError, match="required='velocity': expected a sequence"):
+        read_table(table, "velocity")
+
+
 def test_text_layouts_that_read(tmp_path: Path) -> None:
     """Trailing empty cells, quotes, CR line ends, a U+2028 in a comment: every row read."""
     layouts = {

@@ -196,8 +196,7 @@ def format_lab_record(
         **(extra or {}),
     }
     # the first line marks the file as stickslip's (so that a rerun may replace it)
-    lines = ["# stickslip rate-and-state record"] + [f"# {k} = {v}" for k, v in (metadata or {}).items()]
-    lines.append(",".join(cols))
+    lines = text.header_lines("rate-and-state record", metadata or {}, cols)
     data = np.column_stack(list(cols.values()))
     lines += [",".join(repr(float(x)) for x in row) for row in data]
     return "\n".join(lines) + "\n"

@@ -67,6 +67,13 @@ class Record:
     load: pint.Quantity | None = None
     metadata: Mapping[str, str] = field(default_factory=dict)
 
+    def __post_init__(self) -> None:
+        # v0=1e-5 (no unit) failed later with an AttributeError on .to
+        for key, dim, example in (("v0", "[length] / [time]", "10 um/s"), ("load", "[force]", "196 mN")):
+            value = getattr(self, key)
+            if value is not None:
+                object.__setattr__(self, key, parse_quantity(value, key, dim, example))
+
 
 def _si(
     values: FloatArray, unit: pint.Unit | None, name: str, dimension: str, si: str, where: str
@@ -110,6 +117,11 @@ def _read(path: str, where: str) -> tuple[pd.DataFrame, dict[str, pint.Unit | No
         raise DataError(f"{where}: column {sorted(dup)[0]!r} appears more than once")
     numeric = [n for n in names if n in NUMERIC]
     textual = [n for n in names if n in TEXT]
+    if not numeric and not textual:  # pandas failed inside with an IndexError
+        raise DataError(
+            f"{where}: line {layout.header_line} is taken for the header, and names no known column "
+            f"({layout.header!r}); expected 'time [s]' and 'force [N]' (a title line? put '# ' before it)"
+        )
     frame = text.read_frame(layout, names, numeric=numeric, text=textual, where=where, position="row")
     if len(frame) == 0:
         raise DataError(f"{where}: the file has a header but no data rows")
@@ -283,7 +295,7 @@ def format_record(record: Record, *, force_unit: str = "mN") -> str:
     """
     try:
         to_unit = float(ureg.Quantity(1.0, "N").to(force_unit).magnitude)
-    except (pint.errors.PintError, AttributeError, TypeError, ValueError):
+    except Exception:  # pint's parser raises what it meets (a TokenError for 'mN]')
         raise ValueError(f"force_unit={force_unit!r}: expected a unit of force, e.g. 'mN' or 'N'") from None
     meta = {k: v for k, v in record.metadata.items() if k not in ("v0", "load")}
     if record.v0 is not None:
@@ -295,8 +307,7 @@ def format_record(record: Record, *, force_unit: str = "mN") -> str:
         cols["displacement [um]"] = np.asarray(record.displacement, float) * 1e6
     if record.velocity is not None:
         cols["velocity [um/s]"] = np.asarray(record.velocity, float) * 1e6
-    lines = ["# stickslip force-time record"] + [f"# {k} = {v}" for k, v in meta.items()]
-    lines.append(",".join(cols))
+    lines = text.header_lines("force-time record", meta, cols)
     data = np.column_stack(list(cols.values()))
     lines += [",".join(repr(float(x)) for x in row) for row in data]
     return "\n".join(lines) + "\n"

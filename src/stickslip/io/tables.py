@@ -99,6 +99,11 @@ def read_table(
         (or NaN); the message names the file, the column and the line.
 
     """
+    for arg, value in (("required", required), ("optional", optional)):
+        if isinstance(value, str):  # "velocity" was read as the columns 'v', 'e', ...
+            raise ValueError(f"{arg}={value!r}: expected a sequence of column names, e.g. [{value!r}]")
+    required = [r.strip().lower() for r in required]  # case-insensitive, as the header's names
+    optional = [o.strip().lower() for o in optional]
     p = check_file(path, MAX_BYTES)
     layout = text.inspect(p)
     header = [parse_header(c, p) for c in layout.header]

@@ -21,9 +21,9 @@ import csv
 import math
 import os
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -289,6 +289,27 @@ def _check_widths(layout: TextLayout, names: Sequence[str], shown: str) -> None:
             line0 += newlines.size
             if not block:
                 return
+
+
+def header_lines(kind: str, metadata: Mapping[str, Any], columns: Mapping[str, Any]) -> list[str]:
+    """Return a written record's first lines: its mark, ``# key = value`` lines and the header.
+
+    Checks what the readers need back: one line per key and value (a newline in
+    one ended the metadata and corrupted the file), and equal-length 1-d columns.
+
+    Raises
+    ------
+    ValueError
+        Naming the metadata key or the columns.
+
+    """
+    for key, value in metadata.items():
+        if any(c in f"{key}{value}" for c in "\r\n\u2028\u2029\x0b\x0c\x1c\x1d\x1e\x85"):
+            raise ValueError(f"metadata[{key!r}]={value!r}: a line break in a header line")
+    lengths = {k: np.shape(v) for k, v in columns.items()}
+    if len({s for s in lengths.values()}) > 1 or any(len(s) != 1 for s in lengths.values()):
+        raise ValueError(f"columns: expected 1-d columns of one length, got shapes {lengths}")
+    return [f"# stickslip {kind}"] + [f"# {k} = {v}" for k, v in metadata.items()] + [",".join(columns)]
 
 
 def _cells(raw: bytes, sep: str) -> int:
