@@ -125,6 +125,10 @@ def test_bad_input(tmp_path) -> None:
     assert res.exit_code != 0
     assert "expected [length] / [time]" in res.output
     assert "Traceback" not in res.output
+    dup = tmp_path / "dup.csv"
+    dup.write_text("time [s],load-point velocity [um/s],load-point velocity [um/s]\n0,1,1\n1,1,1\n")
+    with pytest.raises(DataError, match="column 'load-point velocity' appears more than once"):
+        read_lab_record(dup)
     # a friction column in percent is read as coefficients (60 % was 60)
     pct = tmp_path / "pct.csv"
     pct.write_text("time [s],load-point velocity [um/s],friction [%]\n0,1,60\n1,1,60.5\n2,1,61\n")

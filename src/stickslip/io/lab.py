@@ -120,6 +120,9 @@ def read_lab_record(path: str | os.PathLike[str], *, need_friction: bool = False
     parsed = [parse_header(c, p) for c in layout.header]
     names = [n for n, _ in parsed]
     units = dict(parsed)
+    dup = sorted({n for n in names if names.count(n) > 1})
+    if dup:  # pandas failed on it: "malformed rows"
+        raise DataError(f"{p}: column {dup[0]!r} appears more than once")
     if "time" not in names:
         raise DataError(
             f"{p}: missing column 'time' (found {names}); expected 'time [s]', "
