@@ -308,3 +308,8 @@ def test_write_record_round_trip(tmp_path: Path) -> None:
         write_record(rec, tmp_path / "mine.csv")
     with pytest.raises(ValueError, match="force_unit='m/s'"):
         write_record(rec, tmp_path / "x.csv", force_unit="m/s")
+    # as .tsv and .txt too: a rerun was refused, its own file taken for a foreign one
+    for ext in ("tsv", "txt"):
+        for _ in range(2):
+            again = write_record(rec, tmp_path / f"r.{ext}")
+        np.testing.assert_array_equal(read_record(again).time, rec.time)

@@ -105,7 +105,7 @@ def own_kind(path: str | os.PathLike[str]) -> str | None:
     if ext in (".png", ".svg", ".json", ".md", ".html"):
         m = _MARK.search(head)
         return m.group(2).decode("ascii") if m else None
-    if ext == ".csv":
+    if ext in (".csv", ".tsv", ".txt"):  # records are written as any of them
         first = head.split(b"\n", 1)[0].decode("utf-8", "replace").strip()
         for kind, starts in CSV_HEADERS.items():
             if any(st.match(first) if isinstance(st, re.Pattern) else first.startswith(st) for st in starts):
