@@ -35,6 +35,29 @@ def test_version_comes_from_the_package_metadata() -> None:
     assert version("stickslip") in res.stdout
 
 
+def test_import_stickslip_is_lazy_and_every_public_name_loads() -> None:
+    """``import stickslip`` loads no numba (so the command line can answer Ctrl-C while it
+    starts); each name of ``__all__`` and each subpackage then loads on first use."""
+    code = (
+        "import sys, stickslip\n"
+        "print('numba' in sys.modules, 'pint' in sys.modules)\n"
+        "print(all(getattr(stickslip, n) is not None for n in stickslip.__all__))\n"
+        "print(stickslip.cycle is stickslip.dynamics.cycle, stickslip.core.__name__)\n"
+        "from stickslip import *\n"
+        "print(Q_('1 mN').to('N').magnitude, 'zv_parameters' in dir(stickslip))\n"
+        "try:\n    stickslip.nope\nexcept AttributeError as e:\n    print(e)\n"
+    )
+    res = _python("-c", code)
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.splitlines() == [
+        "False False",
+        "True",
+        "True stickslip.core",
+        "0.001 True",
+        "module 'stickslip' has no attribute 'nope'",
+    ]
+
+
 def test_importing_chooses_no_matplotlib_backend() -> None:
     code = (
         "import sys, stickslip, stickslip.plots.figures, stickslip.plots.regimes, stickslip.paper.figures\n"

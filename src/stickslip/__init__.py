@@ -13,28 +13,85 @@ Layers, each importing only from those below it (checked by import-linter):
 * :mod:`stickslip.data`, :mod:`stickslip.ratestate`: measured records, rate and state;
 * :mod:`stickslip.plots`, :mod:`stickslip.paper`: figures, the paper's reproduction;
 * :mod:`stickslip.cli`: the command line.
+
+The package imports lazily: ``import stickslip`` is quick, and the names below load
+their layer on first use (``stickslip.cycle``, ``from stickslip import simulate``), as
+SciPy's subpackages do. So the command line can start, and answer Ctrl-C during its
+start, before numba's compiled kernels are loaded.
 """
 
-from .dynamics import Attractor, CycleResult, Trajectory, cycle, simulate
-from .io.output import package_version
-from .laws import (
-    CoulombLaw,
-    CubicLaw,
-    DimensionlessLaw,
-    ExpressionLaw,
-    PhysicalCoulombLaw,
-    PhysicalCubicLaw,
-    PhysicalLaw,
-    PhysicalWeakeningLaw,
-    TabulatedLaw,
-    WeakeningLaw,
-    f1,
-    f2,
-)
-from .models import DimensionlessParameters, PhysicalParameters, Scales, zv_parameters
-from .units import Q_, ureg
+from __future__ import annotations
 
-__version__ = package_version()
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # the names for type checkers and for readers; loaded by __getattr__
+    from .dynamics.cycle import Attractor, CycleResult, cycle
+    from .dynamics.trajectory import Trajectory, simulate
+    from .laws import (
+        CoulombLaw,
+        CubicLaw,
+        DimensionlessLaw,
+        ExpressionLaw,
+        PhysicalCoulombLaw,
+        PhysicalCubicLaw,
+        PhysicalLaw,
+        PhysicalWeakeningLaw,
+        TabulatedLaw,
+        WeakeningLaw,
+        f1,
+        f2,
+    )
+    from .models import DimensionlessParameters, PhysicalParameters, Scales, zv_parameters
+    from .units import Q_, ureg
+
+_HOME = {
+    **dict.fromkeys(("Attractor", "CycleResult", "Trajectory", "cycle", "simulate"), "dynamics"),
+    **dict.fromkeys(
+        (
+            "CoulombLaw",
+            "CubicLaw",
+            "DimensionlessLaw",
+            "ExpressionLaw",
+            "PhysicalCoulombLaw",
+            "PhysicalCubicLaw",
+            "PhysicalLaw",
+            "PhysicalWeakeningLaw",
+            "TabulatedLaw",
+            "WeakeningLaw",
+            "f1",
+            "f2",
+        ),
+        "laws",
+    ),
+    **dict.fromkeys(("DimensionlessParameters", "PhysicalParameters", "Scales", "zv_parameters"), "models"),
+    **dict.fromkeys(("Q_", "ureg"), "units"),
+}
+_SUBPACKAGES = frozenset(
+    {"bifurcation", "chains", "cli", "core", "data", "defaults", "dynamics", "explore", "io", "laws"}
+    | {"models", "paper", "plots", "ratestate", "scale", "units"}
+)
+
+
+def __getattr__(name: str) -> Any:
+    """Load an exported name, a subpackage or ``__version__`` on first use (PEP 562)."""
+    if name == "__version__":
+        from .io.output import package_version
+
+        value: Any = package_version()
+    elif name in _HOME:
+        value = getattr(importlib.import_module(f".{_HOME[name]}", __name__), name)
+    elif name in _SUBPACKAGES:
+        value = importlib.import_module(f".{name}", __name__)
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_HOME, *_SUBPACKAGES, "__version__"})
+
 
 __all__ = [
     "Q_",
