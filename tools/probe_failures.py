@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-EXE = [sys.executable, "-m", "stickslip.cli"]
+EXE = [sys.executable, "-m", "stickslip"]
 
 
 @dataclass
@@ -360,7 +360,8 @@ def interrupts(d: Path) -> list[tuple[str, str, str, str]]:
         out, err = proc.communicate(timeout=10)
         dt = time.perf_counter() - t0
         tb = "Traceback" in out + err
-        verdict = "traceback" if tb else ("ok" if dt < 1.5 else "hang")
+        # 0.5-1.2 s measured on 2 idle cores; a loaded machine takes about twice that
+        verdict = "traceback" if tb else ("ok" if dt < 3.0 else "hang")
         detail = f"stopped {dt:.2f} s after Ctrl-C (exit {proc.returncode})"
     except subprocess.TimeoutExpired:
         proc.kill()
