@@ -11,6 +11,7 @@ import numpy as np
 from ..models.parameters import PhysicalParameters
 from .errors import handle_errors
 from .options import (
+    OutPath,
     build_parameters,
     law_command,
     overwrite_option,
@@ -48,7 +49,7 @@ def register(main: click.Group) -> None:
     @click.option(
         "--out",
         "out_dir",
-        type=click.Path(file_okay=False),
+        type=OutPath(file_okay=False),
         default=None,
         help="Write regimes.json, bifurcation.png/.svg (and regime_map.nc, regime_map.png, "
         "criterion_map.png with --map) to this folder.",

@@ -12,6 +12,7 @@ import numpy as np
 
 from .errors import handle_errors
 from .options import (
+    OutPath,
     build_parameters,
     law_command,
     overwrite_option,
@@ -88,7 +89,7 @@ def register(main: click.Group) -> None:
     @click.option(
         "--out",
         "out_dir",
-        type=click.Path(file_okay=False),
+        type=OutPath(file_okay=False),
         default=None,
         help="Write catalog.nc (streamed), summary.json and the figures into this folder.",
     )

@@ -12,6 +12,7 @@ import numpy as np
 from ..models.parameters import DimensionlessParameters, PhysicalParameters
 from .errors import fail_unless_ok, handle_errors
 from .options import (
+    OutPath,
     axis_count,
     axis_parameter,
     build_parameters,
@@ -152,7 +153,7 @@ def register(main: click.Group) -> None:
     @click.option(
         "--out",
         "out_path",
-        type=click.Path(dir_okay=False),
+        type=OutPath(dir_okay=False),
         default=None,
         help="NetCDF output; the plot goes beside it (.png, .svg). Default results/sweep.nc, "
         "or none with --store (the store is the output).",

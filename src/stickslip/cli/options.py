@@ -256,12 +256,26 @@ def law_command(group: click.Group, name: str | None = None, *, text: bool = Fal
     return group.command(name, cls=LawCommand, text=text)
 
 
+class OutPath(click.Path):
+    """A path to write to: as :class:`click.Path`, and an empty one is refused.
+
+    ``--out ''`` was read as no option at all (a sweep wrote ``results/sweep.nc``),
+    ``--store ''`` as the current folder, and ``reproduce --out ''`` failed naming
+    no folder.
+    """
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
+        if isinstance(value, str) and not value.strip():
+            self.fail(f"{value!r} is empty: expected the path of a {self.name}", param, ctx)
+        return super().convert(value, param, ctx)
+
+
 def out_dir_option(help_text: str) -> Any:
     """Return the ``--out`` option (an output folder, default ``results``) of a command."""
     return click.option(
         "--out",
         "out_dir",
-        type=click.Path(file_okay=False),
+        type=OutPath(file_okay=False),
         default="results",
         show_default=True,
         help=help_text,
@@ -275,7 +289,7 @@ def scale_options(func: Callable[..., Any]) -> Any:
             click.option(
                 "--store",
                 default=None,
-                type=click.Path(dir_okay=True, file_okay=False),
+                type=OutPath(dir_okay=True, file_okay=False),
                 help="Zarr store (PATH.zarr): results written block by block as they finish; "
                 "run the same command again after an interruption and only the missing blocks run.",
             ),
