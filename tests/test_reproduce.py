@@ -93,6 +93,9 @@ def test_dataset_has_units_and_every_curve(quick_run: Path) -> None:
 
 def test_report_states_claims_and_beta_inconsistency(quick_run: Path) -> None:
     md = (quick_run / "report.md").read_text()
+    # the set-up's cross-reference names the beta claim's number (it said 11, the mu0 W claim)
+    n = next(line.split("|")[1].strip() for line in md.splitlines() if "| Parameters: beta" in line)
+    assert f"(claim {n})." in md
     assert "beta = 87.3 s/m" in md
     assert "0.231 kg" in md
     assert "slope" in md
@@ -127,6 +130,48 @@ def test_reproduce_bad_out(tmp_path: Path) -> None:
     res = CliRunner().invoke(main, ["reproduce", "--out", str(f), "--quick"])
     assert res.exit_code == 2
     assert "Traceback" not in res.output
+    # an empty --out named no folder here; a sweep wrote results/sweep.nc, a store the cwd
+    for args in (["reproduce", "--quick"], ["sweep", "--nu", "0.1", "--c", "3"]):
+        res = CliRunner().invoke(main, [*args, "--out", ""])
+        assert res.exit_code == 2 and "'' is empty: expected the path of a" in res.output, res.output
+    res = CliRunner().invoke(main, ["sweep", "--nu", "0.1", "--c", "3", "--store", ""])
+    assert res.exit_code == 2 and "Invalid value for '--store'" in res.output
+
+
+def test_a_foreign_trial_figure_is_refused_before_the_work(tmp_path: Path) -> None:
+    """Audit of 2026-11-24: regimes_<trial>.png was checked only when written, after some
+    20 s of a quick run (hours of a full one); now with every other target, at once."""
+    import time
+
+    (tmp_path / f"regimes_{TRIAL_MAPS[0].key}.png").write_text("a colleague's figure")
+    t0 = time.perf_counter()
+    res = CliRunner().invoke(main, ["reproduce", "--quick", "--serial", "--out", str(tmp_path)])
+    assert res.exit_code != 0 and f"regimes_{TRIAL_MAPS[0].key}.png" in res.output, res.output
+    assert time.perf_counter() - t0 < 10.0  # refused before any map is computed
+    assert (tmp_path / f"regimes_{TRIAL_MAPS[0].key}.png").read_text() == "a colleague's figure"
+
+
+def test_paper_api_refuses_what_it_dropped() -> None:
+    """Audit of 2026-11-24: unknown trial keys ran nothing; a dict config failed deep;
+    the appendix's resolution followed n_v0 < 20 unsaid; claim 10's verdict was fixed text."""
+    from stickslip.paper.compute import PaperConfig, compute_paper
+    from stickslip.paper.report import _against_measured
+    from stickslip.paper.trial import run_trials
+
+    with pytest.raises(ValueError, match=r"\['f1-c'\] are not trials"):
+        run_trials(quick=True, keys=("f1-c",))
+    with pytest.raises(ValueError, match="keys='f1_c'"):
+        run_trials(quick=True, keys="f1_c")  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match=r"config=.*expected a PaperConfig"):
+        compute_paper({"n_v0": 8})  # type: ignore[arg-type]
+    assert PaperConfig.quick().quick_appendix and not PaperConfig(n_v0=8).quick_appendix
+    with pytest.raises(ValueError, match="quick_appendix='yes'"):
+        PaperConfig(quick_appendix="yes")  # type: ignore[arg-type]
+    bri = float(np.log10(2.0))
+    assert _against_measured(-0.095, bri) == "contradicted"
+    assert _against_measured(0.505, bri) == "partly supported (right direction, steeper)"
+    assert _against_measured(0.1, bri) == "partly supported (right direction, shallower)"
+    assert _against_measured(0.3, bri) == "supported"
 
 
 def test_appendix_evidence(quick_run: Path) -> None:

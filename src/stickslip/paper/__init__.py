@@ -93,6 +93,12 @@ def reproduce(
                 "report.html": "report",
                 **{f"{name}.{ext}": "figure" for name in FIGURES for ext in ("png", "svg")},
                 **{f"criterion_{m.key}.nc": "criterion-trial" for m in TRIAL_MAPS},
+                **{
+                    f"{kind}_{m.key}.{ext}": "figure"
+                    for kind, _ in TRIAL_PLOTS
+                    for m in TRIAL_MAPS
+                    for ext in ("png", "svg")
+                },
             }
         )
         config = PaperConfig.quick() if quick else PaperConfig()
@@ -108,7 +114,7 @@ def reproduce(
                 # for the regime sequences) and two of the appendix's four parts
                 other_trial = pool.apply_async(run_trials, kwds={"quick": quick, "keys": REMOTE_TRIALS})
                 remote_parts = {
-                    name: pool.apply_async(appendix_part, (name, config.n_v0 < 20))
+                    name: pool.apply_async(appendix_part, (name, config.quick_appendix))
                     for name in APPENDIX_PARTS
                     if name not in LOCAL_APPENDIX_PARTS
                 }
@@ -128,7 +134,7 @@ def reproduce(
                     )
 
             if pool is not None:
-                parts = {name: appendix_part(name, config.n_v0 < 20) for name in LOCAL_APPENDIX_PARTS}
+                parts = {name: appendix_part(name, config.quick_appendix) for name in LOCAL_APPENDIX_PARTS}
                 if other_trial.ready():
                     hand_over_trials()
             # this process draws its own trials' figures (meanwhile, with a second process)

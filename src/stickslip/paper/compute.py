@@ -64,12 +64,16 @@ class PaperConfig:
         Points of the load curves.
     n_time : int
         Samples of the Fig. 1 time series.
+    quick_appendix : bool
+        Compute the appendix (rate and state) at its reduced resolution. Default
+        False; :meth:`quick` sets it. (It was chosen, unsaid, by ``n_v0 < 20``.)
 
     """
 
     n_v0: int = 60
     n_load: int = 24
     n_time: int = 4000
+    quick_appendix: bool = False
 
     def __post_init__(self) -> None:
         # one point per curve ran, and turned five claims from supported to contradicted
@@ -77,11 +81,13 @@ class PaperConfig:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < low:
                 raise ValueError(f"{name}={value!r}: expected a whole number >= {low} (a slope needs points)")
+        if not isinstance(self.quick_appendix, bool | np.bool_):
+            raise ValueError(f"quick_appendix={self.quick_appendix!r}: expected True or False")
 
     @classmethod
     def quick(cls) -> PaperConfig:
         """Return a reduced configuration for tests."""
-        return cls(n_v0=8, n_load=5, n_time=600)
+        return cls(n_v0=8, n_load=5, n_time=600, quick_appendix=True)
 
 
 V0_RANGE = (5.0, 1000.0)  # um/s, the paper's range
@@ -136,6 +142,8 @@ def compute_paper(
         the spread of amplitude / (mu0 W) over loads at fixed beta (``scale_check_spread``).
 
     """
+    if config is not None and not isinstance(config, PaperConfig):
+        raise ValueError(f"config={config!r}: expected a PaperConfig (or None for the full resolution)")
     cfg = config or PaperConfig()
     v0 = Q_(np.geomspace(*V0_RANGE, cfg.n_v0), "um/s")
     zv = zv_parameters()
@@ -199,7 +207,7 @@ def compute_paper(
     if appendix:
         from .appendix import compute_appendix
 
-        return with_appendix(ds, compute_appendix(quick=cfg.n_v0 < 20))
+        return with_appendix(ds, compute_appendix(quick=bool(cfg.quick_appendix)))
     return ds
 
 

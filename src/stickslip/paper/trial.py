@@ -45,6 +45,13 @@ def run_trials(
     *, quick: bool = False, progress: bool | None = False, keys: tuple[str, ...] | None = None
 ) -> dict[str, xr.Dataset]:
     """Compute the maps of :data:`TRIAL_MAPS` (those named in ``keys``; all by default) with the verdicts."""
+    known = [m.key for m in TRIAL_MAPS]
+    if keys is not None:
+        if isinstance(keys, str) or not all(isinstance(k, str) for k in keys):
+            raise ValueError(f"keys={keys!r}: expected a tuple of trial names out of {known}")
+        unknown = [k for k in keys if k not in known]
+        if unknown:
+            raise ValueError(f"keys: {unknown} are not trials: expected names out of {known}")
     out = {}
     for m in TRIAL_MAPS:
         if keys is not None and m.key not in keys:
