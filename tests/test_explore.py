@@ -106,6 +106,32 @@ def test_csv_and_bad_input():
         slider_range("weakening", "zz", 1.0)
     with pytest.raises(ValueError, match="c=nan: expected a finite value"):
         slider_range("weakening", "c", float("nan"))
+    # audit of 2026-11-24: a formula's nan slider, spaces, None, an unknown built-in parameter
+    with pytest.raises(ValueError, match="c=inf: expected a finite value"):
+        slider_range("expr", "c", float("inf"))
+    assert parse_params("c = 3.8 , q= -0.5") == {"c": 3.8, "q": -0.5}
+    with pytest.raises(ValueError, match="parameters=None"):
+        parse_params(None)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match=r"\['bogus'\] are not parameters of the weakening law"):
+        compute(Setup(params={"c": 3.8, "p": 0.0, "bogus": 1.0}))
+
+
+def test_a_slider_holds_the_value_given_and_a_negative_parameter_its_diagram():
+    """Audit of 2026-11-24: a value within one step of an excluded bound was moved onto the
+    slider (kinetic 0.999 became 0.9975, c = 0.001 became 0.0025); a negative formula
+    parameter's regime diagram spanned positive values, without the current point."""
+    from stickslip import ExpressionLaw
+    from stickslip.explore import regime_diagram
+
+    for law, name, value in (("coulomb", "kinetic", 0.999), ("weakening", "c", 0.001)):
+        start, end, step = slider_range(law, name, value)
+        assert start <= value <= end and step > 0
+    assert slider_range("coulomb", "kinetic", 0.5)[1] == pytest.approx(1.0 - 1.0 / 400)  # as before
+    law = ExpressionLaw("1/(1 + c*w) + q*w", c=3.8, q=-0.05)
+    _, q, codes = regime_diagram(law, "q", 0.1, -0.05)
+    assert q.min() == pytest.approx(-0.15) and q.max() < 0 and codes.shape[0] == q.size
+    _, c, _ = regime_diagram(law, "c", 0.1, 3.8)
+    assert c.max() == pytest.approx(11.4) and c.min() > 0
 
 
 def test_explore_option_errors():
@@ -354,3 +380,16 @@ def test_the_page_in_process_switches_laws_and_shows_errors():
     assert "dimensionless" in ex.status.text and ex.view.units["force"] == "mu_s W"
     out = _run_command(ex.command.text)
     assert out["amplitude"] == pytest.approx(ex.view.amplitude, rel=1e-12)
+
+    # audit of 2026-11-24: the set-up's values as given (the sliders moved them), a formula
+    # set-up's own parameters in its box (the default's were shown and applied), nu in range
+    ex = Explorer(Document(), Setup(law="coulomb", params={"kinetic": 0.999}, nu=0.1))
+    assert ex.setup.params == {"kinetic": 0.999} and ex.param_sliders[0].value == 0.999
+    ex = Explorer(Document(), Setup(law="expr", expression="1/(1 + c*w)", params={"c": 2.0}, nu=0.1))
+    assert ex.expr_params.value == "c=2"
+    ex._on_apply()
+    ex._rebuild()
+    assert "error" not in ex.status.text and ex.view.setup.params == {"c": 2.0}
+    for nu in (100.0, 1e-7):
+        with pytest.raises(ValueError, match=f"nu={nu!r}: expected a driving velocity from 1e-5 to 10"):
+            Explorer(Document(), Setup(nu=nu))

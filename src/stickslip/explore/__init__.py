@@ -5,7 +5,19 @@
 """
 
 from .app import Explorer, make_server, serve
-from .session import EXPR, Setup, View, command, compute, default_params, law_names, parse_params, view_csv
+from .session import (
+    EXPR,
+    Setup,
+    View,
+    command,
+    compute,
+    default_params,
+    law_names,
+    parse_params,
+    regime_diagram,
+    slider_range,
+    view_csv,
+)
 
 __all__ = [
     "EXPR",
@@ -18,6 +30,8 @@ __all__ = [
     "law_names",
     "make_server",
     "parse_params",
+    "regime_diagram",
     "serve",
+    "slider_range",
     "view_csv",
 ]

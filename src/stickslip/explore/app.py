@@ -63,6 +63,7 @@ class Explorer:
 
         self.doc = doc
         self.setup = setup or Setup()
+        check_nu(self.setup.nu)
         self.updates = 0
         self.last_update_s = math.nan
         self._diagram_key: tuple[Any, ...] | None = None
@@ -73,7 +74,10 @@ class Explorer:
             title="f(w), dimensionless (expr)", value=s.expression, name="expression", visible=s.law == EXPR
         )
         self.expr_params = TextInput(
-            title="its parameters", value=DEFAULT_EXPRESSION_PARAMS, name="expr_params", visible=s.law == EXPR
+            title="its parameters",
+            value=_params_text(s.params) if s.law == EXPR else DEFAULT_EXPRESSION_PARAMS,
+            name="expr_params",
+            visible=s.law == EXPR,
         )
         self.apply = Button(label="Compile and apply the formula", name="apply", visible=s.law == EXPR)
         self.param_box = column(name="param_box")
@@ -370,6 +374,8 @@ def _edges(centres: np.ndarray) -> np.ndarray:
 
 def make_server(port: int = 5006, host: str = "127.0.0.1", setup: Setup | None = None) -> Any:
     """Return a started Bokeh server of the explorer (its io loop not yet running)."""
+    if setup is not None:
+        check_nu(setup.nu)  # here, not at the first page load
     from bokeh.application import Application
     from bokeh.application.handlers.function import FunctionHandler
     from bokeh.server.server import Server
@@ -402,3 +408,17 @@ def serve(
         pass
     finally:
         server.stop()
+
+
+NU_RANGE = (1e-5, 10.0)  # the driving-velocity slider's range, log10 from -5 to 1
+
+
+def check_nu(nu: float) -> None:
+    """Refuse a driving velocity outside the slider's range (the slider showed it outside its ends)."""
+    if not (NU_RANGE[0] <= nu <= NU_RANGE[1]):
+        raise ValueError(f"nu={nu!r}: expected a driving velocity from 1e-5 to 10 (the slider's range)")
+
+
+def _params_text(params: Any) -> str:
+    """``{'c': 2.0, 'q': 0.5}`` as the formula box's text ``'c=2, q=0.5'``."""
+    return ", ".join(f"{k}={float(v):.15g}" for k, v in params.items())

@@ -124,7 +124,12 @@ class Setup:
         """Return the friction law (dimensionless)."""
         if self.law == EXPR:
             return ExpressionLaw(self.expression, **dict(self.params))
-        return registry.get(self.law).dimensionless(**dict(self.params))
+        law = registry.get(self.law)
+        names = [p.name for p in law.spec.parameters]
+        unknown = [k for k in self.params if k not in names]
+        if unknown:  # a TypeError from the law's constructor
+            raise ValueError(f"params: {unknown} are not parameters of the {self.law} law (it has {names})")
+        return law.dimensionless(**dict(self.params))
 
     @property
     def beta(self) -> float:
@@ -209,8 +214,10 @@ def parse_params(text: str) -> dict[str, float]:
         Naming the entry that is not ``name=number``.
 
     """
+    if not isinstance(text, str):
+        raise ValueError(f"parameters={text!r}: expected text such as 'c=3.8, q=0.5'")
     out: dict[str, float] = {}
-    for part in re.split(r"[,;\s]+", text.strip()):
+    for part in re.split(r"[,;\s]+", re.sub(r"\s*=\s*", "=", text.strip())):
         if not part:
             continue
         name, sep, value = part.partition("=")
@@ -235,18 +242,22 @@ def slider_range(law: str, name: str, value: float) -> tuple[float, float, float
     """Return ``(start, end, step)`` of a slider for a law parameter, inside its bounds.
 
     A registered law's bounds come from its spec (an excluded bound is kept one
-    step away); an unbounded end is four times the value (at least 1).
+    step away, or closer where ``value`` lies closer: the slider holds the value
+    given, which it used to move); an unbounded end is four times the value (at
+    least 1).
     """
+    if not math.isfinite(value):  # before the formula's branch too (a nan slider)
+        raise ValueError(f"{name}={value!r}: expected a finite value")
     top = max(4.0 * abs(value), 1.0)
     if law == EXPR:
         return (-top if value < 0 else 0.0), top, top / 400.0
-    if not math.isfinite(value):
-        raise ValueError(f"{name}={value!r}: expected a finite value")
     p = _spec(registry.get(law).spec.parameters, name, law)
     lo = p.lower if math.isfinite(p.lower) else -top
     hi = p.upper if math.isfinite(p.upper) else top
     step = (hi - lo) / 400.0
-    return (lo if p.lower_inclusive else lo + step), (hi if p.upper_inclusive else hi - step), step
+    start = lo if p.lower_inclusive else (min(lo + step, value) if value > lo else lo + step)
+    end = hi if p.upper_inclusive else (max(hi - step, value) if value < hi else hi - step)
+    return start, end, step
 
 
 def _units(setup: Setup) -> dict[str, str]:
@@ -277,20 +288,31 @@ def regime_diagram(
     """Return the regime diagram over driving velocity and the law's parameter ``param``.
 
     The grid spans two decades each side of ``nu`` and ``param`` from near 0 to
-    three times ``value`` (within the parameter's bounds); the other parameters
+    three times ``value`` (within the parameter's bounds; a negative value, which
+    a formula's parameter may have, from three times it to near 0); the other parameters
     are those of ``law``. Returns ``(nu, param_values, codes)`` with ``codes``
     of shape ``(len(param_values), len(nu))``, indices into :data:`REGIMES`.
     """
     nus = np.geomspace(nu / 100.0, nu * 100.0, DIAGRAM_SHAPE[0])
-    hi = 3.0 * abs(value) if value != 0.0 else 1.0
-    lo = hi / DIAGRAM_SHAPE[1]
+    n = DIAGRAM_SHAPE[1]
     spec = _spec(law.spec.parameters, param, law.name)
-    if math.isfinite(spec.upper):
-        hi = min(hi, spec.upper * (1.0 - 1.0 / DIAGRAM_SHAPE[1]))
-        lo = min(lo, hi / 2.0)
-    if spec.lower_inclusive and math.isfinite(spec.lower):
-        lo = spec.lower  # from the bound itself (p = 0 is F1)
-    values = np.linspace(lo, hi, DIAGRAM_SHAPE[1])
+    if value < 0.0:  # the mirror image: from three times the value up to near 0
+        lo = 3.0 * value
+        hi = lo / n
+        if math.isfinite(spec.lower):
+            lo = max(lo, spec.lower * (1.0 - 1.0 / n))
+            hi = max(hi, lo / 2.0)
+        if spec.upper_inclusive and math.isfinite(spec.upper):
+            hi = spec.upper
+    else:
+        hi = 3.0 * value if value != 0.0 else 1.0
+        lo = hi / n
+        if math.isfinite(spec.upper):
+            hi = min(hi, spec.upper * (1.0 - 1.0 / n))
+            lo = min(lo, hi / 2.0)
+        if spec.lower_inclusive and math.isfinite(spec.lower):
+            lo = spec.lower  # from the bound itself (p = 0 is F1)
+    values = np.linspace(lo, hi, n)
     ds = sweep(DimensionlessParameters(nu=nu, law=law), {param: values, "nu": nus}, progress=False)
     labels = np.asarray(ds["regime"].transpose(param, "nu").values).astype(str)
     codes = np.full(labels.shape, REGIMES.index("unknown"), dtype=np.int64)
@@ -376,7 +398,7 @@ def command(setup: Setup) -> str:
 
 
 def view_csv(view: View) -> str:
-    """Return the shown motion as CSV text (a header line of units, then the samples)."""
+    """Return the shown motion as CSV text: a ``# command`` line, a header with units, the samples."""
     u = view.units
     buf = io.StringIO()
     buf.write(f"# {view.command}\n")
