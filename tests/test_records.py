@@ -152,7 +152,7 @@ def test_long_table_and_tsv(tmp_path: Path) -> None:
     lines = path.read_text().splitlines()
     lines[3] = "\t" + lines[3].split("\t", 1)[1]
     path.write_text("\n".join(lines) + "\n")
-    with pytest.raises(ValueError, match="row 4 has no record name"):
+    with pytest.raises(ValueError, match="line 4 has no record name"):
         read_records(path)
 
 
@@ -178,11 +178,11 @@ BAD = [
     ("time [s],force [N]\n", "no data rows"),
     ("t [s],force [N]\n0,1\n1,2\n2,3\n", "missing column 'time'"),
     ("time [s],load [N]\n0,1\n1,2\n2,3\n", "missing a force column"),
-    ("time [s],force [N]\n0,1\n1,x\n2,3\n", "row 3, column 'force': 'x' is not a number"),
+    ("time [s],force [N]\n0,1\n1,x\n2,3\n", "line 3, column 'force': 'x' is not a number"),
     ("time [s],force [blarg]\n0,1\n1,2\n2,3\n", "unknown unit"),
     ("time [s],force [m]\n0,1\n1,2\n2,3\n", "expected [force]"),
     ("time,force [N]\n0,1\n1,2\n2,3\n", "column 'time' has no unit"),
-    ("time [s],force [N]\n0,1\n2,2\n1,3\n", "not strictly increasing at rows 3-4"),
+    ("time [s],force [N]\n0,1\n2,2\n1,3\n", "not strictly increasing at lines 3-4"),
     ("time [s],force [N]\n0,1\n1,\n2,\n3,4\n", "2 missing/NaN values in 1 run(s), the longest 2"),
     ("time [s],force [N]\n0,1\n1,nan\n2,3\n", "missing/NaN"),
     ("# v0 = fast\ntime [s],force [N]\n0,1\n1,2\n2,3\n", "v0='fast'"),
@@ -313,3 +313,63 @@ def test_write_record_round_trip(tmp_path: Path) -> None:
         for _ in range(2):
             again = write_record(rec, tmp_path / f"r.{ext}")
         np.testing.assert_array_equal(read_record(again).time, rec.time)
+
+
+def test_messages_name_the_line_an_editor_shows(tmp_path: Path) -> None:
+    """Regression: positions were data rows counted from the header as row 1 (comment and
+    blank lines left out), or counted within one record of a long table, or from 1 at the
+    first data row: four conventions, none of them the file's line once a header line was there."""
+    from stickslip.data.criterion import classify_file
+    from stickslip.io.lab import read_lab_record
+    from stickslip.io.tables import read_table
+    from stickslip.laws import TabulatedLaw
+
+    head = "# sample = PMMA\n# v0 = 10 um/s\n"
+    cases = [
+        (head + "time [s],force [N]\n0,1\n\n# a note\n1,2\n1,3\n", read_record, "lines 7-8"),
+        (head + "time [s],force [N]\n0,1\n1,x\n", read_record, "line 5, column 'force'"),
+        (head + "time [s],force [N]\n0,1\n# a note\n1,\n2,\n3,4\n", read_record, "samples at lines 6-7"),
+        # the second record of a long table: its rows were counted from its own first row
+        ("record,time [s],force [N]\na,0,1\na,1,2\na,2,3\nb,0,1\nb,2,2\nb,1,3\n", read_records, "lines 6-7"),
+        ("record,time [s],force [N]\na,0,1\n\n,1,2\n", read_records, "line 4 has no record name"),
+        (
+            head + "time [s],load-point velocity [um/s],friction [1]\n0,1,0.6\n# hold\n1,1,0.6\n1,1,0.6\n",
+            read_lab_record,
+            "lines 6-7",
+        ),
+        (
+            head + "time [s],load-point velocity [um/s],friction [1]\n0,1,0.6\n1,1,0.6\n\n2,-1,0.6\n",
+            read_lab_record,
+            "negative at line 7",
+        ),
+        (
+            head + "time [s],load-point displacement [um],friction [1]\n0,0,0.6\n1,2,0.6\n# x\n2,1,0.6\n",
+            read_lab_record,
+            "negative at line 7",
+        ),
+        (
+            head + "velocity [um/s],amplitude [mN]\n1,2\n# x\n2,0\n3,4\n4,5\n",
+            classify_file,
+            "line 6: amplitude 0.0",
+        ),
+        (
+            head + "velocity [um/s],friction coefficient [1]\n0,0.5\n1,0.49\n\n3,0.48\n2,0.47\n4,0.46\n",
+            TabulatedLaw.from_csv,
+            "line 8: velocity 2e-06 m/s is not above",
+        ),
+    ]
+    for content, reader, message in cases:
+        path = tmp_path / "f.csv"
+        path.write_text(content)
+        with pytest.raises(ValueError) as err:
+            reader(path)
+        assert message in str(err.value), (content, str(err.value))
+        assert "np.float64" not in str(err.value)
+    # pandas reads a line of blanks as nothing and an indented '#' as a row of empty cells
+    path = tmp_path / "g.csv"
+    path.write_text("velocity [um/s],amplitude [mN]\n1,2\n \t \n  # indented\n3,4\n")
+    with pytest.raises(ValueError, match="line 4 has 1 cells"):
+        read_table(path, ["velocity", "amplitude"])
+    # a table given as arrays names its rows
+    with pytest.raises(ValueError, match=r"row 2: friction coefficient -0\.4"):
+        TabulatedLaw(S.Q_([0.0, 1.0, 2.0, 3.0, 4.0], "um/s"), [0.5, -0.4, 0.4, 0.4, 0.4])

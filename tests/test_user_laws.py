@@ -227,9 +227,9 @@ def _table(tmp_path: Path, rows: str, header: str = "velocity [um/s],friction co
 @pytest.mark.parametrize(
     ("rows", "message"),
     [
-        ("0,0.5\n1,0.49\n3,0.48\n2,0.47\n4,0.46\n", "row 4: velocity 2e-06 m/s is not above"),
-        ("0,0.5\n1,0.49\n1,0.48\n3,0.47\n4,0.46\n", "row 3"),
-        ("0,0.5\n1,-0.49\n2,0.48\n3,0.47\n4,0.46\n", "row 2: friction coefficient -0.49"),
+        ("0,0.5\n1,0.49\n3,0.48\n2,0.47\n4,0.46\n", "line 5: velocity 2e-06 m/s is not above"),
+        ("0,0.5\n1,0.49\n1,0.48\n3,0.47\n4,0.46\n", "line 4"),
+        ("0,0.5\n1,-0.49\n2,0.48\n3,0.47\n4,0.46\n", "line 3: friction coefficient -0.49"),
         ("1,0.5\n2,0.49\n3,0.48\n4,0.47\n5,0.46\n", "no row at v = 0"),
         ("0,0.5\n1,0.49\n2,0.48\n", "2 rows above v = 0: at least 4"),
         ("0,0.5\n0,0.45\n0,0.4\n1,0.4\n2,0.4\n3,0.4\n4,0.4\n", "3 rows at v = 0"),

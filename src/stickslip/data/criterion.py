@@ -318,10 +318,10 @@ def classify_file(
     if np.any(vel.values <= 0):
         i = int(np.argmax(vel.values <= 0))
         raise DataError(
-            f"{p}: data row {i + 1}: velocity {float(vel.values[i])!r} is not positive "
+            f"{p}: {vel.place(i)}: velocity {float(vel.values[i])!r} is not positive "
             "(driving velocities must be positive)"
         )
     if np.any(amp.values <= 0):
         i = int(np.argmax(amp.values <= 0))
-        raise DataError(f"{p}: data row {i + 1}: amplitude {float(amp.values[i])!r} is not positive")
+        raise DataError(f"{p}: {amp.place(i)}: amplitude {float(amp.values[i])!r} is not positive")
     return classify(vel.values, amp.values, err, confidence=confidence, min_points=min_points)

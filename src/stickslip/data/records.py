@@ -144,7 +144,7 @@ def exclude_outliers(force: FloatArray) -> tuple[FloatArray, npt.NDArray[np.int6
 def clean_force(record: Record) -> tuple[FloatArray, list[str], float]:
     """Return the record's force as it is measured (and fitted), what was done to it, and its period.
 
-    Isolated outliers are replaced by the mean of their neighbours (their rows named), and
+    Isolated outliers are replaced by the mean of their neighbours (their times named), and
     an inverted sawtooth (fast rises, slow falls) is turned the right way up.
 
     Raises
@@ -157,9 +157,10 @@ def clean_force(record: Record) -> tuple[FloatArray, list[str], float]:
     notes: list[str] = []
     f, excluded = exclude_outliers(record.force)
     if excluded.size:
-        rows = ", ".join(str(int(i) + 2) for i in excluded[:10]) + (" ..." if excluded.size > 10 else "")
+        # by time, which a record keeps (a row number depends on the file's header and comment lines)
+        at = ", ".join(f"{t[i]:.9g}" for i in excluded[:10]) + (" ..." if excluded.size > 10 else "")
         notes.append(
-            f"{excluded.size} outlier sample(s) excluded ({'rows' if excluded.size > 1 else 'row'} {rows}: "
+            f"{excluded.size} outlier sample(s) excluded (at t = {at} s: "
             "far from their neighbours against the record's noise; replaced by the mean of their neighbours)"
         )
     period = _dominant_period(t, f)

@@ -139,18 +139,20 @@ def read_lab_record(path: str | os.PathLike[str], *, need_friction: bool = False
     if need_friction and fcol is None:
         raise DataError(f"{p}: missing column 'friction' (found {names}); expected 'friction [1]'")
     wanted = [c for c in ("time", vcol, xcol, fcol) if c is not None]
-    frame = text.read_frame(layout, names, numeric=wanted, position="line")
+    frame = text.read_frame(layout, names, numeric=wanted)
     if len(frame) < 2:
         raise DataError(f"{p}: {len(frame)} data row(s); a record needs at least two")
     if frame[wanted].isna().any().any():
-        text.diagnose(layout, names, numeric=wanted, position="line", nan_is_error=True)
+        text.diagnose(layout, names, numeric=wanted, nan_is_error=True)
         raise DataError(f"{p}: missing values")  # pragma: no cover - diagnose raises first
     t = _si(frame["time"].to_numpy(float), units["time"], "time", "[time]", "s", p)
     dt = np.diff(t)
     if np.any(dt <= 0):
         i = int(np.argmax(dt <= 0))
+        a, b = text.data_lines(layout, [i, i + 1])
         raise DataError(
-            f"{p}: time is not strictly increasing at rows {i + 1}-{i + 2} ({t[i]!r} s then {t[i + 1]!r} s)"
+            f"{p}: time is not strictly increasing at lines {a}-{b} "
+            f"({float(t[i])!r} s then {float(t[i + 1])!r} s)"
         )
     if vcol is not None:
         v = _si(frame[vcol].to_numpy(float), units[vcol], vcol, "[length] / [time]", "um/s", p)
@@ -163,8 +165,9 @@ def read_lab_record(path: str | os.PathLike[str], *, need_friction: bool = False
         v = np.concatenate([vi, vi[-1:]])
     if np.any(v < 0):
         i = int(np.argmax(v < 0))
+        (line,) = text.data_lines(layout, [i + 1 if vcol is None else i])  # from displacements: the later
         raise DataError(
-            f"{p}: the load-point velocity is negative at row {i + 1} ({v[i]:.3g} m/s); "
+            f"{p}: the load-point velocity is negative at line {line} ({v[i]:.3g} m/s); "
             "the model drives the slider forward (holds have velocity 0)"
         )
     mu = None

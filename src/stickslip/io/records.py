@@ -15,7 +15,7 @@ column (and ``v0``/``load`` columns) holds several records at once.
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -86,6 +86,15 @@ def _si(
     return values * float(q.to(si).magnitude)
 
 
+def _lines(df: pd.DataFrame, positions: Sequence[int]) -> str:
+    """Name the file lines of ``df``'s rows at ``positions`` (``line 7`` or ``lines 7-9``)."""
+    layout = df.attrs.get("layout")
+    if layout is None:  # pragma: no cover - every frame here comes from _read
+        return "rows " + "-".join(str(int(i) + 1) for i in positions)
+    lines = text.data_lines(layout, [int(df.index[i]) for i in positions])
+    return f"line {lines[0]}" if len(set(lines)) == 1 else f"lines {lines[0]}-{lines[-1]}"
+
+
 def _check_numeric(df: pd.DataFrame, col: str, where: str) -> FloatArray:
     """Return a float column, refusing missing or NaN values with a summary of where they are."""
     v = df[col].to_numpy(dtype=float)
@@ -96,8 +105,8 @@ def _check_numeric(df: pd.DataFrame, col: str, where: str) -> FloatArray:
         longest = int(np.argmax(ends - starts))
         raise DataError(
             f"{where}: column {col!r} has {int(nan.sum())} missing/NaN values in {starts.size} "
-            f"run(s), the longest {int(ends[longest] - starts[longest] + 1)} samples at rows "
-            f"{starts[longest] + 2}-{ends[longest] + 2}; fill or cut them before analysis"
+            f"run(s), the longest {int(ends[longest] - starts[longest] + 1)} samples at "
+            f"{_lines(df, [starts[longest], ends[longest]])}; fill or cut them before analysis"
         )
     return v
 
@@ -122,9 +131,10 @@ def _read(path: str, where: str) -> tuple[pd.DataFrame, dict[str, pint.Unit | No
             f"{where}: line {layout.header_line} is taken for the header, and names no known column "
             f"({layout.header!r}); expected 'time [s]' and 'force [N]' (a title line? put '# ' before it)"
         )
-    frame = text.read_frame(layout, names, numeric=numeric, text=textual, where=where, position="row")
+    frame = text.read_frame(layout, names, numeric=numeric, text=textual, where=where)
     if len(frame) == 0:
         raise DataError(f"{where}: the file has a header but no data rows")
+    frame.attrs["layout"] = layout  # for messages naming a file line (groupby keeps attrs and labels)
     return frame, dict(parsed), dict(layout.meta)
 
 
@@ -155,8 +165,8 @@ def _record_from_frame(
     if np.any(dt <= 0):
         i = int(np.argmax(dt <= 0))
         raise DataError(
-            f"{where}: time is not strictly increasing at rows {i + 2}-{i + 3} "
-            f"({t[i]!r} s then {t[i + 1]!r} s)"
+            f"{where}: time is not strictly increasing at {_lines(df, [i, i + 1])} "
+            f"({float(t[i])!r} s then {float(t[i + 1])!r} s)"
         )
 
     def optional(col: str, dimension: str, si: str) -> FloatArray | None:
@@ -252,13 +262,13 @@ def read_records(path: str | os.PathLike[str]) -> list[Record]:
     blank = names.isna() | (names.astype(str).str.strip() == "")
     if blank.any():  # groupby skipped such rows without a word
         i = int(np.flatnonzero(blank.to_numpy())[0])
-        raise DataError(f"{p}: row {i + 2} has no record name (column 'record' is empty)")
+        raise DataError(f"{p}: {_lines(df, [i])} has no record name (column 'record' is empty)")
     out = []
     for name, part in df.groupby("record", sort=False):
         where = f"{p} (record {name!r})"
         v0 = _constant(part, "v0", units, where)
         load = _constant(part, "load", units, where)
-        out.append(_record_from_frame(part.reset_index(drop=True), units, meta, str(name), where, v0, load))
+        out.append(_record_from_frame(part, units, meta, str(name), where, v0, load))
     return out
 
 

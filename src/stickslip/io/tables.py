@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import numpy.typing as npt
@@ -23,11 +23,22 @@ MAX_BYTES = 20_000_000_000  # beyond the memory check, a plain bound
 
 @dataclass(frozen=True)
 class Column:
-    """One column of a table: name, values and unit (None when the header gives none)."""
+    """One column of a table: name, values and unit (None when the header gives none).
+
+    ``layout`` is the file's (when read from one): :meth:`place` then names a value's
+    line in the file.
+    """
 
     name: str
     values: npt.NDArray[np.float64]
     unit: pint.Unit | None
+    layout: text.TextLayout | None = field(default=None, repr=False, compare=False)
+
+    def place(self, i: int) -> str:
+        """Where value ``i`` (0-based) is: ``line N`` of the file, or ``row N`` (1-based) of an array."""
+        if self.layout is None:
+            return f"row {int(i) + 1}"
+        return f"line {text.data_lines(self.layout, [int(i)])[0]}"
 
 
 def parse_header(cell: str, path: str) -> tuple[str, pint.Unit | None]:
@@ -118,14 +129,14 @@ def read_table(
             + ", ".join(f"{r} [unit]" for r in required)
         )
     wanted = [*required, *[o for o in optional if o in names]]
-    frame = text.read_frame(layout, names, numeric=wanted, position="line")
+    frame = text.read_frame(layout, names, numeric=wanted)
     if len(frame) == 0:
         raise DataError(f"{p}: the file has a header but no data rows")
     if frame[wanted].isna().any().any():
         # an empty cell, a short row or a NaN: name the first
-        text.diagnose(layout, names, numeric=wanted, position="line", nan_is_error=True)
+        text.diagnose(layout, names, numeric=wanted, nan_is_error=True)
         raise DataError(f"{p}: missing values")  # pragma: no cover - diagnose raises first
     return {
-        name: Column(name, frame[name].to_numpy(dtype=np.float64), header[names.index(name)][1])
+        name: Column(name, frame[name].to_numpy(dtype=np.float64), header[names.index(name)][1], layout)
         for name in wanted
     }

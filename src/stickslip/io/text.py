@@ -11,7 +11,9 @@ Every table and record stickslip reads goes through here:
   memory it will need (refused beyond what the machine has).
 * When a file has a problem (a cell that is not a number, a ragged row, a field
   too long for the CSV module), :func:`diagnose` streams it line by line to name
-  the first bad place: file, line (or data row), column, value.
+  the first bad place: file, line, column, value. Every message counts lines as
+  an editor does (the file's own lines, comments and blank lines included), and
+  :func:`data_lines` turns a data row read into the line it came from.
 """
 
 from __future__ import annotations
@@ -33,7 +35,7 @@ from .errors import DataError
 if TYPE_CHECKING:  # pandas is imported where a file is read (0.2 s at import)
     import pandas as pd
 
-__all__ = ["TextLayout", "check_file", "diagnose", "inspect", "read_frame"]
+__all__ = ["TextLayout", "check_file", "data_lines", "diagnose", "inspect", "read_frame"]
 
 HEAD_BYTES = 1 << 16
 _META = re.compile(r"^\s*#\s*([A-Za-z_][\w ]*?)\s*[=:]\s*(.+?)\s*$")
@@ -186,15 +188,13 @@ def read_frame(
     numeric: Sequence[str],
     text: Sequence[str] = (),
     where: str | None = None,
-    position: str = "row",
 ) -> pd.DataFrame:
     """Parse the data rows into a frame: ``numeric`` columns as float64, ``text`` columns as strings.
 
     ``names`` are the parsed header names (one per header cell, trailing empties
     dropped). NaN and empty cells become NaN (the caller decides what they mean);
     anything else that is not a number, a ragged row or an encoding error is named
-    by :func:`diagnose` (``position`` ``row``: data rows counted from the header as
-    row 1; ``line``: file lines).
+    by :func:`diagnose` (by its line in the file).
 
     Raises
     ------
@@ -236,11 +236,11 @@ def read_frame(
         _locate_bad_bytes(layout.path, shown, exc)
         raise  # pragma: no cover - _locate_bad_bytes raises
     except (ValueError, pd.errors.ParserError, csv.Error, OverflowError):
-        diagnose(layout, names, numeric=numeric, where=shown, position=position)
+        diagnose(layout, names, numeric=numeric, where=shown)
         raise DataError(f"{shown}: malformed rows (pandas could not read them)") from None
     for n in wanted:
         if n in numeric and np.isinf(frame[n].to_numpy()).any():
-            diagnose(layout, names, numeric=numeric, where=shown, position=position)
+            diagnose(layout, names, numeric=numeric, where=shown)
     _check_widths(layout, names, shown)
     return frame
 
@@ -337,13 +337,51 @@ def _locate_bad_bytes(path: str, shown: str, exc: UnicodeDecodeError) -> None:
     raise DataError(f"{shown}: not UTF-8 text ({exc.reason}); save it as UTF-8 and read it again")
 
 
+def _is_data(line: str) -> bool:
+    """Whether pandas reads ``line`` as a data row (with ``comment="#"``, blank lines skipped).
+
+    pandas skips a line of spaces and tabs and a line starting with ``#``; an indented
+    ``#`` ends the line's cells (the row is read, its cells empty).
+    """
+    return bool(line.strip(" \t\r\n")) and not line.startswith("#")
+
+
+def data_lines(layout: TextLayout, rows: Sequence[int]) -> list[int]:
+    """Return the file line (1-based) of each data row in ``rows`` (0-based, in the order read).
+
+    Streams the file up to the last row asked for; for messages, not for every row.
+
+    Raises
+    ------
+    ValueError
+        For a row beyond the file's data.
+
+    """
+    want = sorted({int(r) for r in rows})
+    found: dict[int, int] = {}
+    if want:
+        k = -1
+        with open(layout.path, encoding="utf-8-sig", errors="replace", newline="") as fh:
+            for line_no, line in enumerate(fh, start=1):
+                if line_no <= layout.header_line or not _is_data(line):
+                    continue
+                k += 1
+                if k == want[len(found)]:
+                    found[k] = line_no
+                    if len(found) == len(want):
+                        break
+    missing = [r for r in want if r not in found]
+    if missing:
+        raise ValueError(f"{layout.path}: no data row {missing[0]} (0-based) in the file")
+    return [found[int(r)] for r in rows]
+
+
 def diagnose(
     layout: TextLayout,
     names: Sequence[str],
     *,
     numeric: Sequence[str],
     where: str | None = None,
-    position: str = "row",
     nan_is_error: bool = False,
 ) -> None:
     """Stream the data rows and raise at the first bad one (does nothing if none is bad).
@@ -351,20 +389,18 @@ def diagnose(
     Raises
     ------
     DataError
-        ``FILE: line N has K cells, the header has M``, ``FILE: row N, column 'x': 'abc'
+        ``FILE: line N has K cells, the header has M``, ``FILE: line N, column 'x': 'abc'
         is not a number``, a field too long, and the like.
 
     """
     shown = where or layout.path
     cols = {n: names.index(n) for n in numeric if n in names}
     old_limit = csv.field_size_limit()
-    row = 1
     with open(layout.path, encoding="utf-8-sig", errors="strict", newline="") as fh:
         for line_no, line in enumerate(fh, start=1):
-            if line_no <= layout.header_line or not line.strip() or line.lstrip().startswith("#"):
+            if line_no <= layout.header_line or not _is_data(line):
                 continue
-            row += 1
-            place = f"{shown}: line {line_no}" if position == "line" else f"{shown}: row {row}"
+            place = f"{shown}: line {line_no}"
             try:
                 cells = next(csv.reader([line], delimiter=layout.sep))
             except csv.Error:

@@ -42,6 +42,7 @@ import functools
 import hashlib
 import math
 import os
+import re
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -290,8 +291,9 @@ class TabulatedLaw(PhysicalLaw):
             )
         try:
             return cls(Q_(vel.values, vel.unit), mu, static=static, interpolation=interpolation, name=p)
-        except ValueError as exc:
-            raise DataError(str(exc)) from None
+        except ValueError as exc:  # a row of the table is a line of the file
+            msg = re.sub(r"^(.*?): row (\d+): ", lambda m: f"{m[1]}: {vel.place(int(m[2]) - 1)}: ", str(exc))
+            raise DataError(msg) from None
 
     # ------------------------------------------------------------------ value semantics
 
