@@ -315,6 +315,33 @@ def test_write_record_round_trip(tmp_path: Path) -> None:
         np.testing.assert_array_equal(read_record(again).time, rec.time)
 
 
+def test_metadata_read_back_as_written(tmp_path: Path) -> None:
+    """Regression: a key with '-' was dropped on reading, 'k:v' read as k = 'v = 1', an empty
+    value as ' '; and write_record(path, record) failed on 'str' object has no .metadata."""
+    from stickslip.io.records import Record, write_record
+
+    t = np.linspace(0.0, 1.0, 10)
+    meta = {"Sample Name": "PMMA #2", "note": "a = b", "empty": "", "unit": "µm", "x-y": "z", "v.1": 3.5}
+    rec = Record("r", t, np.sin(t), v0=S.Q_(10, "um/s"), metadata={**meta, "V0": "dropped"})
+    back = read_record(write_record(rec, tmp_path / "r.csv"))
+    assert back.metadata == {
+        "sample_name": "PMMA #2", "note": "a = b", "empty": "", "unit": "µm", "x-y": "z", "v.1": "3.5",
+        "v0": "10.0 um/s",
+    }  # fmt: skip
+    again = read_record(write_record(back, tmp_path / "again.csv"))
+    assert again.metadata == back.metadata  # read, write, read: the same
+    for bad, message in [
+        ({"k:v": 1}, "metadata key 'k:v'"),
+        ({"#x": 1}, "metadata key '#x'"),
+        ({"a b": 1, "A_B": 2}, "'a b' and 'A_B' both read back as 'a_b'"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            write_record(Record("r", t, np.sin(t), metadata=bad), tmp_path / "bad.csv")
+        assert not (tmp_path / "bad.csv").exists()
+    with pytest.raises(TypeError, match="record: expected a stickslip Record, got str"):
+        write_record(str(tmp_path / "x.csv"), rec)  # type: ignore[arg-type]
+
+
 def test_messages_name_the_line_an_editor_shows(tmp_path: Path) -> None:
     """Regression: positions were data rows counted from the header as row 1 (comment and
     blank lines left out), or counted within one record of a long table, or from 1 at the

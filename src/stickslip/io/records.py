@@ -307,7 +307,9 @@ def format_record(record: Record, *, force_unit: str = "mN") -> str:
         to_unit = float(ureg.Quantity(1.0, "N").to(force_unit).magnitude)
     except Exception:  # pint's parser raises what it meets (a TokenError for 'mN]')
         raise ValueError(f"force_unit={force_unit!r}: expected a unit of force, e.g. 'mN' or 'N'") from None
-    meta = {k: v for k, v in record.metadata.items() if k not in ("v0", "load")}
+    if not isinstance(record, Record):  # write_record(path, record) failed on 'str'.metadata
+        raise TypeError(f"record: expected a stickslip Record, got {type(record).__name__}")
+    meta = {k: v for k, v in record.metadata.items() if text.meta_key(str(k)) not in ("v0", "load")}
     if record.v0 is not None:
         meta["v0"] = f"{float(record.v0.to('um/s').magnitude)!r} um/s"
     if record.load is not None:

@@ -35,10 +35,21 @@ from .errors import DataError
 if TYPE_CHECKING:  # pandas is imported where a file is read (0.2 s at import)
     import pandas as pd
 
-__all__ = ["TextLayout", "check_file", "data_lines", "diagnose", "inspect", "read_frame"]
+__all__ = [
+    "TextLayout",
+    "check_file",
+    "data_lines",
+    "diagnose",
+    "header_lines",
+    "inspect",
+    "meta_key",
+    "read_frame",
+]
 
 HEAD_BYTES = 1 << 16
-_META = re.compile(r"^\s*#\s*([A-Za-z_][\w ]*?)\s*[=:]\s*(.+?)\s*$")
+_META = re.compile(r"^\s*#\s*([A-Za-z_][\w .\-]*?)\s*[=:]\s*(.*?)\s*$")
+#: a metadata key as read back (lower case, ``_`` for spaces)
+_KEY = re.compile(r"[a-z_][\w.\-]*")
 #: the longest cell shown in a message
 _SHOW = 40
 
@@ -162,7 +173,7 @@ def inspect(path: str | os.PathLike[str], where: str | None = None) -> TextLayou
         if line.lstrip().startswith("#"):
             m = _META.match(line)
             if m:
-                meta[m.group(1).strip().lower().replace(" ", "_")] = m.group(2)
+                meta[meta_key(m.group(1))] = m.group(2)
             continue
         sep = (
             "\t"
@@ -291,11 +302,19 @@ def _check_widths(layout: TextLayout, names: Sequence[str], shown: str) -> None:
                 return
 
 
+def meta_key(key: str) -> str:
+    """Return a metadata key as it reads back: stripped, lower case, ``_`` for spaces."""
+    return re.sub(r"\s+", "_", key.strip().lower())
+
+
 def header_lines(kind: str, metadata: Mapping[str, Any], columns: Mapping[str, Any]) -> list[str]:
     """Return a written record's first lines: its mark, ``# key = value`` lines and the header.
 
     Checks what the readers need back: one line per key and value (a newline in
-    one ended the metadata and corrupted the file), and equal-length 1-d columns.
+    one ended the metadata and corrupted the file), keys that read back (letters,
+    digits, ``_``, ``-``, ``.`` and spaces, written as :func:`meta_key` reads them:
+    ``Sample Name`` as ``sample_name``), one value per key so written, values
+    without leading or trailing blanks, and equal-length 1-d columns.
 
     Raises
     ------
@@ -303,13 +322,24 @@ def header_lines(kind: str, metadata: Mapping[str, Any], columns: Mapping[str, A
         Naming the metadata key or the columns.
 
     """
+    written: dict[str, str] = {}
     for key, value in metadata.items():
         if any(c in f"{key}{value}" for c in "\r\n\u2028\u2029\x0b\x0c\x1c\x1d\x1e\x85"):
             raise ValueError(f"metadata[{key!r}]={value!r}: a line break in a header line")
+        k = meta_key(str(key))
+        if not _KEY.fullmatch(k):  # 'x-y' was dropped on reading, 'k:v' read as k = 'v = ...'
+            raise ValueError(
+                f"metadata key {key!r}: expected a letter or '_', then letters, digits, '_', '-', '.' "
+                "or spaces (it would not read back)"
+            )
+        if k in written:
+            raise ValueError(f"metadata keys {written[k]!r} and {key!r} both read back as {k!r}")
+        written[k] = str(key)
+    meta = [f"# {meta_key(str(k))} = {str(v).strip()}" for k, v in metadata.items()]
     lengths = {k: np.shape(v) for k, v in columns.items()}
     if len({s for s in lengths.values()}) > 1 or any(len(s) != 1 for s in lengths.values()):
         raise ValueError(f"columns: expected 1-d columns of one length, got shapes {lengths}")
-    return [f"# stickslip {kind}"] + [f"# {k} = {v}" for k, v in metadata.items()] + [",".join(columns)]
+    return [f"# stickslip {kind}", *meta, ",".join(columns)]
 
 
 def _cells(raw: bytes, sep: str) -> int:
