@@ -132,6 +132,42 @@ def test_a_slider_holds_the_value_given_and_a_negative_parameter_its_diagram():
     assert q.min() == pytest.approx(-0.15) and q.max() < 0 and codes.shape[0] == q.size
     _, c, _ = regime_diagram(law, "c", 0.1, 3.8)
     assert c.max() == pytest.approx(11.4) and c.min() > 0
+    # review of 2026-11-24: the diagram left out a value near an excluded bound (kinetic 0.999:
+    # rows to 0.958), or a formula parameter at 0 (rows 0.04 .. 1), and the page redrew it
+    # on every change; nan and inf were blamed on the wrong argument, or failed in numpy
+    coulomb = Setup(law="coulomb", params={"kinetic": 0.999}).dimensionless_law()
+    _, k, _ = regime_diagram(coulomb, "kinetic", 0.1, 0.999)
+    assert k.min() > 0 and k.max() == pytest.approx(0.999)
+    _, k, _ = regime_diagram(coulomb, "kinetic", 0.1, 0.5)
+    assert k.max() == pytest.approx(1.0 - 1.0 / 24)  # as before: one 24th inside the bound
+    with pytest.warns(UserWarning, match="negative at w"):  # q = -1 is the formula's own choice
+        _, q, _ = regime_diagram(ExpressionLaw("1/(1 + c*w) + q*w", c=3.8, q=0.0), "q", 0.1, 0.0)
+    assert q.min() == -1.0 and q.max() == 1.0
+    for args, message in (
+        ((coulomb, "kinetic", math.nan, 0.5), "nu=nan"),
+        ((coulomb, "kinetic", 0.0, 0.5), "nu=0.0"),
+        ((coulomb, "kinetic", 0.1, math.inf), "kinetic=inf"),
+    ):
+        with pytest.raises(ValueError, match=message):
+            regime_diagram(*args)
+    for law_name, name in (("expr", "q"), ("weakening", "c")):  # 4 x 1e308 was inf, its step nan
+        start, end, step = slider_range(law_name, name, 1e308)
+        assert all(math.isfinite(x) for x in (start, end, step)) and start <= 1e308 <= end
+    with pytest.raises(ValueError, match="'c' is given twice"):
+        parse_params("c=1, c=2")  # the last was kept, unsaid
+
+
+def test_the_formula_box_keeps_every_digit_and_a_flat_slope_is_flat():
+    """Review of 2026-11-24: the box showed 0.1 + 0.2 as 0.3 (Apply changed the value), and
+    the paper's claim said 'falls x1.00 per decade' for a slope of 0, 'falls xnan' for nan."""
+    from stickslip.explore.app import _params_text
+    from stickslip.paper.report import _trend
+
+    params = {"c": 0.1 + 0.2, "q": 2.0, "r": -1e-300}
+    assert parse_params(_params_text(params)) == params
+    assert _params_text({"c": 2.0}) == "c=2"
+    assert _trend(0.0) == "stays flat" and _trend(math.nan) == "is not measured"
+    assert _trend(0.30103) == "rises x2.00 per decade" and _trend(-0.30103) == "falls x0.50 per decade"
 
 
 def test_explore_option_errors():

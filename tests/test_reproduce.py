@@ -138,6 +138,32 @@ def test_reproduce_bad_out(tmp_path: Path) -> None:
     assert res.exit_code == 2 and "Invalid value for '--store'" in res.output
 
 
+def test_every_path_a_command_writes_refuses_an_empty_one() -> None:
+    """Every path option of every command is an input (a click.Path) or an output (an OutPath,
+    which refuses ''): a new command's --out cannot slip back to the plain type."""
+    import click
+
+    from stickslip.cli.options import OutPath
+
+    inputs = {"record_file", "history", "source", "file"}
+    seen = []
+
+    def walk(cmd: click.Command, path: tuple[str, ...] = ()) -> None:
+        if isinstance(cmd, click.Group):
+            for name, sub in cmd.commands.items():
+                walk(sub, (*path, name))
+            return
+        for p in cmd.params:
+            if isinstance(p.type, click.Path) and p.name not in inputs:
+                assert isinstance(p.type, OutPath), (path, p.name)
+                seen.append((path, p.name))
+
+    walk(main)
+    assert len(seen) >= 13  # --out of 10 commands, --store of 3
+    with pytest.raises(click.BadParameter, match="'  ' is empty: expected the path of a directory"):
+        OutPath(file_okay=False).convert("  ", None, None)
+
+
 def test_a_foreign_trial_figure_is_refused_before_the_work(tmp_path: Path) -> None:
     """Audit of 2026-11-24: regimes_<trial>.png was checked only when written, after some
     20 s of a quick run (hours of a full one); now with every other target, at once."""

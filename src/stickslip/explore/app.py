@@ -420,5 +420,8 @@ def check_nu(nu: float) -> None:
 
 
 def _params_text(params: Any) -> str:
-    """``{'c': 2.0, 'q': 0.5}`` as the formula box's text ``'c=2, q=0.5'``."""
-    return ", ".join(f"{k}={float(v):.15g}" for k, v in params.items())
+    """``{'c': 2.0, 'q': 0.5}`` as the formula box's text ``'c=2, q=0.5'``, every digit kept.
+
+    (``.15g`` showed 0.1 + 0.2 as 0.3, and Apply changed it.)
+    """
+    return ", ".join(f"{k}={repr(float(v)).removesuffix('.0')}" for k, v in params.items())

@@ -18,6 +18,7 @@ import io
 import math
 import re
 import shlex
+import sys
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
@@ -224,9 +225,12 @@ def parse_params(text: str) -> dict[str, float]:
         try:
             if not sep or not name.isidentifier():
                 raise ValueError
-            out[name] = float(value)
+            number = float(value)
         except ValueError:
             raise ValueError(f"parameters: {part!r} is not name=number, e.g. 'c=3.8'") from None
+        if name in out:  # 'c=1, c=2' kept the last, unsaid
+            raise ValueError(f"parameters: {name!r} is given twice")
+        out[name] = number
     return out
 
 
@@ -248,13 +252,13 @@ def slider_range(law: str, name: str, value: float) -> tuple[float, float, float
     """
     if not math.isfinite(value):  # before the formula's branch too (a nan slider)
         raise ValueError(f"{name}={value!r}: expected a finite value")
-    top = max(4.0 * abs(value), 1.0)
+    top = max(min(4.0 * abs(value), sys.float_info.max), 1.0)  # 4 * 1e308 was inf
     if law == EXPR:
         return (-top if value < 0 else 0.0), top, top / 400.0
     p = _spec(registry.get(law).spec.parameters, name, law)
     lo = p.lower if math.isfinite(p.lower) else -top
     hi = p.upper if math.isfinite(p.upper) else top
-    step = (hi - lo) / 400.0
+    step = hi / 400.0 - lo / 400.0  # (hi - lo) / 400 overflowed to inf near the largest float
     start = lo if p.lower_inclusive else (min(lo + step, value) if value > lo else lo + step)
     end = hi if p.upper_inclusive else (max(hi - step, value) if value < hi else hi - step)
     return start, end, step
@@ -288,30 +292,47 @@ def regime_diagram(
     """Return the regime diagram over driving velocity and the law's parameter ``param``.
 
     The grid spans two decades each side of ``nu`` and ``param`` from near 0 to
-    three times ``value`` (within the parameter's bounds; a negative value, which
-    a formula's parameter may have, from three times it to near 0); the other parameters
-    are those of ``law``. Returns ``(nu, param_values, codes)`` with ``codes``
-    of shape ``(len(param_values), len(nu))``, indices into :data:`REGIMES`.
+    three times ``value`` (within the parameter's bounds, an excluded one kept a 24th
+    inside unless ``value`` lies closer; a negative value, which a formula's parameter
+    may have, from three times it to near 0; a value of 0 from -1 to 1); the other
+    parameters are those of ``law``. The range always holds ``value``.
+
+    Returns
+    -------
+    nu, param_values, codes : ndarray
+        ``codes`` of shape ``(len(param_values), len(nu))``, indices into :data:`REGIMES`.
+
+    Raises
+    ------
+    ValueError
+        For a ``nu`` that is not positive and finite, a ``value`` that is not finite,
+        or a ``param`` the law does not have.
+
     """
+    if not (math.isfinite(nu) and nu > 0.0):  # nan was blamed on the law's parameter
+        raise ValueError(f"nu={nu!r}: expected a positive finite driving velocity")
+    if not math.isfinite(value):
+        raise ValueError(f"{param}={value!r}: expected a finite value")
     nus = np.geomspace(nu / 100.0, nu * 100.0, DIAGRAM_SHAPE[0])
     n = DIAGRAM_SHAPE[1]
     spec = _spec(law.spec.parameters, param, law.name)
-    if value < 0.0:  # the mirror image: from three times the value up to near 0
-        lo = 3.0 * value
-        hi = lo / n
-        if math.isfinite(spec.lower):
-            lo = max(lo, spec.lower * (1.0 - 1.0 / n))
-            hi = max(hi, lo / 2.0)
-        if spec.upper_inclusive and math.isfinite(spec.upper):
-            hi = spec.upper
-    else:
-        hi = 3.0 * value if value != 0.0 else 1.0
-        lo = hi / n
-        if math.isfinite(spec.upper):
-            hi = min(hi, spec.upper * (1.0 - 1.0 / n))
-            lo = min(lo, hi / 2.0)
-        if spec.lower_inclusive and math.isfinite(spec.lower):
-            lo = spec.lower  # from the bound itself (p = 0 is F1)
+    # an excluded bound is kept 1/n of the scale inside (or closer, where the value lies closer)
+    scale = max(abs(value), 1.0 / n)
+    upper, lower = math.inf, -math.inf
+    if math.isfinite(spec.upper):
+        inner = spec.upper if spec.upper_inclusive else spec.upper - max(abs(spec.upper), scale) / n
+        upper = max(inner, value)
+    if math.isfinite(spec.lower):
+        inner = spec.lower if spec.lower_inclusive else spec.lower + max(abs(spec.lower), scale) / n
+        lower = min(inner, value)
+    if value == 0.0:  # both signs (1/n .. 1 left the value out)
+        lo, hi = max(-1.0, lower), min(1.0, upper)
+    elif value > 0.0:  # from near 0 (or an included lower bound: p = 0 is F1) to three times it
+        hi = min(3.0 * value, upper)
+        lo = spec.lower if math.isfinite(spec.lower) and spec.lower_inclusive else max(hi / n, lower)
+    else:  # the mirror image: from three times the value up to near 0
+        lo = max(3.0 * value, lower)
+        hi = spec.upper if math.isfinite(spec.upper) and spec.upper_inclusive else min(lo / n, upper)
     values = np.linspace(lo, hi, n)
     ds = sweep(DimensionlessParameters(nu=nu, law=law), {param: values, "nu": nus}, progress=False)
     labels = np.asarray(ds["regime"].transpose(param, "nu").values).astype(str)

@@ -159,8 +159,7 @@ def claims(ds: xr.Dataset) -> list[Claim]:
             "beta = 158 s/m reproduces the increase measured by [bri], where "
             + str(measured["bri"]["text"])
             + ".",
-            f"at beta = 158 s/m the model's amplitude {'rises' if s3[i158] > 0 else 'falls'} "
-            f"x{_per_decade(s3[i158]):.2f} per decade "
+            f"at beta = 158 s/m the model's amplitude {_trend(float(s3[i158]))} "
             f"(slope {s3[i158]:+.3f}) against about x2 (slope {bri_slope:+.3f}) measured; "
             f"x2 per decade needs beta = {beta2:.0f} s/m.",
             _against_measured(float(s3[i158]), bri_slope),
@@ -275,6 +274,15 @@ def _appendix_claims(ds: xr.Dataset) -> list[Claim]:
             "shown",
         ),
     ]
+
+
+def _trend(slope: float) -> str:
+    """``rises x1.41 per decade``, ``falls x0.71 per decade``, ``stays flat``, ``is not measured``."""
+    if not math.isfinite(slope):
+        return "is not measured"
+    if slope == 0.0:
+        return "stays flat"
+    return f"{'rises' if slope > 0 else 'falls'} x{_per_decade(slope):.2f} per decade"
 
 
 def _against_measured(slope: float, measured: float) -> str:
