@@ -157,6 +157,23 @@ def test_a_slider_holds_the_value_given_and_a_negative_parameter_its_diagram():
         parse_params("c=1, c=2")  # the last was kept, unsaid
 
 
+def test_a_diagram_at_the_largest_value_has_a_finite_grid(monkeypatch):
+    """Review of 8494cb7: 3 x 1e308 overflowed, and the grid was nan .. inf (the sweep is
+    stubbed: the engine refuses such a parameter itself, by name)."""
+    import xarray as xr
+
+    from stickslip.explore import regime_diagram, session
+
+    def grid_only(params, axes, progress=False):
+        shape = [len(v) for v in axes.values()]
+        return xr.Dataset({"regime": (list(axes), np.full(shape, "unknown"))}, coords=axes)
+
+    monkeypatch.setattr(session, "sweep", grid_only)
+    law = Setup(law="weakening").dimensionless_law()  # its own c: the grid comes from the value
+    _, c, _ = regime_diagram(law, "c", 1.0, 1e308)
+    assert np.all(np.isfinite(c)) and c.min() <= 1e308 <= c.max() and np.all(np.diff(c) > 0)
+
+
 def test_the_formula_box_keeps_every_digit_and_a_flat_slope_is_flat():
     """Review of 2026-11-24: the box showed 0.1 + 0.2 as 0.3 (Apply changed the value), and
     the paper's claim said 'falls x1.00 per decade' for a slope of 0, 'falls xnan' for nan."""

@@ -397,6 +397,43 @@ def test_messages_name_the_line_an_editor_shows(tmp_path: Path) -> None:
     path.write_text("velocity [um/s],amplitude [mN]\n1,2\n \t \n  # indented\n3,4\n")
     with pytest.raises(ValueError, match="line 4 has 1 cells"):
         read_table(path, ["velocity", "amplitude"])
+    # review of 8208b08: a line of blanks holding the delimiter is a row for pandas (a TSV's
+    # tab line); interleaved records; a CR-only file lost its first row after a blank line
+    # (pandas' skiprows did not count it); a trailing comment was blamed for a later NaN,
+    # and its commas counted as cells; mixed line ends failed inside the csv module
+    cases = [
+        ("time [s]\tforce [N]\n0\t1\n1\t2\n \t \n3\t1\n4\t2\n", read_record, "1 samples at line 4"),
+        (
+            "record,time [s],force [N]\na,0,1\nb,0,1\na,1,1\nb,0,1\na,2,1\nb,2,1\n",
+            read_records,
+            "time is not strictly increasing at lines 3 and 5",
+        ),
+        (
+            "record,time [s],force [N]\nb,0,1\nb,,1\na,1,1\nb,,1\nb,,1\nb,3,1\n",
+            read_records,
+            "3 samples at lines 3 to 6 (among other",
+        ),
+        (
+            "time [s],load-point velocity [um/s],friction [1]\n0,1,0.6 # start, slow\n1,1,0.6\n2,1,\n",
+            read_lab_record,
+            "line 4, column 'friction': '' is not a number",
+        ),
+    ]
+    for content, reader, message in cases:
+        path = tmp_path / ("f.tsv" if "\t" in content else "f.csv")
+        path.write_text(content)
+        with pytest.raises(ValueError) as err:
+            reader(path)
+        assert message in str(err.value), (content, str(err.value))
+    path = tmp_path / "cr.csv"
+    path.write_bytes(b"# v0 = 10 um/s\r\rtime [s],force [N]\r0,1\r1,2\r2,3\r3,1\r")
+    np.testing.assert_array_equal(read_record(path).time, [0.0, 1.0, 2.0, 3.0])
+    path.write_bytes(b"time [s],force [N]\r\n2,1\n3,1\r4,1 # a, b, c\r\n5,2\n")
+    np.testing.assert_array_equal(read_record(path).time, [2.0, 3.0, 4.0, 5.0])
+    # an empty header value is none, as a missing line ('# Load:' titles a section)
+    path.write_text("# Load:\n# V0: 10 um/s\ntime [s],force [N]\n0,1\n1,2\n2,3\n")
+    rec = read_record(path)
+    assert rec.load is None and rec.v0 is not None and rec.metadata["load"] == ""
     # a table given as arrays names its rows
     with pytest.raises(ValueError, match=r"row 2: friction coefficient -0\.4"):
         TabulatedLaw(S.Q_([0.0, 1.0, 2.0, 3.0, 4.0], "um/s"), [0.5, -0.4, 0.4, 0.4, 0.4])

@@ -325,13 +325,14 @@ def regime_diagram(
     if math.isfinite(spec.lower):
         inner = spec.lower if spec.lower_inclusive else spec.lower + max(abs(spec.lower), scale) / n
         lower = min(inner, value)
+    three = math.copysign(min(3.0 * abs(value), sys.float_info.max), value)  # 3 x 1e308 was inf
     if value == 0.0:  # both signs (1/n .. 1 left the value out)
         lo, hi = max(-1.0, lower), min(1.0, upper)
     elif value > 0.0:  # from near 0 (or an included lower bound: p = 0 is F1) to three times it
-        hi = min(3.0 * value, upper)
+        hi = min(three, upper)
         lo = spec.lower if math.isfinite(spec.lower) and spec.lower_inclusive else max(hi / n, lower)
     else:  # the mirror image: from three times the value up to near 0
-        lo = max(3.0 * value, lower)
+        lo = max(three, lower)
         hi = spec.upper if math.isfinite(spec.upper) and spec.upper_inclusive else min(lo / n, upper)
     values = np.linspace(lo, hi, n)
     ds = sweep(DimensionlessParameters(nu=nu, law=law), {param: values, "nu": nus}, progress=False)

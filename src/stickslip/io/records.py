@@ -15,7 +15,7 @@ column (and ``v0``/``load`` columns) holds several records at once.
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -86,13 +86,22 @@ def _si(
     return values * float(q.to(si).magnitude)
 
 
-def _lines(df: pd.DataFrame, positions: Sequence[int]) -> str:
-    """Name the file lines of ``df``'s rows at ``positions`` (``line 7`` or ``lines 7-9``)."""
+def _lines(df: pd.DataFrame, first: int, last: int | None = None) -> str:
+    """Name the file lines of ``df``'s rows ``first`` to ``last`` (positions).
+
+    ``line 7``; ``lines 7-9``; in a long table whose records' rows interleave,
+    ``lines 8 and 10`` or ``lines 8 to 14 (among other records' rows)``.
+    """
+    last = first if last is None else last
     layout = df.attrs.get("layout")
     if layout is None:  # pragma: no cover - every frame here comes from _read
-        return "rows " + "-".join(str(int(i) + 1) for i in positions)
-    lines = text.data_lines(layout, [int(df.index[i]) for i in positions])
-    return f"line {lines[0]}" if len(set(lines)) == 1 else f"lines {lines[0]}-{lines[-1]}"
+        return f"rows {first + 1}-{last + 1}"
+    a, b = text.data_lines(layout, [int(df.index[first]), int(df.index[last])])
+    if a == b:
+        return f"line {a}"
+    if int(df.index[last]) - int(df.index[first]) == last - first:  # no other record's row between
+        return f"lines {a}-{b}"
+    return f"lines {a} and {b}" if last == first + 1 else f"lines {a} to {b} (among other records' rows)"
 
 
 def _check_numeric(df: pd.DataFrame, col: str, where: str) -> FloatArray:
@@ -106,7 +115,7 @@ def _check_numeric(df: pd.DataFrame, col: str, where: str) -> FloatArray:
         raise DataError(
             f"{where}: column {col!r} has {int(nan.sum())} missing/NaN values in {starts.size} "
             f"run(s), the longest {int(ends[longest] - starts[longest] + 1)} samples at "
-            f"{_lines(df, [starts[longest], ends[longest]])}; fill or cut them before analysis"
+            f"{_lines(df, int(starts[longest]), int(ends[longest]))}; fill or cut them before analysis"
         )
     return v
 
@@ -165,7 +174,7 @@ def _record_from_frame(
     if np.any(dt <= 0):
         i = int(np.argmax(dt <= 0))
         raise DataError(
-            f"{where}: time is not strictly increasing at {_lines(df, [i, i + 1])} "
+            f"{where}: time is not strictly increasing at {_lines(df, i, i + 1)} "
             f"({float(t[i])!r} s then {float(t[i + 1])!r} s)"
         )
 
@@ -179,8 +188,13 @@ def _record_from_frame(
     for key, given in (("v0", v0), ("load", load)):
         if isinstance(given, float) and np.isnan(given):  # it dropped the header's value, unsaid
             raise DataError(f"{where}: {key}=nan: expected a quantity, or None for the header's")
-    v0q = _quantity(v0 if v0 is not None else meta.get("v0"), "v0", "[length] / [time]", "10 um/s", where)
-    loadq = _quantity(load if load is not None else meta.get("load"), "load", "[force]", "196 mN", where)
+    # an empty header value ('# Load:', a section title) gives none, as a missing line does
+    v0q = _quantity(
+        v0 if v0 is not None else meta.get("v0") or None, "v0", "[length] / [time]", "10 um/s", where
+    )
+    loadq = _quantity(
+        load if load is not None else meta.get("load") or None, "load", "[force]", "196 mN", where
+    )
     meta = dict(meta)
     for key, given, used in (("v0", v0, v0q), ("load", load, loadq)):
         if given is not None and used is not None:  # the metadata say what .v0 and .load are
@@ -262,7 +276,7 @@ def read_records(path: str | os.PathLike[str]) -> list[Record]:
     blank = names.isna() | (names.astype(str).str.strip() == "")
     if blank.any():  # groupby skipped such rows without a word
         i = int(np.flatnonzero(blank.to_numpy())[0])
-        raise DataError(f"{p}: {_lines(df, [i])} has no record name (column 'record' is empty)")
+        raise DataError(f"{p}: {_lines(df, i)} has no record name (column 'record' is empty)")
     out = []
     for name, part in df.groupby("record", sort=False):
         where = f"{p} (record {name!r})"

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import codecs
 import csv
+import itertools
 import math
 import os
 import re
@@ -99,6 +100,9 @@ class TextLayout:
         File size in bytes.
     bytes_per_row : float
         Average length of the first data lines (for memory estimates).
+    data_offset : int
+        Bytes before the first data line (the header's line end included); ``-1``
+        when not known (the data are then found by counting lines).
 
     """
 
@@ -110,6 +114,7 @@ class TextLayout:
     header_line: int
     size: int
     bytes_per_row: float = field(default=32.0)
+    data_offset: int = field(default=-1)
 
 
 def _decode_head(path: str, head: bytes) -> str:
@@ -186,7 +191,13 @@ def inspect(path: str | os.PathLike[str], where: str | None = None) -> TextLayou
             cells.pop()
         rest = [ln for ln in lines[i + 1 : i + 200] if ln.strip() and not ln.lstrip().startswith("#")]
         per_row = float(np.mean([len(ln) + 1 for ln in rest])) if rest else 32.0
-        return TextLayout(p, meta, [c.strip() for c in cells], width, sep, i + 1, os.path.getsize(p), per_row)
+        # where the data begin, in bytes: pandas' skiprows does not count the empty lines of
+        # a file whose lines end in CR alone, and its first data row was lost
+        ends = [m.end() for m in itertools.islice(re.finditer(r"\r\n|\r|\n", text), i + 1)]
+        offset = len(text[: ends[i]].encode("utf-8")) if len(ends) > i else os.path.getsize(p)
+        offset += len(codecs.BOM_UTF8) if head.startswith(codecs.BOM_UTF8) else 0
+        header = [c.strip() for c in cells]
+        return TextLayout(p, meta, header, width, sep, i + 1, os.path.getsize(p), per_row, offset)
     if len(head) == HEAD_BYTES:
         raise DataError(f"{shown}: no header line within the first {HEAD_BYTES // 1024} kB")
     raise DataError(f"{shown}: no header row and no data")
@@ -228,21 +239,24 @@ def read_frame(
     dtype: dict[str, object] = {n: "float64" for n in wanted if n in numeric}
     dtype.update({n: str for n in wanted if n in text})
     try:
-        frame = pd.read_csv(
-            layout.path,
-            sep=layout.sep,
-            header=None,
-            names=all_names,
-            usecols=wanted,
-            skiprows=layout.header_line,
-            comment="#",
-            skip_blank_lines=True,
-            dtype=dtype,
-            engine="c",
-            encoding="utf-8-sig",
-            index_col=False,
-            skipinitialspace=True,
-        )
+        with open(layout.path, "rb") as fh:
+            if layout.data_offset >= 0:
+                fh.seek(layout.data_offset)
+            frame = pd.read_csv(
+                fh,
+                sep=layout.sep,
+                header=None,
+                names=all_names,
+                usecols=wanted,
+                skiprows=0 if layout.data_offset >= 0 else layout.header_line,
+                comment="#",
+                skip_blank_lines=True,
+                dtype=dtype,
+                engine="c",
+                encoding="utf-8" if layout.data_offset >= 0 else "utf-8-sig",
+                index_col=False,
+                skipinitialspace=True,
+            )
     except UnicodeDecodeError as exc:
         _locate_bad_bytes(layout.path, shown, exc)
         raise  # pragma: no cover - _locate_bad_bytes raises
@@ -344,13 +358,30 @@ def header_lines(kind: str, metadata: Mapping[str, Any], columns: Mapping[str, A
 
 def _cells(raw: bytes, sep: str) -> int:
     """Return the cells of a data line, trailing empty ones not counted (0: a comment or blank line)."""
-    line = raw.decode("utf-8", errors="replace").rstrip("\r")
-    if not line.strip() or line.lstrip().startswith("#"):
-        return 0
-    cells = next(csv.reader([line], delimiter=sep))
-    while cells and not cells[-1].strip():
-        cells.pop()
-    return len(cells)
+    widest = 0
+    # a CR alone ends a line for pandas too (a file of mixed line ends)
+    for part in raw.decode("utf-8", errors="replace").rstrip("\r").split("\r"):
+        line = _uncomment(part)
+        if not line.strip():
+            continue
+        cells = next(csv.reader([line], delimiter=sep))
+        while cells and not cells[-1].strip():
+            cells.pop()
+        widest = max(widest, len(cells))
+    return widest
+
+
+def _uncomment(line: str) -> str:
+    """Return ``line`` up to a ``#`` outside quotes, as pandas reads it (``comment="#"``)."""
+    if "#" not in line:
+        return line
+    quoted = False
+    for i, ch in enumerate(line):
+        if ch == '"':
+            quoted = not quoted
+        elif ch == "#" and not quoted:
+            return line[:i]
+    return line
 
 
 def _locate_bad_bytes(path: str, shown: str, exc: UnicodeDecodeError) -> None:
@@ -367,13 +398,15 @@ def _locate_bad_bytes(path: str, shown: str, exc: UnicodeDecodeError) -> None:
     raise DataError(f"{shown}: not UTF-8 text ({exc.reason}); save it as UTF-8 and read it again")
 
 
-def _is_data(line: str) -> bool:
+def _is_data(line: str, sep: str) -> bool:
     """Whether pandas reads ``line`` as a data row (with ``comment="#"``, blank lines skipped).
 
-    pandas skips a line of spaces and tabs and a line starting with ``#``; an indented
-    ``#`` ends the line's cells (the row is read, its cells empty).
+    pandas skips a line of blanks (spaces and tabs, the delimiter not among them: in a
+    tab-separated file a line of tabs is a row of empty cells) and a line starting with
+    ``#``; an indented ``#`` ends the line's cells (the row is read, its cells empty).
     """
-    return bool(line.strip(" \t\r\n")) and not line.startswith("#")
+    blanks = " \t".replace(sep, "")
+    return bool(line.strip(blanks + "\r\n")) and not line.startswith("#")
 
 
 def data_lines(layout: TextLayout, rows: Sequence[int]) -> list[int]:
@@ -393,7 +426,7 @@ def data_lines(layout: TextLayout, rows: Sequence[int]) -> list[int]:
         k = -1
         with open(layout.path, encoding="utf-8-sig", errors="replace", newline="") as fh:
             for line_no, line in enumerate(fh, start=1):
-                if line_no <= layout.header_line or not _is_data(line):
+                if line_no <= layout.header_line or not _is_data(line, layout.sep):
                     continue
                 k += 1
                 if k == want[len(found)]:
@@ -428,11 +461,11 @@ def diagnose(
     old_limit = csv.field_size_limit()
     with open(layout.path, encoding="utf-8-sig", errors="strict", newline="") as fh:
         for line_no, line in enumerate(fh, start=1):
-            if line_no <= layout.header_line or not _is_data(line):
+            if line_no <= layout.header_line or not _is_data(line, layout.sep):
                 continue
             place = f"{shown}: line {line_no}"
             try:
-                cells = next(csv.reader([line], delimiter=layout.sep))
+                cells = next(csv.reader([_uncomment(line)], delimiter=layout.sep))  # '1,2 # note' is 2
             except csv.Error:
                 raise DataError(
                     f"{place}: a field is longer than {old_limit} characters (the CSV limit)"

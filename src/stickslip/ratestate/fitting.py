@@ -125,7 +125,7 @@ class RateStateFit:
 def _option(value: Any, meta: dict[str, str], key: str, name: str) -> Any:
     if value is not None:
         return value
-    if key in meta:
+    if meta.get(key, "").strip():  # an empty '# mu0 =' line is no value, as a missing one
         return meta[key]
     raise DataError(f"{name} is not given: pass it as an option or as '# {key} = ...' in the record's header")
 
@@ -231,7 +231,7 @@ def fit_rate_state(
         "1 / [length]",
         "1e-3 1/um",
     )
-    law_v = str(law if law is not None else meta.get("law", "aging"))
+    law_v = str(law if law is not None else meta.get("law") or "aging")
     if law_v not in ("aging", "slip", "prz"):
         raise DataError(
             f"law={law_v!r}: the fit supports 'aging', 'slip' or 'prz' (of {', '.join(STATE_LAWS)})"
