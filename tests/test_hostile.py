@@ -252,16 +252,19 @@ def test_cli_memory_refusals(tmp_path: Path) -> None:
     assert not (tmp_path / "s.nc").exists()
 
 
-def test_ctrl_c_while_the_command_line_starts_is_one_line(tmp_path: Path) -> None:
+@pytest.mark.parametrize("module", ["stickslip", "stickslip.cli"])
+def test_ctrl_c_while_the_command_line_starts_is_one_line(tmp_path: Path, module: str) -> None:
     """Regression: Ctrl-C in the seconds the command line spends loading numba, pint and
     xarray printed a KeyboardInterrupt traceback from inside an import (the failure probe
-    found it on a loaded machine). Now: one line, and the process ends by SIGINT (a shell's 130)."""
+    found it on a loaded machine). Now: one line, and the process ends by SIGINT (a shell's 130).
+    ``python -m stickslip.cli`` too: its package imported every command family before its
+    ``__main__`` could guard them; it now loads them on first use."""
     import signal
     import subprocess
     import sys
 
     proc = subprocess.Popen(
-        [sys.executable, "-m", "stickslip", "cycle", "--nu", "0.05", "--c", "3"],
+        [sys.executable, "-m", module, "cycle", "--nu", "0.05", "--c", "3"],
         cwd=tmp_path,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,

@@ -58,6 +58,24 @@ def test_import_stickslip_is_lazy_and_every_public_name_loads() -> None:
     ]
 
 
+def test_import_stickslip_cli_is_lazy_and_its_names_load() -> None:
+    """``import stickslip.cli`` (what ``python -m stickslip.cli`` does before its
+    ``__main__`` runs) loads no numba; ``main`` and the option builders load on first use."""
+    code = (
+        "import sys, stickslip.cli as c\n"
+        "print('numba' in sys.modules, 'click' in sys.modules)\n"
+        "print(c.main.name, c.build_parameters.__module__, sorted(set(c.__all__) - set(dir(c))))\n"
+        "try:\n    c.nope\nexcept AttributeError as e:\n    print(e)\n"
+    )
+    res = _python("-c", code)
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.splitlines() == [
+        "False False",
+        "main stickslip.cli.options []",
+        "module 'stickslip.cli' has no attribute 'nope'",
+    ]
+
+
 def test_importing_chooses_no_matplotlib_backend() -> None:
     code = (
         "import sys, stickslip, stickslip.plots.figures, stickslip.plots.regimes, stickslip.paper.figures\n"

@@ -20,7 +20,7 @@ import sys
 def main() -> None:
     """Load the command line, then run it (the ``stickslip`` console script)."""
     try:
-        from .cli import main as command_line
+        from .cli.commands import main as command_line
     except KeyboardInterrupt:
         print("stickslip: interrupted while starting", file=sys.stderr, flush=True)
         if os.name == "posix":

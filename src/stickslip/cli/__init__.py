@@ -4,59 +4,36 @@
 (``regimes``), :mod:`~.data` (``analyze``, ``fit``, ``classify``),
 :mod:`~.ratestate` (``ratestate``, ``dulac``), :mod:`~.chain` (``chain``) and
 :mod:`~.paper` (``reproduce``) and :mod:`~.explore` (``explore``, the browser app);
-the options of a parameter set are built from the law registry (:mod:`~.options`).
+the options of a parameter set are built from the law registry (:mod:`~.options`);
+:mod:`~.commands` holds the click group.
+
+The package loads its command families on first use of a name (PEP 562), so that
+``python -m stickslip.cli`` reaches :func:`stickslip.__main__.main`, which turns a
+Ctrl-C during the seconds of imports into one line, before anything heavy loads.
 """
 
 from __future__ import annotations
 
-import signal
-import threading
-import warnings
-from typing import Any
+import importlib
+from typing import TYPE_CHECKING, Any
 
-import click
-
-from . import bifurcation, chain, data, dynamics, explore, paper, ratestate
-from .options import build_parameters, describe_parameters
+if TYPE_CHECKING:
+    from .commands import main
+    from .options import build_parameters, describe_parameters
 
 __all__ = ["build_parameters", "describe_parameters", "main"]
 
-
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
-@click.version_option(package_name="stickslip")
-def main() -> None:
-    """Friction oscillators: the one-block spring-slider, exact and fast."""
-    warnings.showwarning = _one_line_warning
-    _exit_on_sigterm(click.get_current_context())
+_HOME = {"main": "commands", "build_parameters": "options", "describe_parameters": "options"}
 
 
-def _exit_on_sigterm(ctx: click.Context) -> None:
-    """Make SIGTERM (``kill``, a batch scheduler's time limit) end a command as Ctrl-C does.
-
-    Python's default for SIGTERM ends the process at once, skipping every ``finally``:
-    an output folder kept its hidden staging folder and a chain's partial catalogue was
-    not closed. Raised as ``SystemExit(143)`` instead, the clean-up runs and an
-    interrupted chain can be resumed (``--resume``). Only where SIGTERM still has its
-    default handler, only in the main thread (where signal handlers live), and for
-    the command only: the default comes back when it ends (a program or a test run
-    that calls :func:`main` keeps its own SIGTERM).
-    """
-    if threading.current_thread() is not threading.main_thread():
-        return
-    if signal.getsignal(signal.SIGTERM) is signal.SIG_DFL:
-        signal.signal(signal.SIGTERM, _terminated)
-        ctx.call_on_close(lambda: signal.signal(signal.SIGTERM, signal.SIG_DFL))
+def __getattr__(name: str) -> Any:
+    """Load a public name of the command line on first use."""
+    if name not in _HOME:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{_HOME[name]}", __name__), name)
+    globals()[name] = value
+    return value
 
 
-def _terminated(signum: int, frame: Any) -> None:
-    click.echo("stickslip: stopped by SIGTERM (an interrupted chain goes on with --resume)", err=True)
-    raise SystemExit(128 + signum)
-
-
-def _one_line_warning(message: Any, category: Any, filename: str, lineno: int, *args: Any, **kw: Any) -> None:
-    """Print a warning as one ``warning:`` line on standard error (no file, no source line)."""
-    click.echo(f"warning: {message}", err=True)
-
-
-for _family in (dynamics, paper, ratestate, data, bifurcation, chain, explore):
-    _family.register(main)
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

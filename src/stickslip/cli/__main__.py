@@ -1,7 +1,5 @@
-"""``python -m stickslip.cli``: the command line."""
+"""``python -m stickslip.cli``: the command line, started as ``stickslip`` starts it."""
 
-import sys
+from stickslip.__main__ import main
 
-from . import main
-
-sys.exit(main())
+main()
