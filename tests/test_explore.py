@@ -192,6 +192,10 @@ def test_explore_option_errors():
     assert res.exit_code == 2 and "--law" in res.output and "weakening" in res.output
     res = CliRunner().invoke(main, ["explore", "--port", "0", "--no-browser"])
     assert res.exit_code == 2 and "--port" in res.output
+    # the slider's range, the same check as the page's (explore.check_nu)
+    for nu in ("20", "1e-6", "nan"):
+        res = CliRunner().invoke(main, ["explore", "--nu", nu, "--no-browser"])
+        assert res.exit_code == 2 and "--nu" in res.output and "from 1e-5 to 10" in res.output, res.output
 
 
 # ---- the page in a real browser -----------------------------------------------------

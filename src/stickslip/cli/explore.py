@@ -43,14 +43,14 @@ def register(main: click.Group) -> None:
         diagram, recomputed by the engine at every change. The page gives the
         equivalent 'stickslip cycle' command and the motion as CSV. Ctrl-C stops it.
         """
-        from ..explore import Setup, default_params, law_names, serve
+        from ..explore import Setup, check_nu, default_params, law_names, serve
 
         if law not in law_names():
             raise click.BadParameter(f"{law!r}: expected one of {', '.join(law_names())}", param_hint="--law")
-        if not (1e-5 <= nu <= 10.0):
-            raise click.BadParameter(
-                f"{nu!r}: expected a driving velocity from 1e-5 to 10 (the slider's range)", param_hint="--nu"
-            )
+        try:
+            check_nu(nu)
+        except ValueError as exc:
+            raise click.BadParameter(str(exc), param_hint="--nu") from None
         # the paper's F1 first; another law with its example parameters
         setup = Setup(nu=nu) if law == "weakening" else Setup(law=law, nu=nu, params=default_params(law))
         serve(port=port, host=host, open_browser=not no_browser, setup=setup)

@@ -7,8 +7,10 @@
 from .app import Explorer, make_server, serve
 from .session import (
     EXPR,
+    NU_RANGE,
     Setup,
     View,
+    check_nu,
     command,
     compute,
     default_params,
@@ -21,9 +23,11 @@ from .session import (
 
 __all__ = [
     "EXPR",
+    "NU_RANGE",
     "Explorer",
     "Setup",
     "View",
+    "check_nu",
     "command",
     "compute",
     "default_params",

@@ -27,6 +27,7 @@ from .session import (
     REGIMES,
     Setup,
     View,
+    check_nu,
     compute,
     default_params,
     law_names,
@@ -408,15 +409,6 @@ def serve(
         pass
     finally:
         server.stop()
-
-
-NU_RANGE = (1e-5, 10.0)  # the driving-velocity slider's range, log10 from -5 to 1
-
-
-def check_nu(nu: float) -> None:
-    """Refuse a driving velocity outside the slider's range (the slider showed it outside its ends)."""
-    if not (NU_RANGE[0] <= nu <= NU_RANGE[1]):
-        raise ValueError(f"nu={nu!r}: expected a driving velocity from 1e-5 to 10 (the slider's range)")
 
 
 def _params_text(params: Any) -> str:

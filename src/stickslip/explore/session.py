@@ -37,8 +37,10 @@ from ..units import Q_, check_number
 
 __all__ = [
     "EXPR",
+    "NU_RANGE",
     "Setup",
     "View",
+    "check_nu",
     "command",
     "compute",
     "default_params",
@@ -51,6 +53,8 @@ __all__ = [
 
 FloatArray = npt.NDArray[np.float64]
 
+#: the driving-velocity slider's range, log10 from -5 to 1
+NU_RANGE = (1e-5, 10.0)
 #: the law name of a user's formula
 EXPR = "expr"
 #: the driving velocities of the amplitude-velocity curve, a decade each side of nu
@@ -240,6 +244,24 @@ def _spec(parameters: Any, name: str, law: str) -> Any:
         if p.name == name:
             return p
     raise ValueError(f"{name!r} is not a parameter of the {law} law (it has {[p.name for p in parameters]})")
+
+
+def check_nu(nu: float) -> None:
+    """Refuse a driving velocity outside the slider's range (the slider showed it outside its ends).
+
+    Parameters
+    ----------
+    nu : float
+        The driving velocity (dimensionless).
+
+    Raises
+    ------
+    ValueError
+        Naming ``nu`` and the range, :data:`NU_RANGE`.
+
+    """
+    if not (NU_RANGE[0] <= nu <= NU_RANGE[1]):
+        raise ValueError(f"nu={nu!r}: expected a driving velocity from 1e-5 to 10 (the slider's range)")
 
 
 def slider_range(law: str, name: str, value: float) -> tuple[float, float, float]:
