@@ -35,6 +35,13 @@ def test_version_comes_from_the_package_metadata() -> None:
     assert version("stickslip") in res.stdout
 
 
+def _printed(code: str) -> list[str]:
+    """The lines ``code`` prints in a fresh interpreter (which must succeed)."""
+    res = _python("-c", code)
+    assert res.returncode == 0, res.stderr
+    return res.stdout.splitlines()
+
+
 def test_import_stickslip_is_lazy_and_every_public_name_loads() -> None:
     """``import stickslip`` loads no numba (so the command line can answer Ctrl-C while it
     starts); each name of ``__all__`` and each subpackage then loads on first use."""
@@ -47,9 +54,7 @@ def test_import_stickslip_is_lazy_and_every_public_name_loads() -> None:
         "print(Q_('1 mN').to('N').magnitude, 'zv_parameters' in dir(stickslip))\n"
         "try:\n    stickslip.nope\nexcept AttributeError as e:\n    print(e)\n"
     )
-    res = _python("-c", code)
-    assert res.returncode == 0, res.stderr
-    assert res.stdout.splitlines() == [
+    assert _printed(code) == [
         "False False",
         "True",
         "True stickslip.core",
@@ -67,9 +72,7 @@ def test_import_stickslip_cli_is_lazy_and_its_names_load() -> None:
         "print(c.main.name, c.build_parameters.__module__, sorted(set(c.__all__) - set(dir(c))))\n"
         "try:\n    c.nope\nexcept AttributeError as e:\n    print(e)\n"
     )
-    res = _python("-c", code)
-    assert res.returncode == 0, res.stderr
-    assert res.stdout.splitlines() == [
+    assert _printed(code) == [
         "False False",
         "main stickslip.cli.options []",
         "module 'stickslip.cli' has no attribute 'nope'",
