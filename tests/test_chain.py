@@ -361,6 +361,81 @@ def test_catalogue_streams_to_netcdf_and_resumes(tmp_path: Path) -> None:
         assert ds.getncattr("complete") == 0
 
 
+def test_a_run_stopped_before_its_first_save_begins_again(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Regression (audit of the stores): a run stopped in the seconds between creating its
+    catalogue and first saving the state (a transient, FLUSH_SECONDS) left a catalogue whose
+    state was netCDF fill values; resuming it ran from x = 9.97e36 and stored the member as
+    'not-finite' for good (a kill -9 left an unreadable 48-byte file instead). Now the
+    catalogue says it holds no state, and resuming starts the run from the beginning."""
+    import netCDF4
+
+    import stickslip.chains.run as run_module
+    from stickslip.chains.catalog import CatalogWriter, read_state
+
+    p = ChainParameters(20, CarlsonLangerLaw(alpha=2.5, sigma=0.01), 0.01, 3.0)
+    whole = chain(p, 60, transient=10, out=tmp_path / "whole.nc", progress=False)
+    created = CatalogWriter.__init__
+
+    def stopped(self: Any, *args: Any, **kw: Any) -> None:
+        created(self, *args, **kw)
+        self.ds.close()  # as the end of the process would (HDF5 locks an open file)
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(CatalogWriter, "__init__", stopped)
+    with pytest.raises(KeyboardInterrupt):
+        chain(p, 60, transient=10, out=tmp_path / "part.nc", progress=False)
+    monkeypatch.undo()
+    assert read_state(str(tmp_path / "part.nc"))[:2] == (None, 0)
+    again = chain(p, 60, transient=10, out=tmp_path / "part.nc", resume=True, progress=False)
+    assert str(again.status) == "ok" and again.summary() == whole.summary()
+    again.catalog.close()
+    whole.catalog.close()
+    # a Ctrl-C in the middle: the rows so far and the state after them, and not marked complete
+    calls = [0]
+    advance = run_module.chain_advance
+
+    def interrupted(*args: Any, **kw: Any) -> Any:
+        calls[0] += 1
+        if calls[0] == 4:
+            raise KeyboardInterrupt
+        return advance(*args, **kw)
+
+    monkeypatch.setattr(run_module, "EVENTS_PER_CHUNK", 10)
+    monkeypatch.setattr(run_module, "FLUSH_SECONDS", 0.0)
+    monkeypatch.setattr(run_module, "chain_advance", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        chain(p, 60, transient=10, out=tmp_path / "cut.nc", progress=False)
+    monkeypatch.undo()
+    with netCDF4.Dataset(tmp_path / "cut.nc") as ds:
+        assert ds.getncattr("complete") == 0 and 0 < len(ds.dimensions["event"]) < 60
+    again = chain(p, 60, transient=10, out=tmp_path / "cut.nc", resume=True, progress=False)
+    assert again.summary() == whole.summary()
+    again.catalog.close()
+    # events without the state after them cannot be continued: said, not run from fill values
+    with netCDF4.Dataset(tmp_path / "cut.nc", "a") as ds:
+        ds.setncattr("state_saved", 0)
+    with pytest.raises(DataError, match="holds 60 events but not the chain's state"):
+        chain(p, 70, transient=10, out=tmp_path / "cut.nc", resume=True, progress=False)
+
+
+def test_an_ensemble_member_with_a_broken_catalogue_starts_again(tmp_path: Path) -> None:
+    """Regression (audit): a member's catalogue truncated (or left unreadable by a kill -9)
+    failed the member with 'NetCDF: HDF error' on every run: the store could never finish."""
+    p = ChainParameters(6, WeakeningLaw(c=3.0, p=0.0), 0.01, 2.0)
+    ref = chain_ensemble(p, 40, [1, 2], progress=False)
+    store = tmp_path / "e.zarr"
+    chain_ensemble(p, 40, [1, 2], store=store, progress=False)
+    (store / ".stickslip-done" / "000000001").unlink()
+    broken = store / "catalogs" / "seed-2.nc"
+    broken.write_bytes(broken.read_bytes()[:600])
+    with pytest.warns(UserWarning, match="seed-2.nc: cannot be continued .*its member starts again"):
+        again = chain_ensemble(p, 40, [1, 2], store=store, progress=False)
+    for name in ("events", "mean_moment", "b_value", "status"):
+        np.testing.assert_array_equal(again[name].values, ref[name].values)
+
+
 def test_events_do_not_depend_on_where_a_call_pauses() -> None:
     """A call that pauses after every step gives the events of one call, bit for bit.
 

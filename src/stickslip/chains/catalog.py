@@ -114,6 +114,10 @@ class CatalogWriter:
         ds.setncattr("stickslip_generator", generator(KIND))
         ds.setncattr("complete", 0)
         ds.setncattr("slip_recorded", 0)
+        # no state yet: a run killed before its first save (its transient, its first seconds)
+        # starts again on resuming; synced now, so that the file is a readable NetCDF from the start
+        ds.setncattr("state_saved", 0)
+        ds.sync()
 
     @property
     def n_events(self) -> int:
@@ -145,6 +149,7 @@ class CatalogWriter:
             self.ds[f"state_{name}"][:] = getattr(state, name)
         for k, v in (extra or {}).items():
             self.ds.setncattr(k, v)
+        self.ds.setncattr("state_saved", 1)
         self.ds.sync()
 
     def close(self, complete: bool) -> None:
@@ -154,12 +159,25 @@ class CatalogWriter:
         self.ds.close()
 
 
-def read_state(path: str) -> tuple[ChainState, int, dict[str, Any]]:
-    """Return the state stored in a catalogue, its number of events and its attributes."""
+def read_state(path: str) -> tuple[ChainState | None, int, dict[str, Any]]:
+    """Return the state stored in a catalogue, its number of events and its attributes.
+
+    The state is None where the run was stopped before it saved one (no event
+    recorded then): a resumed run starts from the beginning.
+    """
     with netCDF4.Dataset(path, "r") as ds:
-        arrays = [np.array(ds[f"state_{n}"][:]) for n in _STATE]
+        raw = [ds[f"state_{n}"][:] for n in _STATE]
         n = len(ds.dimensions["event"])
         attrs = {k: ds.getncattr(k) for k in ds.ncattrs()}
+    # "state_saved" since 2026-11-24; before, a state never written reads as netCDF fill values
+    if not attrs.get("state_saved", 1) or any(np.ma.is_masked(a) for a in raw):
+        if n:
+            raise DataError(
+                f"{path}: holds {n} events but not the chain's state after them: it cannot be "
+                "resumed; start the run again (delete the file)"
+            )
+        return None, 0, attrs
+    arrays = [np.asarray(a) for a in raw]
     if arrays[3].shape != (ce.NSC,):
         raise DataError(
             f"{path}: its state was stored by another version of stickslip's chain engine "

@@ -14,6 +14,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -28,6 +29,7 @@ from ..dynamics.cycle import validate_tolerances
 from ..scale.progress import ProgressLike
 from ..scale.store import Block, Layout, Variable
 from ..units import check_count, check_number
+from .catalog import read_state
 from .model import ChainParameters, Init, static_thresholds
 from .run import chain, check_events
 from .statistics import STATISTICS_VERSION, check_fit_range
@@ -256,6 +258,7 @@ class _Member:
         if job.catalogs is not None:
             os.makedirs(job.catalogs, exist_ok=True)
             out = os.path.join(job.catalogs, f"seed-{self.seed}.nc")
+            _drop_if_unreadable(out)
         res = chain(
             p, job.events, init=job.init, seed=self.seed, amplitude=job.amplitude, transient=job.transient,
             out=out, resume=out is not None, rtol=job.rtol, atol=job.atol, mc=job.mc, m_max=job.m_max,
@@ -270,3 +273,20 @@ class _Member:
                 v = math.nan
             row[k] = np.array([v], dtype=dtype)
         return row
+
+
+def _drop_if_unreadable(path: str) -> None:
+    """Remove a member's catalogue that cannot be continued, so that the member starts again.
+
+    The store's own file (its identity, checked, says it is this job's): a catalogue
+    truncated by a full disk or a copy, or one holding events without the state after
+    them, made the member fail on every run ("NetCDF: HDF error") and the store could
+    never finish. A member is deterministic: run again, it gives the same numbers.
+    """
+    if not os.path.exists(path):
+        return
+    try:
+        read_state(path)
+    except (OSError, RuntimeError, KeyError, IndexError, ValueError) as exc:
+        warnings.warn(f"{path}: cannot be continued ({exc}); its member starts again", stacklevel=2)
+        os.remove(path)

@@ -304,12 +304,22 @@ def chain(
     units, factor = _units(params)
     setup = _setup(params, init_s, seed, amplitude, rtol, atol)
     attrs = {"setup": setup, "blocks": n, "law": params.law.name, "nu": params.nu, "ell": params.ell}
+    longest = (
+        1000.0 / params.nu + 1000.0
+        if max_event_duration is None
+        else _duration("max_event_duration", max_event_duration, params)
+    )
+    if not longest > 0:
+        raise ValueError(f"max_event_duration={max_event_duration!r}: expected a positive duration")
     path = None if out is None else os.fspath(out)
     done = 0
+    st: ChainState | None = None
     if path is not None and resume and os.path.exists(path):
         st, done, fattrs = read_state(path)
         saved = str(fattrs.get("setup"))
         _check_same_setup(path, saved, setup)
+        # st None: stopped before its first save (in the transient, or its first seconds): begin again
+    if st is not None and path is not None:
         resumed = CatalogWriter(path, n, {**attrs, "setup": saved}, units, resume=True)
         resumed.ds.setncattr("setup", setup)  # an older set-up (no atol) takes the full one
         writer: CatalogWriter | None = resumed
@@ -330,13 +340,6 @@ def chain(
             if not os.path.isdir(folder):
                 raise ValueError(f"out={path!r}: the folder {folder} does not exist")
             writer = CatalogWriter(path, n, attrs, units, slip_rows=record_slip)
-    longest = (
-        1000.0 / params.nu + 1000.0
-        if max_event_duration is None
-        else _duration("max_event_duration", max_event_duration, params)
-    )
-    if not longest > 0:
-        raise ValueError(f"max_event_duration={max_event_duration!r}: expected a positive duration")
     phi = params.phi
     args = (
         kernel,
@@ -352,6 +355,7 @@ def chain(
     n_slips = writer.slip_recorded if writer is not None else 0
     pending = None if writer is None else _Pending(writer)
     status = ChainStatus.OK
+    ended = False
     bar = progress_bar(events, unit="event", desc="chain", progress=progress)
     advance = _Advance(args, state, t_max, rtol, atol, bar, factor[ce.C_T0], units["time"])
     if bar is not None and done:
@@ -389,6 +393,7 @@ def chain(
                 status = ChainStatus.from_code(code)
             elif state.in_event and state.t - state.sc[ce.S_EV_T0] > longest:
                 status = ChainStatus.SLIDING
+        ended = True  # not stopped by an exception (a Ctrl-C): the catalogue may be complete
     finally:
         if bar is not None:
             bar.close()
@@ -396,7 +401,7 @@ def chain(
             try:
                 pending.flush()
             finally:
-                pending.writer.close(complete=status is ChainStatus.OK)
+                pending.writer.close(complete=ended and status is ChainStatus.OK)
     t_end = state.t * (factor[ce.C_T0])
     if writer is not None and path is not None:
         ds = open_catalog(path)
