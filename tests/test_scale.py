@@ -12,6 +12,7 @@ import hashlib
 import json
 import os
 import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -189,6 +190,141 @@ def test_corrupt_truncated_and_missing_chunks_are_recomputed(
     ds = sweep(base, _grid(), progress=False, store=store)
     assert run_of(ds)["reused"] == 3 and run_of(ds)["computed"] == 3
     assert_same(reference, load_sweep(store))
+
+
+# ----------------------------------------------------------------------------- the audit of 2026-11-24
+
+
+def test_a_store_made_again_at_the_same_path_is_another_store(
+    base: Any, reference: xr.Dataset, tmp_path: Path
+) -> None:
+    """Regression: the arrays opened for writing were kept per path and job; a store deleted
+    and made again with other blocks got chunks of the old shape, silently (then a reshape
+    error deep in zarr on loading), in a notebook or on a long-lived cluster."""
+    store = tmp_path / "s.zarr"
+    sweep(base, _grid(), progress=False, store=store, block_points=20)
+    shutil.rmtree(store)
+    ds = sweep(base, _grid(), progress=False, store=store, block_points=60)
+    assert run_of(ds)["computed"] == 4
+    assert_same(reference, load_sweep(store))
+
+
+def test_two_runs_making_one_store_at_once_share_it(
+    base: Any, reference: xr.Dataset, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Regression: of two runs of one command started together, the one whose rename came
+    second removed the store the first had just made (and both failed)."""
+    from stickslip.scale.store import ChunkStore
+
+    made = ChunkStore._create
+
+    def beaten(p: str, layout: Any) -> str:
+        made(p, layout)  # the other run gets there first
+        return made(p, layout)  # this one's rename then fails: the folder exists
+
+    monkeypatch.setattr(ChunkStore, "_create", staticmethod(beaten))
+    store = tmp_path / "s.zarr"
+    ds = sweep(base, _grid(), progress=False, store=store, block_points=40)
+    assert run_of(ds)["computed"] == 6
+    assert_same(reference, load_sweep(store))
+    assert [n for n in os.listdir(tmp_path) if n.startswith(".creating-")] == []
+
+
+def test_lost_coordinates_and_markers_folder_are_made_again(
+    base: Any, reference: xr.Dataset, tmp_path: Path
+) -> None:
+    """Regression: a coordinate's deleted chunk read as zeros (load_sweep gave v0 = 0 at every
+    point), a truncated one raised from inside numcodecs, and a deleted markers' folder failed
+    every run with 'No such file or directory'."""
+    store = tmp_path / "s.zarr"
+    sweep(base, _grid(), progress=False, store=store, block_points=40)
+    (store / "v0" / "c" / "0").unlink()
+    stiff = store / "stiffness" / "c" / "0"
+    stiff.write_bytes(stiff.read_bytes()[:5])
+    shutil.rmtree(store / ".stickslip-done")
+    ds = sweep(base, _grid(), progress=False, store=store)
+    assert run_of(ds)["computed"] == 6
+    assert_same(reference, load_sweep(store))
+
+
+def test_an_unfinished_store_is_said_and_read_only_when_asked(
+    base: Any, reference: xr.Dataset, tmp_path: Path
+) -> None:
+    """Regression: load_sweep of an interrupted sweep's store raised KeyError: -1 from inside
+    the labels, and the unfilled points read as -1, a real code ('unknown' regime)."""
+    from stickslip.scale import computed_points
+
+    store = tmp_path / "s.zarr"
+    sweep(base, _grid(), progress=False, store=store, block_points=40)  # blocks of 4 v0 rows
+    (store / ".stickslip-done" / "000000002").unlink()
+    shutil.rmtree(store / "regime" / "c" / "2")
+    with pytest.raises(StoreError, match=r"unfinished \(200 of 240 points computed\).*partial=True"):
+        load_sweep(store)
+    raw = xr.open_zarr(store, chunks=None)
+    assert set(np.unique(raw["regime"].values[8:12])) == {-128}  # the fill: no code of any regime
+    part = load_sweep(store, partial=True)
+    mask = np.ones((24, 10), dtype=bool)
+    mask[8:12] = False
+    assert np.array_equal(computed_points(store), mask) and np.array_equal(part["computed"].values, mask)
+    assert (part["regime"].values[8:12] == "not computed").all()
+    assert (part["status"].values[8:12] == "not computed").all()
+    assert np.isnan(part["amplitude"].values[8:12]).all()
+    assert np.array_equal(part["amplitude"].values[mask], reference["amplitude"].values[mask], equal_nan=True)
+    assert np.array_equal(part["regime"].values[mask], reference["regime"].values[mask])
+    assert part.attrs["partial"].startswith("200 of 240 points computed")
+    # finished: the sweep as before, no mask
+    sweep(base, _grid(), progress=False, store=store)
+    assert_same(reference, load_sweep(store))
+    # another job's store
+    law = WeakeningLaw(c=3.8, p=0.3)
+    regime_map(law, "p", [0.1, 0.3], 0.05, 2.0, n_nu=11, progress=False, store=tmp_path / "m.zarr")
+    with pytest.raises(StoreError, match="a store of a regime map, not of a sweep"):
+        load_sweep(tmp_path / "m.zarr")
+
+
+def test_another_job_is_told_by_what_differs(base: Any, tmp_path: Path) -> None:
+    store = tmp_path / "s.zarr"
+    sweep(base, _grid(), progress=False, store=store, block_points=80)
+    with pytest.raises(StoreError) as err:
+        sweep(base, _grid(), progress=False, store=store, rtol=1e-9)
+    msg = str(err.value)
+    assert "tolerances [1e-10, " in msg and "there, [1e-09, " in msg and " here" in msg, msg
+    with pytest.raises(StoreError) as err:
+        sweep(base, _grid(n_v0=25), progress=False, store=store)
+    assert "other values of grid.v0 (24 values there, 25 values here)" in str(err.value)
+    with pytest.raises(StoreError) as err:
+        sweep(ss.zv_parameters(b="10 s/m"), _grid(), progress=False, store=store)
+    assert "base " in str(err.value) and " there, " in str(err.value)
+    # a mark edited by hand: said, not an AttributeError
+    meta = store / "zarr.json"
+    doc = json.loads(meta.read_text())
+    doc["attributes"]["stickslip_store"] = "edited"
+    meta.write_text(json.dumps(doc))
+    with pytest.raises(StoreError, match=r"its mark .* is damaged"):
+        sweep(base, _grid(), progress=False, store=store)
+    # a file's name, and a file where the folder should be
+    with pytest.raises(StoreError, match=r"a store is a Zarr folder, not a \.nc file"):
+        sweep(base, _grid(), progress=False, store=tmp_path / "x.nc")
+    assert not (tmp_path / "x.nc").exists()
+    (tmp_path / "afile").write_text("")
+    with pytest.raises(StoreError, match="afile is a file, not a folder"):
+        sweep(base, _grid(), progress=False, store=tmp_path / "afile" / "s.zarr")
+
+
+def test_the_gpu_backend_is_part_of_a_sweeps_identity(base: Any) -> None:
+    """The GPU's cycles agree with the CPU's to 1e-9, not bit for bit: a store is one or the other."""
+    import dataclasses
+
+    from stickslip.dynamics.sweep import SweepPlan
+
+    vals = np.array([5.0, 10.0])
+    plan = SweepPlan(
+        base, {"v0": (vals, "um/s", "driving velocity")}, {"v0": vals * 1e-6}, 1e-10, 1e-12, 1e5, 1e-8
+    )
+    cpu = plan.layout((2,))
+    gpu = dataclasses.replace(plan, backend="cuda").layout((2,))
+    assert "backend" not in cpu.identity and gpu.identity["backend"] == "cuda"
+    assert cpu.identity_digest != gpu.identity_digest
 
 
 def test_progress_from_python(base: Any, tmp_path: Path) -> None:
@@ -449,7 +585,8 @@ def test_chain_ensemble_through_the_store_and_the_cluster(
     assert_same(ref, again)
     # members' b-values of other statistics are another job: resuming would mix the two
     monkeypatch.setattr(ensemble_module, "STATISTICS_VERSION", STATISTICS_VERSION + 1)
-    old = f"holds another job .*statistics of version {STATISTICS_VERSION}\\)"
+    v = STATISTICS_VERSION
+    old = f"holds another job: .*statistics of version {v}, with statistics {v} there, {v + 1} here;"
     with pytest.raises(StoreError, match=old):
         chain_ensemble(params, 60, [1, 2, 3], store=store, **kw)
 
@@ -487,3 +624,27 @@ def test_cli_regime_map_and_chain_ensemble_resume_from_their_stores(tmp_path: Pa
     assert "3 already there, 0 computed" in res2.stderr and json.loads(res2.stdout) == out
     bad = _cli("chain", *ch, "--events", "40", "--store", "e.zarr", cwd=tmp_path)
     assert bad.returncode != 0 and "--seeds" in bad.stderr
+
+
+def test_a_bad_scheduler_address_is_refused_before_anything_is_made(base: Any, tmp_path: Path) -> None:
+    """Regression: 'nonsense' said "missing port number in address" without naming the
+    argument, and a port outside 1..65535 waited 30 s in silence (after making the store)."""
+    from click.testing import CliRunner
+
+    from stickslip.cli import main
+    from stickslip.scale.backend import check_scheduler
+
+    for address, why in (
+        ("nonsense", "missing port number"),
+        ("localhost:99999", "port 99999 is not a port"),
+    ):
+        with pytest.raises(ValueError, match=f"scheduler='{address}': .*{why}"):
+            sweep(base, _grid(), progress=False, store=tmp_path / "s.zarr", scheduler=address)
+        assert not (tmp_path / "s.zarr").exists()
+        res = CliRunner().invoke(
+            main, ["sweep", "--preset", "zv", "--v0", "5 um/s..10 um/s", "--scheduler", address, "--quiet"]
+        )
+        assert res.exit_code == 2 and "Invalid value for '--scheduler'" in res.output and why in res.output
+    check_scheduler("tcp://10.0.0.1:8786")
+    check_scheduler("[::1]:8786")
+    check_scheduler(None)

@@ -297,6 +297,7 @@ def scale_options(func: Callable[..., Any]) -> Any:
                 "--scheduler",
                 default=None,
                 metavar="ADDRESS",
+                callback=_scheduler,
                 help="Run on an existing Dask distributed cluster, e.g. tcp://10.0.0.1:8786.",
             ),
             click.option(
@@ -309,6 +310,20 @@ def scale_options(func: Callable[..., Any]) -> Any:
     ):
         func = deco(func)
     return func
+
+
+def _scheduler(ctx: click.Context, param: click.Parameter, value: str | None) -> str | None:
+    """Check ``--scheduler``'s address before the command starts, and say that it connects there."""
+    if value is None:
+        return None
+    from ..scale.backend import check_scheduler
+
+    try:
+        check_scheduler(value)
+    except ValueError as exc:
+        raise click.BadParameter(str(exc).removeprefix(f"scheduler={value!r}: "), param=param) from None
+    click.echo(f"stickslip: connecting to the Dask scheduler at {value} (waits up to 30 s)", err=True)
+    return value
 
 
 def scale_report(ds: Any) -> None:

@@ -425,6 +425,9 @@ class SweepPlan:
             "law": self.base.law.describe(),
             "tolerances": [self.rtol, self.atol, self.max_slip_time, self.conv_tol],
         }
+        if self.backend != "cpu":
+            # the GPU's cycles agree with the CPU's to 1e-9, not bit for bit: a store is one or the other
+            identity["backend"] = self.backend
         if (self.rtol, self.atol) != (defaults.RTOL, defaults.ATOL):
             # slip-reversal orbits were re-measured at the default tolerances before 2026-11-24:
             # a store of such a sweep begun then is another job (its rows would mix the two)
@@ -663,16 +666,28 @@ def save_sweep(
     return emit(os.fspath(path), kind, netcdf_writer(ds, kind), out=out, overwrite=overwrite)
 
 
-def load_sweep(path: str | os.PathLike[str]) -> xr.Dataset:
+def load_sweep(path: str | os.PathLike[str], *, partial: bool = False) -> xr.Dataset:
     """Read a sweep written by :func:`save_sweep`, or a sweep's store, fully loaded.
 
     A store (``sweep(..., store=path)``) is returned as the sweep without a store
     returns it: ``regime`` and ``status`` as labels, the same attributes.
 
+    Parameters
+    ----------
+    path : path
+        A NetCDF file or a store.
+    partial : bool, optional
+        Read a store whose sweep was interrupted: the points not computed yet are
+        NaN, their ``regime`` and ``status`` ``"not computed"``, a boolean
+        ``computed`` variable says which are which, and the ``partial``
+        attribute how many there are. (Without it such a store is an error:
+        run the sweep's command again to finish it.)
+
     Raises
     ------
     ValueError
-        If the file does not exist or is not a NetCDF file.
+        If the file does not exist or is not a NetCDF file, or the store holds
+        another kind of job, or an unfinished sweep (without ``partial``).
 
     """
     if not os.path.exists(path):
@@ -680,7 +695,7 @@ def load_sweep(path: str | os.PathLike[str]) -> xr.Dataset:
     from ..scale import is_store
 
     if is_store(path):
-        return _load_store(path)
+        return _load_store(path, partial)
     try:
         ds = xr.load_dataset(path, engine="netcdf4")
     except Exception as exc:  # netCDF4 raises OSError/RuntimeError/ValueError variously
@@ -690,13 +705,49 @@ def load_sweep(path: str | os.PathLike[str]) -> xr.Dataset:
     return ds
 
 
-def _load_store(path: str | os.PathLike[str]) -> xr.Dataset:
+#: the label of a point a partly finished store does not hold yet (``load_sweep(partial=True)``)
+NOT_COMPUTED = "not computed"
+
+
+def _load_store(path: str | os.PathLike[str], partial: bool = False) -> xr.Dataset:
     import xarray as xr_
 
-    ds = xr_.open_zarr(os.fspath(path), consolidated=True, chunks=None).load()
+    from ..scale import StoreError, computed_points, store_kind
+
+    p = os.fspath(path)
+    kind = store_kind(p)
+    if kind != "sweep":
+        raise StoreError(
+            f"path={p!r}: a store of a {kind.replace('-', ' ')}, not of a sweep: read it with "
+            "xarray.open_zarr(path), or run its command again (it reuses every finished block)"
+        )
+    done = computed_points(p)
+    n_done, n = int(done.sum()), done.size
+    if n_done < n and not partial:
+        raise StoreError(
+            f"path={p!r}: the sweep in this store is unfinished ({n_done} of {n} points computed): "
+            "run its command again to finish it (the finished blocks are reused), or read the "
+            "points so far with load_sweep(path, partial=True)"
+        )
+    ds = xr_.open_zarr(p, consolidated=True, chunks=None).load()
     ds.attrs.pop("stickslip_store", None)
+    dims = tuple(ds["regime"].dims) if "regime" in ds else ()
     for name, enum in (("regime", Regime), ("status", Status)):
         if name in ds:
             attrs = {k: x for k, x in ds[name].attrs.items() if k not in ("flag_values", "flag_meanings")}
-            ds[name] = (ds[name].dims, _labels(ds[name].values, enum), attrs)
+            codes = np.where(done, ds[name].values, next(iter(enum)).code)  # a code for the fill
+            labels = _labels(codes, enum)
+            if n_done < n:
+                labels = np.where(done, labels, NOT_COMPUTED)
+            ds[name] = (ds[name].dims, labels, attrs)
+    if n_done < n:
+        for name, var in ds.data_vars.items():
+            if var.dtype.kind == "f" and var.dims == dims:
+                ds[name] = var.where(done)
+        ds["computed"] = (
+            dims,
+            done,
+            {"long_name": "whether the point is computed yet (the store is partial)"},
+        )
+        ds.attrs["partial"] = f"{n_done} of {n} points computed: the sweep was interrupted"
     return ds

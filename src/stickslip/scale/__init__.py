@@ -10,7 +10,17 @@ from __future__ import annotations
 
 from .backend import RunReport, local_threads, run_blocks, run_job
 from .progress import Progress, ProgressInfo, ProgressLike
-from .store import Block, ChunkStore, Layout, StoreError, Variable, chunk_shape, is_store
+from .store import (
+    Block,
+    ChunkStore,
+    Layout,
+    StoreError,
+    Variable,
+    chunk_shape,
+    computed_points,
+    is_store,
+    store_kind,
+)
 
 __all__ = [
     "Block",
@@ -23,10 +33,12 @@ __all__ = [
     "StoreError",
     "Variable",
     "chunk_shape",
+    "computed_points",
     "is_store",
     "local_threads",
     "run_blocks",
     "run_job",
+    "store_kind",
 ]
 
 #: points per block of a sweep by default: a task of a fraction of a second on one core,

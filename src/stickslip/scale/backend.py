@@ -33,7 +33,7 @@ import numpy.typing as npt
 from .progress import Progress, ProgressLike
 from .store import Block, ChunkStore, Layout
 
-__all__ = ["RunReport", "local_cluster", "local_threads", "run_blocks", "run_job"]
+__all__ = ["RunReport", "check_scheduler", "local_cluster", "local_threads", "run_blocks", "run_job"]
 
 Arrays = Mapping[str, npt.NDArray[Any]]
 
@@ -110,6 +110,33 @@ def local_threads(workers: int) -> int:
     return max(1, cores // max(1, workers))
 
 
+def check_scheduler(scheduler: Any) -> None:
+    """Refuse a scheduler that is neither a ``distributed.Client`` nor a well-formed address.
+
+    Before anything is made (a store) or waited for (the 30 s of a connection): a
+    port outside 1..65535 waited 30 s in silence, and ``nonsense`` was "missing port
+    number in address" without saying which argument.
+
+    Raises
+    ------
+    ValueError
+        Naming ``scheduler`` and what was expected.
+
+    """
+    if scheduler is None or not isinstance(scheduler, str):
+        return  # a Client (checked where it is used), or none
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    expected = "expected a Dask scheduler's address such as tcp://10.0.0.1:8786"
+    try:
+        scheme, loc = parse_address(scheduler, strict=False)
+        port = parse_host_port(loc)[1] if scheme in ("tcp", "tls") else 1
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"scheduler={scheduler!r}: {expected} ({exc})") from None
+    if not 1 <= int(port) <= 65535:
+        raise ValueError(f"scheduler={scheduler!r}: port {port} is not a port (1 to 65535); {expected}")
+
+
 def run_blocks(
     job: Any,
     layout: Layout,
@@ -151,6 +178,7 @@ def run_blocks(
         raise ValueError(f"workers={workers!r}: expected a whole number of worker processes >= 1")
     if scheduler is not None and workers is not None:
         raise ValueError("give either scheduler (an existing cluster) or workers (a local one), not both")
+    check_scheduler(scheduler)
     done = store.finished() if store is not None else set()
     todo = [b for b in layout.blocks() if b.index not in done]
     arrays = None if store is not None else _allocate(layout)
@@ -296,6 +324,7 @@ def run_job(
     (loaded when ``load``, lazily otherwise), with the run's :class:`RunReport`
     as JSON in its ``run`` attribute.
     """
+    check_scheduler(scheduler)  # before the store is made
     chunks = ChunkStore.open(store, layout) if store is not None else None
     arrays, report = run_blocks(
         job,

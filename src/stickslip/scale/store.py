@@ -27,6 +27,7 @@ import math
 import os
 import shutil
 import tempfile
+import uuid
 import warnings
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
@@ -37,12 +38,24 @@ import numpy.typing as npt
 
 from ..io.errors import DataError
 
-__all__ = ["Block", "ChunkStore", "Layout", "StoreError", "Variable", "chunk_shape", "is_store"]
+__all__ = [
+    "Block",
+    "ChunkStore",
+    "Layout",
+    "StoreError",
+    "Variable",
+    "chunk_shape",
+    "computed_points",
+    "is_store",
+    "store_kind",
+]
 
 #: attribute of the group that marks a stickslip store (and holds the job's identity)
 MARK = "stickslip_store"
 #: folder (inside the store) of the markers of finished blocks
 DONE = ".stickslip-done"
+#: names of files that a new store's path may not take (a store is a folder)
+_FILE_SUFFIXES = (".nc", ".nc4", ".netcdf", ".h5", ".hdf5", ".csv", ".json", ".txt", ".png", ".svg")
 
 
 class StoreError(DataError):
@@ -78,9 +91,15 @@ class Variable:
 
     @property
     def fill(self) -> Any:
-        """Value of a chunk never written (NaN for floats)."""
+        """Value of a chunk never written: NaN for floats, the type's least integer, False.
+
+        (Integers were -1 before 2026-11-24: a real code, ``unknown`` regime or ``sliding``
+        chain, in a store read before it was finished.)
+        """
         kind = np.dtype(self.dtype).kind
-        return math.nan if kind == "f" else (False if kind == "b" else -1)
+        if kind == "f":
+            return math.nan
+        return False if kind == "b" else int(np.iinfo(np.dtype(self.dtype)).min)
 
 
 @dataclass(frozen=True)
@@ -242,6 +261,59 @@ def is_store(path: str | os.PathLike[str]) -> bool:
         return False
 
 
+def store_kind(path: str | os.PathLike[str]) -> str:
+    """Return the kind of job a store holds (``sweep``, ``regime-map``, ``chain-ensemble``)."""
+    return str(_mark(os.fspath(path)).get("kind", "?"))
+
+
+def computed_points(path: str | os.PathLike[str]) -> npt.NDArray[np.bool_]:
+    """Return which grid points of a store its finished blocks hold (True), from their markers.
+
+    A store whose job was interrupted holds some blocks only: the other points read as
+    the arrays' fill values (NaN, the integer type's least value, False). The markers
+    are taken as they are (:meth:`ChunkStore.finished` checks them against the data).
+
+    Raises
+    ------
+    StoreError
+        ``path`` is not a stickslip store, or its mark is damaged.
+
+    """
+    p = os.fspath(path)
+    mark = _mark(p)
+    try:
+        shape = tuple(int(n) for n in mark["shape"])
+        chunks = tuple(int(c) for c in mark["chunks"])
+        if len(chunks) != len(shape) or any(c < 1 for c in chunks):
+            raise ValueError(chunks)
+    except (TypeError, KeyError, ValueError):
+        raise StoreError(f"store={p!r}: its mark ({MARK!r} in zarr.json) is damaged") from None
+    grid = tuple(-(-n // c) for n, c in zip(shape, chunks, strict=True))
+    try:
+        names = os.listdir(os.path.join(p, DONE))
+    except FileNotFoundError:
+        names = []
+    done = np.zeros(grid, dtype=bool)
+    for name in names:
+        if name.isdigit() and int(name) < done.size:
+            done.flat[int(name)] = True
+    # each block's flag spread over its points (the last block of a dimension may be cut short)
+    out = done
+    for axis, c in enumerate(chunks):
+        out = np.repeat(out, c, axis=axis)
+    return out[tuple(slice(0, n) for n in shape)]
+
+
+def _mark(p: str) -> dict[str, Any]:
+    if not is_store(p):
+        raise StoreError(f"store={p!r}: not a stickslip store")
+    with open(os.path.join(p, "zarr.json"), encoding="utf-8") as f:
+        mark = json.load(f)["attributes"][MARK]
+    if not isinstance(mark, dict):
+        raise StoreError(f"store={p!r}: its mark ({MARK!r} in zarr.json) is damaged")
+    return mark
+
+
 def _digest(arrays: Mapping[str, npt.NDArray[Any]], names: list[str]) -> str:
     h = hashlib.blake2b(digest_size=16)
     for name in names:
@@ -286,13 +358,15 @@ class ChunkStore:
     region being whole chunks of every array.
     """
 
-    def __init__(self, path: str, layout: Layout) -> None:
+    def __init__(self, path: str, layout: Layout, store_id: str = "") -> None:
         self.path = path
         self.layout = layout
+        #: made when the store was created: a store deleted and made again is another one
+        self.store_id = store_id
 
     def __reduce__(self) -> tuple[Any, ...]:
         # sent to every worker with each block: without the coordinates
-        return (ChunkStore, (self.path, self.layout.light()))
+        return (ChunkStore, (self.path, self.layout.light(), self.store_id))
 
     # ------------------------------------------------------------------ opening
 
@@ -316,43 +390,71 @@ class ChunkStore:
             return cls._reopen(p, layout)
         parent = os.path.dirname(p)
         if not os.path.isdir(parent):
-            raise StoreError(f"store={os.fspath(path)!r}: the folder {parent} does not exist")
+            what = "is a file, not a folder" if os.path.exists(parent) else "does not exist"
+            raise StoreError(f"store={os.fspath(path)!r}: the folder {parent} {what}")
+        if os.path.splitext(p)[1].lower() in _FILE_SUFFIXES:
+            raise StoreError(
+                f"store={os.fspath(path)!r}: a store is a Zarr folder, not a {os.path.splitext(p)[1]} file: "
+                "name it PATH.zarr (a sweep's NetCDF file is --out / save_sweep)"
+            )
         try:
-            cls._create(p, layout)
+            store_id = cls._create(p, layout)
         except Exception as exc:
+            # (_create removes its own temporary folder; p is not ours to remove)
             err = _disk_error(exc)
-            shutil.rmtree(p, ignore_errors=True)
+            if err is not None and err.errno in (errno.EEXIST, errno.ENOTEMPTY) and os.path.exists(p):
+                # another run of the same command made it first: use that one
+                return cls._reopen(p, layout)
             if err is None:
                 raise
             raise StoreError(f"store={os.fspath(path)!r}: cannot create it: {_why(err)}") from None
-        return cls(p, layout)
+        return cls(p, layout, store_id)
 
     @classmethod
     def _reopen(cls, p: str, layout: Layout) -> ChunkStore:
+        if os.path.isfile(p):
+            raise StoreError(
+                f"store={p!r} is a file, not a store: refusing to overwrite it (give a new path)"
+            )
         if not is_store(p):
             raise StoreError(
                 f"store={p!r} exists and is not a stickslip store: refusing to overwrite it (give a new path)"
             )
-        with open(os.path.join(p, "zarr.json"), encoding="utf-8") as f:
-            attrs = json.load(f)["attributes"]
-        mark = attrs[MARK]
-        theirs = mark.get("identity")
+        mark = _mark(p)
+        try:
+            chunks = tuple(int(c) for c in mark["chunks"])
+            theirs = mark["identity"]
+            if len(chunks) != len(layout.dims) or any(c < 1 for c in chunks):
+                raise ValueError(chunks)
+        except (TypeError, KeyError, ValueError):
+            raise StoreError(
+                f"store={p!r}: its mark ({MARK!r} in zarr.json) is damaged: "
+                "delete the store and run the command again"
+            ) from None
         if theirs != layout.identity_digest:
             raise StoreError(
-                f"store={p!r} holds another job ({mark.get('describe', '?')}); this one is "
-                f"{layout.describe}: give another --store path, or delete that one"
+                f"store={p!r} holds another job: {_differences(mark, layout)}; "
+                "give another --store path, or delete that one"
             )
-        chunks = tuple(int(c) for c in mark["chunks"])
         if chunks != layout.chunks:
             layout = dataclasses.replace(layout, chunks=chunks)
-        return cls(p, layout)
+        try:
+            _repair_coordinates(p, layout)
+            os.makedirs(os.path.join(p, DONE), exist_ok=True)  # its markers' folder, if it was lost
+        except OSError as exc:
+            if exc.errno in (errno.EROFS, errno.EACCES, errno.EPERM):
+                pass  # read-only: a finished store still reads; writing a block says why not
+            else:
+                raise StoreError(f"store={p!r}: cannot use it: {_why(exc)}") from None
+        return cls(p, layout, str(mark.get("store_id", "")))
 
     @staticmethod
-    def _create(p: str, layout: Layout) -> None:
+    def _create(p: str, layout: Layout) -> str:
         import zarr
 
         # built in a temporary folder beside it, then renamed: a store is there whole or not at all
         tmp = tempfile.mkdtemp(prefix=".creating-", dir=os.path.dirname(p))
+        store_id = uuid.uuid4().hex
         try:
             attrs = {
                 **{
@@ -366,6 +468,8 @@ class ChunkStore:
                     "chunks": list(layout.chunks),
                     "shape": list(layout.shape),
                     "dims": list(layout.dims),
+                    "store_id": store_id,
+                    "identity_parts": _parts(layout),
                 },
             }
             g = zarr.open_group(tmp, mode="w", zarr_format=3, attributes=attrs)
@@ -393,6 +497,7 @@ class ChunkStore:
         except BaseException:
             shutil.rmtree(tmp, ignore_errors=True)
             raise
+        return store_id
 
     # ------------------------------------------------------------------ finished blocks
 
@@ -457,13 +562,16 @@ class ChunkStore:
         """
         names = [v.name for v in self.layout.variables]
         try:
-            handles = _arrays(self.path, self.layout.identity_digest, names)
+            handles = _arrays(
+                self.path, (self.layout.identity_digest, self.layout.chunks, self.store_id), names
+            )
             for v in self.layout.variables:
                 a = np.asarray(arrays[v.name], dtype=v.dtype)
                 handles[v.name][self.layout.region(v.name, block)] = a
             typed = {n: np.asarray(arrays[n], dtype=self.layout.variable(n).dtype) for n in names}
             digest = _digest(typed, names)
             marker = self._marker(block.index)
+            os.makedirs(os.path.dirname(marker), exist_ok=True)  # deleted while the job ran
             fd, tmp = tempfile.mkstemp(prefix=".tmp-", dir=os.path.dirname(marker))
             try:
                 with os.fdopen(fd, "w", encoding="ascii") as f:
@@ -495,20 +603,109 @@ class ChunkStore:
         return ds
 
 
-_ARRAYS: dict[tuple[str, str], dict[str, Any]] = {}
+_ARRAYS: dict[tuple[str, Any], dict[str, Any]] = {}
 
 
-def _arrays(path: str, identity: str, names: list[str]) -> dict[str, Any]:
-    """Return the store's arrays opened for writing, once per process and job.
+def _arrays(path: str, key: Any, names: list[str]) -> dict[str, Any]:
+    """Return the store's arrays opened for writing, once per process and store.
 
     Opening an array reads its metadata from the disk through zarr's event loop: as
-    long as writing the block itself, when it was done for every block.
+    long as writing the block itself, when it was done for every block. ``key`` (the
+    job's identity, its chunks and the store's id) tells a store deleted and made
+    again at the same path from the one opened before: the handles of the old one
+    wrote chunks of the old shape into the new one, silently.
     """
-    got = _ARRAYS.get((path, identity))
+    got = _ARRAYS.get((path, key))
     if got is None:
         import zarr
 
         g = zarr.open_group(path, mode="r+", use_consolidated=False)
         got = {n: g[n] for n in names}
-        _ARRAYS[(path, identity)] = got
+        _ARRAYS[(path, key)] = got
     return got
+
+
+def _parts(layout: Layout) -> dict[str, str]:
+    """Return the identity key by key, in words (arrays by their digest): to say how jobs differ."""
+    out: dict[str, str] = {}
+
+    def walk(prefix: str, value: Any) -> None:
+        if isinstance(value, Mapping):
+            for k, v in value.items():
+                walk(f"{prefix}.{k}" if prefix else str(k), v)
+        else:
+            out[prefix] = json.dumps(value, sort_keys=True, default=_hashable)
+
+    walk("", {"kind": layout.kind, **layout.identity})
+    return out
+
+
+def _differences(mark: Mapping[str, Any], layout: Layout) -> str:
+    """Say how the job of a store's ``mark`` differs from ``layout``'s, key by key where it can."""
+    theirs = mark.get("identity_parts")
+    ours = _parts(layout)
+    if not isinstance(theirs, Mapping):  # a store made before 2026-11-24
+        return f"{mark.get('describe', '?')}; this one is {layout.describe}"
+    said = []
+    for key in sorted(theirs.keys() | ours.keys()):
+        a, b = theirs.get(key), ours.get(key)
+        if a == b:
+            continue
+        if a is None:
+            said.append(f"{key} {_short(str(b))} here, none there")
+        elif b is None:
+            said.append(f"{key} {_short(a)} there, none here")
+        elif a.startswith('"array ') and b.startswith('"array '):
+            if key.startswith("shown.") and f"grid.{key[6:]}" in ours:
+                continue  # the same axis in the user's units: said once, as grid.*
+            na, nb = (_size(x) for x in (a, b))
+            said.append(f"other values of {key}" + (f" ({na} there, {nb} here)" if na != nb else ""))
+        else:
+            said.append(f"{key} {_short(a)} there, {_short(b)} here")
+    if not said:  # same parts, another digest (a change in how the identity is written)
+        return f"{mark.get('describe', '?')}, made by another version of stickslip"
+    return f"{mark.get('describe', '?')}, with {'; '.join(said)}"
+
+
+def _size(text: str) -> str:
+    """``'"array float64 (20,) 5f0c..."'`` (an array in :func:`_parts`) as ``'20 values'``."""
+    shape = text.split(" ")[2].strip("()").split(",")
+    n = int(np.prod([int(k) for k in shape if k.strip()], dtype=np.int64))
+    return f"{n} values"
+
+
+def _short(text: str, width: int = 100) -> str:
+    return text if len(text) <= width else text[: width - 3] + "..."
+
+
+def _repair_coordinates(p: str, layout: Layout) -> None:
+    """Write a store's coordinates again where they no longer read back as the job's.
+
+    The identity (checked) fixes them; a deleted or corrupt chunk of a coordinate
+    read as zeros or raised inside numcodecs, and the loaded result had a wrong grid.
+    """
+    if not layout.coords:
+        return
+    import zarr
+
+    g = zarr.open_group(p, mode="r", use_consolidated=False)
+    bad = []
+    for name, (_, values, _) in layout.coords.items():
+        want = np.asarray(values)
+        try:
+            arr: Any = g[name]
+            got = np.asarray(arr[...])
+            ok = got.shape == want.shape and np.array_equal(got, want, equal_nan=want.dtype.kind == "f")
+        except KeyError:
+            raise StoreError(
+                f"store={p!r}: its coordinate {name!r} is missing: delete the store and run the command again"
+            ) from None
+        except Exception:  # a chunk that cannot be decoded
+            ok = False
+        if not ok:
+            bad.append((name, want))
+    if bad:
+        g = zarr.open_group(p, mode="r+", use_consolidated=False)
+        for name, want in bad:
+            out: Any = g[name]
+            out[...] = want
