@@ -7,6 +7,7 @@ The cluster is a real ``distributed.LocalCluster`` of worker processes.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import errno
 import hashlib
 import json
@@ -578,7 +579,8 @@ def test_chain_ensemble_through_the_store_and_the_cluster(
     store = tmp_path / "e.zarr"
     got = chain_ensemble(params, 60, [1, 2, 3], store=store, scheduler=client, **kw)
     assert_same(ref, got)
-    assert sorted(os.listdir(store / "catalogs")) == ["seed-1.nc", "seed-2.nc", "seed-3.nc"]
+    catalogs = sorted(n for n in os.listdir(store / "catalogs") if not n.startswith("."))
+    assert catalogs == ["seed-1.nc", "seed-2.nc", "seed-3.nc"]
     os.remove(store / ".stickslip-done" / "000000002")
     again = chain_ensemble(params, 60, [1, 2, 3], store=store, **kw)
     assert run_of(again)["computed"] == 1
@@ -648,3 +650,53 @@ def test_a_bad_scheduler_address_is_refused_before_anything_is_made(base: Any, t
     check_scheduler("tcp://10.0.0.1:8786")
     check_scheduler("[::1]:8786")
     check_scheduler(None)
+
+
+def test_review_of_the_store_fixes(base: Any, reference: xr.Dataset, tmp_path: Path) -> None:
+    """The review of 50704ac: another job's store of another shape is not called damaged;
+    a store copied without its hidden markers still loads; a lost chunk of a finished store
+    is said, not a KeyError; a lost coordinate is said by load_sweep too; a long value's
+    difference is shown where it is."""
+    law = WeakeningLaw(c=3.8, p=0.3)
+    regime_map(law, "p", [0.1, 0.3], 0.05, 2.0, n_nu=11, progress=False, store=tmp_path / "m.zarr")
+    with pytest.raises(StoreError, match=r"holds another job: a regime map .*; this one is a sweep"):
+        sweep(base, {"v0": ss.Q_([5.0, 10.0], "um/s")}, progress=False, store=tmp_path / "m.zarr")
+    store = tmp_path / "s.zarr"
+    sweep(base, _grid(), progress=False, store=store, block_points=40)
+    copy = tmp_path / "copy.zarr"
+    shutil.copytree(store, copy, ignore=shutil.ignore_patterns(".stickslip-done"))
+    assert_same(reference, load_sweep(copy))
+    part = load_sweep(copy, partial=True)
+    assert part["computed"].values.all() and part.attrs["partial"] == "240 of 240 points computed"
+    shutil.rmtree(copy / "regime" / "c" / "1")
+    with pytest.raises(StoreError, match=r"unfinished \(200 of 240"):
+        load_sweep(copy)
+    (store / "v0" / "c" / "0").unlink()
+    with pytest.raises(StoreError, match="its coordinates v0 are damaged: run its command again"):
+        load_sweep(store)
+    sweep(base, _grid(), progress=False, store=store)  # which writes them again
+    assert_same(reference, load_sweep(store))
+    with pytest.raises(StoreError) as err:
+        sweep(dataclasses.replace(base, load=ss.Q_(200, "mN")), _grid(), progress=False, store=store)
+    assert "load=<Quantity(" in str(err.value) and "200" in str(err.value), str(err.value)
+
+
+def test_an_ensemble_member_is_taken_by_one_run_at_a_time(tmp_path: Path) -> None:
+    """Two runs of one ensemble share its store: a member's lock makes the second wait, so that
+    it never takes the first's open catalogue (HDF5-locked: unreadable) for a broken one."""
+    from stickslip.chains.ensemble import _member_lock
+
+    catalog = str(tmp_path / "seed-1.nc")
+    code = (
+        "import sys, time\n"
+        "from stickslip.chains.ensemble import _member_lock\n"
+        "t = time.monotonic()\n"
+        f"with _member_lock({catalog!r}):\n"
+        "    print(round(time.monotonic() - t, 1))\n"
+    )
+    with _member_lock(catalog):
+        other = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+        time.sleep(4.0)
+        assert other.poll() is None  # still waiting
+    out, _ = other.communicate(timeout=60)
+    assert float(out) >= 1.0

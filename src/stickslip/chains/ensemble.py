@@ -11,11 +11,12 @@ from its saved state.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import math
 import os
 import warnings
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -255,10 +256,18 @@ class _Member:
         if phi is not None:
             p = dataclasses.replace(p, thresholds=phi)
         out = None
-        if job.catalogs is not None:
-            os.makedirs(job.catalogs, exist_ok=True)
-            out = os.path.join(job.catalogs, f"seed-{self.seed}.nc")
-            _drop_if_unreadable(out)
+        with contextlib.ExitStack() as held:
+            if job.catalogs is not None:
+                os.makedirs(job.catalogs, exist_ok=True)
+                out = os.path.join(job.catalogs, f"seed-{self.seed}.nc")
+                # two runs of one ensemble (sharing its store) take a member in turn: the second
+                # finds the catalogue complete, and never takes the first's open file for a broken one
+                held.enter_context(_member_lock(out))
+                _drop_if_unreadable(out)
+            return self._run(p, out)
+
+    def _run(self, p: ChainParameters, out: str | None) -> dict[str, Any]:
+        job = self.job
         res = chain(
             p, job.events, init=job.init, seed=self.seed, amplitude=job.amplitude, transient=job.transient,
             out=out, resume=out is not None, rtol=job.rtol, atol=job.atol, mc=job.mc, m_max=job.m_max,
@@ -287,6 +296,25 @@ def _drop_if_unreadable(path: str) -> None:
         return
     try:
         read_state(path)
+    except PermissionError:
+        raise  # not broken: not ours to read (said as a file error)
     except (OSError, RuntimeError, KeyError, IndexError, ValueError) as exc:
         warnings.warn(f"{path}: cannot be continued ({exc}); its member starts again", stacklevel=2)
         os.remove(path)
+
+
+@contextlib.contextmanager
+def _member_lock(catalog: str) -> Iterator[None]:
+    """Hold a lock on ``.CATALOG.lock`` beside it (waiting for another run's), where the OS has locks."""
+    try:
+        import fcntl
+    except ImportError:  # not POSIX: no lock (one run at a time per store)
+        yield
+        return
+    folder, name = os.path.split(catalog)
+    with open(os.path.join(folder, f".{name}.lock"), "a") as f:
+        fcntl.flock(f.fileno(), fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(f.fileno(), fcntl.LOCK_UN)

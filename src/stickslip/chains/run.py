@@ -398,10 +398,12 @@ def chain(
         if bar is not None:
             bar.close()
         if pending is not None:
+            flushed = False
             try:
                 pending.flush()
-            finally:
-                pending.writer.close(complete=ended and status is ChainStatus.OK)
+                flushed = True
+            finally:  # complete only if every row and the state after them are written
+                pending.writer.close(complete=ended and flushed and status is ChainStatus.OK)
     t_end = state.t * (factor[ce.C_T0])
     if writer is not None and path is not None:
         ds = open_catalog(path)

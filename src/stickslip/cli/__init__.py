@@ -24,16 +24,21 @@ if TYPE_CHECKING:
 __all__ = ["build_parameters", "describe_parameters", "main"]
 
 _HOME = {"main": "commands", "build_parameters": "options", "describe_parameters": "options"}
+_MODULES = ("bifurcation", "chain", "commands", "data", "dynamics", "errors", "explore", "options", "paper",
+            "ratestate")  # fmt: skip
 
 
 def __getattr__(name: str) -> Any:
-    """Load a public name of the command line on first use."""
-    if name not in _HOME:
+    """Load a public name or a module of the command line on first use."""
+    if name in _HOME:
+        value = getattr(importlib.import_module(f".{_HOME[name]}", __name__), name)
+    elif name in _MODULES:
+        value = importlib.import_module(f".{name}", __name__)
+    else:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{_HOME[name]}", __name__), name)
     globals()[name] = value
     return value
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+    return sorted(set(globals()) | set(__all__) | set(_MODULES))

@@ -313,7 +313,7 @@ def scale_options(func: Callable[..., Any]) -> Any:
 
 
 def _scheduler(ctx: click.Context, param: click.Parameter, value: str | None) -> str | None:
-    """Check ``--scheduler``'s address before the command starts, and say that it connects there."""
+    """Check ``--scheduler``'s address before the command starts (and before a store is made)."""
     if value is None:
         return None
     from ..scale.backend import check_scheduler
@@ -322,7 +322,6 @@ def _scheduler(ctx: click.Context, param: click.Parameter, value: str | None) ->
         check_scheduler(value)
     except ValueError as exc:
         raise click.BadParameter(str(exc).removeprefix(f"scheduler={value!r}: "), param=param) from None
-    click.echo(f"stickslip: connecting to the Dask scheduler at {value} (waits up to 30 s)", err=True)
     return value
 
 

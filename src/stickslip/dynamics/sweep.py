@@ -711,8 +711,9 @@ NOT_COMPUTED = "not computed"
 
 def _load_store(path: str | os.PathLike[str], partial: bool = False) -> xr.Dataset:
     import xarray as xr_
+    import zarr
 
-    from ..scale import StoreError, computed_points, store_kind
+    from ..scale import StoreError, computed_points, damaged_coordinates, store_kind
 
     p = os.fspath(path)
     kind = store_kind(p)
@@ -721,33 +722,41 @@ def _load_store(path: str | os.PathLike[str], partial: bool = False) -> xr.Datas
             f"path={p!r}: a store of a {kind.replace('-', ' ')}, not of a sweep: read it with "
             "xarray.open_zarr(path), or run its command again (it reuses every finished block)"
         )
-    done = computed_points(p)
+    ds = xr_.open_zarr(p, consolidated=True, chunks=None).load()
+    ds.attrs.pop("stickslip_store", None)
+    again = "run its command again, which computes the lost blocks again"
+    lost = damaged_coordinates(p, {k: ds[k].values for k in ds.coords})
+    if lost:
+        raise StoreError(f"path={p!r}: its coordinates {', '.join(lost)} are damaged: {again}")
+    codes = {name: ds[name].values for name in ("regime", "status")}
+    fill = zarr.open_array(store=p, path="regime", mode="r").fill_value
+    if int(fill) in {m.code for m in Regime}:  # a store from before 2026-11-24 (fill -1): its markers
+        done = computed_points(p)
+    else:  # the fill is no regime's code: the data say which points are there
+        done = codes["regime"] != fill
     n_done, n = int(done.sum()), done.size
     if n_done < n and not partial:
         raise StoreError(
             f"path={p!r}: the sweep in this store is unfinished ({n_done} of {n} points computed): "
-            "run its command again to finish it (the finished blocks are reused), or read the "
-            "points so far with load_sweep(path, partial=True)"
+            "run its command again to finish it, or read the points so far with "
+            "load_sweep(path, partial=True)"
         )
-    ds = xr_.open_zarr(p, consolidated=True, chunks=None).load()
-    ds.attrs.pop("stickslip_store", None)
-    dims = tuple(ds["regime"].dims) if "regime" in ds else ()
     for name, enum in (("regime", Regime), ("status", Status)):
-        if name in ds:
-            attrs = {k: x for k, x in ds[name].attrs.items() if k not in ("flag_values", "flag_meanings")}
-            codes = np.where(done, ds[name].values, next(iter(enum)).code)  # a code for the fill
-            labels = _labels(codes, enum)
-            if n_done < n:
-                labels = np.where(done, labels, NOT_COMPUTED)
-            ds[name] = (ds[name].dims, labels, attrs)
-    if n_done < n:
+        valid = [m.code for m in enum]
+        if not np.isin(codes[name][done], valid).all():
+            raise StoreError(f"path={p!r}: {name} holds values that are no code (a damaged store): {again}")
+        attrs = {k: x for k, x in ds[name].attrs.items() if k not in ("flag_values", "flag_meanings")}
+        labels = _labels(np.where(done, codes[name], valid[0]), enum)
+        if n_done < n:
+            labels = np.where(done, labels, NOT_COMPUTED)
+        ds[name] = (ds[name].dims, labels, attrs)
+    if partial:
+        dims = ds["regime"].dims
         for name, var in ds.data_vars.items():
             if var.dtype.kind == "f" and var.dims == dims:
                 ds[name] = var.where(done)
-        ds["computed"] = (
-            dims,
-            done,
-            {"long_name": "whether the point is computed yet (the store is partial)"},
+        ds["computed"] = (dims, done, {"long_name": "whether the point is computed yet (a partial store)"})
+        ds.attrs["partial"] = f"{n_done} of {n} points computed" + (
+            "" if n_done == n else ": the sweep was interrupted"
         )
-        ds.attrs["partial"] = f"{n_done} of {n} points computed: the sweep was interrupted"
     return ds

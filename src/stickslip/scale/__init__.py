@@ -18,6 +18,7 @@ from .store import (
     Variable,
     chunk_shape,
     computed_points,
+    damaged_coordinates,
     is_store,
     store_kind,
 )
@@ -34,6 +35,7 @@ __all__ = [
     "Variable",
     "chunk_shape",
     "computed_points",
+    "damaged_coordinates",
     "is_store",
     "local_threads",
     "run_blocks",

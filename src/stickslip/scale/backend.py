@@ -262,7 +262,7 @@ def _run_dask(
     else:
         try:
             client = Client(str(scheduler), timeout="30s")
-        except (OSError, TimeoutError) as exc:
+        except (OSError, TimeoutError, TypeError, ValueError, ImportError) as exc:  # ucx:// without ucx
             raise ValueError(
                 f"scheduler={scheduler!r}: cannot reach a Dask scheduler there ({exc})"
             ) from None

@@ -46,6 +46,7 @@ __all__ = [
     "Variable",
     "chunk_shape",
     "computed_points",
+    "damaged_coordinates",
     "is_store",
     "store_kind",
 ]
@@ -304,6 +305,22 @@ def computed_points(path: str | os.PathLike[str]) -> npt.NDArray[np.bool_]:
     return out[tuple(slice(0, n) for n in shape)]
 
 
+def damaged_coordinates(path: str | os.PathLike[str], coords: Mapping[str, npt.NDArray[Any]]) -> list[str]:
+    """Return the names of the coordinates read from a store that are not the grid its mark records.
+
+    (A store made before 2026-11-24 records none: nothing is returned for it.)
+    """
+    parts = _mark(os.fspath(path)).get("identity_parts")
+    if not isinstance(parts, Mapping):
+        return []
+    out = []
+    for name, values in coords.items():
+        want = parts.get(f"shown.{name}")
+        if want is not None and json.dumps(np.asarray(values), default=_hashable) != want:
+            out.append(name)
+    return out
+
+
 def _mark(p: str) -> dict[str, Any]:
     if not is_store(p):
         raise StoreError(f"store={p!r}: not a stickslip store")
@@ -421,9 +438,14 @@ class ChunkStore:
                 f"store={p!r} exists and is not a stickslip store: refusing to overwrite it (give a new path)"
             )
         mark = _mark(p)
+        theirs = mark.get("identity")
+        if theirs != layout.identity_digest:  # first: another job's store is not "damaged"
+            raise StoreError(
+                f"store={p!r} holds another job: {_differences(mark, layout)}; "
+                "give another --store path, or delete that one"
+            )
         try:
             chunks = tuple(int(c) for c in mark["chunks"])
-            theirs = mark["identity"]
             if len(chunks) != len(layout.dims) or any(c < 1 for c in chunks):
                 raise ValueError(chunks)
         except (TypeError, KeyError, ValueError):
@@ -431,21 +453,15 @@ class ChunkStore:
                 f"store={p!r}: its mark ({MARK!r} in zarr.json) is damaged: "
                 "delete the store and run the command again"
             ) from None
-        if theirs != layout.identity_digest:
-            raise StoreError(
-                f"store={p!r} holds another job: {_differences(mark, layout)}; "
-                "give another --store path, or delete that one"
-            )
         if chunks != layout.chunks:
             layout = dataclasses.replace(layout, chunks=chunks)
+        _repair_coordinates(p, layout)
         try:
-            _repair_coordinates(p, layout)
             os.makedirs(os.path.join(p, DONE), exist_ok=True)  # its markers' folder, if it was lost
         except OSError as exc:
-            if exc.errno in (errno.EROFS, errno.EACCES, errno.EPERM):
-                pass  # read-only: a finished store still reads; writing a block says why not
-            else:
+            if exc.errno not in (errno.EROFS, errno.EACCES, errno.EPERM):
                 raise StoreError(f"store={p!r}: cannot use it: {_why(exc)}") from None
+            # read-only: a finished store still reads; writing a block says why not
         return cls(p, layout, str(mark.get("store_id", "")))
 
     @staticmethod
@@ -634,7 +650,7 @@ def _parts(layout: Layout) -> dict[str, str]:
             for k, v in value.items():
                 walk(f"{prefix}.{k}" if prefix else str(k), v)
         else:
-            out[prefix] = json.dumps(value, sort_keys=True, default=_hashable)
+            out[prefix] = json.dumps(value, sort_keys=True, default=_hashable, ensure_ascii=False)
 
     walk("", {"kind": layout.kind, **layout.identity})
     return out
@@ -644,8 +660,9 @@ def _differences(mark: Mapping[str, Any], layout: Layout) -> str:
     """Say how the job of a store's ``mark`` differs from ``layout``'s, key by key where it can."""
     theirs = mark.get("identity_parts")
     ours = _parts(layout)
-    if not isinstance(theirs, Mapping):  # a store made before 2026-11-24
-        return f"{mark.get('describe', '?')}; this one is {layout.describe}"
+    both = f"{mark.get('describe', '?')}; this one is {layout.describe}"
+    if not isinstance(theirs, Mapping) or theirs.get("kind") != ours["kind"]:
+        return both  # a store made before 2026-11-24, or another kind of job: the two named
     said = []
     for key in sorted(theirs.keys() | ours.keys()):
         a, b = theirs.get(key), ours.get(key)
@@ -654,14 +671,16 @@ def _differences(mark: Mapping[str, Any], layout: Layout) -> str:
         if a is None:
             said.append(f"{key} {_short(str(b))} here, none there")
         elif b is None:
-            said.append(f"{key} {_short(a)} there, none here")
-        elif a.startswith('"array ') and b.startswith('"array '):
-            if key.startswith("shown.") and f"grid.{key[6:]}" in ours:
+            said.append(f"{key} {_short(str(a))} there, none here")
+        elif str(a).startswith('"array ') and str(b).startswith('"array '):
+            grid = f"grid.{key[6:]}"
+            if key.startswith("shown.") and theirs.get(grid) != ours.get(grid):
                 continue  # the same axis in the user's units: said once, as grid.*
-            na, nb = (_size(x) for x in (a, b))
+            na, nb = _size(str(a)), _size(str(b))
             said.append(f"other values of {key}" + (f" ({na} there, {nb} here)" if na != nb else ""))
         else:
-            said.append(f"{key} {_short(a)} there, {_short(b)} here")
+            x, y = _excerpts(str(a), str(b))
+            said.append(f"{key} {x} there, {y} here")
     if not said:  # same parts, another digest (a change in how the identity is written)
         return f"{mark.get('describe', '?')}, made by another version of stickslip"
     return f"{mark.get('describe', '?')}, with {'; '.join(said)}"
@@ -669,9 +688,22 @@ def _differences(mark: Mapping[str, Any], layout: Layout) -> str:
 
 def _size(text: str) -> str:
     """``'"array float64 (20,) 5f0c..."'`` (an array in :func:`_parts`) as ``'20 values'``."""
-    shape = text.split(" ")[2].strip("()").split(",")
-    n = int(np.prod([int(k) for k in shape if k.strip()], dtype=np.int64))
-    return f"{n} values"
+    dims = [int(k) for k in text.split(" (", 1)[1].split(")", 1)[0].split(",") if k.strip()]
+    return f"{dims[0]} values" if len(dims) == 1 else f"shape {tuple(dims)}"
+
+
+def _excerpts(a: str, b: str, width: int = 100) -> tuple[str, str]:
+    """Return ``a`` and ``b`` cut to ``width`` around where they first differ."""
+    if max(len(a), len(b)) <= width:
+        return a, b
+    first = next((i for i, (x, y) in enumerate(zip(a, b, strict=False)) if x != y), min(len(a), len(b)))
+    start = max(0, first - width // 3)
+
+    def cut(t: str) -> str:
+        part = t[start : start + width]
+        return ("..." if start else "") + part + ("..." if start + width < len(t) else "")
+
+    return cut(a), cut(b)
 
 
 def _short(text: str, width: int = 100) -> str:
@@ -683,29 +715,41 @@ def _repair_coordinates(p: str, layout: Layout) -> None:
 
     The identity (checked) fixes them; a deleted or corrupt chunk of a coordinate
     read as zeros or raised inside numcodecs, and the loaded result had a wrong grid.
+
+    Raises
+    ------
+    StoreError
+        A coordinate's metadata is lost, or one is wrong and the store cannot be written.
+
     """
     if not layout.coords:
         return
     import zarr
 
-    g = zarr.open_group(p, mode="r", use_consolidated=False)
     bad = []
     for name, (_, values, _) in layout.coords.items():
         want = np.asarray(values)
         try:
-            arr: Any = g[name]
+            arr: Any = zarr.open_array(store=p, path=name, mode="r")
+        except Exception:
+            raise StoreError(
+                f"store={p!r}: its coordinate {name!r} cannot be opened (its zarr.json is lost or "
+                "damaged): delete the store and run the command again"
+            ) from None
+        try:
             got = np.asarray(arr[...])
             ok = got.shape == want.shape and np.array_equal(got, want, equal_nan=want.dtype.kind == "f")
-        except KeyError:
-            raise StoreError(
-                f"store={p!r}: its coordinate {name!r} is missing: delete the store and run the command again"
-            ) from None
         except Exception:  # a chunk that cannot be decoded
             ok = False
         if not ok:
             bad.append((name, want))
-    if bad:
-        g = zarr.open_group(p, mode="r+", use_consolidated=False)
-        for name, want in bad:
-            out: Any = g[name]
+    for name, want in bad:
+        try:
+            out: Any = zarr.open_array(store=p, path=name, mode="r+")
             out[...] = want
+        except Exception as exc:
+            err = _disk_error(exc)
+            raise StoreError(
+                f"store={p!r}: its coordinate {name!r} no longer reads as the grid, and it cannot "
+                f"be written again ({_why(err) if err is not None else exc})"
+            ) from None
