@@ -690,13 +690,16 @@ def test_an_ensemble_member_is_taken_by_one_run_at_a_time(tmp_path: Path) -> Non
     code = (
         "import sys, time\n"
         "from stickslip.chains.ensemble import _member_lock\n"
+        "print('ready', flush=True)\n"
         "t = time.monotonic()\n"
         f"with _member_lock({catalog!r}):\n"
         "    print(round(time.monotonic() - t, 1))\n"
     )
     with _member_lock(catalog):
         other = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
-        time.sleep(4.0)
+        assert other.stdout is not None
+        assert other.stdout.readline().strip() == "ready"  # imported: now it asks for the lock
+        time.sleep(1.5)
         assert other.poll() is None  # still waiting
     out, _ = other.communicate(timeout=60)
     assert float(out) >= 1.0
