@@ -22,8 +22,9 @@ start, before numba's compiled kernels are loaded.
 
 from __future__ import annotations
 
-import importlib
 from typing import TYPE_CHECKING, Any
+
+from .lazy import load_attribute
 
 if TYPE_CHECKING:  # the names for type checkers and for readers; loaded by __getattr__
     from .dynamics.cycle import Attractor, CycleResult, cycle
@@ -79,12 +80,8 @@ def __getattr__(name: str) -> Any:
         from .io.output import package_version
 
         value: Any = package_version()
-    elif name in _HOME:
-        value = getattr(importlib.import_module(f".{_HOME[name]}", __name__), name)
-    elif name in _SUBPACKAGES:
-        value = importlib.import_module(f".{name}", __name__)
     else:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+        value = load_attribute(__name__, name, _HOME, _SUBPACKAGES)
     globals()[name] = value
     return value
 

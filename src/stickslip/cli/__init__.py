@@ -14,8 +14,9 @@ Ctrl-C during the seconds of imports into one line, before anything heavy loads.
 
 from __future__ import annotations
 
-import importlib
 from typing import TYPE_CHECKING, Any
+
+from ..lazy import load_attribute
 
 if TYPE_CHECKING:
     from .commands import main
@@ -30,12 +31,7 @@ _MODULES = ("bifurcation", "chain", "commands", "data", "dynamics", "errors", "e
 
 def __getattr__(name: str) -> Any:
     """Load a public name or a module of the command line on first use."""
-    if name in _HOME:
-        value = getattr(importlib.import_module(f".{_HOME[name]}", __name__), name)
-    elif name in _MODULES:
-        value = importlib.import_module(f".{name}", __name__)
-    else:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = load_attribute(__name__, name, _HOME, _MODULES)
     globals()[name] = value
     return value
 
