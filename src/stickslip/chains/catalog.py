@@ -7,6 +7,12 @@ also takes the chain's exact state after them (``state_*`` variables) and is
 flushed: a run that is killed can be continued from its last write
 (:func:`stickslip.chains.chain` with ``resume=True``), and gives the same catalogue
 as an uninterrupted run.
+
+The state records how many events precede it (``events_saved``, and ``slip_saved``
+for the per-block slips). HDF5 may write appended rows before the state that follows
+them (its caches, a full disk, a kill during the flush): such rows are not part of
+the catalogue; a resumed run writes over them (the same events, computed again), and
+:func:`open_catalog` leaves them out.
 """
 
 from __future__ import annotations
@@ -91,7 +97,13 @@ class CatalogWriter:
                 )
             # complete again only when this run finishes (close(True))
             self.ds.setncattr("complete", 0)
+            # continue after the rows the saved state follows: rows written after it (flushed
+            # by HDF5 before the state was) are computed again and written over
+            self._next = _saved_count(self.ds, "events_saved", len(self.ds.dimensions["event"]))
+            self._slips = _saved_count(self.ds, "slip_saved", int(self.ds.getncattr("slip_recorded")))
             return
+        self._next = 0
+        self._slips = 0
         ds = netCDF4.Dataset(path, "w", format="NETCDF4")
         self.ds = ds
         ds.createDimension("event", None)
@@ -117,46 +129,66 @@ class CatalogWriter:
         # no state yet: a run killed before its first save (its transient, its first seconds)
         # starts again on resuming; synced now, so that the file is a readable NetCDF from the start
         ds.setncattr("state_saved", 0)
+        ds.setncattr("events_saved", 0)
+        ds.setncattr("slip_saved", 0)
         ds.sync()
 
     @property
     def n_events(self) -> int:
-        """Events written so far."""
-        return len(self.ds.dimensions["event"])
+        """Events written so far by this writer (a resumed one: from the saved state on)."""
+        return self._next
 
     @property
     def slip_recorded(self) -> int:
         """Events whose per-block slips are stored."""
-        return int(self.ds.getncattr("slip_recorded"))
+        return self._slips
 
     def append(self, rows: npt.NDArray[np.float64], slips: npt.NDArray[np.float64]) -> None:
         """Append catalogue rows (``chain.NCAT`` columns) and the slips of the first events."""
-        k = self.n_events
+        k = self._next
         m = rows.shape[0]
         if m:
             for name, (col, dtype, _, _) in COLUMNS.items():
                 data = rows[:, col]
                 self.ds[name][k : k + m] = data.astype(np.int32) if dtype == "i4" else data
-        r = self.slip_recorded
+        self._next = k + m
+        r = self._slips
         take = min(slips.shape[0], len(self.ds.dimensions["recorded_event"]) - r)
         if take > 0:
             self.ds["slip"][r : r + take, :] = slips[:take]
-            self.ds.setncattr("slip_recorded", r + take)
+            self._slips = r + take
 
     def save_state(self, state: ChainState, extra: dict[str, Any] | None = None) -> None:
-        """Store the chain's state (exact) and flush the file to disk."""
+        """Store the chain's state (exact) and the counts of rows before it; flush the file to disk."""
         for name in _STATE:
             self.ds[f"state_{name}"][:] = getattr(state, name)
         for k, v in (extra or {}).items():
             self.ds.setncattr(k, v)
+        self._mark_saved()
         self.ds.setncattr("state_saved", 1)
         self.ds.sync()
 
+    def _mark_saved(self) -> None:
+        self.ds.setncattr("events_saved", self._next)
+        self.ds.setncattr("slip_saved", self._slips)
+        self.ds.setncattr("slip_recorded", self._slips)
+
     def close(self, complete: bool) -> None:
-        """Mark the catalogue complete (or not) and close it."""
+        """Mark the catalogue complete (or not) and close it.
+
+        Complete means every row is written, and the state after them where one is kept.
+        """
         if complete:
+            self._mark_saved()
             self.ds.setncattr("complete", 1)
         self.ds.close()
+
+
+def _saved_count(ds: netCDF4.Dataset, name: str, written: int) -> int:
+    """Return the count ``name`` stored with the state (older catalogues: ``written``)."""
+    if name not in ds.ncattrs():
+        return written
+    return min(int(ds.getncattr(name)), written)
 
 
 def read_state(path: str) -> tuple[ChainState | None, int, dict[str, Any]]:
@@ -167,15 +199,11 @@ def read_state(path: str) -> tuple[ChainState | None, int, dict[str, Any]]:
     """
     with netCDF4.Dataset(path, "r") as ds:
         raw = [ds[f"state_{n}"][:] for n in _STATE]
-        n = len(ds.dimensions["event"])
+        n = _saved_count(ds, "events_saved", len(ds.dimensions["event"]))
         attrs = {k: ds.getncattr(k) for k in ds.ncattrs()}
-    # "state_saved" since 2026-11-24; before, a state never written reads as netCDF fill values
+    # "state_saved" since 2026-11-24; before, a state never written reads as netCDF fill values.
+    # Rows without a state (written by HDF5 before the first state was): computed again
     if not attrs.get("state_saved", 1) or any(np.ma.is_masked(a) for a in raw):
-        if n:
-            raise DataError(
-                f"{path}: holds {n} events but not the chain's state after them: it cannot be "
-                "resumed; start the run again (delete the file)"
-            )
         return None, 0, attrs
     arrays = [np.asarray(a) for a in raw]
     if arrays[3].shape != (ce.NSC,):
@@ -210,6 +238,10 @@ def open_catalog(path: str | os.PathLike[str]) -> xr.Dataset:
         raise DataError(f"{p}: not a stickslip chain catalogue (no stickslip_output = {KIND!r})")
     opened = ds
     ds = ds.drop_vars([f"state_{n}" for n in _STATE])
+    saved = ds.attrs.get("events_saved")
+    if saved is not None and int(saved) < ds.sizes["event"]:
+        # rows written after the last saved state (a run stopped during a flush): not yet events
+        ds = ds.isel(event=slice(0, int(saved)))
     ds.set_close(opened.close)  # closing the result closes the file
     ds["magnitude"] = np.log10(ds["moment"].where(ds["moment"] > 0))
     ds["magnitude"].attrs = {"units": "1", "long_name": "log10 of the moment (in its units)"}
