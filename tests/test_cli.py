@@ -10,6 +10,7 @@ from click.testing import CliRunner
 from reference import coulomb_cycle, reference_cycle
 
 from stickslip.cli import main
+from stickslip.cli.options import OnceCommand
 
 PHYS = [
     "--v0",
@@ -377,3 +378,30 @@ def test_file_flags_warn_where_no_file_is_written(tmp_path: Path) -> None:
     assert regimes.exit_code == 0 and "warning: --overwrite does nothing without --out" in regimes.output
     quiet = run("regimes", "--c", "3", "--nu-min", "0.2", "--nu-max", "0.4")
     assert quiet.exit_code == 0 and "warning" not in quiet.output, quiet.output
+
+
+def test_a_single_valued_option_given_twice_is_refused() -> None:
+    """Regression: click kept the last of ``--c 3 --c 4`` (and of ``--json --no-json``-style
+    pairs) without a word, so a command ran a set-up the user did not ask for. Every
+    command of the group refuses it, by name; repeatable options and plain flags stay."""
+    from stickslip.cli.commands import main as group
+
+    cases = {
+        "--c": ("cycle", "--nu", "0.01", "--c", "3", "--c", "4"),  # a law's option (LawCommand)
+        "--nu": ("cycle", "--nu", "0.01", "--nu", "0.02"),
+        "--a": ("dulac", "--a", "0.01", "--a", "0.02", "--b", "0.015", "--kappa", "1"),  # plain command
+        "--v-ref": ("ratestate", "--a", "0.01", "--b", "0.015", "--dc", "1e-5", "--v-ref", "1e-6",
+                    "--v-ref", "2e-6"),
+    }  # fmt: skip
+    for name, args in cases.items():
+        res = run(*args)
+        assert res.exit_code == 2, (args, res.output)
+        assert f"option {name} is given more than once" in res.output, res.output
+    for name, command in group.commands.items():  # not only the commands above
+        assert isinstance(command, OnceCommand), name
+    # options that take several values, and a flag given twice, are not refused
+    res = run("ratestate", "--a", "0.01", "--b", "0.01", "--b", "0.005", "--dc", "1e-5", "--dc", "1e-4",
+              "--v-ref", "1 um/s", "--help")  # fmt: skip
+    assert res.exit_code == 0, res.output
+    res = run("cycle", "--nu", "0.01", "--c", "3", "--json", "--json")
+    assert res.exit_code == 0 and json.loads(res.output)["parameters"]["c"] == 3.0, res.output

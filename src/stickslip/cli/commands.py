@@ -14,7 +14,7 @@ from typing import Any
 import click
 
 from . import bifurcation, chain, data, dynamics, explore, paper, ratestate
-from .options import build_parameters, describe_parameters
+from .options import OnceCommand, build_parameters, describe_parameters
 
 __all__ = ["build_parameters", "describe_parameters", "main"]
 
@@ -55,5 +55,6 @@ def _one_line_warning(message: Any, category: Any, filename: str, lineno: int, *
     click.echo(f"warning: {message}", err=True)
 
 
+main.command_class = OnceCommand  # every command refuses a single-valued option given twice
 for _family in (dynamics, paper, ratestate, data, bifurcation, chain, explore):
     _family.register(main)

@@ -42,6 +42,7 @@ from ..units import Q_, parse_quantity, ureg
 __all__ = [
     "SETUP",
     "LawCommand",
+    "OnceCommand",
     "build_parameters",
     "describe_parameters",
     "law_option_names",
@@ -222,7 +223,37 @@ def _option_decorators(text: bool) -> list[Any]:
     return opts
 
 
-class LawCommand(click.Command):
+class OnceCommand(click.Command):
+    """A command that refuses an option given twice unless it can be repeated.
+
+    click keeps the last of ``--c 3 --c 4`` without a word, and runs a set-up the user
+    did not ask for; options that take several values say so (``multiple``).
+    """
+
+    def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
+        """Refuse a repeated single-valued option, by name; then parse as click does."""
+        if args and not ctx.resilient_parsing:  # before a missing option is reported
+            _, _, order = self.make_parser(ctx).parse_args(args=list(args))
+            seen: set[click.Parameter] = set()
+            for param in order:
+                if param in seen and _single(param):
+                    names = "/".join(param.opts + param.secondary_opts)
+                    raise click.UsageError(
+                        f"option {names} is given more than once; it takes one value: give it once",
+                        ctx,
+                    )
+                seen.add(param)
+        return super().parse_args(ctx, args)
+
+
+def _single(param: click.Parameter) -> bool:
+    """Whether a second use of ``param`` would replace the first without a word."""
+    if not isinstance(param, click.Option) or param.multiple or param.count:
+        return False
+    return not param.is_flag or bool(param.secondary_opts)  # a repeated --quiet changes nothing
+
+
+class LawCommand(OnceCommand):
     """A command whose parameter-set options come from the law registry, at parse time."""
 
     def __init__(self, *args: Any, text: bool = False, **kwargs: Any) -> None:
