@@ -289,3 +289,28 @@ def test_the_failure_probe_finds_nothing() -> None:
     proc = subprocess.run([sys.executable, str(probe)], capture_output=True, text=True, timeout=900)
     assert proc.returncode == 0, proc.stderr[-3000:] + proc.stdout[-2000:]
     assert "tracebacks 0, hangs 0, silently wrong 0, data lost 0" in proc.stdout
+
+
+def test_ctrl_c_while_a_command_runs_is_one_line_and_ends_by_sigint(tmp_path: Path) -> None:
+    """Regression: Ctrl-C in a running command printed click's 'Aborted!' and exited with
+    status 1, so a shell loop over commands (``for v in ...; do stickslip sweep ...; done``)
+    went on to the next one. Now: one line that says how to go on, and the end by SIGINT."""
+    import signal
+    import subprocess
+    import sys
+
+    store = tmp_path / "s.zarr"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "stickslip", "sweep", "--nu", "0.001..1", "--c", "1..5", "--num", "2000",
+         "--store", str(store)],
+        cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    done = store / ".stickslip-done"
+    deadline = time.monotonic() + 120
+    while proc.poll() is None and time.monotonic() < deadline and not (done.is_dir() and any(done.iterdir())):
+        time.sleep(0.1)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=60)
+    assert "Traceback" not in out + err and "Aborted" not in err, err
+    assert proc.returncode == -signal.SIGINT, (proc.returncode, out, err)
+    assert err.strip().splitlines()[-1].startswith("stickslip: interrupted (the same command with --store")

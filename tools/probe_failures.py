@@ -362,7 +362,11 @@ def interrupts(d: Path) -> list[tuple[str, str, str, str]]:
         tb = "Traceback" in out + err
         # 0.5-1.2 s measured on 2 idle cores; a loaded machine takes about twice that
         verdict = "traceback" if tb else ("ok" if dt < 3.0 else "hang")
-        detail = f"stopped {dt:.2f} s after Ctrl-C (exit {proc.returncode})"
+        # ended by SIGINT, as a shell loop needs to stop (click's 'Aborted!' exited 1)
+        if verdict == "ok" and proc.returncode != -signal.SIGINT:
+            verdict = "wrong"
+        how = "ended by SIGINT" if proc.returncode == -signal.SIGINT else f"exit {proc.returncode}"
+        detail = f"stopped {dt:.2f} s after Ctrl-C ({how})"
     except subprocess.TimeoutExpired:
         proc.kill()
         verdict, detail = "hang", "no stop within 10 s of Ctrl-C"

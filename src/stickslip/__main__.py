@@ -6,8 +6,9 @@ parse an option (some seconds on a loaded machine). Ctrl-C in that time raised
 ends it with one line, then by SIGINT itself, as Python does for an unhandled
 Ctrl-C: a shell reports status 130 and a script's loop stops. (Python may already
 have marked the interrupt unhandled, inside a C extension's start-up code, and
-end by SIGINT anyway: so it always does.) Once the command runs, click turns
-Ctrl-C into ``Aborted!`` (exit status 1).
+end by SIGINT anyway: so it always does.) Ctrl-C while a command runs ends the
+same way, with one line saying that a store or a chain goes on where it stopped
+(click's own ``Aborted!`` and status 1 let a shell's loop run its next command).
 """
 
 from __future__ import annotations
@@ -15,6 +16,13 @@ from __future__ import annotations
 import os
 import signal
 import sys
+from typing import NoReturn
+
+#: the line printed on Ctrl-C while a command runs
+INTERRUPTED = (
+    "stickslip: interrupted (the same command with --store, or a chain's with --resume, "
+    "goes on where it stopped)"
+)
 
 
 def main() -> None:
@@ -22,12 +30,31 @@ def main() -> None:
     try:
         from .cli.commands import main as command_line
     except KeyboardInterrupt:
-        print("stickslip: interrupted while starting", file=sys.stderr, flush=True)
-        if os.name == "posix":
-            signal.signal(signal.SIGINT, signal.SIG_DFL)
-            os.kill(os.getpid(), signal.SIGINT)
-        raise SystemExit(130) from None
-    command_line()
+        _end_by_sigint("stickslip: interrupted while starting")
+    import click
+
+    try:
+        code = command_line.main(standalone_mode=False)
+    except click.Abort as exc:
+        if isinstance(exc.__cause__, KeyboardInterrupt):
+            _end_by_sigint(INTERRUPTED)
+        click.echo("Aborted!", err=True)
+        raise SystemExit(1) from None
+    except click.ClickException as exc:
+        exc.show()
+        raise SystemExit(exc.exit_code) from None
+    except KeyboardInterrupt:  # while click reported something
+        _end_by_sigint(INTERRUPTED)
+    raise SystemExit(code if isinstance(code, int) else 0)
+
+
+def _end_by_sigint(message: str) -> NoReturn:
+    """Print ``message`` and end the process by SIGINT (a shell's 130; its loop stops)."""
+    print(message, file=sys.stderr, flush=True)
+    if os.name == "posix":
+        signal.signal(signal.SIGINT, signal.SIG_DFL)
+        os.kill(os.getpid(), signal.SIGINT)
+    raise SystemExit(130)
 
 
 if __name__ == "__main__":
