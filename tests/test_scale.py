@@ -94,6 +94,26 @@ def test_chunk_shape_keeps_trailing_dimensions_whole() -> None:
         chunk_shape((4,), 0)
 
 
+def test_a_process_keeps_the_arrays_of_a_few_stores_open(base: Any, tmp_path: Path) -> None:
+    """A notebook or a worker writing store after store kept every store's open arrays for
+    the life of the process; now the few used last (the least recent goes), and a store
+    whose handles went is opened again and still written right."""
+    from stickslip.scale import store as store_module
+
+    grid = _grid(4, 2)
+    ref = sweep(base, grid, progress=False)
+    keep = store_module._KEEP_ARRAYS
+    paths = [tmp_path / f"s{i}.zarr" for i in range(keep + 3)]
+    for path in paths:
+        sweep(base, grid, progress=False, store=path, block_points=4)
+        assert len(store_module._ARRAYS) <= keep
+    assert not any(k[0] == os.fspath(paths[0]) for k in store_module._ARRAYS)
+    shutil.rmtree(paths[0] / ".stickslip-done")  # its blocks again, through new handles
+    again = sweep(base, grid, progress=False, store=paths[0], block_points=4)
+    assert run_of(again)["computed"] == 2
+    assert_same(ref, load_sweep(paths[0]))
+
+
 def test_store_equals_in_process_bit_for_bit(base: Any, reference: xr.Dataset, tmp_path: Path) -> None:
     store = tmp_path / "s.zarr"
     ds = sweep(base, _grid(), progress=False, store=store, block_points=40)

@@ -27,6 +27,7 @@ import math
 import os
 import shutil
 import tempfile
+import threading
 import uuid
 import warnings
 from collections.abc import Iterator, Mapping
@@ -620,6 +621,9 @@ class ChunkStore:
 
 
 _ARRAYS: dict[tuple[str, Any], dict[str, Any]] = {}
+#: stores whose arrays a process keeps open (a notebook or a worker that writes many stores)
+_KEEP_ARRAYS = 8
+_ARRAYS_LOCK = threading.Lock()
 
 
 def _arrays(path: str, key: Any, names: list[str]) -> dict[str, Any]:
@@ -631,14 +635,17 @@ def _arrays(path: str, key: Any, names: list[str]) -> dict[str, Any]:
     again at the same path from the one opened before: the handles of the old one
     wrote chunks of the old shape into the new one, silently.
     """
-    got = _ARRAYS.get((path, key))
-    if got is None:
-        import zarr
+    with _ARRAYS_LOCK:  # a threaded Dask worker writes blocks side by side
+        got = _ARRAYS.pop((path, key), None)  # put back last: the most recent
+        if got is None:
+            import zarr
 
-        g = zarr.open_group(path, mode="r+", use_consolidated=False)
-        got = {n: g[n] for n in names}
+            g = zarr.open_group(path, mode="r+", use_consolidated=False)
+            got = {n: g[n] for n in names}
+            while len(_ARRAYS) >= _KEEP_ARRAYS:  # the store used least recently goes
+                del _ARRAYS[next(iter(_ARRAYS))]
         _ARRAYS[(path, key)] = got
-    return got
+        return got
 
 
 def _parts(layout: Layout) -> dict[str, str]:
