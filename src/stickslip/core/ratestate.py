@@ -137,12 +137,19 @@ def qs_lnv(mu_s, ps, P):  # type: ignore[no-untyped-def]
             df = a
         fv = f + eta * vr * ev - mu_s
         d = df + eta * vr * ev
+        if fv == 0.0:
+            break
         if fv > 0.0:
             hi = u
         else:
             lo = u
         step = fv / d
         un = u - step
+        # converged: the step is at u's rounding, or the residual at the sum's rounding. Taken
+        # before the bracket's guard, which moved an update equal to a bracket's end by 1
+        if abs(step) <= 1e-15 * max(1.0, abs(u)) or abs(fv) <= 1e-15 * (abs(mu_s) + abs(f) + eta * vr * ev):
+            u = un
+            break
         if not (lo < un < hi):
             if math.isinf(lo):
                 un = max(un, u - 50.0)
@@ -154,9 +161,8 @@ def qs_lnv(mu_s, ps, P):  # type: ignore[no-untyped-def]
                     un = lo + 1.0
             else:
                 un = 0.5 * (lo + hi)
-        if abs(un - u) <= 1e-15 * max(1.0, abs(u)) or fv == 0.0:
-            u = un
-            break
+                if not lo < un < hi:  # the bracket is two neighbouring doubles
+                    break
         u = un
     return u, r, d
 
