@@ -165,7 +165,8 @@ def register(main: click.Group) -> None:
     @click.option(
         "--sample",
         default=None,
-        help="Output at exactly 0, T, 2T, ... (e.g. '1 s') from the dense output; "
+        help="Output at exactly 0, T, 2T, ... (e.g. '1 s') from the dense output, and at each change "
+        "of the load-point velocity and the end (so that ratestate.csv changes it at its time); "
         "default 400 samples per step.",
     )
     @click.option(
@@ -260,7 +261,9 @@ def register(main: click.Group) -> None:
             radiation_damping=eta,
             friction_form="regularized" if regularized else "log",
         )
-        opts: dict[str, Any] = {"sample": sample, "rtol": rtol, "atol": atol}
+        # with --sample, a row at each change of velocity too: ratestate.csv changes it at its time
+        opts: dict[str, Any] = {"sample": sample, "at_changes": sample is not None}
+        opts |= {"rtol": rtol, "atol": atol}
         if steps is not None:
             hist = step_history(
                 _split(steps),

@@ -100,6 +100,7 @@ def simulate_rate_state(
     initial: str | tuple[float, Any] = "steady",
     n_points: int = 400,
     sample: Any = None,
+    at_changes: bool = False,
     rtol: float | None = None,
     atol: float | None = None,
     max_steps: int = 2_000_000,
@@ -123,6 +124,10 @@ def simulate_rate_state(
     sample : time or sequence of times, optional
         Output at exactly these times from the integrator's dense output:
         ``"1 s"`` gives 0, 1, 2, ... s to the end; or the times themselves (s).
+    at_changes : bool, optional
+        With ``sample``, output also at each change of the load-point velocity and at
+        the end of the history: a record whose velocity holds until the next row
+        (``ratestate.csv``) then changes it at its true time, not at the next sample.
     rtol, atol : float, optional
         Relative and absolute tolerances (on the spring friction and the log-states;
         with inertia the velocity's is ``atol`` times the fastest load-point velocity);
@@ -172,6 +177,8 @@ def simulate_rate_state(
         raise ValueError(f"atol={atol!r}: expected an absolute tolerance in (0, 1e-3]")
     if isinstance(max_steps, bool) or not isinstance(max_steps, int | np.integer) or max_steps < 1:
         raise ValueError(f"max_steps={max_steps!r}: expected a positive integer")
+    if not isinstance(at_changes, bool | np.bool_):
+        raise ValueError(f"at_changes={at_changes!r}: expected True or False")
     if isinstance(max_seconds, bool) or not (isinstance(max_seconds, float | int) and max_seconds > 0):
         raise ValueError(f"max_seconds={max_seconds!r}: expected a positive number of seconds")
     P, S = params.core_arrays()
@@ -220,6 +227,9 @@ def simulate_rate_state(
         )
     else:
         t_s = sample_times(sample, total)
+        if at_changes:  # a sample within rounding of a change is the change
+            near = np.abs(t_s[:, None] - bounds[None, :]).min(axis=1) <= 1e-12 * max(total, 1.0)
+            t_s = np.unique(np.concatenate([t_s[~near], bounds]))
     if params.inertial:
         t_out, y_out, vlp, peaks = _radau(params, hist, y, t_s, rtol, atol, max_steps, max_seconds)
         u_out = None
@@ -562,6 +572,7 @@ def velocity_steps(
     displacements: Sequence[Any] | None = None,
     n_points: int = 400,
     sample: Any = None,
+    at_changes: bool = False,
     rtol: float | None = None,
     atol: float | None = None,
 ) -> xr.Dataset:
@@ -579,7 +590,7 @@ def velocity_steps(
         Duration of each step instead, e.g. ``["10 s", "30 s"]``.
     displacements : sequence of lengths, optional
         Load-point displacement of each step instead.
-    n_points, sample, rtol, atol : optional
+    n_points, sample, at_changes, rtol, atol : optional
         As in :func:`simulate_rate_state`.
 
     Examples
@@ -601,7 +612,9 @@ def velocity_steps(
         displacement=displacement,
         default_displacement=params.dc_max * 20,
     )
-    return simulate_rate_state(params, hist, n_points=n_points, sample=sample, rtol=rtol, atol=atol)
+    return simulate_rate_state(
+        params, hist, n_points=n_points, sample=sample, at_changes=at_changes, rtol=rtol, atol=atol
+    )
 
 
 def slide_hold_slide(
@@ -612,6 +625,7 @@ def slide_hold_slide(
     displacement: Any = None,
     n_points: int = 400,
     sample: Any = None,
+    at_changes: bool = False,
     rtol: float | None = None,
     atol: float | None = None,
 ) -> xr.Dataset:
@@ -619,8 +633,8 @@ def slide_hold_slide(
 
     Returns the time series and, over a ``hold`` dimension, ``hold_time`` (s) and
     ``peak_friction_change`` (the peak friction on reloading minus the steady
-    friction before the hold: the healing). ``n_points``, ``sample``, ``rtol``
-    and ``atol`` are those of :func:`simulate_rate_state`.
+    friction before the hold: the healing). ``n_points``, ``sample``, ``at_changes``,
+    ``rtol`` and ``atol`` are those of :func:`simulate_rate_state`.
     """
     v = parse_quantity(v_slide, "v_slide", "[length] / [time]", "1 um/s")
     d = (
@@ -637,7 +651,9 @@ def slide_hold_slide(
         hist += [(hq, Q_(0.0, "m/s")), slide]
     if not hold_s:
         raise ValueError("holds is empty: give at least one hold time")
-    ds = simulate_rate_state(params, hist, n_points=n_points, sample=sample, rtol=rtol, atol=atol)
+    ds = simulate_rate_state(
+        params, hist, n_points=n_points, sample=sample, at_changes=at_changes, rtol=rtol, atol=atol
+    )
     t = ds.time.values
     bounds = np.concatenate([[0.0], np.cumsum([_history([h])[0][0] for h in hist])])
     mu = ds.friction.values
