@@ -130,3 +130,22 @@ def test_cli_refuses_options_that_would_reach_nothing(args: list[str], message: 
         main, ["earthquake-cycles", "--duration", "10 yr", *args, "--out", str(tmp_path)]
     )
     assert res.exit_code == 2 and message in res.output, res.output
+
+
+def test_v_event_and_stops_are_said_in_words(tmp_path) -> None:
+    """Regression (audit): v_event below the plate rate gave a 3.9 MPa 'stress drop' of the
+    creep itself, and 1 m/s plates 'status 5'; v_event above every peak printed NaN
+    summaries among numpy warnings; a Dc too small said 'status 3'."""
+    with pytest.raises(ValueError, match=r"v_event='1e-12 m/s': .* well above the plate rate"):
+        earthquake_cycles(BP1, "10 yr", v_event="1e-12 m/s")
+    with pytest.raises(ValueError, match=r"plate rate \(1 m/s"):
+        earthquake_cycles(SpringSliderFault(plate_rate="1 m/s"), "10 yr")
+    args = ["earthquake-cycles", "--v-event", "10 m/s", "--duration", "100 yr", "--out", str(tmp_path / "o")]
+    res = CliRunner().invoke(main, args)
+    assert res.exit_code == 0, res.output
+    said = "no event after the spin-up reached v_event = 10 m/s (the slip rate peaked at 0.833 m/s)"
+    assert said in res.output, res.output
+    assert "nan" not in res.output and "warning" not in res.output, res.output
+    with pytest.raises(RuntimeError, match="the step size fell below the precision of the clock") as info:
+        earthquake_cycles(SpringSliderFault(dc="1e-12 m"), "10 yr")
+    assert "status" not in str(info.value)

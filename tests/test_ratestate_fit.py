@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -193,3 +194,30 @@ def test_round_trip_of_a_simulated_record(tmp_path, steps: list[str]) -> None:
     assert p["a"]["value"] == pytest.approx(0.008, rel=1e-6)
     assert p["b"]["value"] == pytest.approx(0.012, rel=1e-6)
     assert p["dc"]["value"] == pytest.approx(1e-5, rel=1e-6)
+
+
+def test_records_that_cannot_be_fitted_are_refused_at_once(tmp_path) -> None:
+    """Regression (audit): a record of two rows, or of one velocity throughout, gave a
+    'result' with NaN errors and exit status 0; a reversed window said '0 samples'; a
+    record in um/s under a header in m/s ran for minutes, then suggested options the
+    command does not have."""
+    head = "# mu0 = 0.6\n# v_ref = 1 um/s\n# stiffness_per_load = 2e-3 1/um\n"
+    two = tmp_path / "two.csv"
+    two.write_text(head + "time [s],load-point velocity [um/s],friction [1]\n0,1,0.6\n0.1,10,0.6\n")
+    with pytest.raises(DataError, match="2 samples; a fit of a, b, Dc needs many more"):
+        fit_rate_state(read_lab_record(two, need_friction=True))
+    flat = tmp_path / "flat.csv"
+    rows = "".join(f"{0.1 * i:.1f},1,{0.6 + 1e-4 * math.sin(i):.6f}\n" for i in range(200))
+    flat.write_text(head + "time [s],load-point velocity [um/s],friction [1]\n" + rows)
+    res = CliRunner().invoke(main, ["ratestate-fit", str(flat), "--out", str(tmp_path / "f")])
+    assert res.exit_code != 0 and "load-point velocity never changes in the record" in res.output, res.output
+    rec = read_lab_record(_record(tmp_path, "aging", ONE, STEPS_ONE, ONE["k_per_um"]), need_friction=True)
+    with pytest.raises(ValueError, match="its end is not after its start"):
+        fit_rate_state(rec, window=("400 s", "50 s"))
+    with pytest.raises(DataError, match="never changes in the window"):
+        fit_rate_state(rec, window=("0 s", "90 s"))
+    # um/s read as m/s: said after one simulation, naming the units
+    text = (tmp_path / "aging.csv").read_text().replace("velocity [um/s]", "velocity [m/s]")
+    (tmp_path / "mps.csv").write_text(text)
+    with pytest.raises(DataError, match=r"cannot be simulated at the starting values .* Check the units"):
+        fit_rate_state(read_lab_record(tmp_path / "mps.csv", need_friction=True))

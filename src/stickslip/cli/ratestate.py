@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from typing import Any
 
 import click
@@ -456,7 +457,10 @@ def register_cycles(main: click.Group) -> None:
         "--v-event", default="1 mm/s", show_default=True, help="Slip rate above which an event runs."
     )
     @click.option("--rtol", type=float, default=1e-8, show_default=True, help="Relative tolerance.")
-    @out_dir_option("Output folder: cycles.nc, catalog.csv, cycles.png/.svg.")
+    @out_dir_option(
+        "Output folder: cycles.nc (cycles_inertial.nc), catalog_quasi-dynamic.csv (catalog_inertial.csv), "
+        "cycles.json, cycles.png/.svg."
+    )
     @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
     @overwrite_option
     @handle_errors
@@ -521,13 +525,21 @@ def register_cycles(main: click.Group) -> None:
                     )
                 )
             paths.append(out.write("cycles.json", "summary", json_writer(summary, "earthquake-cycles")))
-            est0 = recurrence_estimate(fault, runs[0].summary()["peak_slip_rate"])
+            peak0 = runs[0].summary()["peak_slip_rate"]
+            est0 = recurrence_estimate(fault, peak0) if math.isfinite(peak0) else None
             paths += save_figure(plot_earthquake_cycles(runs, est0), "cycles", out=out)
         if as_json:
             click.echo(json.dumps(summary, indent=2))
             return
         for model, s in summary.items():
             e = s["estimate"]
+            if not s["events"]:
+                click.echo(
+                    f"{model}: no event after the spin-up reached v_event = {v_event} (the slip "
+                    f"rate peaked at {s['slip_rate_range_m_s'][1]:.3g} m/s): give a lower --v-event "
+                    "or a longer run"
+                )
+                continue
             click.echo(
                 f"{model}: {s['events']} events after the spin-up, recurrence {s['recurrence_yr']:.4g} yr "
                 f"(estimate >= {e['recurrence_yr_lower_bound']:.4g}), slip {s['slip_m']:.4g} m (estimate "

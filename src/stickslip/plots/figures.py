@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import math
 import os
 from collections.abc import Callable, Iterator, Sequence
 from typing import TYPE_CHECKING, Any
@@ -375,8 +376,10 @@ def plot_earthquake_cycles(runs: Sequence[Any], estimate: dict[str, float] | Non
     axes[2].set_xlabel("time from the peak slip rate [s] (dots: accepted steps)")
     axes[2].set_ylabel("slip rate [m/s]")
     for ax in axes:
-        ax.legend(frameon=False, fontsize=7, loc="upper right")
-    if estimate is not None:
+        if ax.get_legend_handles_labels()[0]:  # an axis with nothing labelled (no event) has none
+            ax.legend(frameon=False, fontsize=7, loc="upper right")
+    shown = ("stress_drop", "slip", "recurrence")
+    if estimate is not None and all(math.isfinite(estimate[k]) for k in shown):
         axes[1].set_title(
             f"estimate: stress drop {estimate['stress_drop'] / 1e6:.3g} MPa, slip {estimate['slip']:.3g} m, "
             f"recurrence >= {estimate['recurrence'] / year:.3g} yr",

@@ -209,6 +209,9 @@ class CycleRun:
         """Return mean recurrence (yr), slip (m) and peak slip rate (m/s), after ``spin_up`` events."""
         cat = self.catalog.isel(event=slice(spin_up, None))
         rec = cat.recurrence.values
+        if cat.sizes["event"] == 0:  # no event reached v_event (after the spin-up)
+            keys = ("recurrence_yr", "recurrence_spread", "slip_m", "peak_slip_rate", "stress_drop_MPa")
+            return {"events": 0, **dict.fromkeys(keys, math.nan)}
         return {
             "events": int(cat.sizes["event"]),
             "recurrence_yr": float(np.nanmean(rec)) / YEAR,
@@ -275,6 +278,12 @@ def earthquake_cycles(
     if isinstance(max_steps, bool) or not isinstance(max_steps, int | np.integer) or max_steps < 1:
         raise ValueError(f"max_steps={max_steps!r}: expected a positive integer")
     ve = float(parse_quantity(v_event, "v_event", "[length] / [time]", "1 mm/s").to("m/s").magnitude)
+    vpl = float(fault.plate_rate.to("m/s").magnitude)
+    if not ve > 10.0 * vpl:  # else the interseismic creep itself crosses it: events without meaning
+        raise ValueError(
+            f"v_event={v_event!r}: an event starts where the slip rate passes v_event, which must be "
+            f"well above the plate rate ({vpl:g} m/s; at least 10 times)"
+        )
     P, S = fault.core_arrays(inertial)
     y0 = _initial(fault, P, S, inertial)
     started = time.perf_counter()
@@ -306,9 +315,19 @@ def _quasi_dynamic(
         0.0, ve, False, np.zeros((0, nvar + 1)), ev, rec, 1,
     )  # fmt: skip
     if status != core.RS_OK:
+        why = {
+            core.RS_MAX_STEPS: f"the bound of {max_steps} steps (max_steps): a larger one, or a shorter run",
+            core.RS_STEP_TOO_SMALL: (
+                "the step size fell below the precision of the clock: an event's steps at this time "
+                "(a run of more than about 2e4 years; the inertial run restarts its clock, this one "
+                "does not yet), or a Dc too small to resolve"
+            ),
+            core.RS_EVENTS_FULL: "more events than one run locates (200000): give a shorter duration",
+            core.RS_NONFINITE: "the slip rate overflowed (faster than the model holds)",
+            core.RS_RUNAWAY: "the slip rate ran away",
+        }.get(status, "the integrator failed")
         raise RuntimeError(
-            f"the quasi-dynamic integration stopped at t = {t / YEAR:.6g} yr after {steps} steps "
-            f"(status {status})"
+            f"the quasi-dynamic integration stopped at t = {t / YEAR:.6g} yr after {steps} steps: {why}"
         )
     if nrec >= cap:
         # more steps than the record holds: run again keeping every k-th step

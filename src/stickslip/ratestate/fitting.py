@@ -38,7 +38,7 @@ from ..io.errors import DataError
 from ..io.lab import LabRecord
 from ..units import Q_, check_number, parse_quantity
 from .model import STATE_LAWS, RateStateParameters
-from .protocols import simulate_rate_state
+from .protocols import RateStateStopped, simulate_rate_state
 
 __all__ = ["DETRENDS", "RateStateFit", "fit_rate_state"]
 
@@ -169,6 +169,10 @@ def _initial(
     return out
 
 
+#: the fewest samples a fit takes (in the record, or in its window)
+MIN_SAMPLES = 10
+
+
 def fit_rate_state(
     record: LabRecord,
     *,
@@ -255,9 +259,16 @@ def fit_rate_state(
             - record.time[0]
             for w in (w0, w1)
         )
+        if not hi > lo:
+            raise ValueError(f"window={window!r}: its end is not after its start")
         sel = (t_all >= lo) & (t_all <= hi)
-        if sel.sum() < 10:
+        if sel.sum() < MIN_SAMPLES:
             raise DataError(f"window={window!r}: {int(sel.sum())} samples in it; a fit needs many more")
+    elif sel.sum() < MIN_SAMPLES:
+        raise DataError(
+            f"{record.name}: {int(sel.sum())} samples; a fit of a, b, Dc needs many more (at least "
+            f"{MIN_SAMPLES}, and a velocity step or a hold among them)"
+        )
     i0 = int(np.argmax(sel))
     t = t_all[sel] - t_all[i0]
     mu = record.friction[sel]
@@ -266,6 +277,13 @@ def fit_rate_state(
     if v[0] <= 0:
         raise DataError(
             "the fitting window starts in a hold: start it while sliding (steady state is assumed)"
+        )
+    if np.unique(v[:-1]).size == 1:  # the last sample's velocity holds after the record
+        where = "in the window" if window is not None else "in the record"
+        raise DataError(
+            f"{record.name}: the load-point velocity never changes {where} ({v[0] * 1e6:g} um/s "
+            "throughout): steady sliding tells only a - b; a velocity step or a hold is what "
+            "constrains a, b and Dc"
         )
     sub = LabRecord(record.name, t, v, x, mu, dict(meta))
     hist = sub.history()
@@ -332,6 +350,22 @@ def fit_rate_state(
         r, _ = detrended(m)
         return r / sigma
 
+    def cannot(exc: Exception, at: str) -> DataError:
+        return DataError(
+            f"{record.name}: its load-point history cannot be simulated at {at} ({exc}). Check the "
+            f"units of the columns: the load point moves {x[-1]:.3g} m in {t[-1]:.3g} s, at up to "
+            f"{np.max(np.abs(v)):.3g} m/s (a velocity in um/s under a header in m/s is 1e6 times "
+            "faster); fit_rate_state(initial=...) takes other starting values"
+        )
+
+    try:  # a history the integrator cannot follow at the start (a unit mistake): said at once
+        model(x0)
+    except RateStateStopped as exc:  # a runaway is physics: other parameters may not run away
+        if exc.reason == "max-steps":
+            at = f"the starting values a = {start['a']:.3g}, b = {start['b']:.3g}, Dc = {start['dc']:.3g} m"
+            raise cannot(exc, at) from None
+    except (RuntimeError, ValueError, OverflowError):
+        pass
     best = None
     for scale in (1.0, 0.3, 3.0):
         x_try = x0.copy()
@@ -345,7 +379,10 @@ def fit_rate_state(
             break
     assert best is not None
     theta = best.x
-    m_fit = model(theta)
+    try:
+        m_fit = model(theta)
+    except (RuntimeError, ValueError, OverflowError) as exc:
+        raise cannot(exc, "any parameters tried") from None
     r, coef = detrended(m_fit)
     dof = max(t.size - len(names) - basis.shape[1], 1)
     chi2 = float(np.sum(r**2) / sigma**2 / dof)

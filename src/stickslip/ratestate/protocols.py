@@ -32,6 +32,7 @@ from ..units import Q_, parse_quantity
 from .model import RateStateParameters, steady_log_states
 
 __all__ = [
+    "RateStateStopped",
     "Stability",
     "linear_stability",
     "simulate_rate_state",
@@ -252,6 +253,29 @@ def _segments(hist: list[tuple[float, float]]) -> tuple[FloatArray, FloatArray]:
     return np.cumsum([d for d, _ in hist]), np.array([v for _, v in hist])
 
 
+class RateStateStopped(RuntimeError):
+    """The integration stopped before the end of the history.
+
+    ``reason`` says why, in a word: ``"runaway"`` (the slider accelerates without
+    bound), ``"max-steps"`` (the bound on the work), ``"step-too-small"`` or
+    ``"not-finite"``; the message says it in full.
+    """
+
+    def __init__(self, message: str, reason: str) -> None:
+        super().__init__(message)
+        self.reason = reason
+
+
+#: the compiled integrator's codes, in words
+STOP_REASONS = {
+    core.RS_RUNAWAY: "runaway",
+    core.RS_MAX_STEPS: "max-steps",
+    core.RS_STEP_TOO_SMALL: "step-too-small",
+    core.RS_NONFINITE: "not-finite",
+    core.RS_EVENTS_FULL: "events-full",
+}
+
+
 def _status_message(status: int, t: float, v_cap: float, steps: int, seconds: float) -> str:
     if status == core.RS_RUNAWAY:
         return (
@@ -267,7 +291,10 @@ def _status_message(status: int, t: float, v_cap: float, steps: int, seconds: fl
         )
     if status == core.RS_NONFINITE:
         return f"at t = {t:.6g} s the solution overflowed: the slider accelerates without bound"
-    return f"at t = {t:.6g} s the step size fell below the precision of t (status {status})"
+    return (
+        f"at t = {t:.6g} s the step size fell below the precision of t: the solution changes "
+        "faster than the clock resolves (an instability, or a Dc very small for this history)"
+    )
 
 
 def _dop853(
@@ -330,7 +357,8 @@ def _dop853(
             continue
         break
     if status != core.RS_OK:
-        raise RuntimeError(_status_message(status, t, v_cap, steps_total, time.monotonic() - started))
+        message = _status_message(status, t, v_cap, steps_total, time.monotonic() - started)
+        raise RateStateStopped(message, STOP_REASONS.get(status, "step-too-small"))
     evs = np.concatenate(events) if events else np.zeros((0, 3 + nvar))
     peaks = {
         "spring": [(float(r[1]), r[3 : 3 + 1 + n].copy()) for r in evs if int(r[0]) == core.EV_SPRING_PEAK],
@@ -397,11 +425,12 @@ def _radau(
             if status == radau.RD_MAX_STEPS:
                 if steps < max_steps and time.monotonic() - started < max_seconds and np.all(np.isfinite(y)):
                     continue
-                raise RuntimeError(
+                raise RateStateStopped(
                     f"segment {k} (v_lp = {v_lp:g} m/s for {dur:g} s): stopped after "
                     f"{steps} steps / {time.monotonic() - started:.1f} s without "
                     "finishing; the case is too stiff at this tolerance (try a larger rtol or a "
-                    "smaller step)"
+                    "smaller step)",
+                    "max-steps",
                 )
             raise RuntimeError(
                 f"segment {k} (v_lp = {v_lp:g} m/s): the solver stopped at "

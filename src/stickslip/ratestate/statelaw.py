@@ -83,7 +83,10 @@ class StateLawFormula:
         x0 = dc / v
 
         def g(lx: float) -> float:
-            r = self.rate(v, x0 * math.exp(lx), dc, vr)
+            try:  # the formula in Python's math: exp(phi) overflows, log(-1) raises
+                r = self.rate(v, x0 * math.exp(lx), dc, vr)
+            except (ArithmeticError, ValueError):
+                return math.nan
             return r if math.isfinite(r) else math.nan
 
         grid = np.linspace(-28.0, 28.0, 113)
