@@ -579,3 +579,21 @@ def test_the_slip_rate_solves_the_friction_equation_to_rounding() -> None:
             u, _, _ = core.qs_lnv(mu_s, ps, P)
             f = a * math.asinh(0.5 * math.exp(u + ps / a)) if form == core.REGULARIZED else ps + a * u
             assert abs(f + eta * vr * math.exp(u) - mu_s) <= 1e-15, (form, a, vr, eta, ps, mu_s, u)
+
+
+def test_history_file_ends_and_starts_said(tmp_path) -> None:
+    """Regression (audit): a --history whose last row changes the velocity ran without a
+    word (the change has no duration); one starting in a hold asked for an initial= the
+    command line does not have."""
+    args = ["ratestate", "--a", "0.005", "--b", "0.01", "--dc", "10 um", "--v-ref", "1 um/s", "--mu0", "0.6",
+            "--stiffness-per-load", "1e-3 1/um", "--out", str(tmp_path / "o"), "--overwrite"]  # fmt: skip
+    last = tmp_path / "last.csv"
+    last.write_text("time [s],load-point velocity [um/s]\n0,1\n10,10\n")
+    res = CliRunner().invoke(main, [*args, "--history", str(last)])
+    assert res.exit_code == 0, res.output
+    assert "warning: " in res.output
+    assert "last row's velocity (10 um/s at 10 s) would hold after" in res.output
+    hold = tmp_path / "hold.csv"
+    hold.write_text("time [s],load-point velocity [um/s]\n0,0\n10,1\n20,1\n")
+    res = CliRunner().invoke(main, [*args, "--history", str(hold)])
+    assert res.exit_code == 2 and "start the history with a slide" in res.output, res.output

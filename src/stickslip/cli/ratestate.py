@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 from typing import Any
 
 import click
@@ -278,6 +279,13 @@ def register(main: click.Group) -> None:
             from ..io.lab import read_lab_record
 
             rec = read_lab_record(history)
+            if rec.velocity.size > 1 and rec.velocity[-1] != rec.velocity[-2]:
+                warnings.warn(
+                    f"{history}: the last row's velocity ({rec.velocity[-1] * 1e6:g} um/s at "
+                    f"{rec.time[-1]:g} s) would hold after the end of the history: it is not used; "
+                    "add a row after it to give it a duration",
+                    stacklevel=1,
+                )
             ds = simulate_rate_state(params, rec.history(), **opts)
         else:
             if v_slide is None:

@@ -191,7 +191,8 @@ def simulate_rate_state(
         if hist[0][1] <= 0:
             raise ValueError(
                 "initial='steady' needs a positive first velocity (there is no steady "
-                "sliding at zero velocity); give initial=(friction, state)"
+                "sliding at zero velocity); start the history with a slide, or give "
+                "initial=(friction, state) from Python"
             )
         y = _steady_state(params, hist[0][1])
     else:
