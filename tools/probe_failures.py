@@ -152,6 +152,7 @@ CASES = [
     Case("options", "non-numeric nu", [*CYC, "--nu", "fast", "--c", "3"], "error", "nu"),
     Case("options", "negative nu", [*CYC, "--nu", "-1", "--c", "3"], "error", "nu"),
     Case("options", "NaN c", [*CYC, "--nu", "0.1", "--c", "nan"], "error", "c"),
+    Case("options", "an option given twice", [*CYC, "--nu", "0.1", "--c", "3", "--c", "4"], "error", "--c"),
     Case("options", "velocity without a unit", ["cycle", "--preset", "zv", "--v0", "10"], "error", "no unit"),
     Case(
         "options",
