@@ -149,3 +149,18 @@ def test_v_event_and_stops_are_said_in_words(tmp_path) -> None:
     with pytest.raises(RuntimeError, match="the step size fell below the precision of the clock") as info:
         earthquake_cycles(SpringSliderFault(dc="1e-12 m"), "10 yr")
     assert "status" not in str(info.value)
+
+
+def test_a_run_longer_than_one_clock_holds(run) -> None:
+    """Regression (audit): one clock over the whole run lost an event's millisecond steps
+    after 26627 years ('step size fell below the precision of t'); the integration now
+    restarts its clock every CHUNK seconds. 30000 years: the same cycle as 3000."""
+    long = earthquake_cycles(BP1, "30000 yr")
+    a, b = long.summary(), run.summary()
+    assert a["events"] > 9 * b["events"]
+    for key, rel in (("recurrence_yr", 1e-6), ("slip_m", 1e-6), ("peak_slip_rate", 1e-5)):
+        assert a[key] == pytest.approx(b[key], rel=rel), key  # the peak: on the dense output, rtol 1e-8
+    assert long.budget["slip_error"] < 1e-10 and long.budget["energy_error"] < 1e-8
+    t = long.series.time.values  # the spans' clocks offset back: one increasing time
+    assert np.all(np.diff(t) > 0) and t[-1] > 29999 * YEAR
+    assert np.all(np.diff(long.catalog.t_start.values) > 0)
