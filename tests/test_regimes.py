@@ -83,3 +83,35 @@ def test_unstable_steady_sliding_is_left() -> None:
     r = cycle(params)
     assert not r.steady_sliding_stable
     assert [a.regime for a in r.attractors] == ["stick-slip"]
+
+
+def test_driving_velocities_below_resolution_and_map_ranges_are_refused(tmp_path) -> None:
+    """Regression (audit of the bifurcation family): nu = 1e-20 gave an amplitude 3e-4 off
+    with status ok, and a subnormal nu hung the compiled loop (SIGTERM could not stop it);
+    regimes over nu < 1e-7 failed with its Hopf window's own bounds; --map took a reversed
+    range, one value, or --map-n 1 (named --num)."""
+    from click.testing import CliRunner
+
+    from stickslip.bifurcation.regimes import regimes
+    from stickslip.cli import main
+
+    law = WeakeningLaw(c=3.81, p=0.0)
+    for nu in (1e-20, 5e-324):
+        with pytest.raises(ValueError, match="expected a driving velocity of at least 1e-15"):
+            DimensionlessParameters(nu=nu, law=law)
+    # 1e-15 is resolved: the amplitude of the small-nu limit (1.20879911609, the audit's reference)
+    amplitude = cycle(DimensionlessParameters(nu=1e-15, law=law)).amplitude
+    assert amplitude == pytest.approx(1.20879911609, rel=1e-9)
+    with pytest.raises(ValueError, match="nu_min=1e-310: expected a driving velocity of at least 1e-15"):
+        regimes(WeakeningLaw(c=3.8, p=0.5), 1e-310, 1.0)
+    low = regimes(WeakeningLaw(c=3.8, p=0.5), 1e-9, 1e-7)
+    assert [iv.regime for iv in low.intervals] == ["stick-slip"]
+    base = ["regimes", "--c", "3.8", "--p", "0.5", "--nu-min", "0.1", "--nu-max", "1"]
+    for extra, said in (
+        (["--map", "p=1.5..0.05"], "expected A < B"),
+        (["--map", "p=0.1"], "expected a range NAME=A..B"),
+        (["--map", "p=0.1..0.1"], "expected A < B"),
+        (["--map", "p=0.1..1", "--map-n", "1"], "--map-n=1: a map needs at least 2 values"),
+    ):
+        res = CliRunner().invoke(main, [*base, *extra, "--out", str(tmp_path)])
+        assert res.exit_code == 2 and said in res.output, (extra, res.output)

@@ -45,6 +45,7 @@ import numpy as np
 
 from .. import defaults
 from ..core.api import run_attractors, run_flow
+from ..core.checks import NU_MIN
 from ..core.results import AttractorRows, Regime
 from ..io.jsonable import json_clean
 from ..laws import DimensionlessLaw, require_dimensionless_law
@@ -632,6 +633,8 @@ def regimes(
     law = require_dimensionless_law(law)
     lo = check_number(nu_min, "nu_min")
     hi = check_number(nu_max, "nu_max")
+    if lo < NU_MIN:
+        raise ValueError(f"nu_min={nu_min!r}: expected a driving velocity of at least {NU_MIN:g}")
     if hi <= lo:
         raise ValueError(f"nu_max={nu_max!r}: expected a value above nu_min={nu_min!r}")
     if isinstance(n_grid, bool) or not (isinstance(n_grid, int | np.integer) and n_grid >= 5):
@@ -642,7 +645,8 @@ def regimes(
         raise ValueError(f"tol={tol!r}: expected a shooting tolerance between 1e-13 and 1e-3")
     tol = float(tol)
     # Hopf points in a wider window: a branch born just outside the range may enter it
-    h_all = hopf_points(law, max(lo / 10.0, 1e-6), min(hi * 10.0, 1e6))
+    # (and always the range itself: a range below 1e-7 once met the window's own 1e-6 bound)
+    h_all = hopf_points(law, min(max(lo / 10.0, 1e-6), lo), max(min(hi * 10.0, 1e6), hi))
     hopf_in = tuple(h for h in h_all if lo <= h.nu <= hi)
     grid = _grid(lo, hi, n_grid)
 

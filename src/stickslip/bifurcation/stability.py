@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core.checks import NU_MIN
 from ..laws import DimensionlessLaw, require_dimensionless_law
 from ..units import check_number
 
@@ -84,6 +85,8 @@ def hopf_points(
     law = require_dimensionless_law(law)
     lo = check_number(nu_min, "nu_min")
     hi = check_number(nu_max, "nu_max")
+    if lo < NU_MIN:
+        raise ValueError(f"nu_min={nu_min!r}: expected a driving velocity of at least {NU_MIN:g}")
     if hi <= lo:
         raise ValueError(f"nu_max={nu_max!r} must exceed nu_min={nu_min!r}")
     grid = np.geomspace(lo, hi, n_grid)

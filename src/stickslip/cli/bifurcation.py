@@ -155,10 +155,16 @@ def register(main: click.Group) -> None:
                     f"--map: param={name!r} is not a parameter of the {law.name} law "
                     f"(it has {', '.join(law.params)})"
                 ) from None
+            if ".." not in rng:  # one value made a map of one row, without a word
+                raise click.UsageError(f"--map={map_spec!r}: expected a range NAME=A..B, e.g. 'p=0.05..1.5'")
+            if map_n < 2:
+                raise click.UsageError(f"--map-n={map_n}: a map needs at least 2 values")
             try:
                 values = [float(v) for v in parse_axis(p, name, rng.strip(), map_n, False)]
             except ValueError as exc:
                 raise click.UsageError(f"--map: {exc}") from None
+            if not values[0] < values[-1]:  # reversed, or one value repeated
+                raise click.UsageError(f"--map={map_spec!r}: expected A < B (a range from low to high)")
             ds = regime_map(
                 law,
                 name,

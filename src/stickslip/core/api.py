@@ -305,6 +305,11 @@ def _nu(nu: npt.ArrayLike) -> FloatArray:
     a = checks.finite_array("nu", nu, bound=1e12, positive=True)
     if a.ndim > 1:
         raise ValueError(f"nu: expected a 1-d array of driving velocities, got shape {a.shape}")
+    if a.size and float(a.min()) < checks.NU_MIN:
+        raise ValueError(
+            f"nu: {float(a.min())!r} is below {checks.NU_MIN:g}, the smallest driving velocity resolved "
+            "in double precision"
+        )
     return a
 
 

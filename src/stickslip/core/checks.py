@@ -17,6 +17,7 @@ import numpy.typing as npt
 
 __all__ = [
     "MAX_STATE",
+    "NU_MIN",
     "finite_array",
     "integer",
     "positive",
@@ -28,6 +29,10 @@ __all__ = [
 #: ten times the largest driving velocity a parameter set may have (1e12), well inside the
 #: range where the kernels' arithmetic stays finite
 MAX_STATE = 1e13
+#: the smallest dimensionless driving velocity: below it the spring-force maximum (where the
+#: slip velocity passes nu) is no longer located in double precision (at nu = 1e-20 an
+#: amplitude came out 3e-4 off with status ok; subnormal values hung the compiled loop)
+NU_MIN = 1e-15
 
 
 def _real(name: str, value: Any) -> float:

@@ -21,6 +21,7 @@ import numpy as np
 import numpy.typing as npt
 import pint
 
+from ..core.checks import NU_MIN
 from ..laws import DimensionlessLaw, PhysicalLaw, PhysicalWeakeningLaw, require_physical_law
 from ..laws.spec import STATIC, LawSpec
 from ..units import Q_, check_number, parse_quantity
@@ -82,6 +83,12 @@ class DimensionlessParameters:
                 what="a positive driving velocity (at most 1e12)",
             ),
         )
+        if self.nu < NU_MIN:
+            raise ValueError(
+                f"nu={self.nu!r}: expected a driving velocity of at least {NU_MIN:g} (below it the "
+                "spring-force maximum, where the slip velocity passes nu, is not resolved in double "
+                "precision)"
+            )
         if not isinstance(self.law, DimensionlessLaw):
             raise ValueError(
                 f"law={self.law!r}: expected a dimensionless law (WeakeningLaw, CubicLaw, CoulombLaw, "
