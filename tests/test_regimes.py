@@ -115,3 +115,10 @@ def test_driving_velocities_below_resolution_and_map_ranges_are_refused(tmp_path
     ):
         res = CliRunner().invoke(main, [*base, *extra, "--out", str(tmp_path)])
         assert res.exit_code == 2 and said in res.output, (extra, res.output)
+
+
+def test_a_law_parameter_beyond_the_kernels_range_is_named() -> None:
+    """Regression (audit): c = 1e300 was refused as 'lp[0]=1e+300', a name of the core's."""
+    with pytest.raises(ValueError, match=r"c=1e\+300 is beyond 1e\+15 in magnitude"):
+        WeakeningLaw(c=1e300, p=0.5)
+    assert WeakeningLaw(c=1e12, p=0.0).params["c"] == 1e12

@@ -81,8 +81,9 @@ class Status(_Labelled):
         "not-converged",
         engine.ST_NOT_CONVERGED,
         "the oscillation could not be pinned down to the promised 1e-8: the transient did not "
-        "settle and could not be solved as a periodic orbit to that accuracy (within about 1e-5 "
-        "of a Hopf point the orbit's multiplier tends to 1)",
+        "settle and could not be solved as a periodic orbit to that accuracy (the orbit's "
+        "multiplier tends to 1 within about 1e-5 of a Hopf point, and where the friction's slope "
+        "f'(nu) is nearly zero, as for a slip-reversal orbit at a large nu)",
     )
     STEP_TOO_SMALL = (
         "step-size-too-small",

@@ -48,6 +48,10 @@ MU_S = sp.Symbol("mu_s", positive=True)
 CONTINUATION_DEGREE = 10
 
 
+#: the largest magnitude of a dimensionless law parameter (the core's bound on its inputs)
+KERNEL_BOUND = 1e15
+
+
 @dataclass(frozen=True)
 class Parameter:
     """One parameter of a friction law, with its bounds, unit and help.
@@ -156,6 +160,8 @@ class Parameter:
         ok &= (x >= self.lower) if self.lower_inclusive else (x > self.lower)
         if self.upper < math.inf:
             ok &= (x <= self.upper) if self.upper_inclusive else (x < self.upper)
+        if not self.unit:  # a dimensionless value goes to the compiled kernels, which take |x| <= 1e15
+            ok &= np.abs(x) <= KERNEL_BOUND
         if ok.all():
             return
         i = int(np.flatnonzero(~ok.ravel())[0])
@@ -171,6 +177,8 @@ class Parameter:
                 reason = "must be non-negative" if self.lower_inclusive else "must be positive"
             else:
                 reason = "is too small"
+        elif abs(bad) > KERNEL_BOUND and not self.unit:
+            reason = f"is beyond {KERNEL_BOUND:g} in magnitude, the compiled kernels' range"
         else:
             reason = "is too large"
         raise ValueError(f"{self.name}={v!r} {reason}{at}: expected {self.what}")
