@@ -342,14 +342,6 @@ def fit_rate_state(
         qr_ = q_b.T @ r
         return r - q_b @ qr_, np.linalg.solve(r_b, qr_)
 
-    def residuals(theta: FloatArray) -> FloatArray:
-        try:
-            m = model(theta)
-        except (RuntimeError, ValueError, OverflowError):
-            return penalty
-        r, _ = detrended(m)
-        return r / sigma
-
     def cannot(exc: Exception, at: str) -> DataError:
         return DataError(
             f"{record.name}: its load-point history cannot be simulated at {at} ({exc}). Check the "
@@ -358,14 +350,24 @@ def fit_rate_state(
             "faster); fit_rate_state(initial=...) takes other starting values"
         )
 
-    try:  # a history the integrator cannot follow at the start (a unit mistake): said at once
-        model(x0)
-    except RateStateStopped as exc:  # a runaway is physics: other parameters may not run away
-        if exc.reason == "max-steps":
-            at = f"the starting values a = {start['a']:.3g}, b = {start['b']:.3g}, Dc = {start['dc']:.3g} m"
-            raise cannot(exc, at) from None
-    except (RuntimeError, ValueError, OverflowError):
-        pass
+    first = [True]  # the first call is at the starting values (least_squares begins there)
+
+    def residuals(theta: FloatArray) -> FloatArray:
+        at_start, first[0] = first[0], False
+        try:
+            m = model(theta)
+        except RateStateStopped as exc:
+            # a history the integrator cannot follow at the start (a unit mistake): said at once;
+            # a runaway is physics: other parameters may not run away
+            if at_start and exc.reason == "max-steps":
+                a, b, dc = start["a"], start["b"], start["dc"]
+                raise cannot(exc, f"the starting values a = {a:.3g}, b = {b:.3g}, Dc = {dc:.3g} m") from None
+            return penalty
+        except (RuntimeError, ValueError, OverflowError):
+            return penalty
+        r, _ = detrended(m)
+        return r / sigma
+
     best = None
     for scale in (1.0, 0.3, 3.0):
         x_try = x0.copy()

@@ -230,8 +230,9 @@ def simulate_rate_state(
     else:
         t_s = sample_times(sample, total)
         if at_changes:  # a sample within rounding of a change is the change
-            near = np.abs(t_s[:, None] - bounds[None, :]).min(axis=1) <= 1e-12 * max(total, 1.0)
-            t_s = np.unique(np.concatenate([t_s[~near], bounds]))
+            j = np.clip(np.searchsorted(bounds, t_s), 1, bounds.size - 1)  # the changes around each
+            gap = np.minimum(t_s - bounds[j - 1], bounds[j] - t_s)
+            t_s = np.unique(np.concatenate([t_s[np.abs(gap) > 1e-12 * max(total, 1.0)], bounds]))
     if params.inertial:
         t_out, y_out, vlp, peaks = _radau(params, hist, y, t_s, rtol, atol, max_steps, max_seconds)
         u_out = None
