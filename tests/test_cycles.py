@@ -146,6 +146,10 @@ def test_v_event_and_stops_are_said_in_words(tmp_path) -> None:
     said = "no event after the spin-up reached v_event = 10 m/s (the slip rate peaked at 0.833 m/s)"
     assert said in res.output, res.output
     assert "nan" not in res.output and "warning" not in res.output, res.output
+    from stickslip.plots.figures import plot_earthquake_cycles
+
+    fig = plot_earthquake_cycles([earthquake_cycles(BP1, "100 yr", v_event="10 m/s")])
+    assert [t.get_text() for t in fig.axes[2].texts] == ["no event to show: fewer than 3 reached v_event"]
     with pytest.raises(RuntimeError, match="the step size fell below the precision of the clock") as info:
         earthquake_cycles(SpringSliderFault(dc="1e-12 m"), "10 yr")
     assert "status" not in str(info.value)

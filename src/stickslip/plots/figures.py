@@ -367,6 +367,11 @@ def plot_earthquake_cycles(runs: Sequence[Any], estimate: dict[str, float] | Non
                 s.time.values[sel] - tp, s.slip_rate.values[sel], ".-", ms=2, lw=0.8, color=f"C{k}",
                 label=f"{label}: event {i}",
             )  # fmt: skip
+    if not axes[2].lines:  # no run has an event to show: say so rather than leave a blank frame
+        axes[2].text(0.5, 0.5, "no event to show: fewer than 3 reached v_event", ha="center", va="center",
+                     transform=axes[2].transAxes)  # fmt: skip
+        axes[2].set_xticks([])
+        axes[2].set_yticks([])
     vpl = runs[0].fault.plate_rate.to("m/s").magnitude
     for ax in axes[:1]:
         ax.axhline(vpl, color="k", ls=":", lw=0.8, label="plate rate")
