@@ -81,6 +81,69 @@ def test_pure_slip_record_measured() -> None:
     assert s.period == pytest.approx(true.period, rel=0.01)
 
 
+@pytest.mark.parametrize("v_mm_s", [20.0, 45.0])
+def test_stick_fraction_leaves_out_the_slow_start_of_a_slip(v_mm_s: float) -> None:
+    """Regression (data audit): at rest was below 1% of the largest speed, which took the slow
+    start and end of each slip for rest: 0.155 for 0.120 at 40 mm/s, 0.064 for 0.011 at 45 mm/s
+    (cubic law, noise-free velocity). Now within a sample per cycle (1/323 here)."""
+    p = cubic_params(v_mm_s)
+    true = S.cycle(p, probe=False)
+    assert true.regime == "stick-slip"
+    rec = synthetic_record(
+        p,
+        duration=f"{12 * true.period} s",
+        rate="500 Hz",
+        noise="0.5 mN",
+        with_velocity=True,
+        start=f"{true.transient_time} s",
+    )
+    _, s = measure_record(rec)
+    assert s.stick_fraction == pytest.approx(true.stick_fraction, abs=1.5 / (true.period * 500))
+
+
+@pytest.mark.parametrize(
+    ("column", "noise"), [("velocity", 2e-5), ("velocity", 3e-4), ("displacement", 1e-7)]
+)
+def test_stick_fraction_of_a_noisy_velocity(column: str, noise: float) -> None:
+    """Regression (data audit): velocity noise of 20 um/s (0.14% of the 14 mm/s peak) made the
+    stick fraction 0.38 for 0.984; 20 nm on the displacement, 0.51. At rest is now within four
+    standard deviations of the velocity's noise, estimated from its fourth differences: within
+    0.01 up to a noise of three times v0 (m/s), or 0.1 um on the displacement (m)."""
+    from stickslip.io.records import Record
+
+    p = S.zv_parameters("100 um/s")
+    true = S.cycle(p, probe=False)
+    rec = synthetic_record(
+        p,
+        duration=f"{22 * true.period} s",
+        rate="1 kHz",
+        with_velocity=True,
+        start=f"{true.transient_time} s",
+    )
+    assert rec.velocity is not None
+    rng = np.random.default_rng(3)
+    if column == "velocity":
+        noisy = Record(
+            rec.name,
+            rec.time,
+            rec.force,
+            None,
+            rec.velocity + noise * rng.standard_normal(rec.time.size),
+            p.v0,
+        )
+    else:
+        x = np.cumsum(rec.velocity) * 1e-3 + noise * rng.standard_normal(rec.time.size)
+        noisy = Record(rec.name, rec.time, rec.force, x, None, p.v0)
+    table, s = measure_record(noisy)
+    assert s.stick_fraction == pytest.approx(true.stick_fraction, abs=0.01)
+    assert np.all(np.isfinite(table.stick_fraction))
+    # noise as large as the slip speeds: rest cannot be told from slip, and the fraction says so
+    drowned = Record(
+        rec.name, rec.time, rec.force, None, rec.velocity + 0.02 * rng.standard_normal(rec.time.size)
+    )
+    assert np.isnan(measure_record(drowned)[1].stick_fraction)
+
+
 def make_folder(folder: Path, params_list, *, index: bool) -> Path:
     folder.mkdir()
     lines = ["file,v0 [mm/s],load [N]"]
@@ -437,3 +500,28 @@ def test_messages_name_the_line_an_editor_shows(tmp_path: Path) -> None:
     # a table given as arrays names its rows
     with pytest.raises(ValueError, match=r"row 2: friction coefficient -0\.4"):
         TabulatedLaw(S.Q_([0.0, 1.0, 2.0, 3.0, 4.0], "um/s"), [0.5, -0.4, 0.4, 0.4, 0.4])
+
+
+def test_a_record_made_in_python_is_checked_as_a_file_is() -> None:
+    """Regression (data audit): Record took anything: a 2-D force broadcast into an n x n array
+    (the process ran out of memory at 36k samples), lists failed on .size, a velocity of the
+    wrong length gave a NaN stick fraction, NaN force and repeated times went on silently."""
+    from stickslip.io.records import Record
+
+    t = np.arange(100) * 0.01
+    f = np.sin(t)
+    ok = Record("r", list(t), list(f))  # lists are taken as arrays
+    assert isinstance(ok.time, np.ndarray) and ok.force.dtype == float
+    bad = [
+        (dict(force=f[:, None]), r"r: force: expected a 1-D array of samples \(N\), got shape \(100, 1\)"),
+        (dict(force=f[:50]), "r: force has 50 samples, time has 100"),
+        (dict(velocity=f[:99]), "r: velocity has 99 samples, time has 100"),
+        (dict(force=np.where(t > 0.5, np.nan, f)), r"r: force\[51\]=nan: expected finite values \(N\)"),
+        (dict(time=np.r_[t[:10], t[9:99]]), "r: time is not strictly increasing at samples 9 and 10"),
+        (dict(time=t[::-1]), "r: time is not strictly increasing at samples 0 and 1"),
+        (dict(force=["a"] * 100), r"r: force: expected numbers \(N\), got list"),
+    ]
+    for change, message in bad:
+        kwargs = {"time": t, "force": f} | change
+        with pytest.raises(ValueError, match=message):
+            Record("r", **kwargs)

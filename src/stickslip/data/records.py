@@ -257,6 +257,7 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
         pv = np.array([_side_fit(t, f, i, w, -1) for i in pk])
         drift = float(np.polyfit(t[pk], pv, 1)[0])
     fd = f - drift * (t - t[0])
+    speed, rest = _rest_velocity(record)
     cycles = []
     j = 0
     for a, p in enumerate(pk[:-1]):
@@ -273,7 +274,7 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
         lo, hi = q + (nxt - q) // 5, nxt - (nxt - q) // 5
         slope = float(np.polyfit(t[lo:hi], fd[lo:hi], 1)[0]) if hi - lo >= 3 else math.nan
         cycles.append(
-            (t[p], peak_v, trough_v, period_c, period_c - drop, drop, _stick(record, p, nxt), slope)
+            (t[p], peak_v, trough_v, period_c, period_c - drop, drop, _stick(speed, rest, p, nxt), slope)
         )
     if len(cycles) < min_cycles:
         raise DataError(
@@ -341,22 +342,39 @@ def _fall_time(t: FloatArray, f: FloatArray, p: int, q: int, hi: float, lo: floa
     return float(max(tb - ta, 0.0))
 
 
-def _stick(record: Record, i0: int, i1: int) -> float:
-    """Fraction of samples in [i0, i1) at rest, from velocity or displacement (NaN if neither)."""
+def _rest_velocity(record: Record) -> tuple[FloatArray | None, float]:
+    """Return the slider's speed and the speed below which it is at rest (None, NaN if neither).
+
+    The speed is the velocity column, or the gradient of the displacement column. At rest
+    means at most four standard deviations of the velocity's noise, which comes from the
+    median absolute fourth difference (white noise: variance 70 sigma^2; it passes none of a
+    smooth cubic, so the slow start of a slip is not taken for noise, as a fixed share of the
+    largest speed took it). A noise-free record keeps a floor of 1e-9 of its largest speed.
+    NaN when that limit is a quarter of the largest speed or more (rest cannot be told from
+    slip).
+    """
     if record.velocity is not None:
-        v = record.velocity
+        signed = record.velocity
     elif record.displacement is not None:
-        v = np.gradient(record.displacement, record.time)
+        signed = np.gradient(record.displacement, record.time)
     else:
+        return None, math.nan
+    v = np.abs(signed)
+    vmax = float(np.nanmax(v)) if np.any(np.isfinite(v)) else math.nan
+    if not vmax > 0:
+        return v, 0.0 if vmax == 0 else math.nan
+    d4 = np.diff(signed, 4)
+    d4 = d4[np.isfinite(d4)]
+    sigma = 1.4826 * float(np.median(np.abs(d4))) / math.sqrt(70.0) if d4.size else 0.0
+    limit = max(4.0 * sigma, 1e-9 * vmax)
+    return v, (limit if limit < 0.25 * vmax else math.nan)
+
+
+def _stick(speed: FloatArray | None, limit: float, i0: int, i1: int) -> float:
+    """Fraction of the samples in [i0, i1) at rest: speed at most ``limit`` (NaN without a speed)."""
+    if speed is None or math.isnan(limit):
         return math.nan
-    seg = np.abs(v[i0:i1])
-    vmax = float(np.max(np.abs(v)))
-    if vmax == 0:
-        return 1.0
-    # at rest: below 1% of the record's largest speed (or of the driving velocity if known)
-    ref = float(record.v0.to("m/s").magnitude) if record.v0 is not None else vmax
-    thr = 0.01 * min(vmax, 10 * ref) if record.v0 is not None else 0.01 * vmax
-    return float(np.mean(seg < thr))
+    return float(np.mean(speed[i0:i1] <= limit))
 
 
 def synthetic_record(

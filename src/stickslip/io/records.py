@@ -68,6 +68,41 @@ class Record:
     metadata: Mapping[str, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
+        # arrays as the readers make them: a 2-D force broadcast into an n x n array (and ran out
+        # of memory), lists failed on .size, NaN and repeated times went on silently
+        if not isinstance(self.name, str):
+            raise ValueError(f"name={self.name!r}: expected a str")
+        n = None
+        for key, unit in (("time", "s"), ("force", "N"), ("displacement", "m"), ("velocity", "m/s")):
+            value = getattr(self, key)
+            if value is None and key in ("displacement", "velocity"):
+                continue
+            try:
+                arr = np.asarray(value, dtype=float)
+            except (TypeError, ValueError):
+                raise ValueError(
+                    f"{self.name}: {key}: expected numbers ({unit}), got {type(value).__name__}"
+                ) from None
+            if arr.ndim != 1:
+                raise ValueError(
+                    f"{self.name}: {key}: expected a 1-D array of samples ({unit}), got shape {arr.shape}"
+                )
+            if n is None:
+                n = arr.size
+            elif arr.size != n:
+                raise ValueError(f"{self.name}: {key} has {arr.size} samples, time has {n}")
+            bad = ~np.isfinite(arr)
+            if bad.any():
+                i = int(np.argmax(bad))
+                raise ValueError(f"{self.name}: {key}[{i}]={float(arr[i])!r}: expected finite values ({unit})")
+            object.__setattr__(self, key, arr)
+        step = np.diff(self.time)
+        if np.any(step <= 0):
+            i = int(np.argmax(step <= 0))
+            raise ValueError(
+                f"{self.name}: time is not strictly increasing at samples {i} and {i + 1} "
+                f"({float(self.time[i])!r} s then {float(self.time[i + 1])!r} s)"
+            )
         # v0=1e-5 (no unit) failed later with an AttributeError on .to
         for key, dim, example in (("v0", "[length] / [time]", "10 um/s"), ("load", "[force]", "196 mN")):
             value = getattr(self, key)
