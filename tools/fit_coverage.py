@@ -1,9 +1,10 @@
 """Coverage of `stickslip fit` on records from the independent SciPy generator (tests/reference.py).
 
-Usage: python tools/fit_coverage.py FIRST_SEED LAST_SEED
+Usage: python tools/fit_coverage.py FIRST_SEED LAST_SEED [RATE_HZ [NOISE_N]]
 
-For each seed, 60 periods of the zv set-up at 100 um/s (1 kHz, 1 mN noise) are made
-by `reference_record` and fitted; prints the reduced chi-square and the pull
+For each seed, 60 periods of the zv set-up at 100 um/s (default 1 kHz, 1 mN noise),
+starting 0.137 * seed periods (mod 1) after a breakaway, are made by
+`reference_record` and fitted; prints the reduced chi-square and the pull
 (estimate - truth) / error of each parameter, then their mean, spread and how many
 fall within 2 errors.
 """
@@ -27,7 +28,7 @@ MASS = float(S.zv_parameters().mass.to("kg").magnitude)
 TRUTH = {"mu_s": 0.46, "a": 160.0, "k": 62.0, "m": MASS}
 
 
-def main(first: int, last: int) -> None:
+def main(first: int, last: int, rate: float = 1000.0, noise: float = 1e-3) -> None:
     pulls: dict[str, list[float]] = {k: [] for k in TRUTH}
     for seed in range(first, last):
         t, f = reference_record(
@@ -39,9 +40,10 @@ def main(first: int, last: int) -> None:
             load=0.196,
             v0=1e-4,
             periods=60,
-            rate=1000.0,
-            noise=1e-3,
+            rate=rate,
+            noise=noise,
             seed=seed,
+            phase=(0.137 * seed) % 1.0,
         )
         res = fit_record(Record(f"seed {seed}", t, f, None, None, S.Q_(100, "um/s"), S.Q_(196, "mN"), {}))
         for k, truth in TRUTH.items():
@@ -55,4 +57,4 @@ def main(first: int, last: int) -> None:
 
 
 if __name__ == "__main__":
-    main(int(sys.argv[1]), int(sys.argv[2]))
+    main(int(sys.argv[1]), int(sys.argv[2]), *(float(x) for x in sys.argv[3:5]))

@@ -83,6 +83,12 @@ def register(main: click.Group) -> None:
         show_default=True,
         help="Fit the force waveform (started from cycle features), or the cycle features only.",
     )
+    @click.option(
+        "--noise",
+        default=None,
+        help="Standard deviation of the force's noise, e.g. '0.4 mN', weighting the waveform fit "
+        "(default: estimated from the record's second differences).",
+    )
     @out_dir_option("Output folder: fit.json, fit.csv, fit_overlay.png/.svg.")
     @click.option("--no-plot", is_flag=True, help="Do not draw the overlay figure.")
     @click.option("--json", "as_json", is_flag=True, help="Print the fit as JSON.")
@@ -94,6 +100,7 @@ def register(main: click.Group) -> None:
         load: str | None,
         fit_b: bool,
         method: str,
+        noise: str | None,
         out_dir: str,
         no_plot: bool,
         as_json: bool,
@@ -116,7 +123,7 @@ def register(main: click.Group) -> None:
                 | ({} if no_plot else figure_names("fit_overlay"))
             )
             rec = read_record(record_file, v0=v0, load=load)
-            res = fit_record(rec, fit_b=fit_b, method=method)
+            res = fit_record(rec, fit_b=fit_b, method=method, noise=noise)
             d = res.as_dict()
             rows = "".join(
                 f"{name},{v['value']!r},{v['error']!r},{v['unit']}\n" for name, v in d["parameters"].items()
@@ -135,12 +142,16 @@ def register(main: click.Group) -> None:
         for name, v in d["parameters"].items():
             if v.get("at_bound"):
                 click.echo(f"{name:4s} = 0 (at its bound; < {v['upper_limit_95']:.3g} {v['unit']} at 95%)")
+            elif v["error"] is None:
+                click.echo(f"{name:4s} = {v['value']:.6g} {v['unit']} (not constrained by the record)")
             else:
                 click.echo(f"{name:4s} = {v['value']:.6g} +- {v['error']:.2g} {v['unit']}")
         click.echo(
             f"reduced chi2 = {res.reduced_chi2:.3f} ({res.method} fit, {res.samples} "
             f"{'samples' if res.method == 'waveform' else 'features'}, noise {1e3 * res.noise:.3g} mN)"
         )
+        if res.drift:
+            click.echo(f"drift = {1e3 * res.drift:+.3g} mN/s (zero at t = {res.drift_origin:.6g} s)")
         for w in res.warnings:
             click.echo(f"warning: {w}")
         click.echo("wrote " + ", ".join(paths))
