@@ -525,3 +525,32 @@ def test_a_record_made_in_python_is_checked_as_a_file_is() -> None:
         kwargs = {"time": t, "force": f} | change
         with pytest.raises(ValueError, match=message):
             Record("r", **kwargs)
+
+
+def test_no_verdict_says_why(tmp_path: Path) -> None:
+    """Regression (data audit): one record with its v0 was told 'records need driving
+    velocities'; the reason was that the criterion needs two."""
+    p = S.zv_parameters("100 um/s")
+    true = S.cycle(p, probe=False)
+    rec = synthetic_record(
+        p, duration=f"{6 * true.period} s", rate="200 Hz", noise="0.5 mN", start=f"{true.transient_time} s"
+    )
+    with_v0 = write_record(tmp_path / "a.csv", rec, meta="# v0 = 100 um/s\n# load = 196 mN\n")
+    bare = write_record(tmp_path / "b.csv", rec)
+    for path, why in (
+        (with_v0, "it needs at least 2 measured records at different driving velocities, and 1 of 1"),
+        (bare, "1 of 1 records have no driving velocity; give it in index.csv"),
+    ):
+        out = str(tmp_path / path.stem)
+        res = CliRunner().invoke(main, ["analyze", str(path), "--out", out, "--no-plot"])
+        assert res.exit_code == 0, res.output
+        assert f"criterion: no verdict ({why}" in res.output, res.output
+
+
+@pytest.mark.parametrize("sep", [";", "\t"])
+def test_a_decimal_comma_is_named_whatever_the_delimiter(tmp_path: Path, sep: str) -> None:
+    """Regression (data audit): the decimal-comma hint came only with ',' as the delimiter."""
+    path = tmp_path / "r.csv"
+    path.write_text(f"time [s]{sep}force [mN]\n0{sep}10,5\n0.1{sep}11,25\n")
+    with pytest.raises(ValueError, match=r"'10,5' is not a number \(a decimal comma\? write a decimal point"):
+        read_record(path)

@@ -67,7 +67,16 @@ def register(main: click.Group) -> None:
         cols = ["name", "n_cycles", "v0 [m/s]", "load [N]", "amplitude [N]", "period [s]", "stick_fraction"]
         click.echo(table[cols].to_string(index=False, float_format=lambda x: f"{x:.4g}"))
         if verdict is None:
-            click.echo("criterion: no verdict (records need driving velocities)")
+            no_v0 = int(table["v0 [m/s]"].isna().sum())
+            measured = int((table["v0 [m/s]"].notna() & table["amplitude [N]"].notna()).sum())
+            why = (
+                f"{no_v0} of {len(table)} records have no driving velocity; give it in index.csv "
+                "('v0 [unit]') or a '# v0 = ...' header line"
+                if no_v0
+                else f"it needs at least 2 measured records at different driving velocities, "
+                f"and {measured} of {len(table)} could be measured"
+            )
+            click.echo(f"criterion: no verdict ({why})")
         else:
             click.echo(f"criterion: {verdict.verdict} ({verdict.reason})")
 

@@ -94,7 +94,8 @@ class Record:
             bad = ~np.isfinite(arr)
             if bad.any():
                 i = int(np.argmax(bad))
-                raise ValueError(f"{self.name}: {key}[{i}]={float(arr[i])!r}: expected finite values ({unit})")
+                shown = float(arr[i])
+                raise ValueError(f"{self.name}: {key}[{i}]={shown!r}: expected finite values ({unit})")
             object.__setattr__(self, key, arr)
         step = np.diff(self.time)
         if np.any(step <= 0):

@@ -481,7 +481,10 @@ def diagnose(
                 try:
                     x = float(cell)
                 except ValueError:
-                    raise DataError(f"{place}, column {name!r}: {_show(cell)} is not a number") from None
+                    comma = re.fullmatch(r"[+-]?\d*,\d+([eE][+-]?\d+)?", cell) is not None
+                    hint = " (a decimal comma? write a decimal point: 10.5, not 10,5)" if comma else ""
+                    message = f"{place}, column {name!r}: {_show(cell)} is not a number{hint}"
+                    raise DataError(message) from None
                 if math.isinf(x):
                     raise DataError(f"{place}, column {name!r}: {_show(cell)} is not a finite number")
                 if nan_is_error and math.isnan(x):
