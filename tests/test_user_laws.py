@@ -273,3 +273,25 @@ def test_table_conventions(tmp_path: Path) -> None:
         )
     with pytest.raises(ValueError, match="interpolation='linear'"):
         TabulatedLaw(ss.Q_([0, 1, 2, 3, 4], "um/s"), [0.5, 0.4, 0.4, 0.4, 0.4], interpolation="linear")
+
+
+def test_user_law_audit_regressions(tmp_path: Path) -> None:
+    """Regressions (audit of user laws, helper-26): a table in '[%]' was read as plain numbers
+    (friction 100 times too high); erf, a documented function, was a traceback (the array
+    evaluation fell back to math.erf); a formula with a complex value was a traceback deep in the
+    engine. Now: '[%]' is hundredths, erf evaluates on arrays, a complex formula is refused."""
+    rows = "0,50\n1,46\n10,40\n30,37\n100,35\n"
+    pct = TabulatedLaw.from_csv(_table(tmp_path, rows, "velocity [um/s],friction coefficient [%]"))
+    p = tmp_path / "one"
+    p.mkdir()
+    one = TabulatedLaw.from_csv(_table(p, "0,0.50\n1,0.46\n10,0.40\n30,0.37\n100,0.35\n"))
+    assert pct.mu_s == pytest.approx(0.5) and pct.mu_s == pytest.approx(one.mu_s)
+    law = ExpressionLaw("1 + 0.5*w - 0.1*erf(w)")
+    w = np.array([0.1, 1.0, 3.0])
+    expected = [1 + 0.5 * x - 0.1 * math.erf(x) for x in w]
+    np.testing.assert_allclose(np.ravel(law.spec.evaluate(w, [])), expected, rtol=1e-14)
+    res = CliRunner().invoke(main, ["cycle", "--law", "expr", "--f", "1/(1+3*w) + 0.2*erf(w)", "--nu", "0.1"])
+    assert res.exit_code == 0 and "stick-slip" in res.output, res.output
+    for formula in ("1 + sqrt(-1)*w", "(-1)**0.5*w + 1"):
+        with pytest.raises(ValueError, match="the formula is not a real number"):
+            ExpressionLaw(formula)

@@ -417,7 +417,7 @@ def _dimension_check(expr: sp.Expr, quantities: Mapping[str, Any], text: str) ->
     ``v`` either as a velocity (``a = 160 s/m`` in ``1 + a*v``) or as a number of m/s.
     """
     names = sorted(quantities)
-    fn = sp.lambdify([V, *[sp.Symbol(n, real=True) for n in names]], expr, modules="numpy")
+    fn = sp.lambdify([V, *[sp.Symbol(n, real=True) for n in names]], expr, modules=["scipy", "numpy"])
     reasons = []
     for v in (Q_(1e-3, "m/s"), 1e-3):
         try:
@@ -449,7 +449,7 @@ def _number(name: str, x: Any) -> float:
 def _static_from(expr: sp.Expr, names: list[str]) -> Any:
     at_zero = expr.subs(V, 0)
     if not at_zero.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
-        fn = sp.lambdify([sp.Symbol(n, real=True) for n in names], at_zero, modules="numpy")
+        fn = sp.lambdify([sp.Symbol(n, real=True) for n in names], at_zero, modules=["scipy", "numpy"])
 
         def direct(values: Mapping[str, FloatArray]) -> FloatArray:
             arrays = [np.asarray(values[n], dtype=float) for n in names]

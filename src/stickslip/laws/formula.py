@@ -142,4 +142,9 @@ def parse_formula(text: str, name: str, variables: Iterable[str]) -> sp.Expr:
     expr = build(tree)
     if not isinstance(expr, sp.Expr):
         raise FormulaError(f"{name}={text!r}: not a formula")
+    if expr.has(sp.I, sp.zoo, sp.nan):  # sqrt(-1), (-1)**0.5, 1/0: a traceback deep in the engine
+        raise FormulaError(
+            f"{name}={text!r}: the formula is not a real number ({sp.sstr(expr)}): "
+            "expected a real function (no square root or fractional power of a negative constant, no 1/0)"
+        )
     return expr

@@ -320,7 +320,7 @@ class LawSpec:
     @functools.cache  # noqa: B019
     def numpy_function(self, order: int) -> Callable[..., Any]:
         """``f_+^(n)(w, *params)`` as a vectorised numpy function."""
-        return sp.lambdify((W, *self.symbols), self.derivative(order), modules="numpy")
+        return sp.lambdify((W, *self.symbols), self.derivative(order), modules=["scipy", "numpy"])
 
     @functools.cache  # noqa: B019
     def scalar_function(self, order: int) -> Callable[..., float]:
@@ -434,13 +434,13 @@ class LawSpec:
     def _to_dimensionless_fn(self) -> Callable[..., Any]:
         args = (*[sp.Symbol(p.name, real=True) for p in self.physical], BETA, MU_S)
         out = [self._mapping[p.name] for p in self.parameters]
-        return sp.lambdify(args, out, modules="numpy", dummify=True)
+        return sp.lambdify(args, out, modules=["scipy", "numpy"], dummify=True)
 
     @functools.cached_property
     def _to_physical_fn(self) -> Callable[..., Any]:
         args = (*[sp.Symbol(p.name, real=True) for p in self.parameters], BETA, MU_S)
         out = [self._inverse[p.name] for p in self.physical]
-        return sp.lambdify(args, out, modules="numpy", dummify=True)
+        return sp.lambdify(args, out, modules=["scipy", "numpy"], dummify=True)
 
     def dimensionless_values(
         self, physical_si: Mapping[str, npt.ArrayLike], beta: npt.ArrayLike, mu_s: npt.ArrayLike

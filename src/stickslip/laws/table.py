@@ -277,7 +277,9 @@ class TabulatedLaw(PhysicalLaw):
         force_col = next((cols[k] for k in ("friction force", "friction") if k in cols), None)
         coef_col = next((cols[k] for k in ("friction coefficient", "mu") if k in cols), None)
         if coef_col is not None and (coef_col.unit is None or (1.0 * coef_col.unit).dimensionless):
-            mu = coef_col.values
+            # a dimensionless unit is a scale all the same: '[%]' is hundredths (it was read as is)
+            unit = coef_col.unit
+            mu = coef_col.values if unit is None else Q_(coef_col.values, unit).to("").magnitude
         elif force_col is not None and force_col.unit is not None and (1.0 * force_col.unit).check("[force]"):
             if load is None:
                 raise DataError(
