@@ -295,3 +295,13 @@ def test_user_law_audit_regressions(tmp_path: Path) -> None:
     for formula in ("1 + sqrt(-1)*w", "(-1)**0.5*w + 1"):
         with pytest.raises(ValueError, match="the formula is not a real number"):
             ExpressionLaw(formula)
+
+
+def test_a_pole_between_the_checked_velocities_is_an_error_not_a_traceback() -> None:
+    """Regression (audit of user laws): a pole at w = 0.7, between the velocities the law is
+    checked at, raised ZeroDivisionError from the compiled engine in `regimes`."""
+    f = "1/(1+3.8*w) + 0.001/(w-0.7) + 0.001/0.7"
+    res = CliRunner().invoke(main, ["regimes", "--law", "expr", "--f", f, "--nu-min", "0.1", "--nu-max", "2"])
+    assert res.exit_code == 2, res.output
+    assert "the friction law divides by zero at a velocity the motion reached" in res.output
+    assert "Traceback" not in res.output

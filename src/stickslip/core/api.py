@@ -269,6 +269,21 @@ def threads() -> int:
 
 
 def in_blocks(call: Callable[[int, int], None], n: int, done: Callable[[int], None] | None = None) -> None:
+    """Run :func:`_in_blocks`; a division by zero in a compiled friction law is a ValueError that says so.
+
+    A user's formula with a pole (``0.001/(w - 0.7)``) raises ZeroDivisionError inside the
+    compiled code when a row lands on it exactly; it was a traceback from deep in the engine.
+    """
+    try:
+        _in_blocks(call, n, done)
+    except ZeroDivisionError:
+        raise ValueError(
+            "the friction law divides by zero at a velocity the motion reached (a pole of its "
+            "formula); give a law that is finite at every velocity w >= 0"
+        ) from None
+
+
+def _in_blocks(call: Callable[[int, int], None], n: int, done: Callable[[int], None] | None = None) -> None:
     """Run ``call(lo, hi)`` over blocks of the rows ``0..n``, in a pool of :func:`threads` threads.
 
     The row kernels release the GIL, so the blocks run side by side. Blocks are
