@@ -178,12 +178,17 @@ def test_fit_at_a_low_sampling_rate_reaches_the_minimum(rate: float, noise: floa
     assert abs(z.mean()) < 0.8 and 0.4 < z.std() < 1.6, z.reshape(-1, 4)
 
 
-def test_fit_json_reports_reduced_chi2(tmp_path: Path) -> None:
-    rec = independent_record(5, periods=15)
-    path = tmp_path / "independent.csv"
+def write_csv(path: Path, rec) -> Path:
+    """Write a zv record as a CSV with its v0 and load in header lines, force in mN."""
     with open(path, "w") as fh:
         fh.write("# v0 = 100 um/s\n# load = 196 mN\ntime [s],force [mN]\n")
         np.savetxt(fh, np.c_[rec.time, rec.force * 1e3], delimiter=",", fmt="%.12g")
+    return path
+
+
+def test_fit_json_reports_reduced_chi2(tmp_path: Path) -> None:
+    rec = independent_record(5, periods=15)
+    path = write_csv(tmp_path / "independent.csv", rec)
     res = CliRunner().invoke(main, ["fit", str(path), "--out", str(tmp_path / "out"), "--json"])
     assert res.exit_code == 0, res.output
     d = json.loads(res.output)
@@ -258,10 +263,7 @@ def test_drift_is_reported_with_the_time_it_is_zero_at(tmp_path: Path) -> None:
     assert d["drift"] == {"value": f.drift, "unit": "N/s", "zero_at": t_mid, "zero_at_unit": "s"}
     # no drift: no warning
     assert not fit_record(rec).warnings
-    path = tmp_path / "drifted.csv"
-    with open(path, "w") as fh:
-        fh.write("# v0 = 100 um/s\n# load = 196 mN\ntime [s],force [mN]\n")
-        np.savetxt(fh, np.c_[drifted.time, drifted.force * 1e3], delimiter=",", fmt="%.12g")
+    path = write_csv(tmp_path / "drifted.csv", drifted)
     res = CliRunner().invoke(main, ["fit", str(path), "--out", str(tmp_path / "o"), "--no-plot"])
     assert res.exit_code == 0, res.output
     assert f"drift = +0.02 mN/s (zero at t = {t_mid:.6g} s)" in res.output
