@@ -335,9 +335,9 @@ def fit_record(
     noise_ = noise_level(record.force) if given_noise is None else given_noise
     samples = len(FEATURES)
     drift, drift_origin = float(summary.drift), float(record.time[0])
+    dt = float(np.median(np.diff(record.time)))  # the sample interval (s)
     if method == "waveform":
         fitted = _fit_waveform(record, table, summary, coords, theta, v0, load, noise_)
-        dt = float(np.median(np.diff(record.time)))
         if fitted[2] > CHI2_WARN and summary.drop_time < 3.0 * dt and (guess is None or "m" not in guess):
             # the drop falls between samples: the features cannot place m (nor a, along the a-m
             # valley), and from a poor start the waveform fit wanders off (2 Hz: reduced chi2 900
@@ -383,7 +383,6 @@ def fit_record(
             f"reduced chi-square {chi2:.2f} > {CHI2_WARN:g}: the model does not describe the record "
             f"to within its noise ({1e3 * noise_:.3g} mN); errors scaled up by its square root"
         )
-    dt = float(np.median(np.diff(record.time)))
     half_window = (
         0.5 * samples * dt if method == "waveform" else 0.5 * float(record.time[-1] - record.time[0])
     )
