@@ -8,16 +8,17 @@ import numpy as np
 import pytest
 import xarray as xr
 from click.testing import CliRunner
-from reference import forward_branch, reference_cycle
+from reference import forward_branch, pure_slip_orbit_reference, reference_cycle
 from scipy.integrate import solve_ivp
 
 from stickslip import CoulombLaw, CubicLaw, DimensionlessParameters, WeakeningLaw
 from stickslip.bifurcation.averaging import averaging_table, thomsen_fidlin
 from stickslip.bifurcation.orbits import law_arrays, pure_slip_orbit, saltation, stick_slip_orbit
 from stickslip.bifurcation.regime_map import criterion_table, criterion_trial, regime_map
-from stickslip.bifurcation.regimes import _fold, confirm, pure_slip_orbits_at, regimes
+from stickslip.bifurcation.regimes import _fold, _orbits_at, confirm, pure_slip_orbits_at, regimes
 from stickslip.cli import main
 from stickslip.core.api import run_flow
+from stickslip.laws.expression import ExpressionLaw
 
 CUBIC = CubicLaw(alpha=0.5, gamma=0.5 / 3)  # supercritical Hopf at nu = 1
 F2 = WeakeningLaw(c=3.8, p=0.5)  # subcritical Hopf at nu = 0.4623
@@ -163,6 +164,62 @@ def test_fold_location() -> None:
     assert f.kind == "fold"
     assert f.nu == pytest.approx(1.0, abs=1e-4)
     assert f.amplitude == pytest.approx(1.0, abs=1e-2)
+
+
+def test_a_fold_of_cycles_is_located_to_1e_9() -> None:
+    """Regression (audit of user laws): a fold of cycles was the vertex of a quadratic through
+    three continuation points, 5.7e-4 short on this N-shaped law (2.2786964 for 2.2792696), so
+    `regime_at(2.279)` said stick-slip only though a stable pure-slip orbit exists there.
+
+    Reference: plain SciPy shooting of the stable and the unstable orbit at two velocities below
+    the fold; near a saddle-node the squared gap between their amplitudes is linear in the
+    distance to the fold, which gives the fold independently."""
+    law = ExpressionLaw("1/(1+3.8*w)+2*w*exp(-w/2)")
+    d = regimes(law, 1.5, 3.0)
+    (fold,) = [p for p in d.points if p.kind == "fold"]
+    assert "multiplier 1.0000" in fold.detail
+    gaps = []
+    nus = (fold.nu - 4e-5, fold.nu - 1e-5)
+    for nu in nus:
+        orbits = []
+        for amp, s0, period in _orbits_at(d.branches, nu, stable_only=False):
+            if amp > 4.0:  # the two orbits about to meet (the small one near the Hopf point aside)
+                orbits.append(
+                    pure_slip_orbit_reference(
+                        lambda w: float(law.at(w)), lambda w: float(law.at(w, 1)), nu, (s0, period)
+                    )
+                )
+        amps = sorted({round(o.amplitude, 9) for o in orbits})
+        assert len(amps) == 2, (nu, amps)
+        mults = sorted(o.multiplier for o in orbits)
+        assert mults[0] < 1.0 < mults[1]  # one stable, one unstable
+        gaps.append((amps[1] - amps[0]) ** 2)
+    nu_ref = nus[1] + gaps[1] * (nus[1] - nus[0]) / (gaps[0] - gaps[1])
+    assert fold.nu == pytest.approx(nu_ref, abs=2e-8)
+    assert d.regime_at(2.279).regime == "bistable"  # stick-slip and the stable pure-slip orbit
+    assert d.regime_at(fold.nu + 1e-6).regime == "stick-slip"
+
+
+def test_continuation_does_not_jump_to_another_part_of_its_branch() -> None:
+    """Regression (audit of user laws): on this law's branch from its subcritical Hopf point,
+    near grazing (minimum velocity 0.025), one corrector step landed on the unstable part of
+    the same branch (9.6 away in amplitude for a step of at most 0.2) and retraced it to the
+    Hopf point: the branch ended `hopf`, no grazing point, the unstable part drawn twice.
+    Now the branch ends where the stick-slip onset (located independently, by bisection on the
+    engine) says it grazes."""
+    law = ExpressionLaw("1/(1+3.8*w)+2*w*exp(-w/2)+0.05*w")
+    d = regimes(law, 9.0, 16.0)
+    (h,) = d.hopf
+    assert h.criticality == "subcritical" and h.nu == pytest.approx(10.3264898, abs=1e-7)
+    (b,) = [b for b in d.branches if b.kind == "pure-slip" and abs(b.nu[0] - h.nu) < 0.01]
+    assert b.end == "grazing"
+    assert np.all(np.abs(np.diff(b.amplitude)) < 1.0)  # no jump along the branch
+    (graze,) = [p for p in d.points if p.kind == "grazing"]
+    (onset,) = [p for p in d.points if p.kind == "stick-slip-onset"]
+    assert graze.nu == pytest.approx(onset.nu, abs=1e-7)
+    (fold,) = [p for p in d.points if p.kind == "fold"]
+    assert fold.nu == pytest.approx(15.2324919, abs=1e-6)
+    assert [iv.regime for iv in d.intervals] == ["stick-slip", "bistable", "bistable", "steady-sliding"]
 
 
 def test_thomsen_fidlin_formulas() -> None:

@@ -104,7 +104,9 @@ def regime_map(
         :data:`REGIME_CODES`, named in ``flag_meanings``), ``observed`` (what a
         simulation from rest reaches), ``amplitude`` (its spring-force range, units
         of static friction) and, per ``param`` value, the interval ends ``hopf``,
-        ``fold``, ``grazing`` and ``stick_slip_onset`` (NaN when absent).
+        ``fold``, ``grazing`` and ``stick_slip_onset``: the smallest ``nu`` of each
+        kind in the row, NaN when absent (a row with two Hopf points keeps the
+        lower; :func:`~.regimes.regimes` at that value lists them all).
 
     """
     law = require_dimensionless_law(law)

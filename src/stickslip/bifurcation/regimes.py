@@ -26,9 +26,10 @@ Three kinds of branch exist for a velocity-dependent law (PHYSICS.md §3):
 The regime at a driving velocity is the set of attractors there: the stable
 steady sliding, the stable pure-slip orbits, the stick-slip orbit.
 ``bistable`` marks two or more. Interval ends are located to ``1e-9`` (Hopf,
-grazing of a continued orbit, onset of stick-slip by bisection on the engine)
-or to the continuation's resolution (folds, by a quadratic through the three
-points around the turn).
+grazing of a continued orbit, onset of stick-slip by bisection on the engine,
+folds of cycles by Brent on the ``nu`` component of the branch's tangent); a fold
+whose refinement fails falls back to the vertex of the quadratic through the
+three points around the turn (the continuation's resolution).
 """
 
 from __future__ import annotations
@@ -389,6 +390,15 @@ def continue_pure_slip(
             continue
         xn, its = res
         _, j_n, m = sh.evaluate(xn, measure=True)
+        # the corrector's hyperplane can cut the branch again far away (near grazing, on the
+        # unstable part it came along): a step that lands farther than its own length from the
+        # prediction, or turns the tangent by more than 25 degrees, is taken again, shorter
+        if np.linalg.norm(xn - (x + ds * tangent)) > ds or abs(np.dot(_null_vector(j_n), tangent)) < 0.9:
+            ds *= 0.5
+            if ds < 1e-9 * scale:
+                end = "failed"
+                break
+            continue
         if not (nu_min <= xn[2] <= nu_max):
             # land exactly on the end of the range
             target = nu_max if xn[2] > nu_max else nu_min
@@ -421,7 +431,21 @@ def continue_pure_slip(
         pts.append(xn)
         meas.append(m)
         if t_new[2] * tangent[2] < 0:  # nu turned back: a fold of cycles between the last points
-            special.append(_fold(pts[-3:], meas[-3:]))
+            fold = _refine_fold(sh, pts[-3:], tol)
+            if fold is None:  # the quadratic through the three points (to the step's resolution)
+                special.append(_fold(pts[-3:], meas[-3:]))
+            else:  # on the branch too: the orbits between its last points and the fold exist
+                xf, mf, k = fold
+                pts.insert(len(pts) - 3 + k, xf)
+                meas.insert(len(meas) - 3 + k, mf)
+                special.append(
+                    SpecialPoint(
+                        "fold",
+                        float(xf[2]),
+                        mf["amplitude"],
+                        f"fold of cycles (saddle-node); multiplier {mf['multiplier']:.6f}",
+                    )
+                )
         tangent = t_new
         ds = min(ds_max, ds * (1.5 if its <= 3 else (1.0 if its <= 5 else 0.5)))
     xa = np.array(pts)
@@ -473,6 +497,70 @@ def _grazing(
         else:
             hi, w_hi = sig, wv
     return best
+
+
+def _refine_fold(
+    sh: _Shooter, pts: Sequence[np.ndarray], tol: float
+) -> tuple[np.ndarray, dict[str, float], int] | None:
+    """Locate the fold of cycles between the first and last of three branch points, to ``1e-9``.
+
+    The branch is parametrised by ``sigma``, the position along the chord from
+    ``pts[0]`` to ``pts[2]`` (transverse to ``nu`` near a fold); at each ``sigma``
+    the orbit is solved by Newton, and the fold is the root of the ``nu``
+    component of the branch's tangent (Brent). Returns the fold's ``(A, T, nu)``,
+    its measurements and where it goes among the three points (1: after the
+    first, 2: after the second); None when a solve fails (the caller falls back
+    to the quadratic through the points).
+    """
+    p = np.array(pts)
+    chord = p[2] - p[0]
+    length = float(np.linalg.norm(chord))
+    if not length > 0:
+        return None
+    d = chord / length
+    sig = p @ d - float(p[0] @ d)
+    if not (0.0 < sig[1] < sig[2]):
+        return None
+    guess = [np.polyfit(sig, p[:, i], 2) for i in range(3)]
+
+    def solve(s: float) -> tuple[np.ndarray, np.ndarray] | None:
+        x0 = np.array([np.polyval(c, s) for c in guess])
+        xp = p[0] + s * d
+
+        def aug(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            g, j = sh.residual(x)
+            return np.concatenate([g, [float(np.dot(d, x - xp))]]), np.vstack([j, d])
+
+        res = _newton(aug, x0, tol)
+        if res is None:
+            return None
+        _, j = sh.residual(res[0])
+        t = _null_vector(j)
+        return res[0], (t if np.dot(t, d) > 0 else -t)
+
+    def tnu(s: float) -> float:
+        r = solve(s)
+        if r is None:
+            raise RuntimeError("no orbit")
+        return float(r[1][2])
+
+    from scipy import optimize
+
+    try:
+        t0, t1, t2 = tnu(0.0), tnu(float(sig[1])), tnu(float(sig[2]))
+        if t0 * t1 <= 0:
+            lo, hi = 0.0, float(sig[1])
+        elif t1 * t2 <= 0:
+            lo, hi = float(sig[1]), float(sig[2])
+        else:
+            return None
+        s_f = optimize.brentq(tnu, lo, hi, xtol=1e-12 * length, rtol=1e-14)
+    except (RuntimeError, ValueError):
+        return None
+    r = solve(s_f)
+    if r is None:
+        return None
+    return r[0], sh.measure(r[0]), 1 if s_f < sig[1] else 2
 
 
 def _fold(pts: Sequence[np.ndarray], meas: Sequence[dict[str, float]]) -> SpecialPoint:
