@@ -305,3 +305,109 @@ def test_a_pole_between_the_checked_velocities_is_an_error_not_a_traceback() -> 
     assert res.exit_code == 2, res.output
     assert "the friction law divides by zero at a velocity the motion reached" in res.output
     assert "Traceback" not in res.output
+
+
+def _f2_table(rows: int) -> ss.laws.DimensionlessLaw:
+    """The paper's F2 tabulated at ``rows`` log-spaced velocities (pchip), with beta = 1 s/m."""
+    f2 = ss.WeakeningLaw(c=3.8, p=0.5)
+    w = np.concatenate([[0.0], np.geomspace(1e-3, 10.0, rows)])
+    mu = np.asarray(f2.forward(w), dtype=float)
+    mu[0] = 1.0
+    return TabulatedLaw(ss.Q_(w, "m/s"), mu).nondimensionalize("1 s/m")
+
+
+def test_a_hopf_point_on_a_pchip_row_gets_the_type_of_its_kink() -> None:
+    """Regression (audit of user laws): pchip puts the minimum of a tabulated F2 on a row, where
+    mu'' jumps; the type came from the one-sided mu''' (it depended on which side Brent landed)
+    and contradicted the branch (a 'subcritical' point starting a stable branch).
+
+    At a kink of f'' first-order averaging gives a' = -(a/2) f'(nu) - (J/(3 pi)) a^2 with J the
+    jump: J > 0 is supercritical. Checked against the branch's stability, and the amplitude of
+    the small cycle against plain SciPy shooting (tests/reference.py) and the averaged equation
+    solved with the kink at its place."""
+    from reference import pure_slip_orbit_reference
+    from scipy.optimize import brentq
+
+    from stickslip.bifurcation.regimes import regimes
+    from stickslip.bifurcation.stability import hopf_points
+
+    for rows, kind in ((256, "supercritical"), (512, "subcritical")):
+        law = _f2_table(rows)
+        (h,) = hopf_points(law, 0.01, 10.0)
+        assert h.criticality == kind and math.isnan(h.l1)
+        assert (h.kink > 0) == (kind == "supercritical")
+        assert np.min(np.abs(law.breakpoints() - h.nu)) < 1e-12  # on a row
+        with pytest.warns(UserWarning, match="lies on a row of the table: pchip"):
+            d = regimes(law, 0.4, 0.55)
+        (b,) = [b for b in d.branches if b.kind == "pure-slip"]
+        assert bool(b.stable[0]) == (kind == "supercritical")
+        assert d.hopf[0].kink == pytest.approx(h.kink) and "lies on a row" in d.notes[0]
+        assert json.loads(d.to_json())["warnings"] == list(d.notes)
+    law = _f2_table(256)
+    (h,) = hopf_points(law, 0.01, 10.0)
+    left, right = law.at(h.nu * (1 - 1e-12), 2), law.at(h.nu * (1 + 1e-12), 2)
+    delta = 1e-4
+    nu = h.nu - delta  # the stable small cycle lives on the unstable side (below)
+    th = np.linspace(0.0, 2 * np.pi, 20001)[:-1]
+
+    def averaged(a: float) -> float:
+        x = a * np.cos(th)
+        return float(np.mean(np.where(x < delta, left, right) * (x - delta) * np.sin(th) ** 2))
+
+    a = brentq(averaged, 1.01 * delta, 1.0)
+    ref = pure_slip_orbit_reference(
+        lambda w: float(law.at(w)), lambda w: float(law.at(w, 1)), nu, (law.at(nu) + a, 2 * np.pi)
+    )
+    assert ref.amplitude == pytest.approx(2 * a, rel=0.01)
+    assert ref.multiplier < 1.0
+
+
+def test_two_hopf_points_closer_than_the_old_grid_are_found() -> None:
+    """Regression (audit of user laws): a weakening band 3.1e-4 wide at w = 1 fell between two
+    points of the 4000-point grid that brackets the Hopf points: steady sliding everywhere,
+    though f'(1) = -2.5. The grid now has 20000 points per decade; the roots are exact,
+    1 +- 1e-4 acosh(sqrt(6)), and the band is not steady sliding."""
+    from stickslip.bifurcation.regimes import regimes
+    from stickslip.bifurcation.stability import hopf_points
+
+    law = ExpressionLaw("0.9 + 0.5*w - 0.0003*tanh((w-1)/0.0001)", static=1)
+    hs = hopf_points(law, 1e-6, 1e3)
+    off = 1e-4 * math.acosh(math.sqrt(6.0))
+    assert [h.nu for h in hs] == pytest.approx([1 - off, 1 + off], abs=1e-12)
+    d = regimes(law, 0.99, 1.01)
+    assert d.regime_at(1.0).regime != "steady-sliding"
+    assert d.regime_at(0.995).regime == d.regime_at(1.005).regime == "steady-sliding"
+
+
+def test_a_table_that_ends_falling_names_its_zero_crossing(tmp_path: Path) -> None:
+    """Regression (audit of user laws): a table ending while friction still falls extrapolates
+    to zero friction (here at v = 2.231 mm/s); `cycle` said only 'the friction law is singular or
+    not finite', and `regimes` printed unknown intervals with no word. Both now name the
+    table's end and where its tangent reaches zero, and `regimes` warns when motions go beyond
+    the last row."""
+    f2 = ss.WeakeningLaw(c=3.8, p=0.5)
+    w = np.concatenate([[0.0], np.geomspace(1e-3, 0.3, 40)])
+    mu = 0.46 * np.asarray(f2.forward(w), dtype=float)
+    mu[0] = 0.46
+    path = tmp_path / "fall.csv"
+    path.write_text(
+        "velocity [mm/s],friction coefficient [1]\n"
+        + "".join(f"{float(a)!r},{float(b)!r}\n" for a, b in zip(w, mu, strict=True))
+    )
+    law = TabulatedLaw.from_csv(path).nondimensionalize("1000 s/m")
+    from scipy.interpolate import PchipInterpolator
+
+    slope = float(PchipInterpolator(w, mu)(0.3, 1))  # per mm/s: SciPy's pchip on the rows
+    zero = 0.3 - mu[-1] / slope  # mm/s
+    assert law.zero_velocity() * 1e3 == pytest.approx(zero, rel=1e-12)
+    setup = ["--law", "table", "--table", str(path), "--beta", "1000 s/m", "--stiffness", "62 N/m"]
+    setup += ["--load", "196 mN"]
+    res = CliRunner().invoke(main, ["cycle", *setup, "--v0", "1.5 mm/s"])
+    assert res.exit_code == 1
+    assert "the table ends at v = 0.0003 m/s with friction still falling" in res.output
+    assert f"reaches zero at v = {zero * 1e-3:.4g} m/s" in res.output
+    res = CliRunner().invoke(main, ["regimes", *setup, "--nu-min", "0.01", "--nu-max", "3", "--n", "21"])
+    assert res.exit_code == 0 and "unknown" in res.output
+    assert "extend the table to faster rows" in res.output
+    res = CliRunner().invoke(main, ["regimes", *setup, "--nu-min", "0.01", "--nu-max", "0.5", "--n", "21"])
+    assert res.exit_code == 0 and "beyond the table's last row (0.0003 m/s)" in res.output

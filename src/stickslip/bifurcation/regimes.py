@@ -37,6 +37,7 @@ from __future__ import annotations
 import itertools
 import json
 import math
+import warnings
 from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
@@ -181,6 +182,9 @@ class RegimeDiagram:
     #: one set of rows per push
     probes: tuple[AttractorRows, ...] = field(default_factory=tuple, repr=False)
     units: dict[str, str] = field(default_factory=lambda: {"nu": "1", "amplitude": "mu_s W"})
+    #: what the diagram owes to the law's construction (a Hopf point on a pchip row, the
+    #: table's extrapolation), also issued as ``UserWarning``
+    notes: tuple[str, ...] = ()
 
     def regime_at(self, nu: float) -> Interval:
         """Return the interval containing ``nu``."""
@@ -196,7 +200,13 @@ class RegimeDiagram:
             "nu_min": self.nu_min,
             "nu_max": self.nu_max,
             "hopf": [
-                {"nu": h.nu, "criticality": h.criticality, "l1": h.l1, "stable_side": h.stable_side}
+                {
+                    "nu": h.nu,
+                    "criticality": h.criticality,
+                    "l1": h.l1,
+                    "stable_side": h.stable_side,
+                    "kink": h.kink,
+                }
                 for h in self.hopf
             ],
             "intervals": [
@@ -211,6 +221,7 @@ class RegimeDiagram:
             "points": [json_clean(asdict(p)) for p in self.points],
             "branches": [b.as_dict() for b in self.branches],
             "units": dict(self.units),
+            "warnings": list(self.notes),
         }
 
     def to_json(self, **kwargs: Any) -> str:
@@ -796,6 +807,18 @@ def regimes(
             intervals[-1] = Interval(name, intervals[-1].nu_min, c1, att)
         else:
             intervals.append(Interval(name, c0, c1, att))
+    notes = [n for h in hopf_in if h.kink for n in [law.hopf_note(h.nu, h.criticality)] if n]
+    # a table: where the motions went beyond its rows, or why they could not be followed
+    reached = np.concatenate([r.w_max for r in (rest, *probes)])
+    reached = reached[np.isfinite(reached)]
+    failed = any(Regime.UNKNOWN in iv.attractors for iv in intervals)
+    extra = (law.range_warning(math.nan) if failed else None) or (
+        law.range_warning(float(reached.max())) if reached.size else None
+    )
+    if extra:
+        notes.append(extra)
+    for note in notes:
+        warnings.warn(note, UserWarning, stacklevel=2)
     return RegimeDiagram(
         law=law,
         nu_min=lo,
@@ -806,6 +829,7 @@ def regimes(
         points=tuple(sorted(points, key=lambda p: p.nu)),
         rest=rest,
         probes=probes,
+        notes=tuple(notes),
     )
 
 

@@ -43,9 +43,16 @@ class Hopf:
         averaged amplitude equation).
     criticality : str
         ``supercritical`` (``l1 < 0``) or ``subcritical`` (``l1 > 0``);
-        ``degenerate`` when ``f'''(nu) = 0``.
+        ``degenerate`` when ``f'''(nu) = 0``. At a kink (below) it is the sign
+        of the quadratic term instead: ``supercritical`` when ``kink > 0``.
     stable_side : str
         ``above`` when steady sliding is stable for larger ``nu`` (``f'' > 0``), else ``below``.
+    kink : float
+        The jump ``f''(nu+) - f''(nu-)`` where the Hopf point lies on a
+        breakpoint of the law (a table's row); 0 elsewhere. Averaging then gives
+        ``a' = -(a/2) f'(nu) - (kink/(3 pi)) a^2 + ...``: the quadratic term
+        decides the criticality, the amplitude grows linearly in ``nu - nu_H``,
+        and ``l1`` (which needs a ``f'''`` that jumps there too) is NaN.
 
     """
 
@@ -53,6 +60,7 @@ class Hopf:
     l1: float
     criticality: str
     stable_side: str
+    kink: float = 0.0
 
 
 def _d(law: DimensionlessLaw, nu: float, order: int) -> float:
@@ -69,12 +77,19 @@ def steady_sliding_eigenvalues(law: DimensionlessLaw, nu: float) -> tuple[comple
     return ((-g + root) / 2, (-g - root) / 2)
 
 
+#: points per decade of the grid that brackets the Hopf points: a weakening band (two Hopf
+#: points) narrower than about two spacings, 2.3e-4 of its velocity, can be missed
+HOPF_GRID_PER_DECADE = 20000
+
+
 def hopf_points(
-    law: DimensionlessLaw, nu_min: float = 1e-6, nu_max: float = 1e3, n_grid: int = 4000
+    law: DimensionlessLaw, nu_min: float = 1e-6, nu_max: float = 1e3, n_grid: int | None = None
 ) -> list[Hopf]:
     """Find the Hopf points ``f'(nu) = 0`` in ``[nu_min, nu_max]`` and their criticality.
 
-    Roots are bracketed on a logarithmic grid and refined by Brent's method.
+    Roots are bracketed on a logarithmic grid of ``n_grid`` points (default
+    :data:`HOPF_GRID_PER_DECADE` per decade, at least 4000), to which a table's
+    rows are added, and refined by Brent's method.
 
     Raises
     ------
@@ -89,7 +104,10 @@ def hopf_points(
         raise ValueError(f"nu_min={nu_min!r}: expected a driving velocity of at least {NU_MIN:g}")
     if hi <= lo:
         raise ValueError(f"nu_max={nu_max!r} must exceed nu_min={nu_min!r}")
-    grid = np.geomspace(lo, hi, n_grid)
+    if n_grid is None:
+        n_grid = max(4000, math.ceil(HOPF_GRID_PER_DECADE * math.log10(hi / lo)))
+    knots = np.asarray(law.breakpoints(), dtype=float)
+    grid = np.union1d(np.geomspace(lo, hi, n_grid), knots[(knots > lo) & (knots < hi)])
     g = np.asarray(law.derivative(grid, 1), dtype=np.float64)
     if np.all(g == 0.0):
         return []  # f' vanishes identically (Coulomb): steady sliding is neutral, no Hopf point
@@ -104,10 +122,20 @@ def hopf_points(
         roots.append(float(root))
     out = []
     for nu_h in sorted(roots):
+        side = "above" if _d(law, nu_h, 2) > 0 else "below"
+        near = knots[np.abs(knots - nu_h) <= 1e-9 * nu_h] if knots.size else knots
+        if near.size:  # on a breakpoint: f'' may jump there (pchip puts a minimum on a row)
+            knot = float(near[0])
+            left, right = _d(law, knot * (1 - 1e-12), 2), _d(law, knot * (1 + 1e-12), 2)
+            jump = right - left
+            if abs(jump) > 1e-9 * max(abs(left), abs(right)):
+                crit = "supercritical" if jump > 0 else "subcritical"
+                side = "above" if left + right > 0 else "below"
+                out.append(Hopf(knot, math.nan, crit, side, jump))
+                continue
         f3 = _d(law, nu_h, 3)
         l1 = -f3 / 16.0
         crit = "degenerate" if f3 == 0 else ("supercritical" if l1 < 0 else "subcritical")
-        side = "above" if _d(law, nu_h, 2) > 0 else "below"
         out.append(Hopf(nu_h, l1, crit, side))
     return out
 

@@ -199,7 +199,8 @@ def register(main: click.Group) -> None:
             click.echo(json.dumps(result, indent=2))
         else:
             for h in d.hopf:
-                click.echo(f"Hopf point      nu = {h.nu:.10g}  {h.criticality} (l1 = {h.l1:.4g})")
+                why = f"l1 = {h.l1:.4g}" if not h.kink else f"on a row: f'' jumps by {h.kink:+.4g}"
+                click.echo(f"Hopf point      nu = {h.nu:.10g}  {h.criticality} ({why})")
             for pt in d.points:
                 if pt.kind == "hopf":
                     continue

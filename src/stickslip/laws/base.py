@@ -196,7 +196,19 @@ class DimensionlessLaw:
         return float(self.forward(np.zeros(1))[0])
 
     def range_warning(self, w_max: float) -> str | None:
-        """Say so when a motion reaching velocity ``w_max`` leaves where the law is known (tables)."""
+        """Say so when a motion reaching velocity ``w_max`` leaves where the law is known (tables).
+
+        ``w_max`` NaN means the motion could not be followed (a table names the
+        likeliest cause: its extrapolation reaching zero friction).
+        """
+        return None
+
+    def breakpoints(self) -> FloatArray:
+        """Return the velocities ``w > 0`` where ``f''`` may jump (a table's rows); none for a formula."""
+        return np.empty(0)
+
+    def hopf_note(self, nu: float, criticality: str) -> str | None:
+        """Say what a Hopf point at a breakpoint ``nu`` owes to the law's construction (tables)."""
         return None
 
     # ------------------------------------------------------------------ physical form

@@ -367,16 +367,56 @@ class TabulatedDimensionlessLaw(DimensionlessLaw):
         table = self.table.replace(mu_s=changes["mu_s"]) if "mu_s" in changes else self.table
         return table.nondimensionalize(Q_(changes.get("beta", self.beta), "s/m"))
 
+    def zero_velocity(self) -> float:
+        """Return where the extrapolation falls to zero friction (m/s); inf when it does not fall."""
+        pp = self.table._pp
+        end = float(pp.x[-1])
+        slope = float(pp(end, 1))
+        return end + float(pp(end)) / -slope if slope < 0 else math.inf
+
     def range_warning(self, w_max: float) -> str | None:
-        """Say so when a motion reaches beyond the table's last row."""
+        """Say so when a motion reaches beyond the table's last row, or failed where it falls to zero.
+
+        ``w_max`` NaN means the motion could not be followed: where the table ends
+        with friction still falling, the likeliest cause is named.
+        """
         v = w_max / self.beta
         end = float(self.table.table_v[-1])
-        if math.isfinite(v) and v > end:
+        zero = self.zero_velocity()
+        if math.isnan(v):
+            if not math.isfinite(zero):
+                return None
+            return (
+                f"the table ends at v = {end:.4g} m/s with friction still falling: along the tangent "
+                f"at its last row friction reaches zero at v = {zero:.4g} m/s "
+                f"(beta v = {zero * self.beta:.4g}), where a motion cannot be followed; "
+                "extend the table to faster rows"
+            )
+        if v > end:
+            falls = f"; it falls to zero at v = {zero:.4g} m/s" if math.isfinite(zero) else ""
             return (
                 f"the motion reaches v = {v:.4g} m/s, beyond the table's last row ({end:.4g} m/s): "
-                "friction there is the tangent at the last row (extrapolated)"
+                f"friction there is the tangent at the last row (extrapolated){falls}"
             )
         return None
+
+    def breakpoints(self) -> FloatArray:
+        """Return the rows above ``v = 0`` as dimensionless velocities ``w = beta v``."""
+        x = np.asarray(self.table._pp.x, dtype=float)
+        return x[x > 0] * self.beta
+
+    def hopf_note(self, nu: float, criticality: str) -> str | None:
+        """Warn that a Hopf point on a ``pchip`` row sits there because of the interpolant."""
+        if self.table.interpolation != "pchip":
+            return None
+        return (
+            f"the Hopf point at nu = {nu:.6g} (v0 = {nu / self.beta:.4g} m/s) lies on a row of the table: "
+            "pchip puts a minimum of the friction coefficient on the row nearest to it, so the point is "
+            "only as good as the rows' spacing, and its type ("
+            f"{criticality}, from the jump of mu'' at the row) belongs to the interpolant, not "
+            "necessarily to the friction; for a smooth, dense table use interpolation='cubic' "
+            "(--interpolation cubic)"
+        )
 
     def to_physical(self, beta: Any, mu_s: float) -> PhysicalLaw:
         """Return the table (physical laws of a table do not depend on ``beta``)."""
