@@ -411,3 +411,30 @@ def test_a_table_that_ends_falling_names_its_zero_crossing(tmp_path: Path) -> No
     assert "extend the table to faster rows" in res.output
     res = CliRunner().invoke(main, ["regimes", *setup, "--nu-min", "0.01", "--nu-max", "0.5", "--n", "21"])
     assert res.exit_code == 0 and "beyond the table's last row (0.0003 m/s)" in res.output
+
+
+def test_user_law_audit_small_things() -> None:
+    """Regressions (audit of user laws, LOW): a repeated --param kept the last value silently;
+    sin(w)/w was refused as 'not finite' without saying it is 0/0 with a finite limit; a table's
+    bad mu did not name the argument; a constant law equal to the static threshold gave an
+    unknown diagram with no word."""
+    runner = CliRunner()
+    law = ["--law", "expr", "--f", "1/(1+c*w)"]
+    res = runner.invoke(main, ["cycle", *law, "--param", "c=1", "--param", "c=2"])
+    assert res.exit_code == 2 and "c is already given (c=1); give each parameter once" in res.output
+    with pytest.raises(ValueError, match=r"is 0/0 at w = 0 \(its limit there is 1\)"):
+        ExpressionLaw("sin(w)/w")
+    with pytest.raises(ValueError, match="is not finite at w = 0: friction must be finite"):
+        ExpressionLaw("1/w + 1")
+    v = ss.Q_([0, 1, 2, 3, 4], "um/s")
+    with pytest.raises(ValueError, match=r"mu=\['a'.*expected friction coefficients"):
+        TabulatedLaw(v, ["a", "b", "c", "d", "e"])
+    with pytest.raises(ValueError, match=r"mu has shape \(5, 2\): expected one coefficient per velocity"):
+        TabulatedLaw(v, np.full((5, 2), 0.4))
+    with pytest.raises(ValueError, match="mu has 4 friction values for 5 velocities in v"):
+        TabulatedLaw(v, [0.5, 0.4, 0.4, 0.4])
+    from stickslip.bifurcation.regimes import regimes
+
+    with pytest.warns(UserWarning, match="friction is constant and equal to the static threshold"):
+        d = regimes(ExpressionLaw("1 + 0*w"), 0.1, 2.0, n_grid=11)
+    assert "neutrally stable" in d.notes[0]

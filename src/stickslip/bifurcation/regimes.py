@@ -808,6 +808,12 @@ def regimes(
         else:
             intervals.append(Interval(name, c0, c1, att))
     notes = [n for h in hopf_in if h.kink for n in [law.hopf_note(h.nu, h.criticality)] if n]
+    if np.all(fp == 0.0) and abs(law.kinetic_limit - 1.0) < 1e-9:
+        notes.append(
+            "friction is constant and equal to the static threshold (no weakening with velocity and no "
+            "drop at the onset of slip): steady sliding is neutrally stable, every motion is a neutral "
+            "oscillation that touches w = 0 once a period, and no regime is selected"
+        )
     # a table: where the motions went beyond its rows, or why they could not be followed
     reached = np.concatenate([r.w_max for r in (rest, *probes)])
     reached = reached[np.isfinite(reached)]

@@ -432,6 +432,11 @@ def params_of(opts: dict[str, Any]) -> dict[str, Any]:
         name, sep, value = str(item).partition("=")
         if not sep or not name.strip() or not value.strip():
             raise click.UsageError(f"--param {item!r}: expected NAME=VALUE, e.g. 'c=3.8' or 'a=160 s/m'")
+        if name.strip() in out:  # the second silently replaced the first
+            raise click.UsageError(
+                f"--param {item!r}: {name.strip()} is already given ({name.strip()}={out[name.strip()]}); "
+                "give each parameter once"
+            )
         out[name.strip()] = value.strip()
     return out
 

@@ -90,6 +90,18 @@ def _check_values(spec: LawSpec, values: Mapping[str, npt.ArrayLike], text: str)
     if bad.any():
         i, j = np.argwhere(bad)[0]
         at = f" at point {j}" if f.shape[1] > 1 else ""
+        if _PROBE[i] == 0.0:  # 0/0 with a finite limit (sin(w)/w): say why that is refused
+            point = {
+                p.name: float(np.ravel(np.broadcast_to(a, shape))[j])
+                for p, a in zip(spec.parameters, arrays, strict=True)
+            }
+            lim = _onset(spec.expression, W, point)
+            if math.isfinite(lim):
+                raise ValueError(
+                    f"f(w) = {text} is 0/0 at w = 0{at} (its limit there is {lim:.6g}); the engine evaluates "
+                    "friction at w = 0 itself, so a removable singularity is not supported: write a formula "
+                    "that is finite at w = 0"
+                )
         raise ValueError(
             f"f(w) = {text} is not finite at w = {_PROBE[i]:.3g}{at}: friction must be finite for every "
             "velocity the block can reach"

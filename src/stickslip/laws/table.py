@@ -179,9 +179,16 @@ class TabulatedLaw(PhysicalLaw):
             if not mu.dimensionless:
                 raise ValueError(f"{name}: friction in {mu.units}: expected coefficients (dimensionless)")
             mu = mu.to("").magnitude
-        mu_a = np.asarray(mu, dtype=float)
-        if mu_a.ndim != 1 or mu_a.size != v_si.size:
-            raise ValueError(f"{name}: {mu_a.size} friction values for {v_si.size} velocities")
+        try:
+            mu_a = np.asarray(mu, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name}: mu={mu!r}: expected friction coefficients (numbers)") from None
+        if mu_a.ndim != 1:
+            raise ValueError(
+                f"{name}: mu has shape {mu_a.shape}: expected one coefficient per velocity (1-D)"
+            )
+        if mu_a.size != v_si.size:
+            raise ValueError(f"{name}: mu has {mu_a.size} friction values for {v_si.size} velocities in v")
         bad = np.flatnonzero(~np.isfinite(mu_a) | (mu_a <= 0))
         if bad.size:
             i = int(bad[0])
