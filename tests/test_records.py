@@ -554,3 +554,74 @@ def test_a_decimal_comma_is_named_whatever_the_delimiter(tmp_path: Path, sep: st
     path.write_text(f"time [s]{sep}force [mN]\n0{sep}10,5\n0.1{sep}11,25\n")
     with pytest.raises(ValueError, match=r"'10,5' is not a number \(a decimal comma\? write a decimal point"):
         read_record(path)
+
+
+def test_data_audit_low_findings(tmp_path: Path) -> None:
+    """Regressions (audit of the measured-data family, LOW): an index's `driving velocity`
+    column was ignored without a word; an unknown unit in a column stickslip does not read
+    aborted the analysis; an index's bad v0 blamed the data file and printed a Quantity's
+    repr; files left out of the index, and a README.txt in a folder without one, were skipped
+    silently or aborted; two force columns were chosen between silently; the verdict's load
+    was not named; classify took an amplitude in seconds and a negative error without a line."""
+    folder = tmp_path / "f"
+    folder.mkdir()
+    for i, v in enumerate((50, 100)):
+        rec = synthetic_record(
+            S.zv_parameters(f"{v} um/s"), duration="150 s", rate="200 Hz", noise="0.5 mN", seed=i
+        )
+        write_record(folder / f"r{i}.csv", rec)  # no v0 in the file: the index gives it
+    index = folder / "index.csv"
+    index.write_text(
+        "file,driving velocity [um/s],normal load [mN],raw [LSB]\nr0.csv,50,196,1\nr1.csv,100,196,2\n"
+    )
+    recs = read_records(folder)
+    assert [r.v0.to("um/s").magnitude for r in recs] == pytest.approx([50, 100])
+    assert [r.load.to("mN").magnitude for r in recs] == pytest.approx([196, 196])
+    res = CliRunner().invoke(main, ["analyze", str(folder), "--no-plot", "--out", str(tmp_path / "o")])
+    assert res.exit_code == 0, res.output
+    assert "from 2 records at load 196 mN" in res.output
+    index.write_text("file,v0 [um/s]\nr0.csv,-50\nr1.csv,100\n")
+    with pytest.raises(
+        ValueError, match=r"index.csv: line 2 \(r0.csv\): v0='-50.0 micrometer / second'"
+    ) as e:
+        read_records(folder)
+    assert "Quantity" not in str(e.value)
+    index.write_text("file,v0 [um/s]\nr0.csv,50\n")
+    with pytest.warns(
+        UserWarning, match=r"1 file\(s\) in the folder are not in the index and were not read: r1.csv"
+    ):
+        assert len(read_records(folder)) == 1
+    index.unlink()
+    (folder / "README.txt").write_text("Scratch test, 2026-11-25\n")
+    with pytest.warns(UserWarning, match=r"not a record, skipped: .*README.txt"):
+        assert len(read_records(folder)) == 2
+    both = tmp_path / "both.csv"
+    both.write_text("time [s],force [mN],friction_force [mN]\n0,1,2\n0.1,1,2\n0.2,1,2\n0.3,1,2\n")
+    with pytest.warns(UserWarning, match="columns 'force', 'friction_force': the force analysed is 'force'"):
+        read_record(both)
+    from stickslip.data.criterion import classify_file
+
+    c = tmp_path / "c.csv"
+    c.write_text("velocity [um/s],amplitude [s]\n10,1\n20,2\n40,3\n80,4\n")
+    with pytest.raises(ValueError, match=r"has unit \[s\], of dimension \[time\]: expected a force"):
+        classify_file(c)
+    c.write_text(
+        "velocity [um/s],amplitude [mN],amplitude_err [mN]\n10,1,0.1\n20,2,-0.1\n40,3,0.1\n80,4,0.1\n"
+    )
+    with pytest.raises(ValueError, match=r"c.csv: line 3: amplitude_err -0.1 is negative"):
+        classify_file(c)
+
+
+def test_the_features_fit_does_not_blame_the_model_for_its_own_bias() -> None:
+    """Regression (audit of the measured-data family): on a noise-free record the model itself
+    made, `--method features` warned that 'the model does not describe the record'; its
+    chi-square is over features that carry a sampling bias their spread does not show."""
+    from stickslip.data.fitting import fit_record
+
+    rec = synthetic_record(
+        S.zv_parameters("100 um/s"), duration="150 s", rate="500 Hz", noise="0 N", start="20 s"
+    )
+    r = fit_record(rec, method="features")
+    assert r.reduced_chi2 > 2
+    assert "over the cycle features" in r.warnings[0] and "sample interval, 0.002 s" in r.warnings[0]
+    assert not any("does not describe" in w for w in r.warnings)

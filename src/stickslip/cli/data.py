@@ -78,7 +78,15 @@ def register(main: click.Group) -> None:
             )
             click.echo(f"criterion: no verdict ({why})")
         else:
-            click.echo(f"criterion: {verdict.verdict} ({verdict.reason})")
+            used = table[table["in_verdict"]]
+            loads = used["load [N]"].dropna().unique()
+            at = f" at load {loads[0] * 1e3:.6g} mN" if len(loads) == 1 else ""
+            measured = int((table["v0 [m/s]"].notna() & table["amplitude [N]"].notna()).sum())
+            left = measured - len(used)
+            other = f"; {left} measured at other loads left out" if left > 0 else ""
+            click.echo(
+                f"criterion: {verdict.verdict} ({verdict.reason}); from {len(used)} records{at}{other}"
+            )
 
     @main.command()
     @click.argument("record_file", type=click.Path(exists=False, dir_okay=False))

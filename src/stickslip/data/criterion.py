@@ -297,10 +297,11 @@ def classify_file(
     vel, amp = cols["velocity"], cols["amplitude"]
     if vel.unit is not None and not (1 * vel.unit).check("[length] / [time]"):
         raise DataError(f"{p}: column 'velocity' has unit [{vel.unit:~}], expected a velocity such as [um/s]")
-    if amp.unit is not None and (1 * amp.unit).check("[length] / [time]"):
+    if amp.unit is not None and not any((1 * amp.unit).check(d) for d in ("[force]", "[length]", "[]")):
+        q = 1 * amp.unit
+        kind = "a velocity" if q.check("[length] / [time]") else f"of dimension {q.dimensionality}"
         raise DataError(
-            f"{p}: column 'amplitude' has unit [{amp.unit:~}], a velocity: "
-            "expected a force, a length or [a.u.]"
+            f"{p}: column 'amplitude' has unit [{amp.unit:~}], {kind}: expected a force, a length or [a.u.]"
         )
     err = None
     if "amplitude_err" in cols:
@@ -324,4 +325,10 @@ def classify_file(
     if np.any(amp.values <= 0):
         i = int(np.argmax(amp.values <= 0))
         raise DataError(f"{p}: {amp.place(i)}: amplitude {float(amp.values[i])!r} is not positive")
+    if err is not None and np.any(err < 0):
+        i = int(np.argmax(err < 0))
+        e = cols["amplitude_err"]
+        raise DataError(
+            f"{p}: {e.place(i)}: amplitude_err {float(e.values[i])!r} is negative (a one-sigma error)"
+        )
     return classify(vel.values, amp.values, err, confidence=confidence, min_points=min_points)

@@ -480,7 +480,8 @@ def analyze_records(records: list[Record], *, confidence: float = 0.95) -> tuple
     -------
     table : pandas.DataFrame
         One row per record (SI units in the column names); ``warning`` says what was
-        excluded, inverted or could not be measured.
+        excluded, inverted or could not be measured; ``in_verdict`` marks the
+        records the verdict was computed from.
     verdict : CriterionResult or None
         The amplitude-velocity criterion over the records' driving velocities
         (records at one load: the most common one), or None without velocities.
@@ -530,7 +531,9 @@ def analyze_records(records: list[Record], *, confidence: float = 0.95) -> tuple
         common = sel["load [N]"].round(12).mode()
         if len(common):
             sel = sel[(sel["load [N]"].round(12) == common.iloc[0]) | sel["load [N]"].isna()]
+    df["in_verdict"] = False
     if len(sel) >= 2:
+        df.loc[sel.index, "in_verdict"] = True
         err = sel["amplitude_spread [N]"].to_numpy() / np.sqrt(sel["n_cycles"].to_numpy())
         err = np.where(np.isfinite(err) & (err > 0), err, np.nan)
         verdict = classify(

@@ -15,6 +15,7 @@ column (and ``v0``/``load`` columns) holds several records at once.
 from __future__ import annotations
 
 import os
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -27,7 +28,7 @@ import pint
 from ..units import parse_quantity, ureg
 from . import text
 from .errors import DataError
-from .tables import check_file, parse_header
+from .tables import _HEADER, check_file, parse_header
 
 __all__ = ["Record", "format_record", "read_record", "read_records", "write_record"]
 
@@ -159,12 +160,44 @@ def _check_numeric(df: pd.DataFrame, col: str, where: str) -> FloatArray:
 #: columns read as numbers (when present) and as text
 NUMERIC = ("time", *FORCE_NAMES, "displacement", "velocity", "v0", "load")
 TEXT = ("record", "file")
+#: other names of an index's columns (an index has no sample velocity: 'velocity' is v0 there)
+INDEX_ALIASES = {
+    "driving velocity": "v0",
+    "driving_velocity": "v0",
+    "drive velocity": "v0",
+    "velocity": "v0",
+    "v_0": "v0",
+    "normal load": "load",
+    "normal_load": "load",
+    "normal force": "load",
+    "normal_force": "load",
+}
 
 
-def _read(path: str, where: str) -> tuple[pd.DataFrame, dict[str, pint.Unit | None], dict[str, str]]:
-    """Read a record file (or a long table, or an index) into a frame of its known columns."""
+class NotARecord(DataError):
+    """A file whose header names no column a record has (a README in a folder of records)."""
+
+
+def _read(
+    path: str, where: str, aliases: Mapping[str, str] | None = None
+) -> tuple[pd.DataFrame, dict[str, pint.Unit | None], dict[str, str]]:
+    """Read a record file (or a long table, or an index) into a frame of its known columns.
+
+    A column stickslip does not read may have any unit (``raw [LSB]``); ``aliases``
+    renames columns (an index's ``driving velocity`` is its ``v0``).
+    """
     layout = text.inspect(path, where)
-    parsed = [parse_header(c, where) for c in layout.header]
+    parsed = []
+    for cell in layout.header:
+        try:
+            name, unit = parse_header(cell, where)
+        except DataError:
+            m = _HEADER.match(cell)
+            name = m.group(1).strip().lower() if m and m.group(1) else ""
+            if not name or (aliases or {}).get(name, name) in NUMERIC + TEXT:
+                raise
+            unit = None  # a column that is not read: its unit does not matter
+        parsed.append(((aliases or {}).get(name, name), unit))
     names = [n for n, _ in parsed]
     dup = {n for n in names if names.count(n) > 1}
     if dup:
@@ -172,7 +205,7 @@ def _read(path: str, where: str) -> tuple[pd.DataFrame, dict[str, pint.Unit | No
     numeric = [n for n in names if n in NUMERIC]
     textual = [n for n in names if n in TEXT]
     if not numeric and not textual:  # pandas failed inside with an IndexError
-        raise DataError(
+        raise NotARecord(
             f"{where}: line {layout.header_line} is taken for the header, and names no known column "
             f"({layout.header!r}); expected 'time [s]' and 'force [N]' (a title line? put '# ' before it)"
         )
@@ -196,11 +229,18 @@ def _record_from_frame(
         raise DataError(
             f"{where}: missing column 'time' (found {list(df.columns)}); expected 'time [s]' and 'force [N]'"
         )
-    force_col = next((c for c in FORCE_NAMES if c in df.columns), None)
-    if force_col is None:
+    forces = [c for c in FORCE_NAMES if c in df.columns]
+    if not forces:
         raise DataError(
             f"{where}: missing a force column ('force', 'spring_force' or "
             f"'friction_force'; found {list(df.columns)})"
+        )
+    force_col = forces[0]
+    if len(forces) > 1:
+        warnings.warn(
+            f"{where}: columns {', '.join(map(repr, forces))}: the force analysed is {force_col!r}",
+            UserWarning,
+            stacklevel=4,
         )
     if len(df) < 3:
         raise DataError(f"{where}: only {len(df)} samples; a record needs many cycles")
@@ -285,23 +325,47 @@ def read_records(path: str | os.PathLike[str]) -> list[Record]:
     p = os.fspath(path)
     if os.path.isdir(p):
         index = os.path.join(p, "index.csv")
+        files = sorted(f for f in os.listdir(p) if f.lower().endswith((".csv", ".tsv", ".txt")))
         if os.path.isfile(index):
-            df, units, _ = _read(index, index)
+            df, units, _ = _read(index, index, INDEX_ALIASES)
             if "file" not in df.columns:
                 raise DataError(f"{index}: missing column 'file'")
             out = []
-            for _, row in df.iterrows():
+            named = set()
+            for i, (_, row) in enumerate(df.iterrows()):
                 f = os.path.join(p, str(row["file"]).strip())
                 if not os.path.isfile(f):
                     raise DataError(f"{index}: names {row['file']!r}, which is not in {p}")
-                v0 = _with_unit(row.get("v0"), units.get("v0"))
-                load = _with_unit(row.get("load"), units.get("load"))
+                named.add(os.path.basename(f))
+                here = f"{index}: {_lines(df, i)} ({str(row['file']).strip()})"
+                v0 = _quantity(
+                    _with_unit(row.get("v0"), units.get("v0")), "v0", "[length] / [time]", "10 um/s", here
+                )
+                load = _quantity(
+                    _with_unit(row.get("load"), units.get("load")), "load", "[force]", "196 mN", here
+                )
                 out.append(read_record(f, v0=v0, load=load))
+            left = [f for f in files if f not in named and f != "index.csv"]
+            if left:
+                shown = ", ".join(left[:5]) + (f" and {len(left) - 5} more" if len(left) > 5 else "")
+                warnings.warn(
+                    f"{index}: {len(left)} file(s) in the folder are not in the index and were not "
+                    f"read: {shown}",
+                    UserWarning,
+                    stacklevel=2,
+                )
             return out
-        files = sorted(f for f in os.listdir(p) if f.lower().endswith((".csv", ".tsv", ".txt")))
         if not files:
             raise DataError(f"{p}: no .csv, .tsv or .txt records in the folder")
-        return [read_record(os.path.join(p, f)) for f in files]
+        out = []
+        for f in files:
+            try:
+                out.append(read_record(os.path.join(p, f)))
+            except NotARecord as exc:  # a README.txt, notes: not a record, said and left out
+                warnings.warn(f"not a record, skipped: {exc}", UserWarning, stacklevel=2)
+        if not out:
+            raise DataError(f"{p}: none of its {len(files)} .csv, .tsv or .txt files is a record")
+        return out
     if not os.path.isfile(p):
         raise DataError(f"{p}: no such file or folder")
     check_file(p, MAX_BYTES)
@@ -327,7 +391,7 @@ def _with_unit(value: Any, unit: pint.Unit | None) -> Any:
         return None
     if unit is None:
         return str(value)
-    return ureg.Quantity(float(value), unit)
+    return f"{float(value)!r} {unit}"  # a text: a message shows it as written, not a Quantity's repr
 
 
 def _constant(df: pd.DataFrame, col: str, units: Mapping[str, pint.Unit | None], where: str) -> Any:
