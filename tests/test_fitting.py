@@ -289,6 +289,22 @@ def test_a_quantized_record_is_fitted_and_its_noise_can_be_given() -> None:
         fit_record(quantized, noise="1 m")
 
 
+@pytest.mark.parametrize("sigma", [0.0, 0.05, 0.3, 3.0])
+def test_noise_of_a_slowly_quantized_ramp(sigma: float) -> None:
+    """Regression (data audit): a slow ramp (0.01 step per sample) quantized with noise far
+    below the step has second differences that are mostly 0, and their root mean square gave
+    0.2 of the residual from the smooth signal. The estimate is now at least the rounding
+    error's step/sqrt(12), and within 6% of the residual's standard deviation throughout
+    (0.3 step: the quantized path; 3 steps: the median path)."""
+    from stickslip.core.noise import noise_level
+
+    rng = np.random.default_rng(1)
+    step = 1e-3
+    truth = 0.1003 + 0.01 * step * np.arange(20000)
+    y = np.round((truth + sigma * step * rng.standard_normal(truth.size)) / step) * step
+    assert noise_level(y) == pytest.approx(float(np.std(y - truth)), rel=0.06)
+
+
 def test_a_parameter_the_record_does_not_constrain_has_no_error() -> None:
     """Regression (data audit): on a pure-slip record `a` ran to 3.6e-9 s/m, where the
     residuals no longer depend on it, and the pseudo-inverse gave it an error of 1e-19 s/m, so

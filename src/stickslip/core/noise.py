@@ -17,6 +17,10 @@ def noise_level(y: npt.NDArray[np.float64]) -> float:
     the median absolute deviation of ``y[i+1] - 2 y[i] + y[i-1]`` is the noise's times
     ``sqrt(6)``, robust to the few samples where the signal itself turns fast. (First
     differences would also carry the signal's slope.) NaN for fewer than three samples.
+
+    A quantized signal (steps about as coarse as the noise, or coarser) gets the root
+    mean square of its second differences over ``sqrt(6)`` instead, and at least the
+    rounding error's ``step / sqrt(12)``.
     """
     y = np.asarray(y, dtype=float)
     d = np.diff(y, 2)
@@ -32,8 +36,12 @@ def noise_level(y: npt.NDArray[np.float64]) -> float:
         # differences take a few values, multiples of the step, and their median deviation
         # jumps between them (0 with 0.3 mN of noise in 1 mN steps when half are zero, 45% high
         # when a few less are); their root mean square does not, with the largest 1% (the
-        # signal's own fast turns) left out
+        # signal's own fast turns) left out. Far below the step (a slow ramp quantized with
+        # little noise) the second differences are mostly 0 and their RMS falls short (0.2 of
+        # the residual from a smooth signal at 0.01 step per sample); the rounding error itself,
+        # uniform over a step, is at least step / sqrt(12)
         cut = float(np.quantile(np.abs(d), 0.99))
         kept = d[np.abs(d) <= cut]
-        return float(math.sqrt(float(np.mean(kept**2)) / 6.0))
+        rms = math.sqrt(float(np.mean(kept**2)) / 6.0)
+        return float(max(rms, float(steps.min()) / math.sqrt(12.0)))
     return float(1.4826 * mad / math.sqrt(6.0))
