@@ -438,3 +438,18 @@ def test_user_law_audit_small_things() -> None:
     with pytest.warns(UserWarning, match="friction is constant and equal to the static threshold"):
         d = regimes(ExpressionLaw("1 + 0*w"), 0.1, 2.0, n_grid=11)
     assert "neutrally stable" in d.notes[0]
+
+
+def test_a_flat_stretch_of_a_table_is_named(tmp_path: Path) -> None:
+    """Regression (audit of user laws, LOW): equal rows make pchip flat (f' = 0 on a whole
+    interval); the stability change of steady sliding showed only as an attractor boundary.
+    regimes now names the stretch, its ends bisected to the rows (0.6 and 1.5 mm/s here)."""
+    from stickslip.bifurcation.regimes import regimes
+
+    rows = "0,0.5\n0.1,0.45\n0.3,0.40\n0.6,0.38\n1,0.38\n1.5,0.38\n2,0.39\n4,0.42\n8,0.5\n"
+    path = tmp_path / "flat.csv"
+    path.write_text("velocity [mm/s],friction coefficient [1]\n" + rows)
+    law = TabulatedLaw.from_csv(path).nondimensionalize("1000 s/m")
+    with pytest.warns(UserWarning, match=r"f'\(nu\) = 0 from nu = 0.6 to 1.5 \(a flat stretch of the law\)"):
+        d = regimes(law, 0.05, 6.0, n_grid=41)
+    assert d.regime_at(1.0).regime == "stick-slip" and d.regime_at(1.8).regime == "bistable"

@@ -808,6 +808,18 @@ def regimes(
         else:
             intervals.append(Interval(name, c0, c1, att))
     notes = [n for h in hopf_in if h.kink for n in [law.hopf_note(h.nu, h.criticality)] if n]
+    flat = fp == 0.0
+    if flat.any() and not flat.all():  # a flat stretch (a table's equal rows): no isolated Hopf point
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], flat.astype(np.int8), [0]])))
+        for a, b in zip(edges[::2], edges[1::2], strict=True):
+            if b - a >= 2:
+                start = _flat_end(law, grid[a - 1], grid[a]) if a > 0 else lo
+                end = _flat_end(law, grid[b], grid[b - 1]) if b < grid.size else hi
+                notes.append(
+                    f"f'(nu) = 0 from nu = {start:.8g} to {end:.8g} (a flat stretch of the law): "
+                    "steady sliding is neutrally stable there, with a family of neutral cycles and no "
+                    "isolated Hopf point; its stability changes across the stretch"
+                )
     if np.all(fp == 0.0) and abs(law.kinetic_limit - 1.0) < 1e-9:
         notes.append(
             "friction is constant and equal to the static threshold (no weakening with velocity and no "
@@ -837,6 +849,19 @@ def regimes(
         probes=probes,
         notes=tuple(notes),
     )
+
+
+def _flat_end(law: DimensionlessLaw, outside: float, inside: float) -> float:
+    """Bisect for where ``f'`` turns exactly 0, between a point where it is not and one where it is."""
+    for _ in range(80):
+        mid = 0.5 * (outside + inside)
+        if mid in (outside, inside):
+            break
+        if law.at(mid, 1) == 0.0:
+            inside = mid
+        else:
+            outside = mid
+    return float(inside)
 
 
 def _eig(fprime: float) -> tuple[complex, complex]:
