@@ -1,5 +1,6 @@
 """Rate and state: the appendix derived symbolically, protocols, stability, inertia, bad input."""
 
+import dataclasses
 import json
 import math
 import time
@@ -107,6 +108,76 @@ def test_critical_stiffness() -> None:
     below = linear_stability(params(stiffness_per_load="0.45 1/mm"), "1 um/s")
     above = linear_stability(params(stiffness_per_load="0.55 1/mm"), "1 um/s")
     assert below.growth_rate > 0 > above.growth_rate
+
+
+def _damped_critical_kw(a: float, bs: list[float], dcs: list[float], eta: float, v0: float) -> float:
+    """Critical k/W (1/m), written separately: the aging law with damping, quasi-static, in
+    (v, theta_i); the force balance differentiated in time gives
+    dv/dt = (k/W (v0 - v) - sum b_i/theta_i dtheta_i/dt) / (a/v + eta); Jacobian by central
+    differences at steady sliding, its leading real part's zero by Brent."""
+    from scipy.optimize import brentq
+
+    b, dc = np.array(bs), np.array(dcs)
+
+    def rhs(y: np.ndarray, kw: float) -> np.ndarray:
+        v, th = y[0], y[1:]
+        dth = 1 - v * th / dc
+        return np.concatenate([[(kw * (v0 - v) - np.sum(b / th * dth)) / (a / v + eta)], dth])
+
+    def growth(kw: float) -> float:
+        y0 = np.concatenate([[v0], dc / v0])
+        jac = np.empty((y0.size, y0.size))
+        for i in range(y0.size):
+            h = 1e-7 * abs(y0[i])
+            up, down = y0.copy(), y0.copy()
+            up[i] += h
+            down[i] -= h
+            jac[:, i] = (rhs(up, kw) - rhs(down, kw)) / (2 * h)
+        return float(np.max(np.linalg.eigvals(jac).real))
+
+    return float(brentq(growth, 1e-3, 1e5, xtol=1e-10))
+
+
+def test_critical_stiffness_with_damping_and_mass() -> None:
+    """Regression (audit of rate and state, helper-28): with radiation damping the critical
+    stiffness was (B - A)/Dc whatever the damping (steady sliding was linearised about a point
+    that left out the damping stress), and with a mass it was the quasi-static value, though
+    both docstrings say steady sliding is unstable below it. Now critical_kw_at(v0) takes both,
+    critical_kw refuses them, and linear_stability takes a mass."""
+    one = RateStateParameters(
+        a=0.01, b=0.015, dc="10 um", v_ref="1 um/s", mu0=0.6, stiffness_per_load="450 1/m",
+        radiation_damping="1000 s/m",
+    )  # fmt: skip
+    for eta, v0 in ((1000.0, 1e-6), (200.0, 1e-5)):
+        p = dataclasses.replace(one, radiation_damping=f"{eta} s/m")
+        exact = (0.015 - 0.01 - eta * v0) / 1e-5  # d(mu_ss + eta v)/d ln v = A - B + eta v
+        assert p.critical_kw_at(f"{v0} m/s").to("1/m").magnitude == pytest.approx(exact, rel=1e-9)
+    st = linear_stability(one, "1 um/s")
+    assert st.kw_critical == pytest.approx(400.0, rel=1e-9) and st.growth_rate < 0  # k/W 450 > 400: stable
+    with pytest.raises(ValueError, match="with radiation damping the critical stiffness depends"):
+        _ = one.critical_kw
+    for eta, v0 in ((1000.0, 1e-6), (100.0, 1e-6), (1000.0, 3e-6)):
+        two = RateStateParameters(
+            a=0.01, b=[0.01, 0.005], dc=["10 um", "50 um"], v_ref="1 um/s", mu0=0.6,
+            stiffness_per_load="100 1/m", radiation_damping=f"{eta} s/m",
+        )  # fmt: skip
+        ref = _damped_critical_kw(0.01, [0.01, 0.005], [1e-5, 5e-5], eta, v0)
+        assert two.critical_kw_at(f"{v0} m/s").to("1/m").magnitude == pytest.approx(ref, rel=1e-8)
+    # a mass: Rice and Ruina, k_c(m) = k_c(0) (1 + m v0^2 / (W A Dc)); here that number is 1
+    heavy = RateStateParameters(
+        a=0.01, b=0.015, dc="10 um", v_ref="1 um/s", mu0=0.6, stiffness="7000 N/m", load="10 N", mass="1 kg"
+    )
+    kc = (heavy.critical_kw_at("1 mm/s") * heavy.load).to("N/m").magnitude
+    assert kc == pytest.approx(5000.0 * (1 + 1.0 * 1e-6 / (10 * 0.01 * 1e-5)), rel=1e-9)
+    st = linear_stability(heavy, "1 mm/s")
+    assert st.growth_rate > 0  # 7000 N/m is below the inertial 10000: unstable
+    with pytest.raises(ValueError, match="with a mass the critical stiffness depends"):
+        _ = heavy.critical_stiffness
+    # velocity strengthening: stable at any stiffness, 0 (it was -500 1/m)
+    strong = dataclasses.replace(one, a=0.015, b=0.01, radiation_damping=None, stiffness_per_load="1 1/mm")
+    assert strong.critical_kw.magnitude == 0.0
+    # a reciprocal unit after the number (it was a pint syntax error)
+    assert dataclasses.replace(strong, stiffness_per_load="1/mm").kw.to("1/m").magnitude == 1000.0
 
 
 def reference(
@@ -255,8 +326,11 @@ def test_bad_protocol_input() -> None:
     for bad in ({"max_steps": 0}, {"max_steps": 1.5}, {"max_seconds": float("nan")}, {"max_seconds": -1}):
         with pytest.raises(ValueError, match=f"{next(iter(bad))}="):
             simulate_rate_state(p, [("10 s", "1 um/s")], **bad)
-    with pytest.raises(ValueError, match="quasi-static"):
-        linear_stability(RateStateParameters(**BASE, stiffness="1e4 N/m", load="1 N", mass="1 kg"), "1 um/s")
+    # a mass is the inertial model (it was refused): three eigenvalues
+    st = linear_stability(RateStateParameters(**BASE, stiffness="1e4 N/m", load="1 N", mass="1 kg"), "1 um/s")
+    assert len(st.eigenvalues) == 3
+    with pytest.raises(ValueError, match="v0="):
+        linear_stability(params(), "-1 um/s")
 
 
 RS = ["ratestate", "--a", "0.01", "--b", "0.015", "--dc", "10 um", "--v-ref", "1 um/s", "--mu0", "0.6"]

@@ -125,6 +125,8 @@ def _parse_string(value: str, name: str, example: str) -> Any:
             f"a comma) followed by a unit, such as {example!r}"
         )
     number, unit = m.group(1), m.group(2)
+    if unit.lstrip().startswith("/"):  # '1/mm': the number, then a reciprocal unit
+        unit = "1" + unit.lstrip()
     try:
         u = ureg.Unit(unit) if unit else ureg.dimensionless
     except Exception as exc:  # pint raises several unrelated exception types

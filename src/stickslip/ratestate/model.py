@@ -262,17 +262,43 @@ class RateStateParameters:
     def critical_kw(self) -> pint.Quantity:
         """Critical ``k/W`` (1/m) of the quasi-static slider: steady sliding is unstable below it.
 
-        ``(B - A)/D_c`` for one state variable (aging or slip law); with several, the
-        ``k/W`` at which the leading eigenvalue of the linearisation crosses zero
-        (independent of the sliding velocity for the log form).
+        ``max(0, (B - A)/D_c)`` for one state variable (aging or slip law); with
+        several, the ``k/W`` at which the leading eigenvalue of the linearisation
+        crosses zero. 0: stable at any stiffness. Independent of the sliding
+        velocity (log form, no damping, no mass); with radiation damping or a mass it
+        depends on it: use :meth:`critical_kw_at`.
+
+        Raises
+        ------
+        ValueError
+            With radiation damping or a mass (the value depends on the velocity).
+
         """
+        if self.radiation_damping is not None or self.inertial:
+            what = "radiation damping" if self.radiation_damping is not None else "a mass"
+            raise ValueError(
+                f"with {what} the critical stiffness depends on the sliding velocity: "
+                "use critical_kw_at(v0) (or linear_stability(params, v0).kw_critical)"
+            )
         if self.n_states == 1 and self.laws[0] in ("aging", "slip"):
-            return ((self.b - self.a) / self.dc).to("1/m")
-        return Q_(_critical_kw_numeric(self), "1/m")
+            return Q_(max(0.0, float(((self.b - self.a) / self.dc).to("1/m").magnitude)), "1/m")
+        return Q_(_critical_kw_numeric(self, float(self.v_ref.to("m/s").magnitude)), "1/m")
+
+    def critical_kw_at(self, v0: Any) -> pint.Quantity:
+        """Critical ``k/W`` (1/m) of steady sliding at the load-point velocity ``v0``.
+
+        The stiffness at which the leading eigenvalue of the linearisation about
+        steady sliding at ``v0`` crosses zero, with radiation damping (quasi-static:
+        ``(B - A - eta v0 / sigma)/D_c`` for one state variable) and a mass (Rice and
+        Ruina: ``(B - A)/D_c (1 + m v0^2/(W A D_c))`` without damping) when the
+        parameters have them. 0: stable at any stiffness.
+        """
+        v = parse_quantity(v0, "v0", "[length] / [time]", "1 um/s")
+        return Q_(_critical_kw_numeric(self, float(v.to("m/s").magnitude)), "1/m")
 
     @property
     def critical_stiffness(self) -> pint.Quantity:
-        """Critical stiffness ``k_c = (k/W)_c W`` (N/m); needs ``load``."""
+        """Critical stiffness ``k_c = (k/W)_c W`` (N/m); needs ``load``. See :attr:`critical_kw`."""
         if self.load is None:
             raise ValueError("critical_stiffness needs load; use critical_kw for k/W")
         return (self.critical_kw * self.load).to("N/m")
@@ -347,28 +373,50 @@ def steady_log_states(params: RateStateParameters, v: float) -> npt.NDArray[np.f
     return out
 
 
-def growth_rate(params: RateStateParameters, kw: float, v: float) -> float:
-    """Largest real part (1/s) of the quasi-static linearisation about steady sliding at ``v`` (m/s)."""
+def steady_state(params: RateStateParameters, v: float, P: Any, S: Any) -> npt.NDArray[np.float64]:
+    """Steady sliding at load-point velocity ``v`` (m/s) in the core's variables.
+
+    The spring carries friction plus the damping stress ``eta v``; with a mass the
+    state holds the slip velocity too.
+    """
+    theta = steady_log_states(params, v)
+    if not params.inertial:
+        mu = float(params.steady_state_friction(Q_(v, "m/s"))) + P[core.P_ETA] * v
+        return np.concatenate([[mu], theta])
+    mu_s = core.in_friction(v, np.concatenate([[0.0, v], theta]), S, params.n_states, P) + P[core.P_ETA] * v
+    return np.concatenate([[mu_s, v], theta])
+
+
+def jacobian(params: RateStateParameters, v: float, kw: float | None = None) -> npt.NDArray[np.float64]:
+    """Return the Jacobian (1/s) of the model about steady sliding at ``v`` (m/s), at ``k/W = kw``."""
     P, S = params.core_arrays()
-    P[core.P_KW] = kw
+    if kw is not None:
+        P[core.P_KW] = kw
     n = params.n_states
-    th = steady_log_states(params, v)
-    mu = float(params.steady_state_friction(Q_(v, "m/s")))
-    y = np.concatenate([[mu], th])
-    jac = np.empty((n + 1, n + 1))
-    core.qs_jac(y, P, S, n, jac)
-    return float(np.max(np.linalg.eigvals(jac).real))
+    y = steady_state(params, v, P, S)
+    jac = np.empty((y.size, y.size))
+    if params.inertial:
+        core.in_jac(y, P, S, n, jac)
+    else:
+        core.qs_jac(y, P, S, n, jac)
+    return jac
 
 
-def _critical_kw_numeric(params: RateStateParameters) -> float:
-    """Critical ``k/W`` (1/m) by bisection on the growth rate (log form, velocity ``V_r``)."""
-    v = float(params.v_ref.to("m/s").magnitude)
+def growth_rate(params: RateStateParameters, kw: float, v: float) -> float:
+    """Largest real part (1/s) of the linearisation about steady sliding at ``v`` (m/s), at ``k/W = kw``."""
+    return float(np.max(np.linalg.eigvals(jacobian(params, v, kw)).real))
+
+
+def _critical_kw_numeric(params: RateStateParameters, v: float) -> float:
+    """Critical ``k/W`` (1/m) at velocity ``v`` (m/s), by bisection on the growth rate."""
     scale = max(float(b) / float(d.to("m").magnitude) for b, d in zip(params.bs, params.dcs, strict=True))
     lo, hi = 1e-9 * scale, 10.0 * scale
     if growth_rate(params, lo, v) <= 0.0:
-        return 0.0  # stable at any stiffness (velocity strengthening)
-    if growth_rate(params, hi, v) > 0.0:
-        return math.inf
+        return 0.0  # stable at any stiffness (velocity strengthening, or damped enough)
+    while growth_rate(params, hi, v) > 0.0:  # a mass raises it (Rice and Ruina)
+        hi *= 10.0
+        if hi > 1e12 * scale:
+            return math.inf
     for _ in range(200):
         mid = math.sqrt(lo * hi)
         if growth_rate(params, mid, v) > 0.0:

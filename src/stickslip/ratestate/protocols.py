@@ -29,7 +29,7 @@ import xarray as xr
 from ..core import radau
 from ..core import ratestate as core
 from ..units import Q_, parse_quantity
-from .model import RateStateParameters, steady_log_states
+from .model import RateStateParameters, jacobian, steady_state
 
 __all__ = [
     "RateStateStopped",
@@ -64,13 +64,7 @@ def _history(history: Any) -> list[tuple[float, float]]:
 def _steady_state(params: RateStateParameters, v: float) -> FloatArray:
     """Steady sliding at load-point velocity ``v`` (m/s) in the core's variables."""
     P, S = params.core_arrays()
-    theta = steady_log_states(params, v)
-    if not params.inertial:
-        # the spring carries friction plus the damping stress
-        mu = float(params.steady_state_friction(Q_(v, "m/s"))) + P[core.P_ETA] * v
-        return np.concatenate([[mu], theta])
-    mu_s = core.in_friction(v, np.concatenate([[0.0, v], theta]), S, params.n_states, P) + P[core.P_ETA] * v
-    return np.concatenate([[mu_s, v], theta])
+    return steady_state(params, v, P, S)
 
 
 def sample_times(sample: Any, total: float) -> FloatArray:
@@ -710,7 +704,7 @@ def slide_hold_slide(
 
 @dataclass(frozen=True)
 class Stability:
-    """Linear stability of steady sliding (quasi-static model).
+    """Linear stability of steady sliding (quasi-static or inertial model).
 
     Attributes
     ----------
@@ -721,7 +715,10 @@ class Stability:
     angular_frequency : float
         Imaginary part of the leading pair (rad/s), 0 if real.
     kw_critical : float
-        Critical ``k/W = (B - A)/D0`` (1/m).
+        Critical ``k/W`` (1/m) at this velocity: ``(B - A)/D0`` for one state
+        variable without damping or mass; with them, where the growth rate at this
+        velocity crosses zero (:meth:`RateStateParameters.critical_kw_at`). 0: stable
+        at any stiffness.
 
     """
 
@@ -732,26 +729,20 @@ class Stability:
 
 
 def linear_stability(params: RateStateParameters, v0: Any) -> Stability:
-    """Linearise the quasi-static model about steady sliding at ``v0``.
+    """Linearise the model about steady sliding at ``v0`` (with a mass: the inertial model).
 
     Raises
     ------
     ValueError
-        For a non-positive ``v0`` or an inertial parameter set.
+        For a non-positive ``v0``.
 
     """
-    if params.inertial:
-        raise ValueError("linear_stability is for the quasi-static model (params without mass)")
     v = parse_quantity(v0, "v0", "[length] / [time]", "1 um/s")
-    y = _steady_state(params, float(v.to("m/s").magnitude))
-    jac = np.empty((params.n_states + 1, params.n_states + 1))
-    P, S = params.core_arrays()
-    core.qs_jac(y, P, S, params.n_states, jac)
-    ev = np.linalg.eigvals(jac)
+    ev = np.linalg.eigvals(jacobian(params, float(v.to("m/s").magnitude)))
     lead = ev[np.argmax(ev.real)]
     return Stability(
         tuple(complex(e) for e in ev),
         float(lead.real),
         float(abs(lead.imag)),
-        float(params.critical_kw.to("1/m").magnitude),
+        float(params.critical_kw_at(v).to("1/m").magnitude),
     )
