@@ -820,34 +820,7 @@ def regimes(
             intervals[-1] = Interval(name, intervals[-1].nu_min, c1, att)
         else:
             intervals.append(Interval(name, c0, c1, att))
-    notes = [n for h in hopf_in if h.kink for n in [law.hopf_note(h.nu, h.criticality)] if n]
-    flat = fp == 0.0
-    if flat.any() and not flat.all():  # a flat stretch (a table's equal rows): no isolated Hopf point
-        edges = np.flatnonzero(np.diff(np.concatenate([[0], flat.astype(np.int8), [0]])))
-        for a, b in zip(edges[::2], edges[1::2], strict=True):
-            if b - a >= 2:
-                start = _flat_end(law, grid[a - 1], grid[a]) if a > 0 else lo
-                end = _flat_end(law, grid[b], grid[b - 1]) if b < grid.size else hi
-                notes.append(
-                    f"f'(nu) = 0 from nu = {start:.8g} to {end:.8g} (a flat stretch of the law): "
-                    "steady sliding is neutrally stable there, with a family of neutral cycles and no "
-                    "isolated Hopf point; its stability changes across the stretch"
-                )
-    if np.all(fp == 0.0) and abs(law.kinetic_limit - 1.0) < 1e-9:
-        notes.append(
-            "friction is constant and equal to the static threshold (no weakening with velocity and no "
-            "drop at the onset of slip): steady sliding is neutrally stable, every motion is a neutral "
-            "oscillation that touches w = 0 once a period, and no regime is selected"
-        )
-    # a table: where the motions went beyond its rows, or why they could not be followed
-    reached = np.concatenate([r.w_max for r in (rest, *probes)])
-    reached = reached[np.isfinite(reached)]
-    failed = any(Regime.UNKNOWN in iv.attractors for iv in intervals)
-    extra = (law.range_warning(math.nan) if failed else None) or (
-        law.range_warning(float(reached.max())) if reached.size else None
-    )
-    if extra:
-        notes.append(extra)
+    notes = _notes(law, hopf_in, grid, fp, intervals, (rest, *probes))
     for note in notes:
         warnings.warn(note, UserWarning, stacklevel=2)
     return RegimeDiagram(
@@ -862,6 +835,45 @@ def regimes(
         probes=probes,
         notes=tuple(notes),
     )
+
+
+def _notes(
+    law: DimensionlessLaw,
+    hopf: Sequence[Hopf],
+    grid: np.ndarray,
+    fp: np.ndarray,
+    intervals: Sequence[Interval],
+    rows: Sequence[AttractorRows],
+) -> list[str]:
+    """Return what a diagram owes to the law's construction, one line each.
+
+    A Hopf point on a table's row, a flat stretch (``f' = 0`` on ``grid``, where
+    ``f'`` is ``fp``), a constant law, and motions beyond a table's rows (``rows``:
+    the engine's, from rest and from the probes).
+    """
+    notes = [n for h in hopf if h.kink for n in [law.hopf_note(h.nu, h.criticality)] if n]
+    flat = fp == 0.0
+    if flat.any() and not flat.all():  # a flat stretch (a table's equal rows): no isolated Hopf point
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], flat.astype(np.int8), [0]])))
+        for a, b in zip(edges[::2], edges[1::2], strict=True):
+            if b - a >= 2:
+                start = _flat_end(law, grid[a - 1], grid[a]) if a > 0 else float(grid[0])
+                end = _flat_end(law, grid[b], grid[b - 1]) if b < grid.size else float(grid[-1])
+                notes.append(
+                    f"f'(nu) = 0 from nu = {start:.8g} to {end:.8g} (a flat stretch of the law): "
+                    "steady sliding is neutrally stable there, with a family of neutral cycles and no "
+                    "isolated Hopf point; its stability changes across the stretch"
+                )
+    if flat.all() and abs(law.kinetic_limit - 1.0) < 1e-9:
+        notes.append(
+            "friction is constant and equal to the static threshold (no weakening with velocity and no "
+            "drop at the onset of slip): steady sliding is neutrally stable, every motion is a neutral "
+            "oscillation that touches w = 0 once a period, and no regime is selected"
+        )
+    # a table: where the motions went beyond its rows, or why they could not be followed
+    failed = any(Regime.UNKNOWN in iv.attractors for iv in intervals)
+    extra = law.motion_warning(np.concatenate([r.w_max for r in rows]), failed)
+    return [*notes, extra] if extra else notes
 
 
 def _flat_end(law: DimensionlessLaw, outside: float, inside: float) -> float:

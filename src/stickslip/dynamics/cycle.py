@@ -302,13 +302,9 @@ def cycle(
     distinct = _distinct(keyed)
 
     o = polished[0]
-    reached = polished.w_max[np.isfinite(polished.w_max)]
     # a motion from rest that could not be followed: a table may know why (its extrapolation
     # reaches zero friction); else whether the motions went beyond the table
-    failed = Status.from_code(o.status[0]) != Status.OK
-    note = (law.range_warning(math.nan) if failed else None) or (
-        law.range_warning(float(reached.max())) if reached.size else None
-    )
+    note = law.motion_warning(polished.w_max, Status.from_code(o.status[0]) != Status.OK)
     if note:
         warnings.warn(note, UserWarning, stacklevel=2)
     period = float(o.period[0])

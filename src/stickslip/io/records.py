@@ -28,7 +28,7 @@ import pint
 from ..units import parse_quantity, ureg
 from . import text
 from .errors import DataError
-from .tables import _HEADER, check_file, parse_header
+from .tables import check_file, header_name, parse_header
 
 __all__ = ["Record", "format_record", "read_record", "read_records", "write_record"]
 
@@ -187,17 +187,15 @@ def _read(
     renames columns (an index's ``driving velocity`` is its ``v0``).
     """
     layout = text.inspect(path, where)
+    aliases = aliases or {}
     parsed = []
     for cell in layout.header:
-        try:
-            name, unit = parse_header(cell, where)
-        except DataError:
-            m = _HEADER.match(cell)
-            name = m.group(1).strip().lower() if m and m.group(1) else ""
-            if not name or (aliases or {}).get(name, name) in NUMERIC + TEXT:
-                raise
-            unit = None  # a column that is not read: its unit does not matter
-        parsed.append(((aliases or {}).get(name, name), unit))
+        raw = header_name(cell, where)
+        name = aliases.get(raw, raw)
+        unit: pint.Unit | None = None  # a column that is not read: its unit does not matter
+        if name in NUMERIC + TEXT:
+            unit = parse_header(cell, where)[1]
+        parsed.append((name, unit))
     names = [n for n, _ in parsed]
     dup = {n for n in names if names.count(n) > 1}
     if dup:

@@ -41,12 +41,19 @@ class Column:
         return f"line {text.data_lines(self.layout, [int(i)])[0]}"
 
 
-def parse_header(cell: str, path: str) -> tuple[str, pint.Unit | None]:
-    """Split ``"velocity [um/s]"`` into ``("velocity", unit)``; raise ValueError if malformed."""
+def header_name(cell: str, path: str) -> str:
+    """Return the name of a header cell, ``"velocity"`` for ``"Velocity [um/s]"``; raise if malformed."""
     m = _HEADER.match(cell)
     if not m or not m.group(1):
         raise DataError(f"{path}: header cell {cell!r} is not of the form 'name [unit]'")
-    name = m.group(1).strip().lower()
+    return m.group(1).strip().lower()
+
+
+def parse_header(cell: str, path: str) -> tuple[str, pint.Unit | None]:
+    """Split ``"velocity [um/s]"`` into ``("velocity", unit)``; raise ValueError if malformed."""
+    name = header_name(cell, path)
+    m = _HEADER.match(cell)
+    assert m is not None  # header_name matched it
     unit_text = m.group(2)
     if unit_text is None or unit_text.strip() == "":
         return name, None

@@ -12,6 +12,7 @@ hashable, compare by value and pickle by value (for Dask workers).
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Mapping
 from typing import Any, ClassVar
 
@@ -202,6 +203,18 @@ class DimensionlessLaw:
         likeliest cause: its extrapolation reaching zero friction).
         """
         return None
+
+    def motion_warning(self, w_max: npt.ArrayLike, failed: bool) -> str | None:
+        """Return :meth:`range_warning` for a set of motions.
+
+        Where a motion could not be followed (``failed``) the law's reason for that
+        comes first; else the largest finite ``w_max`` reached is judged.
+        """
+        reached = np.asarray(w_max, dtype=float)
+        reached = reached[np.isfinite(reached)]
+        return (self.range_warning(math.nan) if failed else None) or (
+            self.range_warning(float(reached.max())) if reached.size else None
+        )
 
     def breakpoints(self) -> FloatArray:
         """Return the velocities ``w > 0`` where ``f''`` may jump (a table's rows); none for a formula."""

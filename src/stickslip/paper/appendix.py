@@ -24,9 +24,8 @@ import xarray as xr
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from ..core import ratestate as core
 from ..ratestate.dulac import lambdified_field
-from ..ratestate.model import RateStateParameters
+from ..ratestate.model import RateStateParameters, growth_rate
 from ..ratestate.protocols import linear_stability, simulate_rate_state
 from ..units import Q_
 
@@ -160,14 +159,7 @@ def _critical_check(ratios: tuple[float, ...], n_points: int) -> xr.Dataset:
 
 
 def _inertial_growth(kw: float, mass_kg: float, v0: float) -> float:
-    p = _params(kw, f"{mass_kg} kg")
-    P, S = p.core_arrays()
-    theta = math.log(Q_(VR).to("m/s").magnitude / v0)
-    y = np.array([0.0, v0, theta])
-    y[0] = core.in_friction(v0, y, S, 1, P)
-    jac = np.empty((3, 3))
-    core.in_jac(y, P, S, 1, jac)
-    return float(np.max(np.linalg.eigvals(jac).real))
+    return growth_rate(_params(kw, f"{mass_kg} kg"), kw, v0)
 
 
 def _inertia(n_mass: int, n_points: int) -> xr.Dataset:
