@@ -221,3 +221,24 @@ def test_records_that_cannot_be_fitted_are_refused_at_once(tmp_path) -> None:
     (tmp_path / "mps.csv").write_text(text)
     with pytest.raises(DataError, match=r"cannot be simulated at the starting values .* Check the units"):
         fit_rate_state(read_lab_record(tmp_path / "mps.csv", need_friction=True))
+
+
+def test_a_record_that_starts_in_a_hold_names_where_sliding_begins(tmp_path) -> None:
+    """The fit starts from steady sliding at the first sample's velocity: a record whose
+    first samples hold is refused, naming when sliding begins, and the window from there
+    recovers the parameters the record was made with."""
+    path = _record(tmp_path, "aging", ONE, STEPS_ONE, ONE["k_per_um"])
+    lines = path.read_text().splitlines()
+    first = next(i for i, line in enumerate(lines) if line[:1].isdigit())
+    t_slide = float(lines[first + 5].split(",")[0])
+    for i in range(first, first + 5):
+        cells = lines[i].split(",")
+        cells[1] = "0"
+        lines[i] = ",".join(cells)
+    held = tmp_path / "held.csv"
+    held.write_text("\n".join(lines) + "\n")
+    rec = read_lab_record(held, need_friction=True)
+    with pytest.raises(DataError, match=rf"held.csv starts in a hold .*sliding begins at t = {t_slide:g} s"):
+        fit_rate_state(rec)
+    fit = fit_rate_state(rec, window=(f"{t_slide} s", f"{rec.time[-1]} s"))
+    _check(fit.values, fit.errors, _truth_values(ONE))

@@ -275,8 +275,17 @@ def fit_rate_state(
     x = record.displacement[sel] - record.displacement[i0]
     v = record.velocity[sel]
     if v[0] <= 0:
+        moving = np.flatnonzero(v > 0)
+        where = "the fitting window" if window is not None else f"{record.name}"
+        slide = (
+            f"; sliding begins at t = {t_all[sel][moving[0]] + record.time[0]:g} s"
+            if moving.size
+            else ""
+        )
         raise DataError(
-            "the fitting window starts in a hold: start it while sliding (steady state is assumed)"
+            f"{where} starts in a hold (load-point velocity {v[0] * 1e6:g} um/s{slide}): the fit "
+            "starts from steady sliding at the first sample's velocity, which a hold does not "
+            "give; start the window while sliding (--window / window=)"
         )
     if np.unique(v[:-1]).size == 1:  # the last sample's velocity holds after the record
         where = "in the window" if window is not None else "in the record"
