@@ -244,3 +244,20 @@ def test_a_measured_record_is_not_taken_for_a_trajectory(tmp_path: Path) -> None
     assert Path(path).read_text().splitlines()[1:] == ["0.001", "0.002"]
     with pytest.raises(ValueError, match="do not convert to m"):
         write_columns(tmp_path / "r.csv", {"force [m]": Q_([1.0], "mN")})
+
+
+def test_the_spring_force_legend_hides_no_data() -> None:
+    """A saw-tooth fills its axes corner to corner: the stick/slip legend sat in the lower right
+    corner over the last drop's bottom; it is drawn below the axes, outside them."""
+    import stickslip as S
+    from stickslip.plots.figures import plot_spring_force
+
+    traj = S.simulate(S.zv_parameters("100 um/s"), duration="70 s")
+    fig = plot_spring_force(traj, title="zv")
+    fig.draw_without_rendering()  # the constrained layout places the legend
+    ax = fig.axes[0]
+    assert ax.get_legend() is None and len(fig.legends) == 1
+    box, axes_box = fig.legends[0].get_window_extent(), ax.get_window_extent()
+    assert box.y1 <= axes_box.y0  # below the plotting area
+    labels = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert labels == ["stick (block at rest)", "slip (block moving)"]

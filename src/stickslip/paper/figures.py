@@ -9,7 +9,7 @@ import xarray as xr
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from ..plots.figures import draw_phases, figure_bytes
+from ..plots.figures import draw_phases, figure_bytes, phase_legend
 from ..plots.regimes import plot_criterion_map, plot_regime_map
 from ..plots.style import plain_log_ticks, pretty_units, subplots
 
@@ -46,7 +46,7 @@ def fig1_spring_force(ds: xr.Dataset) -> Figure:
     ax.set_xlabel("time [s]")
     ax.set_ylabel("spring force [mN]")
     ax.set_title(pretty_units(f"Fig. 1: zv set-up, F1, $v_0$ = {ds.attrs.get('fig1_v0', '')}"), fontsize=10)
-    ax.legend(loc="lower right", fontsize=8, framealpha=0.9)
+    phase_legend(fig, ax)
     if zoom:
         tz = ds["fig1_zoom_time"].values
         fz = ds["fig1_zoom_spring_force"].values * 1e3

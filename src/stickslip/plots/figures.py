@@ -49,6 +49,16 @@ def draw_phases(ax: Any, t: np.ndarray, f: np.ndarray, phase: np.ndarray) -> Non
         )
 
 
+def phase_legend(fig: Figure, ax: Any) -> None:
+    """Name the stick and slip lines of :func:`draw_phases` below the figure.
+
+    A saw-tooth fills its axes corner to corner, so a legend inside would hide a drop or a
+    ramp (the lower right corner held the last drop's bottom); outside it hides nothing.
+    """
+    handles, labels = ax.get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncols=len(labels), fontsize=8, frameon=False)
+
+
 def plot_spring_force(traj: Trajectory, *, title: str | None = None) -> Figure:
     """Plot the spring force against time, slip phases marked.
 
@@ -74,7 +84,7 @@ def plot_spring_force(traj: Trajectory, *, title: str | None = None) -> Figure:
         ax.set_xlabel(r"time $\tau$ [$\sqrt{m/k}$]")
         ax.set_ylabel(r"spring force $s$ [$\mu_s W$]")
     if (traj.phase == 0).any():
-        ax.legend(loc="lower right", fontsize=8, framealpha=0.9)
+        phase_legend(fig, ax)
     ax.set_xlim(traj.time[0], traj.time[-1])
     if title:
         ax.set_title(pretty_units(title))

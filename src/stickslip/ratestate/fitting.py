@@ -276,12 +276,8 @@ def fit_rate_state(
     v = record.velocity[sel]
     if v[0] <= 0:
         moving = np.flatnonzero(v > 0)
-        where = "the fitting window" if window is not None else f"{record.name}"
-        slide = (
-            f"; sliding begins at t = {t_all[sel][moving[0]] + record.time[0]:g} s"
-            if moving.size
-            else ""
-        )
+        where = "the fitting window" if window is not None else record.name
+        slide = f"; sliding begins at t = {t_all[sel][moving[0]] + record.time[0]:g} s" if moving.size else ""
         raise DataError(
             f"{where} starts in a hold (load-point velocity {v[0] * 1e6:g} um/s{slide}): the fit "
             "starts from steady sliding at the first sample's velocity, which a hold does not "
