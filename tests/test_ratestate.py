@@ -222,6 +222,22 @@ def test_slide_hold_slide_healing() -> None:
     assert ds.state.values.max() > 100.0
 
 
+def test_the_rate_state_figure_shades_the_holds() -> None:
+    """A held load point has no place on the velocity's log axis: the holds are shaded, each
+    from the sample where the load point stops to the one where it moves again."""
+    from stickslip.plots.figures import plot_rate_state
+
+    ds = slide_hold_slide(params(), "1 um/s", ["10 s", "100 s"], at_changes=True)
+    fig = plot_rate_state(ds)
+    spans = [(p.get_x(), p.get_x() + p.get_width()) for p in fig.axes[1].patches]
+    t, v = ds.time.values, ds.load_point_velocity.values
+    stops = t[1:][(v[1:] == 0) & (v[:-1] > 0)]
+    np.testing.assert_allclose(np.diff(spans).ravel(), [10.0, 100.0], rtol=1e-12)
+    np.testing.assert_allclose([a for a, _ in spans], stops, rtol=1e-12)
+    assert all(len(ax.patches) == 2 for ax in fig.axes)
+    assert "hold (load point at rest)" in fig.axes[1].get_legend_handles_labels()[1]
+
+
 def test_stiff_case_succeeds_or_fails_with_a_message() -> None:
     p = params(state_law="slip", stiffness_per_load="10 1/mm")
     t0 = time.monotonic()

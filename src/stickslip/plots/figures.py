@@ -231,6 +231,12 @@ def plot_rate_state(ds: Any) -> Figure:
         axes[1].semilogy(
             t, np.where(vlp > 0, vlp, np.nan), "k:", lw=1.0, drawstyle="steps-post", label="load point"
         )
+    # holds: a load-point velocity of zero has no place on the log axis, so shade them
+    held = np.flatnonzero(np.diff(np.concatenate([[0], (vlp <= 0).astype(np.int8), [0]])))
+    for k, (i, j) in enumerate(zip(held[::2], held[1::2], strict=True)):
+        for ax in axes:
+            label = "hold (load point at rest)" if k == 0 and ax is axes[1] else None
+            ax.axvspan(t[i], t[min(j, t.size - 1)], color="0.9", lw=0, zorder=0, label=label)
     axes[1].set_ylabel("velocity [m/s]")
     axes[1].legend(frameon=False, fontsize=8)
     states = [n for n in ds.data_vars if n == "state" or n.startswith("state_")]
