@@ -387,6 +387,34 @@ def test_two_hopf_points_closer_than_the_old_grid_are_found() -> None:
     assert d.regime_at(0.995).regime == d.regime_at(1.005).regime == "steady-sliding"
 
 
+def test_a_dip_of_f_prime_narrower_than_the_grid_gives_its_two_hopf_points() -> None:
+    """A band ten times narrower than the grid's spacing (1.15e-4 at w = 1) has no grid point
+    where f' < 0, but f'' changes sign across it: the minimum of f' is located and the two
+    roots either side of it are exact (1 +- 1e-5 acosh(sqrt(6))); the same for a narrow
+    strengthening bump on a weakening law, against Brent on f' written out by hand."""
+    from scipy.optimize import brentq
+
+    from stickslip.bifurcation.regimes import regimes
+    from stickslip.bifurcation.stability import hopf_points
+
+    law = ExpressionLaw("0.9 + 0.5*w - 0.00003*tanh((w-1)/0.00001)", static=1)
+    off = 1e-5 * math.acosh(math.sqrt(6.0))
+    assert [h.nu for h in hopf_points(law, 1e-6, 1e3)] == pytest.approx([1 - off, 1 + off], abs=1e-12)
+    d = regimes(law, 0.9999, 1.0001)
+    assert d.regime_at(1.0).regime != "steady-sliding"
+    assert d.regime_at(0.99993).regime == d.regime_at(1.00007).regime == "steady-sliding"
+
+    bump = ExpressionLaw("1/(1+w) + 0.00003*tanh((w-1)/0.00001)", static=1)
+
+    def fp(w: float) -> float:
+        return -1.0 / (1.0 + w) ** 2 + 3.0 / math.cosh((w - 1.0) / 1e-5) ** 2
+
+    ref = [brentq(fp, 1.0 - 1e-4, 1.0, xtol=1e-15), brentq(fp, 1.0, 1.0 + 1e-4, xtol=1e-15)]
+    hs = hopf_points(bump, 1e-3, 1e2)
+    assert [h.nu for h in hs] == pytest.approx(ref, abs=1e-12)
+    assert [h.stable_side for h in hs] == ["above", "below"]  # steady sliding stable inside the bump
+
+
 def test_a_table_that_ends_falling_names_its_zero_crossing(tmp_path: Path) -> None:
     """Regression (audit of user laws): a table ending while friction still falls extrapolates
     to zero friction (here at v = 2.231 mm/s); `cycle` said only 'the friction law is singular or

@@ -89,7 +89,9 @@ def hopf_points(
 
     Roots are bracketed on a logarithmic grid of ``n_grid`` points (default
     :data:`HOPF_GRID_PER_DECADE` per decade, at least 4000), to which a table's
-    rows are added, and refined by Brent's method.
+    rows are added, and refined by Brent's method. Between two grid points where
+    ``f'`` keeps its sign but ``f''`` changes it, the extremum of ``f'`` is located: a
+    dip of ``f'`` below zero narrower than the grid gives its two roots too.
 
     Raises
     ------
@@ -117,8 +119,12 @@ def hopf_points(
     ]
     from scipy import optimize  # here: scipy.optimize takes 0.3 s to import, and a cycle needs none
 
-    for i in np.flatnonzero(np.sign(g[:-1]) * np.sign(g[1:]) < 0):
-        root = optimize.brentq(lambda v: _d(law, v, 1), grid[i], grid[i + 1], xtol=1e-14, rtol=1e-14)
+    brackets = [
+        (float(grid[i]), float(grid[i + 1])) for i in np.flatnonzero(np.sign(g[:-1]) * np.sign(g[1:]) < 0)
+    ]
+    brackets += _dips(law, grid, g)
+    for a, b in brackets:
+        root = optimize.brentq(lambda v: _d(law, v, 1), a, b, xtol=1e-14, rtol=1e-14)
         roots.append(float(root))
     out = []
     for nu_h in sorted(roots):
@@ -137,6 +143,31 @@ def hopf_points(
         l1 = -f3 / 16.0
         crit = "degenerate" if f3 == 0 else ("supercritical" if l1 < 0 else "subcritical")
         out.append(Hopf(nu_h, l1, crit, side))
+    return out
+
+
+def _dips(law: DimensionlessLaw, grid: np.ndarray, g: np.ndarray) -> list[tuple[float, float]]:
+    """Brackets of the two roots of ``f'`` in a dip (or a bump) narrower than the grid.
+
+    Where ``f'`` keeps its sign from one grid point to the next but ``f''`` changes sign,
+    ``f'`` has an extremum between them; if ``f'`` has the other sign there, it crosses zero
+    on either side of it (a weakening band narrower than the grid's spacing). ``f''`` is
+    compared across its exact zeros (a linear stretch of the law, or a derivative that
+    rounds to zero far from the dip); a dip so narrow that ``f''`` rounds to zero at the
+    grid points on both sides is not seen.
+    """
+    from scipy import optimize
+
+    g2 = np.asarray(law.derivative(grid, 2), dtype=np.float64)
+    nz = np.flatnonzero(np.isfinite(g2) & (g2 != 0.0))
+    out = []
+    turns = np.flatnonzero(g2[nz[:-1]] * g2[nz[1:]] < 0)  # f' has an extremum in between
+    for a, b in zip(nz[turns], nz[turns + 1], strict=True):
+        if g[a] == 0.0 or not np.all(np.sign(g[a : b + 1]) == np.sign(g[a])):
+            continue  # a root of f' that the grid has bracketed already
+        w = optimize.brentq(lambda v: _d(law, v, 2), grid[a], grid[b], xtol=1e-15, rtol=1e-15)
+        if _d(law, w, 1) * g[a] < 0:
+            out += [(float(grid[a]), float(w)), (float(w), float(grid[b]))]
     return out
 
 
