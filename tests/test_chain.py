@@ -170,6 +170,31 @@ def test_b_value_of_a_gutenberg_richter_sample() -> None:
     # a sample truncated at 3: the untruncated estimate is biased, the truncated one is not
     mt = m[m <= 3.0]
     assert abs(b_value(mt, mc=2.0, m_max=3.0, n_boot=50).b - b_true) < 0.05
+
+
+def test_b_value_and_its_errors_at_b_other_than_one() -> None:
+    """At b = 1 a b-power in an error formula is invisible: b = 1.5 against Aki's estimate
+    log10(e)/(mean - Mc) and Shi and Bolt's error 2.3 b^2 sigma/sqrt(n), computed here; the
+    truncated estimate against the root of the truncated exponential's mean, by Brent."""
+    from scipy.optimize import brentq
+
+    rng = np.random.default_rng(3)
+    b_true, n = 1.5, 20000
+    m = 2.0 + rng.exponential(1.0 / (b_true * math.log(10)), n)
+    fit = b_value(m, mc=2.0, n_boot=200)
+    aki = math.log10(math.e) / (m.mean() - 2.0)
+    assert fit.b == pytest.approx(aki, rel=1e-12)
+    assert fit.shi_bolt == pytest.approx(2.3 * aki**2 * m.std(ddof=1) / math.sqrt(n), rel=1e-12)
+    assert abs(fit.b - b_true) < 3 * fit.shi_bolt
+    assert fit.error == pytest.approx(fit.shi_bolt, rel=0.2)  # the bootstrap agrees with the formula
+    mt = m[m <= 2.5]
+    width, mean = 0.5, mt.mean() - 2.0
+
+    def excess(beta: float) -> float:  # the truncated exponential's mean above Mc, minus the data's
+        return 1.0 / beta - width / math.expm1(beta * width) - mean
+
+    beta = brentq(excess, 1e-6, 100.0, xtol=1e-15)
+    assert b_value(mt, mc=2.0, m_max=2.5, n_boot=0).b == pytest.approx(beta / math.log(10), rel=1e-10)
     assert b_value(mt, mc=2.0, n_boot=0).b > 1.2
 
 

@@ -2,6 +2,7 @@
 
 import csv
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -64,8 +65,21 @@ def test_cycle_json_physical_matches_dimensionless() -> None:
     d2 = json.loads(res2.output)
     force = 0.46 * 0.196
     time = (0.231 / 62) ** 0.5
-    assert d["amplitude"] == pytest.approx(d2["amplitude"] * force, rel=1e-9)
-    assert d["period"] == pytest.approx(d2["period"] * time, rel=1e-3)  # mass rounded to 231 g
+    length = force / 62  # mu_s W / k (m)
+    velocity = force / (62 * 0.231) ** 0.5  # mu_s W / sqrt(k m) (m/s)
+    energy = force**2 / 62  # (mu_s W)^2 / k (J)
+    for key, scale in (
+        ("amplitude", force),
+        ("max_force", force),
+        ("min_force", force),
+        ("period", time),
+        ("stick_time", time),
+        ("slip_distance", length),
+        ("peak_velocity", velocity),
+        ("drive_work", energy),
+        ("friction_work", energy),
+    ):
+        assert d[key] == pytest.approx(d2[key] * scale, rel=1e-9), key
 
 
 @pytest.mark.parametrize(
@@ -114,8 +128,25 @@ def test_cycle_every_law(args: list[str]) -> None:
     res = run("cycle", *args, "--json")
     assert res.exit_code == 0, res.output
     d = json.loads(res.output)
-    assert d["regime"] in ("stick-slip", "pure-slip", "steady-sliding")
-    if "coulomb" in args and "--nu" in args:  # the closed form (tests/reference.py)
+    # every case is stick-slip; the cubic and zv ones against plain SciPy (tests/reference.py),
+    # the physical ones in units of mu_s W and sqrt(m/k) worked out by hand
+    assert d["regime"] == "stick-slip"
+    cases = {
+        "cubic": ({"alpha": 0.5, "gamma": 0.1}, 0.05, 1.0, 1.0),
+        # mu_s W = 0.5 N, beta = 20 s/m: alpha = k1/(mu_s beta), gamma = k3/(mu_s beta^3)
+        "cubic-physical": ({"alpha": 2 / (0.5 * 20), "gamma": 10 / (0.5 * 20**3)}, 20 * 1e-3, 0.5, 0.1),
+    }
+    if "--preset" in args:  # zv: beta = 42 s/m, c = a/beta, p = b/beta, mu0 W = 0.46 x 0.196 N
+        m = (42 * 0.46 * 0.196) ** 2 / 62  # beta = sqrt(k m)/(mu0 W) = 42 s/m with k = 62 N/m
+        ref = reference_cycle("weakening", {"c": 160 / 42, "p": 100 / 42}, 42 * 50e-6)
+        assert d["amplitude"] == pytest.approx(ref.amplitude * 0.46 * 0.196, rel=1e-8)
+        assert d["period"] == pytest.approx(ref.period * math.sqrt(m / 62), rel=1e-8)
+    elif "cubic" in args:
+        law_params, nu, force, time = cases["cubic" if "--nu" in args else "cubic-physical"]
+        ref = reference_cycle("cubic", law_params, nu)
+        assert d["amplitude"] == pytest.approx(ref.amplitude * force, rel=1e-8)
+        assert d["period"] == pytest.approx(ref.period * time, rel=1e-8)
+    elif "coulomb" in args and "--nu" in args:  # the closed form (tests/reference.py)
         exact = coulomb_cycle(0.05, 0.3)
         assert d["amplitude"] == pytest.approx(exact["amplitude"], rel=1e-9)
         assert d["period"] == pytest.approx(exact["period"], rel=1e-9)

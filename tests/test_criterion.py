@@ -1,6 +1,7 @@
 """The criterion on model data, on noisy and short data, and on malformed files."""
 
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -201,3 +202,29 @@ def test_classify_cli_json(tmp_path: Path) -> None:
 def test_classify_bad_arguments(kwargs: dict, message: str) -> None:
     with pytest.raises(ValueError, match=message):
         classify(**kwargs)
+
+
+def test_the_slope_and_its_interval_against_scipy() -> None:
+    """The slope's interval is Student's t at n - 2 degrees of freedom times the standard
+    error: against scipy.stats.linregress without errors, and against numpy's weighted
+    polyfit with them (the covariance scaled by the reduced chi-square where it exceeds 1)."""
+    from scipy import stats
+
+    rng = np.random.default_rng(5)
+    v = np.geomspace(2.0, 300.0, 6)
+    a = 3.0 * v**0.3 * np.exp(rng.normal(0.0, 0.2, v.size))
+    r = classify(v, a, confidence=0.9)
+    ref = stats.linregress(np.log(v), np.log(a))
+    t = stats.t.ppf(0.95, v.size - 2)
+    assert r.slope == pytest.approx(ref.slope, rel=1e-12)
+    assert r.slope_ci == pytest.approx((ref.slope - t * ref.stderr, ref.slope + t * ref.stderr), rel=1e-10)
+    for scale in (0.05, 1.0):  # errors too small for the scatter (chi2 scales them) and large ones
+        err = scale * a * rng.uniform(0.5, 1.5, v.size)
+        r = classify(v, a, amplitude_err=err)
+        sigma = err / a
+        coef, cov = np.polyfit(np.log(v), np.log(a), 1, w=1.0 / sigma, cov="unscaled")
+        chi2 = float(np.sum(((np.log(a) - np.polyval(coef, np.log(v))) / sigma) ** 2))
+        se = math.sqrt(cov[0, 0] * max(1.0, chi2 / (v.size - 2)))
+        t95 = stats.t.ppf(0.975, v.size - 2)
+        assert r.slope == pytest.approx(coef[0], rel=1e-10)
+        assert r.slope_ci == pytest.approx((coef[0] - t95 * se, coef[0] + t95 * se), rel=1e-10)

@@ -104,3 +104,37 @@ def test_error_proportional_to_tolerance() -> None:
     slope = np.polyfit(np.log(rtols), np.log(errs), 1)[0]
     assert 0.6 < slope < 1.4, (slope, errs)
     assert np.all(errs < 100 * rtols * ref.period)
+
+
+def test_the_unrolled_step_the_engine_runs_has_order_eight() -> None:
+    """The order test above drives the array step; the engine runs ``step_sw``, the same step
+    written out stage by stage (generated): its fixed-step error falls as h**8 too."""
+    from stickslip.core._dop853_unrolled import step_sw
+    from stickslip.core.laws import params, slip_accel
+
+    nu, fk, t_end = 0.1, 0.3, 4.0
+    law, lp = 2, params(np.array([fk, 0.0, 0.0]))
+    exact_w = nu - nu * math.cos(t_end) + (1 - fk) * math.sin(t_end)
+    errs = []
+    hs = np.array([1.0, 0.8, 0.5, 0.4])
+    for h in hs:
+        s, w = 1.0, 0.0
+        for _ in range(round(t_end / h)):
+            _, s, w, _, _ = step_sw(law, lp, nu, 1, s, w, nu - w, slip_accel(law, lp, 1, s, w), h, 1.0, 1.0)
+        errs.append(abs(w - exact_w))
+    slope = np.polyfit(np.log(hs), np.log(errs), 1)[0]
+    assert 7.5 < slope < 8.8, (slope, errs)
+
+
+def test_the_generated_step_is_what_its_generator_writes(tmp_path) -> None:
+    """``_dop853_unrolled.py`` is generated from the tableau: a hand edit (a mistyped weight)
+    would pass the order test yet no longer be the tableau's step."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    out = tmp_path / "unrolled.py"
+    subprocess.run([sys.executable, str(root / "tools" / "gen_dop853_unrolled.py"), str(out)], check=True)
+    committed = root / "src" / "stickslip" / "core" / "_dop853_unrolled.py"
+    assert out.read_text() == committed.read_text(), "run python tools/gen_dop853_unrolled.py"

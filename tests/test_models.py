@@ -123,6 +123,10 @@ def test_dimensionless_round_trip() -> None:
     assert s.force.to("N").magnitude == pytest.approx(0.46 * 0.196)
     assert s.time.to("s").magnitude == pytest.approx(math.sqrt(1 / 62))
     assert (s.velocity * s.beta).to("").magnitude == pytest.approx(1.0)
+    # by hand: length mu_s W / k, velocity mu_s W / sqrt(k m), energy (mu_s W)^2 / k
+    assert s.length.to("m").magnitude == pytest.approx(0.46 * 0.196 / 62, rel=1e-12)
+    assert s.velocity.to("m/s").magnitude == pytest.approx(0.46 * 0.196 / math.sqrt(62), rel=1e-12)
+    assert s.energy.to("J").magnitude == pytest.approx((0.46 * 0.196) ** 2 / 62, rel=1e-12)
 
 
 GOOD = {"mass": "1 kg", "stiffness": "62 N/m", "load": "196 mN", "v0": "5 um/s"}

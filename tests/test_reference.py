@@ -116,3 +116,22 @@ def test_small_mass_f2_amplitude_falls_with_v0() -> None:
         assert S.cycle(p, probe=False).amplitude / force == pytest.approx(ref.amplitude, rel=1e-8)
         amps.append(ref.amplitude)
     assert amps[1] < amps[0]
+
+
+def test_the_engines_own_convergence_test_near_a_hopf_point() -> None:
+    """The attractor kernel stops when the amplitude has settled to conv_tol, the geometric
+    tail of its changes included: near a Hopf point the cycle is weakly attracting (multiplier
+    0.88 at nu = 0.98, 0.994 at 0.999) and a change below conv_tol still leaves up to 1/(1 - r)
+    of it to come. Without shooting's polish, the raw kernel against plain SciPy shooting
+    (without the tail: 7e-8 and 1.6e-6 off)."""
+    from reference import cubic_orbit_reference
+
+    alpha, gamma = 0.5, 0.5 / 3
+    for nu in (0.98, 0.999):
+        ref = cubic_orbit_reference(nu, alpha, gamma)
+        rows = run_attractors(
+            1, np.array([alpha, gamma, 0.0]), np.array([nu]), np.array([1.5]), np.array([nu]),
+            from_breakaway=False, rtol=1e-12, atol=1e-14, max_slip_time=1e7, conv_tol=1e-8,
+        )  # fmt: skip
+        assert rows.status[0] == 0 and rows.regime[0] == 1  # ok, pure slip
+        assert rows.amplitude[0] == pytest.approx(ref.amplitude, rel=3e-8), nu

@@ -119,6 +119,9 @@ def test_cycle_near_a_supercritical_hopf_point_is_the_periodic_orbit(fraction: f
     # the nontrivial Floquet multiplier: near 1 - 2 pi * 2 |f'(nu)| / 2 ... strictly inside (0, 1)
     assert 0.0 < r.multiplier < 1.0
     assert r.attractors[0].multiplier == r.multiplier
+    # against Liouville's exp(-integral of f'(w) dt) over SciPy's orbit
+    ref = cubic_orbit_reference(nu, CUBIC.alpha, CUBIC.gamma)
+    assert r.multiplier == pytest.approx(ref.multiplier, rel=1e-9)
     # the work integrals are measured on the polished orbit: the energy balance closes
     assert r.drive_work == pytest.approx(r.friction_work, rel=1e-9)
     # the same in a sweep

@@ -2,7 +2,8 @@
 output written out stage by stage for the two-state slip system, with the zero
 coefficients dropped, as kernels on numbers and tuples (no arrays cross a call in
 the slip-phase loop) plus array versions. Run ``python tools/gen_dop853_unrolled.py`` after changing
-the tableau; the output is committed so that numba can cache it.
+the tableau; the output is committed so that numba can cache it. ``python
+tools/gen_dop853_unrolled.py PATH`` writes it to PATH instead.
 """
 
 from __future__ import annotations
@@ -265,4 +266,10 @@ out += [
     "            dense_coeffs(y_old, y_new, h, K, F, i)",
     "",
 ]
-(ROOT / "src" / "stickslip" / "core" / "_dop853_unrolled.py").write_text("\n".join(out))
+# an argument writes elsewhere (the tests compare a fresh generation with the committed file)
+target = (
+    pathlib.Path(sys.argv[1])
+    if len(sys.argv) > 1
+    else ROOT / "src" / "stickslip" / "core" / "_dop853_unrolled.py"
+)
+target.write_text("\n".join(out))
