@@ -1201,3 +1201,74 @@ def test_one_command_gives_one_catalogue_bit_for_bit(monkeypatch: pytest.MonkeyP
     a, b = (chain(p, 200, progress=False).catalog for _ in range(2))
     for name in a.data_vars:
         np.testing.assert_array_equal(a[name].values, b[name].values)
+
+
+def test_a_catalogue_on_disk_holds_the_slips_recorded_and_no_fill_values(tmp_path: Path) -> None:
+    """Regression (chains audit): the slip dimension is made for record_slip rows (2000), and
+    the rows never written read as netCDF's default fill 9.97e36 (slip.max() 9.97e36); the
+    catalogue on disk now has the recorded rows only, as the one in memory does, and a raw
+    NetCDF reader sees NaN beyond them."""
+    import netCDF4
+
+    p = ChainParameters(4, WeakeningLaw(c=10.0), 0.002, 2.0)
+    disk = chain(p, 30, out=tmp_path / "c.nc", seed=3, progress=False)
+    mem = chain(p, 30, seed=3, progress=False)
+    assert disk.catalog.sizes["recorded_event"] == mem.catalog.sizes["recorded_event"] == 30
+    np.testing.assert_array_equal(disk.catalog["slip"].values, mem.catalog["slip"].values)
+    # every event's slips add up to its moment (no backward slip here)
+    np.testing.assert_allclose(disk.catalog["slip"].sum("block"), disk.catalog["moment"], rtol=1e-12)
+    disk.catalog.close()
+    with netCDF4.Dataset(tmp_path / "c.nc") as raw:
+        assert np.isnan(np.ma.filled(raw["slip"][30:], np.nan)).all()
+
+
+def test_a_state_that_is_not_finite_is_refused() -> None:
+    """Regression (chains audit): a NaN position hung the compiled engine (the breakaway-time
+    tree walked past its leaves), where Ctrl-C cannot stop it; it is refused by name."""
+    p = ChainParameters(3, WeakeningLaw(c=1.0), 0.05, 1.0)
+    bad = ss.core.api.ChainState.at_rest([0.0, math.nan, 0.0])
+    with pytest.raises(ValueError, match=r"state: block 2's position is nan; expected finite"):
+        chain(p, 5, state=bad, progress=False)
+    with pytest.raises(ValueError, match=r"block 2's position is nan"):
+        event_map(p, [0.0, math.nan, 0.1])
+    with pytest.raises(ValueError, match=r"block 1's position is inf"):
+        lyapunov_exponent(p, [math.inf, 0.0, 0.1], events=10, transient=0)
+
+
+def test_the_event_map_refuses_what_is_not_a_state_and_a_constant_map_is_superstable() -> None:
+    """Regression (chains audit): the event map took 2 positions for 3 blocks (a 2-block map,
+    and an exponent 0.517 for it), called a refused tolerance 'a sliding state of the chain',
+    and eps = 0 was a ZeroDivisionError. One block's map is constant (every cycle starts from
+    the same breakaway): the companion orbit lands within rounding, and the exponent was
+    log(rounding/eps), -13.4 to -27.2 with eps; it is -inf."""
+    p = ChainParameters(3, WeakeningLaw(c=1.0), 0.05, 1.0)
+    with pytest.raises(ValueError, match=r"u: 2 positions, shape \(2,\); expected one per block, 3"):
+        event_map(p, [0.0, 0.3])
+    with pytest.raises(ValueError, match=r"rtol=-1 must be positive"):
+        event_map(p, [0.0, 0.3, 0.1], rtol=-1)
+    for kwargs, message in (
+        ({"eps": 0.0}, "eps=0.0: expected the companion orbit's distance"),
+        ({"events": -1}, "events=-1: expected a whole number >= 2"),
+        ({"transient": 1.5}, "transient=1.5"),
+    ):
+        with pytest.raises(ValueError, match=message):
+            lyapunov_exponent(p, [0.0, 0.3, 0.1], **kwargs)
+    one = ChainParameters(1, WeakeningLaw(c=2.0), 0.01, 1.0)
+    for eps in (1e-9, 1e-5, 1e-3):
+        r = lyapunov_exponent(one, [0.05], events=40, transient=2, eps=eps)
+        assert r.defined and r.exponent == -math.inf and r.unresolved == 40
+    # a chaotic three-block chain: every stretch resolved (Benettin by hand agrees: chains audit)
+    r = lyapunov_exponent(ChainParameters(3, WeakeningLaw(c=2.0), 0.05, 1.0), [0.0, 0.3, 0.1], events=200)
+    assert r.unresolved == 0 and r.exponent > 3 * r.error > 0
+
+
+def test_thresholds_and_initial_positions_are_independent() -> None:
+    """Regression (chains audit): both were drawn from default_rng(seed), so the strongest block
+    always started furthest ahead (correlation 1.000000)."""
+    from stickslip.chains.model import initial_positions
+
+    phi = static_thresholds(2000, 0.3, seed=7)
+    x = initial_positions(2000, "random", seed=7)
+    assert phi is not None
+    assert abs(np.corrcoef(phi, x)[0, 1]) < 4 / math.sqrt(2000)  # 4 sigma of no correlation
+    np.testing.assert_array_equal(phi, static_thresholds(2000, 0.3, seed=7))  # still seeded

@@ -114,7 +114,9 @@ class CatalogWriter:
             var = ds.createVariable(name, dtype, ("event",), zlib=True, complevel=1, chunksizes=(65536,))
             var.units = units.get(unit, unit)
             var.long_name = desc
-        ds.createVariable("slip", "f8", ("recorded_event", "block"), zlib=True, complevel=1)
+        # rows not (yet) recorded read as NaN in any NetCDF reader, not the default fill 9.97e36
+        slip_dims = ("recorded_event", "block")
+        ds.createVariable("slip", "f8", slip_dims, zlib=True, complevel=1, fill_value=np.nan)
         ds["slip"].units = units["length"]
         ds["slip"].long_name = "slip of each block in the first recorded events"
         for name in _STATE:
@@ -242,6 +244,10 @@ def open_catalog(path: str | os.PathLike[str]) -> xr.Dataset:
     if saved is not None and int(saved) < ds.sizes["event"]:
         # rows written after the last saved state (a run stopped during a flush): not yet events
         ds = ds.isel(event=slice(0, int(saved)))
+    # the slips of the events recorded so far: the dimension is made for record_slip rows
+    # (2000 by default), and the rows beyond them were never written
+    recorded = int(ds.attrs.get("slip_saved", ds.attrs.get("slip_recorded", 0)))
+    ds = ds.isel(recorded_event=slice(0, min(recorded, ds.sizes["recorded_event"])))
     ds.set_close(opened.close)  # closing the result closes the file
     ds["magnitude"] = np.log10(ds["moment"].where(ds["moment"] > 0))
     ds["magnitude"].attrs = {"units": "1", "long_name": "log10 of the moment (in its units)"}

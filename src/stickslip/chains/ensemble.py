@@ -193,6 +193,9 @@ class EnsembleJob:
                 "thresholds": p.thresholds if p.thresholds is not None else "uniform",
                 "seeds": self.seeds,
                 "run": [self.events, self.threshold_spread, self.init, self.amplitude, self.transient],
+                # seeded thresholds are drawn from a stream of their own since 2026-11-25 (they
+                # were the initial positions' draws): members of the two would not mix
+                **({"threshold_stream": 2} if self.threshold_spread > 0 else {}),
                 "tolerances": [self.rtol, self.atol],
                 # a store of members' b-values from other statistics is another job: resuming
                 # it would mix the two (the range and the error of b changed in version 2)

@@ -19,10 +19,18 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import defaults
+from ..core import chain as ce
 from ..core.api import ChainState, chain_advance
-from .model import ChainParameters
+from ..core.results import ChainStatus
+from ..dynamics.cycle import validate_tolerances
+from ..units import check_count
+from .model import ChainParameters, sliding_after
 
 __all__ = ["EventMapUndefined", "LyapunovResult", "event_map", "lyapunov_exponent"]
+
+
+#: a companion orbit closer than this times the size of the state (and 1) is not resolved
+RESOLVED = 1e-12
 
 
 class EventMapUndefined(RuntimeError):
@@ -51,6 +59,10 @@ class LyapunovResult:
     defined : bool
         False where the event map is not defined (the chain stopped sticking as a
         whole: see :class:`EventMapUndefined`); the exponent is then nan.
+    unresolved : int
+        Events after which the companion orbit was closer than rounding resolves
+        (left out of the average; when they are most of the events, the exponent is
+        ``-inf``: the map is superstable).
 
     """
 
@@ -60,6 +72,7 @@ class LyapunovResult:
     u: FloatArray
     lateral_gap: float
     defined: bool = True
+    unresolved: int = 0
 
 
 def event_map(
@@ -69,28 +82,56 @@ def event_map(
     rtol: float = 1e-11,
     atol: float = 1e-13,
     max_steps: int = 200_000,
+    max_event_duration: float | None = None,
 ) -> FloatArray:
     """Return the stuck state after the next event from the stuck state ``u`` (positions minus ``nu t``).
+
+    Parameters
+    ----------
+    params : ChainParameters
+        The chain (dimensionless).
+    u : array_like, shape (blocks,)
+        Positions of the blocks at rest, relative to the driver.
+    rtol, atol : float
+        Tolerances of the engine.
+    max_steps : int
+        Steps per call of the engine (the event goes on over as many calls as it needs).
+    max_event_duration : float, optional
+        An event longer than this (time units) is a sliding state of the chain, as in
+        :func:`~stickslip.chains.chain`; default ``1000/nu + 1000``.
 
     Raises
     ------
     EventMapUndefined
-        When the event does not end within ``max_steps`` steps.
+        When the event lasts longer than ``max_event_duration``: the blocks never all stick again.
+    RuntimeError
+        When the engine fails (a step below the resolution of the time, a motion that is
+        not finite), with the reason: no verdict on the chain.
 
     """
+    rtol, atol = validate_tolerances(rtol, atol)
     ua = np.array(u, dtype=np.float64)
+    if ua.shape != (params.blocks,):
+        raise ValueError(f"u: {ua.size} positions, shape {ua.shape}; expected one per block, {params.blocks}")
+    longest = sliding_after(params) if max_event_duration is None else float(max_event_duration)
+    if not longest > 0:
+        raise ValueError(f"max_event_duration={max_event_duration!r}: expected a positive duration")
     state = ChainState.at_rest(ua, 0.0)
-    cat, _, _ = chain_advance(
-        params.law.kernel, params.law.core_params(), params.nu, params.ell2,
-        str(params.boundary) == "periodic", bool(params.backslip), params.phi, state,
-        max_events=1, rtol=rtol, atol=atol, max_steps=max_steps,
-    )  # fmt: skip
-    if cat.shape[0] != 1:
-        raise EventMapUndefined(
-            f"event map: the event did not end within {max_steps} steps (time {state.t:.6g}): "
-            "the blocks never all stick again (a sliding state of the chain)"
-        )
-    return state.x - params.nu * state.t
+    while True:
+        cat, _, code = chain_advance(
+            params.law.kernel, params.law.core_params(), params.nu, params.ell2,
+            str(params.boundary) == "periodic", bool(params.backslip), params.phi, state,
+            max_events=1, rtol=rtol, atol=atol, max_steps=max_steps,
+        )  # fmt: skip
+        if cat.shape[0] == 1:
+            return state.x - params.nu * state.t
+        if code != ce.CH_PAUSED:
+            raise RuntimeError(f"event map: {ChainStatus.from_code(code).message}")
+        if state.in_event and state.t - state.sc[ce.S_EV_T0] > longest:
+            raise EventMapUndefined(
+                f"event map: the event lasted longer than {longest:.6g} (time {state.t:.6g}): "
+                "the blocks never all stick again (a sliding state of the chain)"
+            )
 
 
 def lyapunov_exponent(
@@ -103,10 +144,24 @@ def lyapunov_exponent(
     rtol: float = defaults.RTOL * 0.1,
     atol: float = defaults.ATOL * 0.1,
 ) -> LyapunovResult:
-    """Return the largest Lyapunov exponent of the event map, per event, from the stuck state ``u0``."""
+    """Return the largest Lyapunov exponent of the event map, per event, from the stuck state ``u0``.
+
+    A companion orbit at distance ``eps`` is followed and renormalised after every event.
+    Where the map contracts it below what the arithmetic resolves (a distance under
+    :data:`RESOLVED` times the size of the state: a constant map, as for one block whose
+    every cycle starts from the same breakaway), that event's stretch is not a number;
+    when most events are so, the exponent is ``-inf`` (the map is superstable), else those
+    events are left out and counted in ``unresolved``.
+    """
     u = np.array(u0, dtype=np.float64)
+    if u.shape != (params.blocks,):
+        raise ValueError(f"u0: {u.size} positions, shape {u.shape}; expected one per block, {params.blocks}")
+    ev = check_count(events, "events", minimum=2)
+    tr = check_count(transient, "transient", minimum=0)
+    if not (isinstance(eps, int | float) and math.isfinite(eps) and 0 < eps < 1):
+        raise ValueError(f"eps={eps!r}: expected the companion orbit's distance, 0 < eps < 1 (e.g. 1e-7)")
     try:
-        return _lyapunov(params, u, events, transient, eps, rtol, atol)
+        return _lyapunov(params, u, ev, tr, float(eps), rtol, atol)
     except EventMapUndefined:
         return LyapunovResult(math.nan, math.nan, 0, u, math.nan, defined=False)
 
@@ -119,24 +174,25 @@ def _lyapunov(
     rng = np.random.default_rng(12345)
     d = rng.standard_normal(u.size)
     d *= eps / np.linalg.norm(d)
-    logs = np.empty(events)
+    logs = np.full(events, math.nan)
     for i in range(events):
         un = event_map(params, u, rtol=rtol, atol=atol)
         wn = event_map(params, u + d, rtol=rtol, atol=atol)
         diff = wn - un
         dist = float(np.linalg.norm(diff))
-        if dist == 0.0 or not math.isfinite(dist):
-            diff = rng.standard_normal(u.size)
-            dist_used = eps
-            logs[i] = math.log(1e-16 / eps) if dist == 0.0 else math.nan
-            d = diff * (eps / float(np.linalg.norm(diff)))
-        else:
+        if dist > RESOLVED * max(1.0, float(np.max(np.abs(un)))):
             logs[i] = math.log(dist / eps)
-            dist_used = dist
-            d = diff * (eps / dist_used)
+        else:  # contracted below rounding: no stretch to measure; a fresh direction
+            diff = rng.standard_normal(u.size)
+            dist = float(np.linalg.norm(diff))
+        d = diff * (eps / dist)
         u = un
     good = logs[np.isfinite(logs)]
+    unresolved = events - int(good.size)
+    gap = float(abs(u[0] - u[-1]))
+    if good.size < max(2, events // 2):  # most stretches below rounding: a superstable map
+        return LyapunovResult(-math.inf, math.nan, events, u, gap, unresolved=unresolved)
     nb = max(1, good.size // 10)
     blocks = [float(np.mean(good[k : k + nb])) for k in range(0, good.size - nb + 1, nb)]
     err = float(np.std(blocks, ddof=1) / math.sqrt(len(blocks))) if len(blocks) > 1 else math.nan
-    return LyapunovResult(float(np.mean(good)), err, int(good.size), u, float(abs(u[0] - u[-1])))
+    return LyapunovResult(float(np.mean(good)), err, int(good.size), u, gap, unresolved=unresolved)

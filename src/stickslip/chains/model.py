@@ -18,7 +18,7 @@ from ..laws import DimensionlessLaw
 from ..models import DimensionlessParameters, PhysicalParameters, Scales
 from ..units import check_number, check_seed, parse_quantity
 
-__all__ = ["Boundary", "ChainParameters", "Init", "initial_positions", "static_thresholds"]
+__all__ = ["Boundary", "ChainParameters", "Init", "initial_positions", "sliding_after", "static_thresholds"]
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -178,8 +178,18 @@ def static_thresholds(blocks: int, spread: float, seed: int | None) -> FloatArra
         raise ValueError(f"spread={spread!r}: expected a threshold spread in [0, 1)")
     if s == 0.0:
         return None
-    rng = np.random.default_rng(check_seed(seed))
+    # a stream of its own: drawn from the one of the initial positions (the same seed), the
+    # strongest block always started furthest ahead (correlation 1)
+    rng = np.random.default_rng(np.random.SeedSequence(check_seed(seed), spawn_key=(1,)))
     return 1.0 + s * rng.uniform(-1.0, 1.0, blocks)
+
+
+def sliding_after(params: ChainParameters) -> float:
+    """Return the default longest event, ``1000/nu + 1000`` time units.
+
+    An event lasting longer is a sliding state of the chain: the blocks never all stick again.
+    """
+    return 1000.0 / params.nu + 1000.0
 
 
 def initial_positions(blocks: int, init: Init | str, seed: int | None, amplitude: float = 0.01) -> FloatArray:

@@ -21,14 +21,14 @@ import xarray as xr
 
 from .. import defaults
 from ..core import chain as ce
-from ..core.api import ChainState, chain_advance
+from ..core.api import ChainState, chain_advance, check_state
 from ..core.results import ChainStatus
 from ..dynamics.cycle import validate_tolerances
 from ..io.errors import DataError
 from ..io.progress import progress_bar
 from ..units import check_count, check_seed, parse_quantity
 from .catalog import COLUMNS, CatalogWriter, open_catalog, read_state
-from .model import ChainParameters, Init, initial_positions
+from .model import ChainParameters, Init, initial_positions, sliding_after
 from .statistics import BValue, b_value, check_fit_range
 
 __all__ = ["ChainResult", "chain"]
@@ -305,7 +305,7 @@ def chain(
     setup = _setup(params, init_s, seed, amplitude, rtol, atol)
     attrs = {"setup": setup, "blocks": n, "law": params.law.name, "nu": params.nu, "ell": params.ell}
     longest = (
-        1000.0 / params.nu + 1000.0
+        sliding_after(params)
         if max_event_duration is None
         else _duration("max_event_duration", max_event_duration, params)
     )
@@ -333,6 +333,7 @@ def chain(
             state = state.copy()
         if state.x.shape != (n,):
             raise ValueError(f"state: expected {n} blocks, got {state.x.shape[0]}")
+        check_state(state)  # before the catalogue is made
         if path is None:
             writer = None
         else:

@@ -108,6 +108,7 @@ __all__ = [
     "TrajectoryResult",
     "builtin_kernel",
     "chain_advance",
+    "check_state",
     "in_blocks",
     "run_attractors",
     "run_flow",
@@ -599,6 +600,22 @@ class ChainState:
         )  # fmt: skip
 
 
+def check_state(state: ChainState) -> None:
+    """Refuse a chain state with a position or velocity that is not finite, naming the block.
+
+    (A NaN breakaway time would walk the engine's tree of breakaway times off its leaves:
+    a compiled loop that does not end and that Ctrl-C cannot stop.)
+    """
+    for name, values in (("position", state.x), ("velocity", state.v)):
+        bad = np.flatnonzero(~np.isfinite(values))
+        if bad.size:
+            j = int(bad[0])
+            raise ValueError(
+                f"state: block {j + 1}'s {name} is {float(values[j])!r}; expected finite positions "
+                "and velocities"
+            )
+
+
 def chain_advance(
     kernel: Kernel,
     lp: npt.ArrayLike,
@@ -626,6 +643,7 @@ def chain_advance(
     approximation; where a call pauses changes the events' works in their last bits only).
     """
     n = state.x.shape[0]
+    check_state(state)
     if state.sc.shape != (chain.NSC,):
         raise ValueError(
             f"state: {state.sc.shape[0]} scalars, expected {chain.NSC} (a state of another version of "
