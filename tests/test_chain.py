@@ -194,7 +194,9 @@ def test_b_value_and_its_errors_at_b_other_than_one() -> None:
         return 1.0 / beta - width / math.expm1(beta * width) - mean
 
     beta = brentq(excess, 1e-6, 100.0, xtol=1e-15)
-    assert b_value(mt, mc=2.0, m_max=2.5, n_boot=0).b == pytest.approx(beta / math.log(10), rel=1e-10)
+    truncated = b_value(mt, mc=2.0, m_max=2.5, n_boot=0)
+    assert truncated.b == pytest.approx(beta / math.log(10), rel=1e-10)
+    assert math.isnan(truncated.shi_bolt)  # the formula is for the untruncated exponential
     assert b_value(mt, mc=2.0, n_boot=0).b > 1.2
 
 
@@ -692,12 +694,17 @@ def test_physical_chain_has_units() -> None:
     np.testing.assert_allclose(r.catalog["t_start"].values, d.catalog["t_start"].values * t_unit, rtol=1e-12)
     with pytest.raises(ValueError, match="coupling"):
         ChainParameters.from_physical(phys, blocks=3, coupling="3 m")
-    # a physical chain's times: a number in units of sqrt(m/k_p), or a time with units
+    # a physical chain's times have units (a bare number in units of sqrt(m/k_p) came out in
+    # seconds, 5 times smaller here: chains audit), the dimensionless chain's are numbers
     half = r.simulated_time / t_unit / 2  # units of sqrt(m/k_p): stops before the 10th event
-    by_number = chain(p, 10, t_max=half, progress=False)
+    by_number = chain(ChainParameters(3, p.law, p.nu, p.ell), 10, t_max=half, progress=False)
     by_units = chain(p, 10, t_max=f"{half * t_unit!r} s", progress=False)
     assert by_number.events < 10 and by_units.events == by_number.events
-    assert by_units.simulated_time == pytest.approx(by_number.simulated_time, rel=1e-12)
+    assert by_units.simulated_time == pytest.approx(by_number.simulated_time * t_unit, rel=1e-12)
+    with pytest.raises(
+        ValueError, match=r"t_max=50.0: a physical chain takes a time with units, e.g. '50 s'"
+    ):
+        chain(p, 10, t_max=50.0, progress=False)
     with pytest.raises(ValueError, match="max_event_duration='3 m'"):
         chain(p, 10, max_event_duration="3 m", progress=False)
 
@@ -1272,3 +1279,63 @@ def test_thresholds_and_initial_positions_are_independent() -> None:
     assert phi is not None
     assert abs(np.corrcoef(phi, x)[0, 1]) < 4 / math.sqrt(2000)  # 4 sigma of no correlation
     np.testing.assert_array_equal(phi, static_thresholds(2000, 0.3, seed=7))  # still seeded
+
+
+def test_chain_audit_small_things(tmp_path: Path) -> None:
+    """Regression (chains audit, LOW): what each message said and what it says now."""
+    from click.testing import CliRunner
+
+    from stickslip.cli import main
+
+    law = WeakeningLaw(c=1.0)
+    with pytest.raises(
+        ValueError, match=r"ell=10000000.0: expected a coupling ell = sqrt\(k_c/k_p\) below 1e\+06"
+    ):
+        ChainParameters(3, law, 0.05, 1e7)  # was 'expected a coupling ell >= 0 < 1000000.0'
+    phys = ss.zv_parameters("100 um/s")
+    with pytest.raises(ValueError, match=r"coupling='1e30 N/m': k_c/k_p = 1.613e\+28"):
+        ChainParameters.from_physical(phys, blocks=3, coupling="1e30 N/m")  # named ell=1.3e14
+    assert ChainParameters.from_physical(phys, blocks=3, coupling="0 N/m").ell == 0.0  # as ell=0 is
+    with pytest.raises(ValueError, match="record_slip=-1: expected a whole number >= 0"):
+        chain(ChainParameters(3, law, 0.05, 1.0), 5, record_slip=-1, out=tmp_path / "r.nc")  # OverflowError
+    with pytest.raises(ValueError, match=r"record_slip=1\.5"):
+        chain(ChainParameters(3, law, 0.05, 1.0), 5, record_slip=1.5)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="blocks=-1"):
+        static_thresholds(-1, 0.1, seed=1)
+    with pytest.raises(ValueError, match=r"m: magnitudes of shape \(2, 3\)"):
+        b_value(np.zeros((2, 3)), mc=0.0)
+    cli = ["chain", "--nu", "0.002", "--c", "10", "--ell", "2", "--blocks", "4", "--events", "30"]
+    res = CliRunner().invoke(main, [*cli, "--out", str(tmp_path / "d"), "--no-plot"])
+    assert res.exit_code == 0, res.output
+    assert f"wrote {tmp_path / 'd'}/catalog.nc, summary.json\n" in res.output  # no 'and figures'
+    res = CliRunner().invoke(main, [*cli, "--threshold-spread", "1.5"])
+    assert (
+        res.exit_code == 2
+        and "Invalid value for --threshold-spread: 1.5: expected a threshold spread" in res.output
+    )
+    physical = ["chain", "--preset", "zv", "--v0", "100 um/s"]
+    res = CliRunner().invoke(main, [*physical, "--ell", "2", "--events", "5", "--blocks", "3"])
+    assert res.exit_code == 2 and "--ell is for dimensionless input" in res.output
+
+
+def test_events_with_backward_moment_are_counted() -> None:
+    """With backward slip an event's moment (signed) can be <= 0: no magnitude, so it is not in
+    the b-value; the summary and the text output say how many (the audit found one such event
+    in each of four set-ups, left out without a word)."""
+    from click.testing import CliRunner
+
+    from stickslip.cli import main
+
+    p = ChainParameters(3, WeakeningLaw(c=10.0), 0.01, 3.0)
+    assert p.backslip
+    r = chain(p, 20, state=ss.core.api.ChainState.at_rest([0.0, 0.4, 0.1]), progress=False)
+    moment = r.catalog["moment"].values
+    assert moment[0] == pytest.approx(-0.278, abs=1e-3)  # the audit's set-up H: event 0 slips back
+    assert r.summary()["events_without_magnitude"] == int(np.sum(moment <= 0)) > 0
+    assert r.b.n <= int(np.sum(moment > 0))
+    cli = ["chain", "--nu", "0.01", "--c", "10", "--ell", "3", "--blocks", "3", "--events", "40"]
+    res = CliRunner().invoke(main, [*cli, "--amplitude", "0.5"])  # random starts half a unit apart
+    assert res.exit_code == 0, res.output
+    assert "no magnitude         1 events (a net backward or zero moment" in res.output
+    res = CliRunner().invoke(main, ["chain", "--nu", "0.02", "--c", "1", "--ell", "1", "--blocks", "3"])
+    assert res.exit_code == 0 and "no magnitude" not in res.output

@@ -8,6 +8,7 @@ Dimensionless form (``docs/chain.md``): the one-block scaling with ``k = k_p``
 from __future__ import annotations
 
 import enum
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -16,11 +17,14 @@ import numpy.typing as npt
 
 from ..laws import DimensionlessLaw
 from ..models import DimensionlessParameters, PhysicalParameters, Scales
-from ..units import check_number, check_seed, parse_quantity
+from ..units import check_count, check_number, check_seed, parse_quantity
 
 __all__ = ["Boundary", "ChainParameters", "Init", "initial_positions", "sliding_after", "static_thresholds"]
 
 FloatArray = npt.NDArray[np.float64]
+
+#: the largest coupling ell = sqrt(k_c/k_p) (a stiffer chain moves as one block)
+ELL_MAX = 1e6
 
 
 class Boundary(enum.StrEnum):
@@ -86,9 +90,10 @@ class ChainParameters:
         # the one-block model's checks of nu and of the law
         DimensionlessParameters(nu=self.nu, law=self.law)
         object.__setattr__(self, "nu", float(self.nu))
-        object.__setattr__(
-            self, "ell", check_number(self.ell, "ell", allow_zero=True, upper=1e6, what="a coupling ell >= 0")
-        )
+        ell = check_number(self.ell, "ell", allow_zero=True, what="a coupling ell = sqrt(k_c/k_p) >= 0")
+        if ell >= ELL_MAX:
+            raise ValueError(f"ell={self.ell!r}: expected a coupling ell = sqrt(k_c/k_p) below {ELL_MAX:g}")
+        object.__setattr__(self, "ell", ell)
         try:
             object.__setattr__(self, "boundary", Boundary(self.boundary))
         except ValueError:
@@ -146,11 +151,14 @@ class ChainParameters:
         """
         if not isinstance(params, PhysicalParameters):
             raise ValueError(f"params={params!r}: expected PhysicalParameters")
-        kc = parse_quantity(coupling, "coupling", "[mass] / [time] ** 2", "100 N/m")
+        kc = parse_quantity(coupling, "coupling", "[mass] / [time] ** 2", "100 N/m", allow_zero=True)
         kp = params.stiffness.to("N/m").magnitude
         ratio = float(kc.to("N/m").magnitude) / float(kp)
-        if not np.isfinite(ratio) or ratio < 0.0:
-            raise ValueError(f"coupling={coupling!r}: expected a stiffness >= 0 N/m")
+        if not (np.isfinite(ratio) and math.sqrt(ratio) < ELL_MAX):
+            raise ValueError(
+                f"coupling={coupling!r}: k_c/k_p = {ratio:.4g} with the loading spring k_p = {kp:g} N/m; "
+                f"expected below {ELL_MAX**2:g} (ell = sqrt(k_c/k_p) below {ELL_MAX:g})"
+            )
         d = params.dimensionless()
         return cls(
             blocks=blocks,
@@ -173,6 +181,7 @@ def static_thresholds(blocks: int, spread: float, seed: int | None) -> FloatArra
         For ``spread`` outside ``[0, 1)``.
 
     """
+    blocks = check_count(blocks, "blocks")
     s = float(spread)
     if not (0.0 <= s < 1.0):
         raise ValueError(f"spread={spread!r}: expected a threshold spread in [0, 1)")

@@ -97,6 +97,8 @@ class ChainResult:
             "mean_recurrence": float(np.mean(np.diff(t0))) if t0.size > 1 else math.nan,
             "mean_moment": float(np.mean(moment)) if moment.size else math.nan,
             "largest_event_blocks": int(np.max(nb)) if nb.size else 0,
+            # with backward slip a moment (the blocks' slips, signed) can be <= 0: no magnitude
+            "events_without_magnitude": int(np.count_nonzero(~(moment > 0))),
             "b_value": self.b.b,
             "b_value_err": self.b.error,
             "b_value_block": self.b.block,
@@ -194,6 +196,13 @@ def check_events(events: Any, transient: Any) -> tuple[int, int]:
 def _duration(name: str, value: Any, params: ChainParameters) -> float:
     """Return a time in units of ``sqrt(m/k_p)``: from a number, or (a physical chain) a time with units."""
     if isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool):
+        if params.scales is not None and math.isfinite(value):
+            # the catalogue is in seconds: a bare 50 read as 50 sqrt(m/k_p) came out as 10 s
+            unit = params.scales.time.to("s").magnitude
+            raise ValueError(
+                f"{name}={value!r}: a physical chain takes a time with units, e.g. '{value:g} s' (a "
+                f"number would be in units of sqrt(m/k_p) = {unit:.4g} s, its output is in s)"
+            )
         return float(value)
     if params.scales is None:
         raise ValueError(f"{name}={value!r}: a dimensionless chain takes a number (units of sqrt(m/k_p))")
@@ -251,8 +260,9 @@ def chain(
     record_slip : int
         Keep each block's slip for this many first events (space-time diagram).
     t_max : float or time
-        Stop at this time (units of ``sqrt(m/k_p)``; a physical chain also takes a
-        time with units, e.g. ``"2 s"``) if the events are not complete.
+        Stop at this time if the events are not complete: a number (units of
+        ``sqrt(m/k_p)``) for a dimensionless chain, a time with units (e.g. ``"2 s"``)
+        for a physical one.
     rtol, atol : float
         Tolerances of the slip integration.
     mc : float or "auto", optional
@@ -288,6 +298,7 @@ def chain(
     events, transient = check_events(events, transient)
     seed = check_seed(seed)
     rtol, atol = validate_tolerances(rtol, atol)
+    record_slip = check_count(record_slip, "record_slip", minimum=0)
     if resume and out is None:
         raise ValueError("resume=True needs out (the catalogue of the interrupted run to continue)")
     t_max = _duration("t_max", t_max, params)

@@ -85,7 +85,9 @@ class BValue:
     error : float
         Standard deviation of ``b`` over bootstrap resamples.
     shi_bolt : float
-        The Shi and Bolt (1982) standard error.
+        The Shi and Bolt (1982) standard error (``2.3 b^2 sigma(M) / sqrt(n)``), for
+        independent events and no upper bound; nan with ``m_max`` (it assumes the
+        untruncated exponential; the bootstrap's ``error`` does not).
     mc : float
         Completeness magnitude used.
     m_max : float
@@ -567,6 +569,8 @@ def b_value(
 
     """
     mm = np.asarray(m, dtype=float)
+    if mm.ndim != 1:  # a 2-D array was flattened, its rows' time order lost to the block bootstrap
+        raise ValueError(f"m: magnitudes of shape {mm.shape}; expected one catalogue, a 1-D array")
     mm = mm[np.isfinite(mm)]
     n_boot = check_count(n_boot, "n_boot", minimum=0, what="a whole number of bootstrap resamples")
     if n_boot == 1:  # one resample has no spread
@@ -596,7 +600,10 @@ def b_value(
     if n < 2 or not math.isfinite(mc_) or sel[-1] - sel[0] < bin_width:
         return BValue(math.nan, math.nan, math.nan, mc_, top, n, math.nan, math.nan, method)
     b = _mle(sel, mc_, top)
-    shi = 2.3 * b * b * float(np.std(sel, ddof=1)) / math.sqrt(n) if math.isfinite(b) else math.nan
+    # Shi and Bolt's formula is for the untruncated exponential: under an upper bound it
+    # covered the true b 74-77 % of the time at 1.96 sigma (chains audit), the bootstrap 96 %
+    untruncated = math.isfinite(b) and math.isinf(top)
+    shi = 2.3 * b * b * float(np.std(sel, ddof=1)) / math.sqrt(n) if untruncated else math.nan
     # a block near n resamples rotations of the catalogue, all with its mean: an error of 0;
     # a given block is held to the longest of "auto" (at least three blocks)
     length = block_length(in_order) if block == "auto" else min(int(block), _longest_block(n))

@@ -144,14 +144,19 @@ def register(main: click.Group) -> None:
         from ..models import PhysicalParameters
 
         params1 = build_parameters(opts)
+        if not 0.0 <= threshold_spread < 1.0:
+            raise click.BadParameter(
+                f"{threshold_spread!r}: expected a threshold spread in [0, 1)",
+                param_hint="--threshold-spread",
+            )
         phi = static_thresholds(blocks, threshold_spread, seed) if blocks >= 1 and seeds is None else None
         if isinstance(params1, PhysicalParameters):
-            if coupling is None:
-                raise click.UsageError("physical input needs --coupling (the stiffness between blocks)")
             if ell is not None:
                 raise click.UsageError(
                     "--ell is for dimensionless input; give --coupling with physical input"
                 )
+            if coupling is None:
+                raise click.UsageError("physical input needs --coupling (the stiffness between blocks)")
             params = ChainParameters.from_physical(
                 params1,
                 blocks=blocks,
@@ -244,7 +249,7 @@ def register(main: click.Group) -> None:
 
                 for stem, fig in figs:
                     save_figure(fig, stem, out=out)
-        _report(res, as_json, out_dir)
+        _report(res, as_json, out_dir, figures=not no_plot)
 
     _ = chain
 
@@ -280,7 +285,7 @@ def _jsonable(d: dict[str, Any]) -> dict[str, Any]:
     return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in d.items()}
 
 
-def _report(res: Any, as_json: bool, out_dir: str | None = None) -> None:
+def _report(res: Any, as_json: bool, out_dir: str | None = None, *, figures: bool = True) -> None:
     s = _jsonable(res.summary())
     if as_json:
         click.echo(json.dumps(s, indent=2))
@@ -292,6 +297,11 @@ def _report(res: Any, as_json: bool, out_dir: str | None = None) -> None:
         click.echo(f"mean recurrence      {_shown(s['mean_recurrence'])} [{u['time']}]")
         click.echo(f"mean moment          {_shown(s['mean_moment'])} [{u['length']}]")
         click.echo(f"largest event        {s['largest_event_blocks']} blocks")
+        if s["events_without_magnitude"]:
+            click.echo(
+                f"no magnitude         {s['events_without_magnitude']} events (a net backward or zero "
+                "moment: the blocks' slips are signed), left out of the b-value"
+            )
         if s["b_value"] is None:
             click.echo("b-value              undefined (too few events, or their magnitudes do not spread)")
         else:
@@ -305,7 +315,7 @@ def _report(res: Any, as_json: bool, out_dir: str | None = None) -> None:
             click.echo(f"halves of the range  {_halves(s)}")
         click.echo(f"status               {s['status']}")
         if out_dir:
-            click.echo(f"wrote {out_dir}/catalog.nc, summary.json and figures")
+            click.echo(f"wrote {out_dir}/catalog.nc, summary.json{' and figures' if figures else ''}")
     if s["status"] != "ok":
         from ..core.results import ChainStatus
 
