@@ -1253,6 +1253,13 @@ def test_the_event_map_refuses_what_is_not_a_state_and_a_constant_map_is_superst
         event_map(p, [0.0, 0.3])
     with pytest.raises(ValueError, match=r"rtol=-1 must be positive"):
         event_map(p, [0.0, 0.3, 0.1], rtol=-1)
+    # an event longer than max_steps goes on over several calls of the engine (it was called
+    # 'a sliding state' after one call): one step per call gives the same map
+    np.testing.assert_allclose(
+        event_map(p, [0.0, 0.3, 0.1], max_steps=1), event_map(p, [0.0, 0.3, 0.1]), atol=1e-13
+    )
+    with pytest.raises(ValueError, match="max_steps=0"):
+        event_map(p, [0.0, 0.3, 0.1], max_steps=0)
     for kwargs, message in (
         ({"eps": 0.0}, "eps=0.0: expected the companion orbit's distance"),
         ({"events": -1}, "events=-1: expected a whole number >= 2"),

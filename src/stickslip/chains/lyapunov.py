@@ -110,6 +110,7 @@ def event_map(
 
     """
     rtol, atol = validate_tolerances(rtol, atol)
+    steps = check_count(max_steps, "max_steps")  # 0 would pause before any step, for ever
     ua = np.array(u, dtype=np.float64)
     if ua.shape != (params.blocks,):
         raise ValueError(f"u: {ua.size} positions, shape {ua.shape}; expected one per block, {params.blocks}")
@@ -121,7 +122,7 @@ def event_map(
         cat, _, code = chain_advance(
             params.law.kernel, params.law.core_params(), params.nu, params.ell2,
             str(params.boundary) == "periodic", bool(params.backslip), params.phi, state,
-            max_events=1, rtol=rtol, atol=atol, max_steps=max_steps,
+            max_events=1, rtol=rtol, atol=atol, max_steps=steps,
         )  # fmt: skip
         if cat.shape[0] == 1:
             return state.x - params.nu * state.t
@@ -151,7 +152,17 @@ def lyapunov_exponent(
     :data:`RESOLVED` times the size of the state: a constant map, as for one block whose
     every cycle starts from the same breakaway), that event's stretch is not a number;
     when most events are so, the exponent is ``-inf`` (the map is superstable), else those
-    events are left out and counted in ``unresolved``.
+    events are left out and counted in ``unresolved``. Where an event never ends (the
+    chain slides) the result has ``defined`` false.
+
+    Raises
+    ------
+    ValueError
+        For positions that are not one per block, or not finite, and bad ``events``,
+        ``transient``, ``eps`` or tolerances.
+    RuntimeError
+        When the engine fails (see :func:`event_map`).
+
     """
     u = np.array(u0, dtype=np.float64)
     if u.shape != (params.blocks,):
