@@ -239,7 +239,7 @@ BAD = [
     ("", "is empty"),
     ("# only comments\n", "no header"),
     ("time [s],force [N]\n", "no data rows"),
-    ("t [s],force [N]\n0,1\n1,2\n2,3\n", "missing column 'time'"),
+    ("clock [s],force [N]\n0,1\n1,2\n2,3\n", "missing column 'time'"),
     ("time [s],load [N]\n0,1\n1,2\n2,3\n", "missing a force column"),
     ("time [s],force [N]\n0,1\n1,x\n2,3\n", "line 3, column 'force': 'x' is not a number"),
     ("time [s],force [blarg]\n0,1\n1,2\n2,3\n", "unknown unit"),
@@ -554,6 +554,26 @@ def test_a_decimal_comma_is_named_whatever_the_delimiter(tmp_path: Path, sep: st
     path.write_text(f"time [s]{sep}force [mN]\n0{sep}10,5\n0.1{sep}11,25\n")
     with pytest.raises(ValueError, match=r"'10,5' is not a number \(a decimal comma\? write a decimal point"):
         read_record(path)
+
+
+@pytest.mark.parametrize("sep", [";", "\t"])
+def test_an_instruments_export_is_read(tmp_path: Path, sep: str) -> None:
+    """A tribometer's export: units in parentheses ('Time (s)'), 'Fx' for the friction force,
+    decimal commas between ';' or tab. It was 'not a record' (no known column); now read, the
+    values against the ones written. Parentheses that hold no unit stay part of the name, and
+    a file that mixes decimal points in keeps the decimal-comma hint."""
+    t = np.arange(6) * 0.005
+    f = np.array([-18.1251, -18.3674, 12.5, 40.0, 80.25, 90.0])  # mN
+    rows = "".join(f"{a:.4f}{sep}{b:.4f}\n".replace(".", ",") for a, b in zip(t, f, strict=True))
+    path = tmp_path / "umt.csv"
+    path.write_text(f"# v0 = 50 um/s\nTime (s){sep}Fx (mN){sep}Fz (raw)\n" + rows.replace("\n", f"{sep}1\n"))
+    rec = read_record(path)
+    np.testing.assert_allclose(rec.time, t, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(rec.force, f * 1e-3, rtol=1e-12)
+    mixed = tmp_path / "mixed.csv"
+    mixed.write_text(f"Time (s){sep}Fx (mN)\n0{sep}10,5\n0.1{sep}11,25\n")
+    with pytest.raises(ValueError, match=r"'10,5' is not a number \(a decimal comma\?"):
+        read_record(mixed)
 
 
 def test_data_audit_low_findings(tmp_path: Path) -> None:

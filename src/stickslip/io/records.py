@@ -174,6 +174,18 @@ INDEX_ALIASES = {
 }
 
 
+#: instruments' names of a record's columns (a tribometer's Fx is the friction force)
+RECORD_ALIASES = {
+    "t": "time",
+    "fx": "friction_force",
+    "ff": "friction_force",
+    "friction force": "friction_force",
+    "lateral force": "friction_force",
+    "tangential force": "friction_force",
+    "spring force": "spring_force",
+}
+
+
 class NotARecord(DataError):
     """A file whose header names no column a record has (a README in a folder of records)."""
 
@@ -303,7 +315,7 @@ def read_record(path: str | os.PathLike[str], *, v0: Any = None, load: Any = Non
 
     """
     p = check_file(path, MAX_BYTES)
-    df, units, meta = _read(p, p)
+    df, units, meta = _read(p, p, RECORD_ALIASES)
     return _record_from_frame(df, units, meta, os.path.basename(p), p, v0, load)
 
 
@@ -367,7 +379,7 @@ def read_records(path: str | os.PathLike[str]) -> list[Record]:
     if not os.path.isfile(p):
         raise DataError(f"{p}: no such file or folder")
     check_file(p, MAX_BYTES)
-    df, units, meta = _read(p, p)
+    df, units, meta = _read(p, p, RECORD_ALIASES)
     if "record" not in df.columns:
         return [_record_from_frame(df, units, meta, os.path.basename(p), p)]
     names = df["record"]

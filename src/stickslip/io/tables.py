@@ -41,20 +41,41 @@ class Column:
         return f"line {text.data_lines(self.layout, [int(i)])[0]}"
 
 
-def header_name(cell: str, path: str) -> str:
-    """Return the name of a header cell, ``"velocity"`` for ``"Velocity [um/s]"``; raise if malformed."""
+_PARENS = re.compile(r"^\s*([^()\[\]]*?)\s*\(([^()\[\]]+)\)\s*$")
+
+
+def _split(cell: str, path: str) -> tuple[str, str | None]:
+    """Return a header cell's name and unit text.
+
+    ``name [unit]``, or ``name (unit)`` where the parentheses hold a unit pint knows
+    (instruments write ``Time (s)``, ``Fx (mN)``).
+    """
     m = _HEADER.match(cell)
     if not m or not m.group(1):
         raise DataError(f"{path}: header cell {cell!r} is not of the form 'name [unit]'")
-    return m.group(1).strip().lower()
+    if m.group(2) is None:
+        p = _PARENS.match(cell)
+        if p and p.group(1) and _is_unit(p.group(2)):
+            return p.group(1).strip().lower(), p.group(2)
+    return m.group(1).strip().lower(), m.group(2)
+
+
+def _is_unit(text: str) -> bool:
+    try:
+        ureg.Unit(text.strip())
+    except Exception:
+        return False
+    return True
+
+
+def header_name(cell: str, path: str) -> str:
+    """Return the name of a header cell, ``"velocity"`` for ``"Velocity [um/s]"``; raise if malformed."""
+    return _split(cell, path)[0]
 
 
 def parse_header(cell: str, path: str) -> tuple[str, pint.Unit | None]:
-    """Split ``"velocity [um/s]"`` into ``("velocity", unit)``; raise ValueError if malformed."""
-    name = header_name(cell, path)
-    m = _HEADER.match(cell)
-    assert m is not None  # header_name matched it
-    unit_text = m.group(2)
+    """Split ``"velocity [um/s]"`` (or ``"Velocity (um/s)"``) into ``("velocity", unit)``."""
+    name, unit_text = _split(cell, path)
     if unit_text is None or unit_text.strip() == "":
         return name, None
     text = unit_text.strip()

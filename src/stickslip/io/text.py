@@ -115,6 +115,11 @@ class TextLayout:
     size: int
     bytes_per_row: float = field(default=32.0)
     data_offset: int = field(default=-1)
+    decimal: str = field(default=".")
+
+
+_COMMA_NUMBER = re.compile(r"^[-+]?\d+,\d+(?:[eE][-+]?\d+)?$")
+_POINT_NUMBER = re.compile(r"^[-+]?\d*\.\d+(?:[eE][-+]?\d+)?$")
 
 
 def _decode_head(path: str, head: bytes) -> str:
@@ -197,7 +202,16 @@ def inspect(path: str | os.PathLike[str], where: str | None = None) -> TextLayou
         offset = len(text[: ends[i]].encode("utf-8")) if len(ends) > i else os.path.getsize(p)
         offset += len(codecs.BOM_UTF8) if head.startswith(codecs.BOM_UTF8) else 0
         header = [c.strip() for c in cells]
-        return TextLayout(p, meta, header, width, sep, i + 1, os.path.getsize(p), per_row, offset)
+        # a decimal comma (European spreadsheets): with ';' or tab between the cells, numbers
+        # written 0,005 and none written 0.005 in the first data lines
+        decimal = "."
+        if sep != "," and rest:
+            cells_ = [c.strip() for ln in rest[:50] for c in next(csv.reader([ln], delimiter=sep))]
+            if any(_COMMA_NUMBER.match(c) for c in cells_) and not any(
+                _POINT_NUMBER.match(c) for c in cells_
+            ):
+                decimal = ","
+        return TextLayout(p, meta, header, width, sep, i + 1, os.path.getsize(p), per_row, offset, decimal)
     if len(head) == HEAD_BYTES:
         raise DataError(f"{shown}: no header line within the first {HEAD_BYTES // 1024} kB")
     raise DataError(f"{shown}: no header row and no data")
@@ -245,6 +259,7 @@ def read_frame(
             frame = pd.read_csv(
                 fh,
                 sep=layout.sep,
+                decimal=layout.decimal,
                 header=None,
                 names=all_names,
                 usecols=wanted,
