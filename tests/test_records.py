@@ -1,5 +1,6 @@
 """Measured records: reading, cycle extraction on synthetic records, analyze, bad input."""
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -645,3 +646,23 @@ def test_the_features_fit_does_not_blame_the_model_for_its_own_bias() -> None:
     assert r.reduced_chi2 > 2
     assert "over the cycle features" in r.warnings[0] and "sample interval, 0.002 s" in r.warnings[0]
     assert not any("does not describe" in w for w in r.warnings)
+
+
+def test_a_stage_displacement_is_not_taken_for_the_sliders(tmp_path: Path) -> None:
+    """Regression (usability audit): a scratch tester logs its stage, v0 t; read as the slider's
+    it gave a stick fraction of 0 for a record that sticks 99 % of the time. A column moving
+    steadily at the driving velocity is named as the load point's and gives no stick fraction;
+    the slider's displacement gives the stick fraction it has."""
+    import dataclasses
+
+    from stickslip.io.records import Record
+
+    p = S.zv_parameters("100 um/s")
+    tr = S.simulate(p, duration="100 s", n_points=20000)
+    slider = Record("r", tr.time, tr.spring_force, displacement=tr.position, v0=p.v0, load=p.load)
+    stage = dataclasses.replace(slider, displacement=1e-4 * tr.time)
+    _, good = measure_record(slider)
+    assert good.stick_fraction > 0.9 and "load point" not in good.warning
+    _, bad = measure_record(stage)
+    assert math.isnan(bad.stick_fraction)
+    assert "the displacement column moves steadily at 100 um/s, the driving velocity" in bad.warning

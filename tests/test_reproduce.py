@@ -41,6 +41,14 @@ def test_every_file_is_written_and_not_empty(quick_run: Path) -> None:
     assert "<img" in html and 'src="fig' not in html  # self-contained
 
 
+def test_a_quick_report_says_it_is_quick(quick_run: Path) -> None:
+    """Regression (usability audit): a quick report read like the full one (a crossing read on
+    its 8 velocities was 548 um/s where bisection gives 578)."""
+    md = (quick_run / "report.md").read_text()
+    assert "A quick run (--quick): the curves are computed on a reduced grid (8 driving velocities" in md
+    assert xr.load_dataset(quick_run / "reproduce.nc").attrs["quick"] == 1
+
+
 def test_criterion_trial_in_the_report(quick_run: Path) -> None:
     from stickslip.paper.trial import TRIAL_MAPS
 

@@ -258,6 +258,9 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
         drift = float(np.polyfit(t[pk], pv, 1)[0])
     fd = f - drift * (t - t[0])
     speed, rest = _rest_velocity(record)
+    stage = _load_point_column(record, speed)
+    if stage:  # the stage's position, not the slider's: it never rests
+        speed, rest = None, math.nan
     cycles = []
     j = 0
     for a, p in enumerate(pk[:-1]):
@@ -303,6 +306,8 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
     )
     if w < 8:
         notes.append(f"only {per_n} samples per period: extrema values are rough; sample faster")
+    if stage:
+        notes.append(stage)
     warning = "; ".join(notes)
     summary = RecordSummary(
         name=record.name,
@@ -340,6 +345,27 @@ def _fall_time(t: FloatArray, f: FloatArray, p: int, q: int, hi: float, lo: floa
     ta = tt[ia] if ia == 0 else np.interp(a, [seg[ia], seg[ia - 1]], [tt[ia], tt[ia - 1]])
     tb = tt[ib] if ib == 0 else np.interp(b, [seg[ib], seg[ib - 1]], [tt[ib], tt[ib - 1]])
     return float(max(tb - ta, 0.0))
+
+
+def _load_point_column(record: Record, speed: FloatArray | None) -> str:
+    """Say so where the velocity or displacement column is the load point's, not the slider's.
+
+    A scratch tester logs its stage: a speed steady (5-95 % spread within 10 % of its
+    median) at the driving velocity (within 20 %). Its stick fraction would be 0 for a
+    record that sticks 99 % of the time.
+    """
+    if speed is None or record.v0 is None or not np.any(np.isfinite(speed)):
+        return ""
+    v0 = float(record.v0.to("m/s").magnitude)
+    med = float(np.nanmedian(speed))
+    lo, hi = (float(x) for x in np.nanpercentile(speed, [5.0, 95.0]))
+    if not (med > 0 and hi - lo < 0.1 * med and abs(med / v0 - 1.0) < 0.2):
+        return ""
+    column = "velocity" if record.velocity is not None else "displacement"
+    return (
+        f"the {column} column moves steadily at {med * 1e6:.4g} um/s, the driving velocity: it is "
+        "the load point's (a stage), not the slider's; no stick fraction from it"
+    )
 
 
 def _rest_velocity(record: Record) -> tuple[FloatArray | None, float]:

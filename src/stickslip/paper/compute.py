@@ -200,6 +200,10 @@ def compute_paper(
         "beta_from_1kg": _beta_from_mass(1.0),
         "mass_for_beta_42": float(zv.mass.to("kg").magnitude),
         "scale_check_spread": _scale_check(),
+        # the grid the numbers come from: a quick run's report says so (a crossing read on 8
+        # velocities was 548 um/s where bisection gives 578)
+        "grid": f"{cfg.n_v0} driving velocities, {cfg.n_load} loads, {cfg.n_time} samples of Fig. 1",
+        "quick": int(cfg == PaperConfig.quick()),
         **{f"regimes_{key}": json.dumps(seq) for key, seq in regime_sequences().items()},
     }
     if isinstance(appendix, xr.Dataset):

@@ -522,6 +522,18 @@ def _blocks(ds: xr.Dataset, figure_files: dict[str, str]) -> list[_Block]:
             "output). Every number below is computed from the data in reproduce.nc, which also "
             "holds every curve."
         ),
+        *(
+            [
+                _Para(
+                    f"A quick run (--quick): the curves are computed on a reduced grid "
+                    f"({ds.attrs.get('grid', '')}), so numbers read off them (slopes, crossings, "
+                    "the beta fitted to a slope) are rough and the figures polygonal; run without "
+                    "--quick for the report's numbers."
+                )
+            ]
+            if int(ds.attrs.get("quick", 0))
+            else []
+        ),
         _Heading(2, "Set-up and choices"),
         _Bullets(
             (
