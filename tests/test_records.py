@@ -666,3 +666,16 @@ def test_a_stage_displacement_is_not_taken_for_the_sliders(tmp_path: Path) -> No
     _, bad = measure_record(stage)
     assert math.isnan(bad.stick_fraction)
     assert "the displacement column moves steadily at 100 um/s, the driving velocity" in bad.warning
+
+
+def test_a_header_of_unknown_names_lists_the_names(tmp_path: Path) -> None:
+    """Regression (usability audit): a header of the right shape with names stickslip does not
+    know ('Zeit [s];Reibkraft [N]') got 'a title line? put # before it'; it lists the names."""
+    de = tmp_path / "de.csv"
+    de.write_text("Zeit [s];Reibkraft [N]\n0;1\n1;2\n2;3\n")
+    with pytest.raises(ValueError, match=r"\(columns are named .*friction_force.*time.*rename yours"):
+        read_record(de)
+    title = tmp_path / "title.csv"
+    title.write_text("My scratch test\n0,1\n1,2\n")
+    with pytest.raises(ValueError, match=r"a title line\? put '# ' before it"):
+        read_record(title)

@@ -15,8 +15,9 @@ column (and ``v0``/``load`` columns) holds several records at once.
 from __future__ import annotations
 
 import os
+import re
 import warnings
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -186,6 +187,14 @@ RECORD_ALIASES = {
 }
 
 
+def _header_hint(cells: Sequence[str]) -> str:
+    """Return the hint of a header naming no known column: a title line, or the names to use."""
+    if not all(re.search(r"[\[(][^\])]*[\])]\s*$", c) for c in cells if c.strip()):
+        return " (a title line? put '# ' before it)"
+    names = sorted({*NUMERIC, *RECORD_ALIASES})
+    return f" (columns are named {', '.join(names)}: rename yours, keeping the units)"
+
+
 class NotARecord(DataError):
     """A file whose header names no column a record has (a README in a folder of records)."""
 
@@ -217,7 +226,7 @@ def _read(
     if not numeric and not textual:  # pandas failed inside with an IndexError
         raise NotARecord(
             f"{where}: line {layout.header_line} is taken for the header, and names no known column "
-            f"({layout.header!r}); expected 'time [s]' and 'force [N]' (a title line? put '# ' before it)"
+            f"({layout.header!r}); expected 'time [s]' and 'force [N]'{_header_hint(layout.header)}"
         )
     frame = text.read_frame(layout, names, numeric=numeric, text=textual, where=where)
     if len(frame) == 0:
