@@ -29,6 +29,9 @@ from .model import ChainParameters, sliding_after
 __all__ = ["EventMapUndefined", "LyapunovResult", "event_map", "lyapunov_exponent"]
 
 
+#: steps per call of the engine in the event map (an event goes on over as many calls as it needs)
+MAX_STEPS = 200_000
+
 #: a companion orbit closer than this times the size of the state (and 1) is not resolved
 RESOLVED = 1e-12
 
@@ -81,7 +84,7 @@ def event_map(
     *,
     rtol: float = 1e-11,
     atol: float = 1e-13,
-    max_steps: int = 200_000,
+    max_steps: int = MAX_STEPS,
     max_event_duration: float | None = None,
 ) -> FloatArray:
     """Return the stuck state after the next event from the stuck state ``u`` (positions minus ``nu t``).
@@ -117,6 +120,13 @@ def event_map(
     longest = sliding_after(params) if max_event_duration is None else float(max_event_duration)
     if not longest > 0:
         raise ValueError(f"max_event_duration={max_event_duration!r}: expected a positive duration")
+    return _next_event_end(params, ua, rtol, atol, steps, longest)
+
+
+def _next_event_end(
+    params: ChainParameters, ua: FloatArray, rtol: float, atol: float, steps: int, longest: float
+) -> FloatArray:
+    """:func:`event_map` on checked arguments (the Lyapunov loop calls it twice an event)."""
     state = ChainState.at_rest(ua, 0.0)
     while True:
         cat, _, code = chain_advance(
@@ -171,6 +181,7 @@ def lyapunov_exponent(
     tr = check_count(transient, "transient", minimum=0)
     if not (isinstance(eps, int | float) and math.isfinite(eps) and 0 < eps < 1):
         raise ValueError(f"eps={eps!r}: expected the companion orbit's distance, 0 < eps < 1 (e.g. 1e-7)")
+    rtol, atol = validate_tolerances(rtol, atol)
     try:
         return _lyapunov(params, u, ev, tr, float(eps), rtol, atol)
     except EventMapUndefined:
@@ -180,15 +191,20 @@ def lyapunov_exponent(
 def _lyapunov(
     params: ChainParameters, u: FloatArray, events: int, transient: int, eps: float, rtol: float, atol: float
 ) -> LyapunovResult:
+    longest = sliding_after(params)
+
+    def step(x: FloatArray) -> FloatArray:
+        return _next_event_end(params, x, rtol, atol, MAX_STEPS, longest)
+
     for _ in range(transient):
-        u = event_map(params, u, rtol=rtol, atol=atol)
+        u = step(u)
     rng = np.random.default_rng(12345)
     d = rng.standard_normal(u.size)
     d *= eps / np.linalg.norm(d)
     logs = np.full(events, math.nan)
     for i in range(events):
-        un = event_map(params, u, rtol=rtol, atol=atol)
-        wn = event_map(params, u + d, rtol=rtol, atol=atol)
+        un = step(u)
+        wn = step(u + d)
         diff = wn - un
         dist = float(np.linalg.norm(diff))
         if dist > RESOLVED * max(1.0, float(np.max(np.abs(un)))):

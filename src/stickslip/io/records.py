@@ -15,7 +15,6 @@ column (and ``v0``/``load`` columns) holds several records at once.
 from __future__ import annotations
 
 import os
-import re
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -29,7 +28,7 @@ import pint
 from ..units import parse_quantity, ureg
 from . import text
 from .errors import DataError
-from .tables import check_file, header_name, parse_header
+from .tables import check_file, header_name, parse_header, split_header
 
 __all__ = ["Record", "format_record", "read_record", "read_records", "write_record"]
 
@@ -187,9 +186,9 @@ RECORD_ALIASES = {
 }
 
 
-def _header_hint(cells: Sequence[str]) -> str:
+def _header_hint(cells: Sequence[str], where: str) -> str:
     """Return the hint of a header naming no known column: a title line, or the names to use."""
-    if not all(re.search(r"[\[(][^\])]*[\])]\s*$", c) for c in cells if c.strip()):
+    if not all(split_header(c, where)[1] for c in cells if c.strip()):  # not all 'name [unit]'
         return " (a title line? put '# ' before it)"
     names = sorted({*NUMERIC, *RECORD_ALIASES})
     return f" (columns are named {', '.join(names)}: rename yours, keeping the units)"
@@ -226,7 +225,7 @@ def _read(
     if not numeric and not textual:  # pandas failed inside with an IndexError
         raise NotARecord(
             f"{where}: line {layout.header_line} is taken for the header, and names no known column "
-            f"({layout.header!r}); expected 'time [s]' and 'force [N]'{_header_hint(layout.header)}"
+            f"({layout.header!r}); expected 'time [s]' and 'force [N]'{_header_hint(layout.header, where)}"
         )
     frame = text.read_frame(layout, names, numeric=numeric, text=textual, where=where)
     if len(frame) == 0:

@@ -15,7 +15,7 @@ from ..units import ureg
 from . import text
 from .errors import DataError
 
-__all__ = ["Column", "check_file", "parse_header", "read_table"]
+__all__ = ["Column", "check_file", "parse_header", "read_table", "split_header"]
 
 _HEADER = re.compile(r"^\s*([^\[\]]*?)\s*(?:\[([^\[\]]*)\])?\s*$")
 MAX_BYTES = 20_000_000_000  # beyond the memory check, a plain bound
@@ -44,7 +44,7 @@ class Column:
 _PARENS = re.compile(r"^\s*([^()\[\]]*?)\s*\(([^()\[\]]+)\)\s*$")
 
 
-def _split(cell: str, path: str) -> tuple[str, str | None]:
+def split_header(cell: str, path: str) -> tuple[str, str | None]:
     """Return a header cell's name and unit text.
 
     ``name [unit]``, or ``name (unit)`` where the parentheses hold a unit pint knows
@@ -70,12 +70,12 @@ def _is_unit(text: str) -> bool:
 
 def header_name(cell: str, path: str) -> str:
     """Return the name of a header cell, ``"velocity"`` for ``"Velocity [um/s]"``; raise if malformed."""
-    return _split(cell, path)[0]
+    return split_header(cell, path)[0]
 
 
 def parse_header(cell: str, path: str) -> tuple[str, pint.Unit | None]:
     """Split ``"velocity [um/s]"`` (or ``"Velocity (um/s)"``) into ``("velocity", unit)``."""
-    name, unit_text = _split(cell, path)
+    name, unit_text = split_header(cell, path)
     if unit_text is None or unit_text.strip() == "":
         return name, None
     text = unit_text.strip()
