@@ -1,6 +1,7 @@
 """Fitting the model to synthetic records: recovery within uncertainties, identifiability."""
 
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -260,13 +261,51 @@ def test_drift_is_reported_with_the_time_it_is_zero_at(tmp_path: Path) -> None:
     at_start = f.values["mu_s"] + drift * (0.0 - t_mid) / 0.196
     assert at_start == pytest.approx(0.46, abs=4 * f.errors["mu_s"] + 1e-5)
     d = f.as_dict()
-    assert d["drift"] == {"value": f.drift, "unit": "N/s", "zero_at": t_mid, "zero_at_unit": "s"}
+    assert d["drift"] == {
+        "value": f.drift,
+        "error": f.drift_error,
+        "unit": "N/s",
+        "zero_at": t_mid,
+        "zero_at_unit": "s",
+    }
     # no drift: no warning
     assert not fit_record(rec).warnings
     path = write_csv(tmp_path / "drifted.csv", drifted)
     res = CliRunner().invoke(main, ["fit", str(path), "--out", str(tmp_path / "o"), "--no-plot"])
     assert res.exit_code == 0, res.output
-    assert f"drift = +0.02 mN/s (zero at t = {t_mid:.6g} s)" in res.output
+    assert f"drift = +0.02 +- {1e3 * f.drift_error:.2g} mN/s (zero at t = {t_mid:.6g} s)" in res.output
+
+
+def test_a_drift_under_the_noise_that_moves_mu_s_is_warned() -> None:
+    """Regression (usability audit): a drift of 2 uN/s from t = 0 (0.2 mN over the fitted window's
+    half, a fifth of the 1 mN noise) put mu_s 43 of its errors from the force at t = 0 and said
+    nothing: the warning compared the drift with one sample's noise, while mu_s, fitted on every
+    sample, is known to 5 uN. It now asks whether the record shows the drift (beyond 4 of its
+    standard errors) and whether it moves mu_s by more than mu_s's error across the window.
+    The drift's error is the textbook one for a slope fitted to the whole window (independent of
+    the fit: noise x sqrt(12 / n) / span), and the drifts of clean records scatter within it."""
+    rec = independent_record(1, periods=20)
+    drift = 2e-6  # N/s, from t = 0
+    drifted = type(rec)(rec.name, rec.time, rec.force + drift * rec.time, None, None, rec.v0, rec.load, {})
+    f = fit_record(drifted)
+    span = f.samples * 1e-3  # s, at 1 kHz
+    textbook = f.noise * math.sqrt(12.0 / f.samples) / span
+    assert f.drift_error == pytest.approx(textbook, rel=0.05)
+    assert abs(f.drift - drift) < 4 * f.drift_error
+    assert (f.values["mu_s"] - 0.46) / f.errors["mu_s"] > 20  # the force at t_mid, not at t = 0
+    assert abs(f.drift) * 0.5 * span < f.noise  # the case the old test let through
+    warn = [w for w in f.warnings if w.startswith("the force drifts")]
+    assert len(warn) == 1, f.warnings
+    assert f"{f.drift_origin:.6g} s" in warn[0] and "mu_s's error" in warn[0]
+    # clean records: no drift warning, and their drifts within a few errors of zero
+    for seed in (1, 2, 3):
+        g = fit_record(independent_record(seed, periods=20))
+        assert abs(g.drift) < 4 * g.drift_error
+        assert not [w for w in g.warnings if w.startswith("the force drifts")], g.warnings
+    # the features' drift (the peaks' trend) has an error from the peaks' scatter, and a clean
+    # record's is within it
+    h = fit_record(rec, method="features")
+    assert math.isfinite(h.drift_error) and abs(h.drift) < 4 * h.drift_error
 
 
 def test_a_quantized_record_is_fitted_and_its_noise_can_be_given() -> None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 
 import click
 
@@ -168,7 +169,8 @@ def register(main: click.Group) -> None:
             f"{'samples' if res.method == 'waveform' else 'features'}, noise {1e3 * res.noise:.3g} mN)"
         )
         if res.drift:
-            click.echo(f"drift = {1e3 * res.drift:+.3g} mN/s (zero at t = {res.drift_origin:.6g} s)")
+            err = f" +- {1e3 * res.drift_error:.2g}" if math.isfinite(res.drift_error) else ""
+            click.echo(f"drift = {1e3 * res.drift:+.3g}{err} mN/s (zero at t = {res.drift_origin:.6g} s)")
         for w in res.warnings:
             click.echo(f"warning: {w}")
         click.echo("wrote " + ", ".join(paths))

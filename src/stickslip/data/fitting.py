@@ -35,7 +35,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 import numpy.typing as npt
@@ -99,6 +99,9 @@ class FitResult:
         peaks with the features.
     drift_origin : float
         Time (s) at which the drift term is zero.
+    drift_error : float
+        Standard error of ``drift`` (N/s): from the waveform fit's covariance, or from the
+        peaks' scatter about their trend with the features (NaN with fewer than three).
     upper_limits : dict
         Parameters at their bound (``b = 0``): one-sided 95% upper limit (SI) instead of an
         error (the error is NaN, ``null`` in JSON).
@@ -121,6 +124,7 @@ class FitResult:
     drift: float = 0.0
     drift_origin: float = 0.0
     upper_limits: dict[str, float] = field(default_factory=dict)
+    drift_error: float = math.nan
 
     def model_force(self, t: Any) -> FloatArray:
         """Return the fitted model's force (N) at times ``t`` (s), drift included, overlaying the record."""
@@ -162,7 +166,13 @@ class FitResult:
             "reduced_chi2": self.reduced_chi2,
             "method": self.method,
             "noise": {"value": self.noise, "unit": "N"},
-            "drift": {"value": self.drift, "unit": "N/s", "zero_at": self.drift_origin, "zero_at_unit": "s"},
+            "drift": {
+                "value": self.drift,
+                "error": self.drift_error if math.isfinite(self.drift_error) else None,
+                "unit": "N/s",
+                "zero_at": self.drift_origin,
+                "zero_at_unit": "s",
+            },
             "breakaway_time": {"value": self.breakaway_time, "unit": "s"},
             "samples": self.samples,
             "fit_on": (
@@ -257,6 +267,8 @@ DCHI2_95_ONE_SIDED = 2.706
 MAX_WAVEFORM_SAMPLES = 200_000
 #: reduced chi-square above which the fit warns that the model does not describe the record
 CHI2_WARN = 2.0
+#: a drift this many standard errors from zero is one the record shows (not its noise)
+DRIFT_SIGNIFICANT = 4.0
 METHODS = ("waveform", "features")
 
 
@@ -335,10 +347,11 @@ def fit_record(
     noise_ = noise_level(record.force) if given_noise is None else given_noise
     samples = len(FEATURES)
     drift, drift_origin = float(summary.drift), float(record.time[0])
+    drift_error = _peaks_drift_error(table)
     dt = float(np.median(np.diff(record.time)))  # the sample interval (s)
     if method == "waveform":
         fitted = _fit_waveform(record, table, summary, coords, theta, v0, load, noise_)
-        if fitted[2] > CHI2_WARN and summary.drop_time < 3.0 * dt and (guess is None or "m" not in guess):
+        if fitted.chi2 > CHI2_WARN and summary.drop_time < 3.0 * dt and (guess is None or "m" not in guess):
             # the drop falls between samples: the features cannot place m (nor a, along the a-m
             # valley), and from a poor start the waveform fit wanders off (2 Hz: reduced chi2 900
             # from the features' m = 3.6 kg, 0.86 from 0.3 kg); start again from the features
@@ -353,9 +366,20 @@ def fit_record(
                     other = _fit_waveform(record, table, summary, coords, start, v0, load, noise_)
                 except (RuntimeError, DataError):
                     continue
-                if other[-1] < fitted[-1]:
+                if other.cost < fitted.cost:
                     fitted = other
-        theta, cov, chi2, samples, breakaway, drift, drift_origin, _ = fitted
+        theta, cov, chi2, samples, breakaway = (
+            fitted.theta,
+            fitted.cov,
+            fitted.chi2,
+            fitted.samples,
+            fitted.breakaway,
+        )
+        drift, drift_error, drift_origin = (
+            fitted.drift,
+            fitted.drift_error * math.sqrt(max(1.0, chi2)),
+            fitted.drift_origin,
+        )
     else:
         chi2 = chi2 / max(1, len(FEATURES) - len(names))
         breakaway = _first_breakaway(theta, coords, v0, load, float(table.peak_time[0]))
@@ -394,10 +418,16 @@ def fit_record(
     half_window = (
         0.5 * samples * dt if method == "waveform" else 0.5 * float(record.time[-1] - record.time[0])
     )
-    if abs(drift) * half_window > noise_:
+    # a drift the record shows (significant) that moves mu_s by more than its error between the
+    # window's middle and its ends: where the sensor read true decides mu_s. (Compared with the
+    # noise instead, a drift of 2 uN/s over 200 s moved mu_s by 44 of its errors unannounced:
+    # mu_s, fitted on every sample, is known far better than one sample's noise.)
+    shift = abs(drift) * half_window / load
+    if abs(drift) > DRIFT_SIGNIFICANT * drift_error and shift > errors["mu_s"]:
         warnings.append(
-            f"the force drifts ({1e3 * drift:+.3g} mN/s, {1e3 * abs(drift) * half_window:.3g} mN from "
-            f"the fitted window's middle to its ends): mu_s and a describe the force at t = "
+            f"the force drifts ({1e3 * drift:+.3g} +- {1e3 * drift_error:.2g} mN/s, "
+            f"{1e3 * abs(drift) * half_window:.3g} mN from the fitted window's middle to its ends, "
+            f"{shift / errors['mu_s']:.3g} times mu_s's error): mu_s and a describe the force at t = "
             f"{drift_origin:.6g} s, where the drift term is zero; if the force sensor read true "
             "at another time t', the static friction coefficient is about mu_s + drift x (t' - t) / "
             "load, and a moves with it (refit the record with the drift removed from t')"
@@ -459,6 +489,7 @@ def fit_record(
         breakaway,
         drift,
         drift_origin,
+        drift_error=drift_error,
     )
 
 
@@ -525,7 +556,7 @@ def _with_b_at_bound(
 
     def profile(b: float) -> float:
         if method == "waveform":
-            return _fit_waveform(record, table, summary, f1.names, theta, v0, load, f1.noise, fixed_b=b)[-1]
+            return _fit_waveform(record, table, summary, f1.names, theta, v0, load, f1.noise, fixed_b=b).cost
         _, _, cost, _, _ = _fit_features(record, table, summary, f1.names, v0, load, f1.values, {"b": b})
         return cost
 
@@ -677,6 +708,40 @@ def model_waveform(
     return ph["force"] * s
 
 
+class _Waveform(NamedTuple):
+    """A waveform fit of :func:`_fit_waveform`.
+
+    The log-parameters, their covariance (phase and drift marginalised, not scaled by the
+    chi-square), the reduced chi-square, the samples used, a breakaway time (s), the drift
+    (N/s) and its standard error (not scaled), the time the drift term is zero at (s), and the
+    total chi-square.
+    """
+
+    theta: FloatArray
+    cov: FloatArray
+    chi2: float
+    samples: int
+    breakaway: float
+    drift: float
+    drift_error: float
+    drift_origin: float
+    cost: float
+
+
+def _peaks_drift_error(table: CycleTable) -> float:
+    """Return the standard error (N/s) of the peaks' trend, from their scatter about it.
+
+    The record's drift is the slope of its peaks against time (:func:`measure_record`); the
+    peaks in ``table`` have it removed, which changes the slope but not the scatter.
+    """
+    t, f = np.asarray(table.peak_time, dtype=float), np.asarray(table.peak_force, dtype=float)
+    if t.size < 3 or np.ptp(t) <= 0:
+        return math.nan
+    from scipy.stats import linregress
+
+    return float(linregress(t, f).stderr)
+
+
 def _fit_waveform(
     record: Record,
     table: CycleTable,
@@ -687,14 +752,8 @@ def _fit_waveform(
     load: float,
     noise: float,
     fixed_b: float = 0.0,
-) -> tuple[FloatArray, FloatArray, float, int, float, float, float, float]:
-    """Fit the force waveform over a window of whole cycles (``b`` held at ``fixed_b`` unless fitted).
-
-    Returns the log-parameters, their covariance (nuisance parameters marginalised, not
-    scaled by the chi-square), the reduced chi-square, the samples used, a breakaway
-    time, the drift (N/s), the time at which the drift term is zero, and the total
-    chi-square.
-    """
+) -> _Waveform:
+    """Fit the force waveform over a window of whole cycles (``b`` held at ``fixed_b`` unless fitted)."""
     t = record.time
     f, _, _ = clean_force(record)  # as measured: outliers out, the right way up
     # a window of whole cycles, from one peak to a later one, at most MAX_WAVEFORM_SAMPLES long
@@ -745,8 +804,17 @@ def _fit_waveform(
     full = _covariance(jac)
     n_p = len(names)
     cov = np.asarray(full[:n_p, :n_p], dtype=float)
-    drift = float(x[-1] * drift_unit)
-    return x[:n_p], cov, chi2, int(tw.size), t_ref + float(x[-2]) * scale_t, drift, float(t_mid), cost
+    return _Waveform(
+        theta=x[:n_p],
+        cov=cov,
+        chi2=chi2,
+        samples=int(tw.size),
+        breakaway=t_ref + float(x[-2]) * scale_t,
+        drift=float(x[-1] * drift_unit),
+        drift_error=float(np.sqrt(full[-1, -1])) * drift_unit,
+        drift_origin=float(t_mid),
+        cost=cost,
+    )
 
 
 class _Jacobian:
