@@ -186,6 +186,67 @@ def test_analyze_stick_slip_folder(tmp_path: Path) -> None:
     assert (tmp_path / "out" / "records_vs_v0.png").stat().st_size > 5000
 
 
+@pytest.mark.parametrize("index", [True, False])
+def test_a_record_that_cannot_be_read_does_not_stop_the_folder(tmp_path: Path, index: bool) -> None:
+    """Regression (usability audit): three NaN samples in one file of a folder stopped the whole
+    folder (exit 2), and the message named the column stickslip reads ('friction_force'), not the
+    one in the file ('Fx [mN]'). With on_error="warn" (what `analyze` uses) the file is a row
+    of the table saying why, and the verdict comes from the others: the same as without it."""
+    vs = (20, 50, 100, 200)
+    folder = make_folder(tmp_path / "f", [S.zv_parameters(f"{v} um/s") for v in vs], index=index)
+    _, whole = analyze_records(read_records(folder))
+    bad = folder / "r4.csv"
+    lines = (folder / "r1.csv").read_text().replace("time [s],force [mN]", "Time (s),Fx [mN]").splitlines()
+    start = 3 if not index else 1
+    for i in (start + 500, start + 501, start + 900):
+        lines[i] = lines[i].split(",")[0] + ",nan"
+    bad.write_text("\n".join(lines) + "\n")
+    if index:
+        with open(folder / "index.csv", "a") as fh:
+            fh.write("r4.csv,0.3,0.196\n")
+    with pytest.raises(ValueError, match=r"column 'Fx \[mN\]' has 3 missing/NaN values in 2 run"):
+        read_records(folder)  # on_error="raise", the default
+    with pytest.warns(records_io.UnreadableRecord) as caught:
+        recs = read_records(folder, on_error="warn")
+    assert [r.name for r in recs] == [f"r{i}.csv" for i in range(4)]
+    (w,) = [x.message for x in caught if isinstance(x.message, records_io.UnreadableRecord)]
+    assert w.name == "r4.csv" and "'Fx [mN]' has 3 missing/NaN" in w.reason
+    table, verdict = analyze_records(recs, unreadable={w.name: w.reason})
+    assert verdict is not None and verdict.as_dict() == whole.as_dict()
+    row = table[table["name"] == "r4.csv"].iloc[0]
+    assert row["warning"].startswith("not read: ") and not row["in_verdict"]
+    assert np.isnan(row["amplitude [N]"]) and row["n_cycles"] == 0
+    res = CliRunner().invoke(main, ["analyze", str(folder), "--out", str(tmp_path / "out"), "--no-plot"])
+    assert res.exit_code == 0, res.output
+    assert "warning: r4.csv: not read: " in res.output and "criterion: stick-slip" in res.output
+    with pytest.raises(ValueError, match="on_error='skip'"):
+        read_records(folder, on_error="skip")
+    # none readable: an error, naming the first reason
+    for f in folder.glob("r[0-3].csv"):
+        f.write_text(bad.read_text())
+    if index:
+        (folder / "index.csv").write_text("file,v0 [mm/s],load [N]\nr4.csv,0.3,0.196\nr0.csv,0.02,0.196\n")
+    with pytest.raises(ValueError, match=r"none of its .* could be read: .*'Fx \[mN\]' has 3"):
+        read_records(folder, on_error="warn")
+    res = CliRunner().invoke(main, ["analyze", str(folder), "--out", str(tmp_path / "out2"), "--no-plot"])
+    assert res.exit_code == 2 and "could be read" in res.output
+
+
+def test_a_long_table_record_that_cannot_be_read_is_a_row(tmp_path: Path) -> None:
+    """The same in a long table: a record whose rows hold a NaN is left out with a warning."""
+    rows = ["record,v0 [um/s],load [mN],time [s],force [N]"]
+    for name, v in (("a", 100), ("b", 200), ("c", 300)):
+        rows += [
+            f"{name},{v},196,{0.1 * i},{'nan' if name == 'b' and i == 5 else 0.1 + 0.01 * (i % 7)}"
+            for i in range(50)
+        ]
+    path = tmp_path / "all.csv"
+    path.write_text("\n".join(rows) + "\n")
+    with pytest.warns(records_io.UnreadableRecord, match="b: not read: .*record 'b'.*1 missing/NaN"):
+        recs = read_records(path, on_error="warn")
+    assert [r.name for r in recs] == ["a", "c"]
+
+
 def test_analyze_pure_slip_folder(tmp_path: Path) -> None:
     folder = make_folder(
         tmp_path / "ps", [cubic_params(v) for v in (47.6, 48.0, 48.5, 49.0, 49.5)], index=False
@@ -540,7 +601,7 @@ def test_no_verdict_says_why(tmp_path: Path) -> None:
     bare = write_record(tmp_path / "b.csv", rec)
     for path, why in (
         (with_v0, "it needs at least 2 measured records at different driving velocities, and 1 of 1"),
-        (bare, "1 of 1 records have no driving velocity; give it in index.csv"),
+        (bare, "1 of 1 records read have no driving velocity; give it in index.csv"),
     ):
         out = str(tmp_path / path.stem)
         res = CliRunner().invoke(main, ["analyze", str(path), "--out", out, "--no-plot"])

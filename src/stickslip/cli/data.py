@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 
 import click
 
@@ -33,13 +34,21 @@ def register(main: click.Group) -> None:
         """
         from ..data.records import analyze_records
         from ..io.output import OutputFolder
-        from ..io.records import read_records
+        from ..io.records import UnreadableRecord, read_records
         from ..plots.figures import plot_records, save_figure
 
         with OutputFolder(out_dir, "analyze", overwrite=overwrite) as out:
             out.expect({"summary.csv": "records-summary"})
-            records = read_records(source)
-            table, verdict = analyze_records(records)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                records = read_records(source, on_error="warn")
+            unread = {}
+            for w in caught:  # a record that cannot be read is a row of the table; the rest are said
+                if isinstance(w.message, UnreadableRecord):
+                    unread[w.message.name] = w.message.reason
+                else:
+                    warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+            table, verdict = analyze_records(records, unreadable=unread)
             written = [
                 out.write(
                     "summary.csv",
@@ -68,10 +77,11 @@ def register(main: click.Group) -> None:
         cols = ["name", "n_cycles", "v0 [m/s]", "load [N]", "amplitude [N]", "period [s]", "stick_fraction"]
         click.echo(table[cols].to_string(index=False, float_format=lambda x: f"{x:.4g}"))
         if verdict is None:
-            no_v0 = int(table["v0 [m/s]"].isna().sum())
+            read = table[~table["name"].isin(unread)]
+            no_v0 = int(read["v0 [m/s]"].isna().sum())
             measured = int((table["v0 [m/s]"].notna() & table["amplitude [N]"].notna()).sum())
             why = (
-                f"{no_v0} of {len(table)} records have no driving velocity; give it in index.csv "
+                f"{no_v0} of {len(read)} records read have no driving velocity; give it in index.csv "
                 "('v0 [unit]') or a '# v0 = ...' header line"
                 if no_v0
                 else f"it needs at least 2 measured records at different driving velocities, "

@@ -22,6 +22,7 @@ The method, robust to noise, drift and sampling rate:
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -480,11 +481,18 @@ def synthetic_record(
     return Record(name, t - t0, force, None, vel, params.v0, params.load, {})
 
 
-def _failed_row(rec: Record, reason: str) -> dict[str, Any]:
-    """Return the summary row of a record that could not be measured: NaN values and the reason."""
+def _failed_row(rec: Record | str, reason: str) -> dict[str, Any]:
+    """Return the summary row of a record that could not be measured (or, named only, read).
+
+    NaN values and the reason: ``not measured: ...`` or ``not read: ...``.
+    """
     nan = math.nan
     measured: tuple[str, ...] = ("amplitude", "amplitude_spread", "period", "period_spread", "peak_force")
     measured += ("trough_force", "rise_time", "drop_time", "stick_fraction", "rise_slope", "drift")
+    if isinstance(rec, str):
+        return {"name": rec, "n_cycles": 0, **dict.fromkeys((*measured, "v0", "load"), nan)} | {
+            "warning": "not read: " + reason
+        }
     return {
         "name": rec.name,
         "n_cycles": 0,
@@ -495,12 +503,17 @@ def _failed_row(rec: Record, reason: str) -> dict[str, Any]:
     }
 
 
-def analyze_records(records: list[Record], *, confidence: float = 0.95) -> tuple[Any, Any]:
+def analyze_records(
+    records: list[Record], *, confidence: float = 0.95, unreadable: Mapping[str, str] | None = None
+) -> tuple[Any, Any]:
     """Measure every record; return the summary table and the criterion's verdict.
 
     A record that cannot be measured (no cycles, no structure above its noise) gets a
     row of NaN with the reason in ``warning``, and counts for nothing in the verdict;
-    a single record that cannot be measured, or none of several, raises.
+    a single record that cannot be measured, or none of several, raises. Records that
+    could not be read (``unreadable``: name to reason, from the
+    :class:`~stickslip.io.records.UnreadableRecord` warnings of
+    ``read_records(on_error="warn")``) get such a row too, after the others.
 
     Returns
     -------
@@ -533,6 +546,7 @@ def analyze_records(records: list[Record], *, confidence: float = 0.95) -> tuple
             rows.append(_failed_row(rec, str(exc)))
             continue
         rows.append(s.as_dict())
+    rows += [_failed_row(name, reason) for name, reason in (unreadable or {}).items()]
     if len(failed) == len(records):
         raise DataError(f"no record could be measured: {failed[0]} (and {len(failed) - 1} more)")
     df = pd.DataFrame(rows).rename(

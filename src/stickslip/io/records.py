@@ -16,8 +16,9 @@ from __future__ import annotations
 
 import os
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -30,7 +31,7 @@ from . import text
 from .errors import DataError
 from .tables import check_file, header_name, parse_header, split_header
 
-__all__ = ["Record", "format_record", "read_record", "read_records", "write_record"]
+__all__ = ["Record", "UnreadableRecord", "format_record", "read_record", "read_records", "write_record"]
 
 FORCE_NAMES = ("force", "spring_force", "friction_force")
 MAX_BYTES = 20_000_000_000  # beyond the memory check, a plain bound
@@ -141,9 +142,15 @@ def _lines(df: pd.DataFrame, first: int, last: int | None = None) -> str:
     return f"lines {a} and {b}" if last == first + 1 else f"lines {a} to {b} (among other records' rows)"
 
 
+def _written(df: pd.DataFrame, col: str) -> str:
+    """Return column ``col``'s header cell as the file writes it (``col`` itself when unknown)."""
+    return str(df.attrs.get("header", {}).get(col, col))
+
+
 def _check_numeric(df: pd.DataFrame, col: str, where: str) -> FloatArray:
     """Return a float column, refusing missing or NaN values with a summary of where they are."""
     v = df[col].to_numpy(dtype=float)
+    col = _written(df, col)
     nan = np.isnan(v)
     if nan.any():
         starts = np.flatnonzero(nan & ~np.concatenate([[False], nan[:-1]]))
@@ -231,6 +238,9 @@ def _read(
     if len(frame) == 0:
         raise DataError(f"{where}: the file has a header but no data rows")
     frame.attrs["layout"] = layout  # for messages naming a file line (groupby keeps attrs and labels)
+    # and the header's cells as written, for messages naming a column the user knows ('Fx [mN]',
+    # not the 'friction_force' it is read as)
+    frame.attrs["header"] = {n: cell.strip() for (n, _), cell in zip(parsed, layout.header, strict=True)}
     return frame, dict(parsed), dict(layout.meta)
 
 
@@ -262,8 +272,10 @@ def _record_from_frame(
         )
     if len(df) < 3:
         raise DataError(f"{where}: only {len(df)} samples; a record needs many cycles")
-    t = _si(_check_numeric(df, "time", where), units["time"], "time", "[time]", "s", where)
-    f = _si(_check_numeric(df, force_col, where), units[force_col], force_col, "[force]", "N", where)
+    t = _si(_check_numeric(df, "time", where), units["time"], _written(df, "time"), "[time]", "s", where)
+    f = _si(
+        _check_numeric(df, force_col, where), units[force_col], _written(df, force_col), "[force]", "N", where
+    )
     dt = np.diff(t)
     if np.any(dt <= 0):
         i = int(np.argmax(dt <= 0))
@@ -275,7 +287,7 @@ def _record_from_frame(
     def optional(col: str, dimension: str, si: str) -> FloatArray | None:
         if col not in df.columns:
             return None
-        return _si(_check_numeric(df, col, where), units[col], col, dimension, si, where)
+        return _si(_check_numeric(df, col, where), units[col], _written(df, col), dimension, si, where)
 
     x = optional("displacement", "[length]", "m")
     v = optional("velocity", "[length] / [time]", "m/s")
@@ -327,11 +339,41 @@ def read_record(path: str | os.PathLike[str], *, v0: Any = None, load: Any = Non
     return _record_from_frame(df, units, meta, os.path.basename(p), p, v0, load)
 
 
-def read_records(path: str | os.PathLike[str]) -> list[Record]:
+class UnreadableRecord(UserWarning):
+    """A record of several that could not be read, left out (``read_records(on_error="warn")``).
+
+    Attributes
+    ----------
+    name : str
+        The record: its file's name in a folder, its name in a long table.
+    reason : str
+        Why, as :func:`read_record` would have raised it.
+
+    """
+
+    def __init__(self, name: str, reason: str) -> None:
+        super().__init__(f"{name}: not read: {reason}")
+        self.name = name
+        self.reason = reason
+
+
+def read_records(path: str | os.PathLike[str], *, on_error: str = "raise") -> list[Record]:
     """Read several records: a folder (with ``index.csv`` or header lines) or one long table.
 
     A long table has a ``record`` column naming the record of each row, and may
     have ``v0 [unit]`` and ``load [unit]`` columns (constant within a record).
+
+    Parameters
+    ----------
+    path : str or path-like
+        The folder or the table.
+    on_error : {"raise", "warn"}
+        What a record that cannot be read (a run of NaN, a cell that is not a number,
+        time that does not increase) does: raise, or, with ``"warn"``, leave the
+        others to be read and issue an :class:`UnreadableRecord` warning naming it and
+        why (as ``pandas.read_csv``'s ``on_bad_lines``). Problems of the folder or the
+        table as a whole (no records, an index naming a missing file) raise either way,
+        as does a source of which no record can be read.
 
     Raises
     ------
@@ -340,7 +382,29 @@ def read_records(path: str | os.PathLike[str]) -> list[Record]:
         every error of :func:`read_record`.
 
     """
+    if on_error not in ("raise", "warn"):
+        raise ValueError(f"on_error={on_error!r}: expected 'raise' or 'warn'")
     p = os.fspath(path)
+    unread: list[str] = []
+
+    def attempt(name: str, read: Callable[[], Record]) -> Record | None:
+        try:
+            return read()
+        except NotARecord:
+            raise
+        except DataError as exc:
+            if on_error == "raise":
+                raise
+            unread.append(str(exc))
+            warnings.warn(UnreadableRecord(name, str(exc)), stacklevel=3)
+            return None
+
+    def read_all(out: list[Record | None], total: int, what: str) -> list[Record]:
+        got = [r for r in out if r is not None]
+        if not got and unread:
+            raise DataError(f"{p}: none of its {total} {what} could be read: {unread[0]}")
+        return got
+
     if os.path.isdir(p):
         index = os.path.join(p, "index.csv")
         files = sorted(f for f in os.listdir(p) if f.lower().endswith((".csv", ".tsv", ".txt")))
@@ -362,7 +426,7 @@ def read_records(path: str | os.PathLike[str]) -> list[Record]:
                 load = _quantity(
                     _with_unit(row.get("load"), units.get("load")), "load", "[force]", "196 mN", here
                 )
-                out.append(read_record(f, v0=v0, load=load))
+                out.append(attempt(os.path.basename(f), partial(read_record, f, v0=v0, load=load)))
             left = [f for f in files if f not in named and f != "index.csv"]
             if left:
                 shown = ", ".join(left[:5]) + (f" and {len(left) - 5} more" if len(left) > 5 else "")
@@ -372,18 +436,18 @@ def read_records(path: str | os.PathLike[str]) -> list[Record]:
                     UserWarning,
                     stacklevel=2,
                 )
-            return out
+            return read_all(out, len(out), "indexed records")
         if not files:
             raise DataError(f"{p}: no .csv, .tsv or .txt records in the folder")
         out = []
         for f in files:
             try:
-                out.append(read_record(os.path.join(p, f)))
+                out.append(attempt(f, partial(read_record, os.path.join(p, f))))
             except NotARecord as exc:  # a README.txt, notes: not a record, said and left out
                 warnings.warn(f"not a record, skipped: {exc}", UserWarning, stacklevel=2)
         if not out:
             raise DataError(f"{p}: none of its {len(files)} .csv, .tsv or .txt files is a record")
-        return out
+        return read_all(out, len(out), "records")
     if not os.path.isfile(p):
         raise DataError(f"{p}: no such file or folder")
     check_file(p, MAX_BYTES)
@@ -397,11 +461,18 @@ def read_records(path: str | os.PathLike[str]) -> list[Record]:
         raise DataError(f"{p}: {_lines(df, i)} has no record name (column 'record' is empty)")
     out = []
     for name, part in df.groupby("record", sort=False):
-        where = f"{p} (record {name!r})"
-        v0 = _constant(part, "v0", units, where)
-        load = _constant(part, "load", units, where)
-        out.append(_record_from_frame(part, units, meta, str(name), where, v0, load))
-    return out
+        out.append(attempt(str(name), partial(_table_record, part, units, meta, str(name), p)))
+    return read_all(out, len(out), "records")
+
+
+def _table_record(
+    part: pd.DataFrame, units: Mapping[str, pint.Unit | None], meta: Mapping[str, str], name: str, path: str
+) -> Record:
+    """Return record ``name`` of a long table: its rows ``part``, its v0 and load from its columns."""
+    where = f"{path} (record {name!r})"
+    v0 = _constant(part, "v0", units, where)
+    load = _constant(part, "load", units, where)
+    return _record_from_frame(part, units, meta, name, where, v0, load)
 
 
 def _with_unit(value: Any, unit: pint.Unit | None) -> Any:
