@@ -545,7 +545,14 @@ def analyze_records(
             failed.append(str(exc))
             rows.append(_failed_row(rec, str(exc)))
             continue
-        rows.append(s.as_dict())
+        row = s.as_dict()
+        if rec.v0 is None:  # it was measured, and left out of the verdict: say why
+            note = (
+                "no driving velocity, so not in the criterion's verdict (give '# v0 = ...' in the "
+                "file or 'v0 [unit]' in index.csv)"
+            )
+            row["warning"] = f"{row['warning']}; {note}" if row["warning"] else note
+        rows.append(row)
     rows += [_failed_row(name, reason) for name, reason in (unreadable or {}).items()]
     if len(failed) == len(records):
         raise DataError(f"no record could be measured: {failed[0]} (and {len(failed) - 1} more)")

@@ -181,6 +181,39 @@ INDEX_ALIASES = {
 }
 
 
+#: other names of the metadata lines giving v0 and load (keys as read: lower case, '_')
+META_ALIASES = {text.meta_key(k): v for k, v in INDEX_ALIASES.items()} | {
+    "driving_speed": "v0",
+    "sliding_velocity": "v0",
+    "sliding_speed": "v0",
+    "speed": "v0",
+    "fn": "load",
+    "f_n": "load",
+}
+
+
+def _from_meta(meta: Mapping[str, str], key: str, where: str) -> str | None:
+    """Return the metadata's value for ``v0`` or ``load``, under its name or another one.
+
+    Two lines that give it different values (``# v0 = 10 um/s`` and ``# speed = 20 um/s``)
+    are an error naming both; an empty value (``# Load:``, a section title) gives none.
+    """
+    found = [(k, v) for k, v in meta.items() if (k == key or META_ALIASES.get(k) == key) and v.strip()]
+    found.sort(key=lambda kv: kv[0] != key)  # its own name first
+    if len(found) > 1:
+        try:
+            q: list[pint.Quantity] = [ureg.Quantity(v) for _, v in found]
+            agree = all(np.isclose(float((x / q[0]).to("").magnitude), 1.0, rtol=1e-12, atol=0) for x in q)
+        except (
+            Exception
+        ):  # pint's parse errors are many: a value that is not a quantity, or units that differ
+            agree = len({v for _, v in found}) == 1
+        if not agree:
+            shown = " and ".join(f"'# {k} = {v}'" for k, v in found)
+            raise DataError(f"{where}: header lines {shown} both give {key} and disagree")
+    return found[0][1] if found else None
+
+
 #: instruments' names of a record's columns (a tribometer's Fx is the friction force)
 RECORD_ALIASES = {
     "t": "time",
@@ -296,10 +329,10 @@ def _record_from_frame(
             raise DataError(f"{where}: {key}=nan: expected a quantity, or None for the header's")
     # an empty header value ('# Load:', a section title) gives none, as a missing line does
     v0q = _quantity(
-        v0 if v0 is not None else meta.get("v0") or None, "v0", "[length] / [time]", "10 um/s", where
+        v0 if v0 is not None else _from_meta(meta, "v0", where), "v0", "[length] / [time]", "10 um/s", where
     )
     loadq = _quantity(
-        load if load is not None else meta.get("load") or None, "load", "[force]", "196 mN", where
+        load if load is not None else _from_meta(meta, "load", where), "load", "[force]", "196 mN", where
     )
     meta = dict(meta)
     for key, given, used in (("v0", v0, v0q), ("load", load, loadq)):

@@ -48,7 +48,7 @@ __all__ = [
 ]
 
 HEAD_BYTES = 1 << 16
-_META = re.compile(r"^\s*#\s*([A-Za-z_][\w .\-]*?)\s*[=:]\s*(.*?)\s*$")
+_META = re.compile(r"^\s*#\s*([A-Za-z_][\w .\-]*?)\s*[=:;,\t]\s*(.*?)\s*$")
 #: a metadata key as read back (lower case, ``_`` for spaces)
 _KEY = re.compile(r"[a-z_][\w.\-]*")
 #: the longest cell shown in a message
