@@ -145,6 +145,50 @@ def test_stick_fraction_of_a_noisy_velocity(column: str, noise: float) -> None:
     assert np.isnan(measure_record(drowned)[1].stick_fraction)
 
 
+def test_clipped_peaks_are_said() -> None:
+    """Regression (usability audit): a sensor saturating at 97 % of the peak-to-trough range took
+    1.2 % off the amplitude (4 % in the audit's record) and said nothing. Samples piling up at the
+    record's extreme value are a rail: the record's warning and a fit's say so. Neither a
+    continuous force, nor one quantized by an ADC (1 and 5 mN steps over 0.5 mN of noise), nor
+    a flat-bottomed one without a pile-up, is taken for one."""
+    from stickslip.data.fitting import fit_record
+    from stickslip.data.records import saturation
+    from stickslip.io.records import Record
+
+    p = S.zv_parameters("100 um/s")
+    true = S.cycle(p, probe=False)
+    rec = synthetic_record(
+        p,
+        duration=f"{12 * true.period} s",
+        rate="500 Hz",
+        noise="0.5 mN",
+        seed=0,
+        start=f"{true.transient_time} s",
+    )
+    _, clean = measure_record(rec)
+    assert clean.warning == ""
+    lo, hi = float(rec.force.min()), float(rec.force.max())
+    rail = lo + 0.97 * (hi - lo)
+    clipped = Record(rec.name, rec.time, np.minimum(rec.force, rail), None, None, rec.v0, rec.load, {})
+    _, s = measure_record(clipped)
+    assert s.amplitude < 0.995 * clean.amplitude  # what the warning is for
+    assert f"its largest value, {rail:.6g} N" in s.warning and "clipped the peaks" in s.warning
+    n_rail = int(np.sum(rec.force >= rail))
+    assert f"for {n_rail} samples" in s.warning
+    floor = Record(
+        rec.name, rec.time, np.maximum(rec.force, lo + 0.02 * (hi - lo)), None, None, rec.v0, rec.load, {}
+    )
+    assert "clipped the troughs" in measure_record(floor)[1].warning
+    fit = fit_record(clipped)
+    assert any("clipped the peaks" in w for w in fit.warnings)
+    for step in (1e-3, 5e-3):
+        assert saturation(np.round(rec.force / step) * step) is None
+    assert saturation(rec.force) is None
+    # three equal extremes, none two in a row: a coincidence of a quantized record, not a rail
+    assert saturation(np.array([0.0, 1.0, 0.5, 1.0, 0.2, 1.0, 0.3])) is None
+    assert saturation(np.array([0.0, 1.0, 1.0, 1.0, 0.2, 0.5, 0.3])) is not None
+
+
 def make_folder(folder: Path, params_list, *, index: bool) -> Path:
     folder.mkdir()
     lines = ["file,v0 [mm/s],load [N]"]

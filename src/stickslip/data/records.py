@@ -167,6 +167,9 @@ def clean_force(record: Record) -> tuple[FloatArray, list[str], float]:
     period = _dominant_period(t, f)
     if not math.isfinite(period):
         raise DataError(f"{record.name}: no oscillation found (fewer than 2.5 cycles?)")
+    clipped = saturation(record.force)
+    if clipped:
+        notes.append(clipped)
     per_n = max(4, round(period / ((t[-1] - t[0]) / (t.size - 1))))
     if _inverted(f, per_n):
         f = -f
@@ -175,6 +178,44 @@ def clean_force(record: Record) -> tuple[FloatArray, list[str], float]:
             "drops fast): measured as -force"
         )
     return f, notes, period
+
+
+def saturation(force: FloatArray) -> str | None:
+    """Say whether the force sits at a rail (a saturated sensor or ADC clips its peaks), or None.
+
+    Samples pile up at the record's largest (or smallest) value: at least 3 of them, two in a
+    row, and more than twice as many as at the next value below it. A force with continuous
+    values reaches its extreme once; a quantized one (an ADC's steps) has fewer samples at
+    its top step than at the one below, the tail of the noise.
+
+    Parameters
+    ----------
+    force : array
+        The force as recorded (N).
+
+    Returns
+    -------
+    str or None
+        The note: where the force is clipped and what it does to the measurements.
+
+    """
+    f = np.asarray(force, dtype=float)
+    for side, x in (("largest", f), ("smallest", -f)):
+        top = float(x.max())
+        at = x == top
+        n_top = int(at.sum())
+        below = x[~at]
+        n_next = int(np.sum(below == below.max())) if below.size else 0
+        if n_top < max(3, 2 * n_next + 1) or not np.any(at[1:] & at[:-1]):
+            continue
+        value = top if side == "largest" else -top
+        what = "peaks" if side == "largest" else "troughs"
+        return (
+            f"the force sits at its {side} value, {value:.6g} N, for {n_top} samples ({n_next} at the next "
+            f"value): the sensor or its ADC saturated there and clipped the {what}; amplitude, {what} "
+            "and what is fitted to them are short by what was cut off (record with a range that holds them)"
+        )
+    return None
 
 
 def _inverted(force: FloatArray, per_n: int) -> bool:
