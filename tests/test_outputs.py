@@ -265,3 +265,32 @@ def test_the_spring_force_legend_hides_no_data() -> None:
     assert box.y1 <= axes_box.y0  # below the plotting area
     labels = [t.get_text() for t in fig.legends[0].get_texts()]
     assert labels == ["stick (block at rest)", "slip (block moving)"]
+
+
+def test_outputs_have_the_mode_a_plain_open_gives(tmp_path: Path) -> None:
+    """Regression (usability audit): every file stickslip wrote was 0600, readable by its owner
+    only (tempfile.mkstemp's mode, kept through the rename into place), and a store's folder
+    0700; a lab sharing results by group could not read them. They now get 0666 / 0777 less the
+    umask, as open() and mkdir() give."""
+    import os
+    import stat
+
+    import stickslip as S
+    from stickslip.data.records import synthetic_record
+    from stickslip.io.output import temporary_folder
+    from stickslip.io.records import write_record
+
+    old = os.umask(0o022)
+    try:
+        rec = synthetic_record(S.zv_parameters("100 um/s"), duration="20 s", rate="20 Hz")
+        for path in (
+            write_record(rec, tmp_path / "r.csv"),
+            atomic_write(tmp_path / "a.txt", lambda p: Path(p).write_text("x"), kind="test"),
+        ):
+            assert stat.S_IMODE(os.stat(path).st_mode) == 0o644, path
+        assert stat.S_IMODE(os.stat(temporary_folder(str(tmp_path), ".t-")).st_mode) == 0o755
+        os.umask(0o077)  # a private umask is kept
+        path = atomic_write(tmp_path / "b.txt", lambda p: Path(p).write_text("x"), kind="test")
+        assert stat.S_IMODE(os.stat(path).st_mode) == 0o600
+    finally:
+        os.umask(old)

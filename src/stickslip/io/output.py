@@ -26,7 +26,6 @@ import json
 import os
 import re
 import shutil
-import tempfile
 import time
 import uuid
 from collections.abc import Callable, Mapping
@@ -47,6 +46,8 @@ __all__ = [
     "netcdf_writer",
     "own_kind",
     "package_version",
+    "temporary_file",
+    "temporary_folder",
     "text_writer",
 ]
 
@@ -193,8 +194,7 @@ def atomic_write(
     name = os.path.basename(p)
     try:
         os.makedirs(folder, exist_ok=True)
-        prefix = f".{name}.{os.getpid()}."
-        fd, tmp = tempfile.mkstemp(prefix=prefix, suffix=".part" + os.path.splitext(name)[1], dir=folder)
+        fd, tmp = temporary_file(folder, f".{name}.", ".part" + os.path.splitext(name)[1])
     except OSError as exc:
         raise OSError(exc.errno, f"cannot write ({exc.strerror or exc})", p) from None
     os.close(fd)
@@ -210,6 +210,37 @@ def atomic_write(
         _remove(tmp)
         raise
     return p
+
+
+def temporary_file(folder: str, prefix: str, suffix: str = "") -> tuple[int, str]:
+    """Create an empty file ``prefix<pid>.<random><suffix>`` in ``folder``; return its descriptor and path.
+
+    As :func:`tempfile.mkstemp`, but with the mode a plain ``open`` gives (0666 less the
+    umask): mkstemp's 0600 stayed with a file renamed into place, so every output (a
+    record, a table, a figure, a store) was readable by its owner only.
+    """
+    for _ in range(100):
+        tmp = os.path.join(folder, f"{prefix}{os.getpid()}.{uuid.uuid4().hex[:8]}{suffix}")
+        try:
+            return os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666), tmp
+        except FileExistsError:
+            continue
+    raise FileExistsError(errno.EEXIST, "no free temporary name", os.path.join(folder, prefix))
+
+
+def temporary_folder(folder: str, prefix: str) -> str:
+    """Create an empty folder ``prefix<pid>.<random>`` in ``folder`` (0777 less the umask); return its path.
+
+    As :func:`tempfile.mkdtemp`, whose 0700 a store renamed into place kept.
+    """
+    for _ in range(100):
+        tmp = os.path.join(folder, f"{prefix}{os.getpid()}.{uuid.uuid4().hex[:8]}")
+        try:
+            os.mkdir(tmp, 0o777)
+            return tmp
+        except FileExistsError:
+            continue
+    raise FileExistsError(errno.EEXIST, "no free temporary name", os.path.join(folder, prefix))
 
 
 def _fsync(path: str) -> None:

@@ -26,7 +26,6 @@ import json
 import math
 import os
 import shutil
-import tempfile
 import threading
 import uuid
 import warnings
@@ -38,6 +37,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..io.errors import DataError
+from ..io.output import temporary_file, temporary_folder
 
 __all__ = [
     "Block",
@@ -470,7 +470,7 @@ class ChunkStore:
         import zarr
 
         # built in a temporary folder beside it, then renamed: a store is there whole or not at all
-        tmp = tempfile.mkdtemp(prefix=".creating-", dir=os.path.dirname(p))
+        tmp = temporary_folder(os.path.dirname(p) or ".", ".creating-")
         store_id = uuid.uuid4().hex
         try:
             attrs = {
@@ -589,7 +589,7 @@ class ChunkStore:
             digest = _digest(typed, names)
             marker = self._marker(block.index)
             os.makedirs(os.path.dirname(marker), exist_ok=True)  # deleted while the job ran
-            fd, tmp = tempfile.mkstemp(prefix=".tmp-", dir=os.path.dirname(marker))
+            fd, tmp = temporary_file(os.path.dirname(marker), ".tmp-")
             try:
                 with os.fdopen(fd, "w", encoding="ascii") as f:
                     f.write(digest)
