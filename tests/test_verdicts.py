@@ -49,7 +49,8 @@ def _check_law(law, nu_min: float, nu_max: float) -> None:
         assert c.found == c.expected
     # the label says how many distinct attractors there are
     for iv in d.intervals:
-        assert (iv.regime == "bistable") == (len(iv.attractors) > 1), iv
+        assert (iv.regime == "bistable") == (len(iv.attractors) == 2), iv
+        assert (iv.regime == "multistable") == (len(iv.attractors) > 2), iv
 
 
 @settings(max_examples=30)
@@ -160,3 +161,42 @@ def test_too_close_to_the_hopf_point_is_not_converged_not_wrong() -> None:
     d = json.loads(ok.output)
     assert d["status"] == "ok"
     assert 0.99 < d["multiplier"] < 1.0
+
+
+def test_three_attractors_are_multistable_not_bistable() -> None:
+    """Regression (usability audit): an interval of a table law with steady sliding, a pure-slip
+    orbit and stick-slip was labelled 'bistable' (two). Each count has its own name now, and
+    the regime maps code it (6) and colour it."""
+    from stickslip.bifurcation.regime_map import REGIME_CODES
+    from stickslip.bifurcation.regimes import interval_regime
+    from stickslip.core.results import Regime
+    from stickslip.plots.regimes import REGIME_COLORS
+
+    ss, ps, st, rev = Regime.STICK_SLIP, Regime.PURE_SLIP, Regime.STEADY_SLIDING, Regime.SLIP_REVERSAL
+    assert interval_regime([ss, ps, st]) == Regime.MULTISTABLE
+    assert interval_regime([ss, rev, ps, st]) == Regime.MULTISTABLE
+    assert interval_regime([ss, st]) == Regime.BISTABLE
+    assert interval_regime([rev]) == Regime.PURE_SLIP
+    assert interval_regime([st]) == Regime.STEADY_SLIDING
+    assert interval_regime([]) == Regime.NONE
+    assert interval_regime([ss, Regime.UNKNOWN, st]) == Regime.UNKNOWN
+    assert REGIME_CODES["multistable"] == 6 and "multistable" in REGIME_COLORS
+    assert len(set(REGIME_CODES.values())) == len(REGIME_CODES)
+
+
+def test_the_bifurcation_legend_names_each_kind_once() -> None:
+    """Regression (usability audit): a law with two Hopf points has two pure-slip branches, and
+    the legend said 'pure-slip' twice (and would say it once a branch, more with more)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from stickslip.bifurcation.regimes import regimes
+    from stickslip.laws import ExpressionLaw
+    from stickslip.plots.regimes import plot_bifurcation
+
+    d = regimes(ExpressionLaw("1/(1+3.8*w)+2*w*exp(-w/2)+0.05*w"), 1.5, 12.0)
+    assert sum(b.kind == "pure-slip" for b in d.branches) >= 2
+    legend = plot_bifurcation(d).axes[0].get_legend()
+    labels = [t.get_text() for t in legend.get_texts()]
+    assert len(labels) == len(set(labels)), labels
+    assert "pure-slip" in labels and "regime: pure-slip" in labels

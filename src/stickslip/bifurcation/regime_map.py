@@ -44,6 +44,7 @@ REGIME_CODES = {
         Regime.PURE_SLIP,
         Regime.STEADY_SLIDING,
         Regime.BISTABLE,
+        Regime.MULTISTABLE,
         Regime.UNKNOWN,
     )
 }

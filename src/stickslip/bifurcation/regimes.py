@@ -25,7 +25,7 @@ Three kinds of branch exist for a velocity-dependent law (PHYSICS.md §3):
 
 The regime at a driving velocity is the set of attractors there: the stable
 steady sliding, the stable pure-slip orbits, the stick-slip orbit.
-``bistable`` marks two or more. Interval ends are located to ``1e-9`` (Hopf,
+``bistable`` marks two, ``multistable`` three or more. Interval ends are located to ``1e-9`` (Hopf,
 grazing of a continued orbit, onset of stick-slip by bisection on the engine,
 folds of cycles by Brent on the ``nu`` component of the branch's tangent); a fold
 whose refinement fails falls back to the vertex of the quadratic through the
@@ -65,13 +65,14 @@ __all__ = [
     "SpecialPoint",
     "confirm",
     "continue_pure_slip",
+    "interval_regime",
     "pure_slip_orbits_at",
     "regimes",
     "stable_pure_slip_at",
     "stick_slip_branch",
 ]
 
-REGIME_NAMES = ("stick-slip", "pure-slip", "bistable", "steady-sliding", "none", "unknown")
+REGIME_NAMES = ("stick-slip", "pure-slip", "bistable", "multistable", "steady-sliding", "none", "unknown")
 
 
 @dataclass(frozen=True)
@@ -138,6 +139,27 @@ class SpecialPoint:
     detail: str = ""
 
 
+def interval_regime(attractors: Sequence[Regime]) -> Regime:
+    """Return the regime of an interval with these attractors.
+
+    ``unknown`` where the engine failed; ``bistable`` for two, ``multistable`` for three or
+    more; one attractor names the regime (a ``slip-reversal`` oscillation never sticks: its
+    interval is ``pure-slip``); none, ``none``.
+
+    >>> interval_regime([Regime.STICK_SLIP, Regime.PURE_SLIP, Regime.STEADY_SLIDING]).value
+    'multistable'
+    """
+    if Regime.UNKNOWN in attractors:
+        return Regime.UNKNOWN
+    if len(attractors) > 2:
+        return Regime.MULTISTABLE
+    if len(attractors) > 1:
+        return Regime.BISTABLE
+    if attractors:
+        return Regime.PURE_SLIP if attractors[0] == Regime.SLIP_REVERSAL else attractors[0]
+    return Regime.NONE
+
+
 @dataclass(frozen=True)
 class Interval:
     """A range of ``nu`` with one set of attractors.
@@ -145,8 +167,8 @@ class Interval:
     Attributes
     ----------
     regime : str
-        ``stick-slip``, ``pure-slip``, ``steady-sliding``, ``bistable`` (two or
-        more attractors), ``none`` (no attractor: possible only for a law with
+        ``stick-slip``, ``pure-slip``, ``steady-sliding``, ``bistable`` (two
+        attractors), ``multistable`` (three or more), ``none`` (no attractor: possible only for a law with
         neutral steady sliding) or ``unknown`` (the engine failed there).
     nu_min, nu_max : float
         Ends of the interval (dimensionless).
@@ -738,7 +760,7 @@ def regimes(
     >>> from stickslip import CubicLaw
     >>> from stickslip.bifurcation.regimes import regimes
     >>> d = regimes(CubicLaw(alpha=0.5, gamma=1 / 6), 0.5, 1.5)
-    >>> [iv.regime for iv in d.intervals]
+    >>> [iv.regime.value for iv in d.intervals]
     ['stick-slip', 'pure-slip', 'steady-sliding']
 
     """
@@ -808,14 +830,7 @@ def regimes(
     intervals: list[Interval] = []
     for c0, c1 in itertools.pairwise(cuts):
         att = _attractor_sets(law, np.array([_midpoint(c0, c1)]), branches)[0]
-        if Regime.UNKNOWN in att:
-            name = Regime.UNKNOWN
-        elif len(att) > 1:
-            name = Regime.BISTABLE
-        elif att:
-            name = Regime.PURE_SLIP if att[0] == Regime.SLIP_REVERSAL else att[0]  # it never sticks
-        else:
-            name = Regime.NONE
+        name = interval_regime(att)
         if intervals and intervals[-1].attractors == att:
             intervals[-1] = Interval(name, intervals[-1].nu_min, c1, att)
         else:

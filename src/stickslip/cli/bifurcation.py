@@ -76,7 +76,7 @@ def register(main: click.Group) -> None:
 
         Hopf points and their criticality, pure-slip orbits continued by shooting
         (stable and unstable), folds, grazing, the onset of stick-slip, and the
-        intervals where each attractor exists (bistable where two coexist). The law
+        intervals where each attractor exists (bistable where two coexist, multistable where more). The law
         is given as for 'stickslip cycle', without --nu; a physical set-up gives its
         law in dimensionless form (beta from --mass or --beta) and the intervals also
         in v0.
@@ -208,7 +208,7 @@ def register(main: click.Group) -> None:
                 click.echo(f"{pt.kind:<15} nu = {pt.nu:.10g}  {what}")
             for iv in d.intervals:
                 v0 = f"   v0 {iv.nu_min / beta:.4g} .. {iv.nu_max / beta:.4g} m/s" if beta else ""
-                att = " + ".join(iv.attractors) if iv.regime == "bistable" else ""
+                att = " + ".join(iv.attractors) if len(iv.attractors) > 1 else ""
                 click.echo(f"{iv.regime:<15} nu {iv.nu_min:.8g} .. {iv.nu_max:.8g}{v0}  {att}".rstrip())
             for c in checks:
                 mark = "confirmed" if c.agree else "NOT CONFIRMED"

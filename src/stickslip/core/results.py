@@ -116,6 +116,7 @@ class Regime(_Labelled):
     STEADY_SLIDING = "steady-sliding", engine.RG_STEADY, "sliding at the driving velocity"
     SLIP_REVERSAL = "slip-reversal", 3, "an oscillation that never sticks but slips backward"
     BISTABLE = "bistable", 4, "two attractors coexist"
+    MULTISTABLE = "multistable", 6, "three or more attractors coexist"
     NONE = "none", 5, "no attractor of this kind"
     UNKNOWN = "unknown", engine.RG_UNKNOWN, "the computation did not finish"
 

@@ -241,7 +241,7 @@ def cycle(
     --------
     >>> from stickslip import cycle, DimensionlessParameters, WeakeningLaw
     >>> r = cycle(DimensionlessParameters(nu=1e-3, law=WeakeningLaw(c=3.8)))
-    >>> r.regime
+    >>> r.regime.value
     'stick-slip'
 
     """

@@ -25,6 +25,7 @@ REGIME_COLORS = {
     "stick-slip": "#fdd49e",
     "pure-slip": "#c6dbef",
     "bistable": "#d9d9d9",
+    "multistable": "#b3b3b3",
     "steady-sliding": "#e5f5e0",
     "none": "#ffffff",
     "unknown": "#fcbba1",
@@ -62,9 +63,12 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None) -> Figu
     for iv in diagram.intervals:
         ax.axvspan(iv.nu_min, iv.nu_max, color=REGIME_COLORS.get(iv.regime, "#ffffff"), lw=0)
     grid = diagram.branches[0].nu
+    named: set[str] = set()  # one legend entry a kind (a law with two Hopf points has two pure-slip branches)
     for b in diagram.branches:
         if b.nu.size == 0:
             continue
+        kind = b.kind if b.kind not in named else "_nolegend_"
+        named.add(b.kind)
         if b.kind == "stick-slip":
             # the orbit through breakaway exists on pieces of the range: no line across a gap
             inside = np.searchsorted(grid, b.nu[1:], side="left") - np.searchsorted(
@@ -73,10 +77,10 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None) -> Figu
             cuts = np.flatnonzero(inside > 0) + 1
             for k, (i0, i1) in enumerate(itertools.pairwise([0, *cuts, b.nu.size])):
                 sel = slice(i0, i1)
-                label = b.kind if k == 0 else "_nolegend_"
+                label = kind if k == 0 else "_nolegend_"
                 _segments(ax, b.nu[sel], b.amplitude[sel], b.stable[sel], _BRANCH_COLORS[b.kind], label)
             continue
-        _segments(ax, b.nu, b.amplitude, b.stable, _BRANCH_COLORS[b.kind], b.kind)
+        _segments(ax, b.nu, b.amplitude, b.stable, _BRANCH_COLORS[b.kind], kind)
     markers = {
         "hopf": ("o", "k"),
         "fold": ("s", "C1"),
