@@ -226,7 +226,17 @@ def test_analyze_stick_slip_folder(tmp_path: Path) -> None:
     res = CliRunner().invoke(main, ["analyze", str(folder), "--out", str(tmp_path / "out")])
     assert res.exit_code == 0, res.output
     assert "criterion: stick-slip" in res.output
-    assert (tmp_path / "out" / "summary.csv").exists()
+    # the printed table in the records' units (usability audit: it printed v0 0.0001 [m/s]);
+    # summary.csv stays SI
+    head, *rows = res.output.split("v0 [um/s]", 1)[1].splitlines()[:6]
+    assert "load [mN]" in head and "amplitude [mN]" in head
+    printed = [float(r.split()[2]) for r in rows if r.strip().startswith("r")]
+    assert printed == [20, 50, 100, 200, 500]
+    import pandas as pd
+
+    assert pd.read_csv(tmp_path / "out" / "summary.csv")["v0 [m/s]"].tolist() == pytest.approx(
+        [2e-5, 5e-5, 1e-4, 2e-4, 5e-4], rel=1e-12
+    )
     assert (tmp_path / "out" / "records_vs_v0.png").stat().st_size > 5000
 
 

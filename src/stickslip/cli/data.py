@@ -74,8 +74,20 @@ def register(main: click.Group) -> None:
         for name, note in zip(table["name"], table["warning"], strict=True):
             if isinstance(note, str) and note:
                 click.echo(f"warning: {name}: {note}")
-        cols = ["name", "n_cycles", "v0 [m/s]", "load [N]", "amplitude [N]", "period [s]", "stick_fraction"]
-        click.echo(table[cols].to_string(index=False, float_format=lambda x: f"{x:.4g}"))
+        # in units that suit the records (um/s or mm/s, mN or N; summary.csv and the JSON stay SI)
+        shown = table[["name", "n_cycles"]].copy()
+        for col, units in (
+            ("v0 [m/s]", (("um/s", 1e-6), ("mm/s", 1e-3), ("m/s", 1.0))),
+            ("load [N]", (("mN", 1e-3), ("N", 1.0))),
+            ("amplitude [N]", (("mN", 1e-3), ("N", 1.0))),
+            ("period [s]", (("s", 1.0),)),
+        ):
+            typical = float(table[col].abs().median()) if table[col].notna().any() else 0.0
+            unit, size = ([u for u in units if typical >= u[1]] or [units[0]])[-1]
+            shown[f"{col.split(' [')[0]} [{unit}]"] = table[col] / size
+        shown["stick_fraction"] = table["stick_fraction"]
+        click.echo(shown.to_string(index=False, float_format=lambda x: f"{x:.4g}"))
+        click.echo("(summary.csv holds these in SI units)")
         if verdict is None:
             read = table[~table["name"].isin(unread)]
             no_v0 = int(read["v0 [m/s]"].isna().sum())
