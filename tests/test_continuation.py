@@ -345,6 +345,11 @@ def test_cli_regimes_physical_and_map(tmp_path: Path) -> None:
     assert d["beta_s_per_m"] == pytest.approx(42.0)
     iv = d["intervals"][0]
     assert iv["v0_max_m_per_s"] == pytest.approx(iv["nu_max"] / 42.0)
+    # the text in a unit that suits the range (0.24 to 23.8 mm/s; it printed m/s), Hopf point too
+    hopf_mm_s = d["hopf"][0]["nu"] / 42.0 * 1e3
+    assert f"(v0 = {hopf_mm_s:.6g} mm/s)" in res.output
+    first = next(ln for ln in res.output.splitlines() if ln.startswith(iv["regime"] + " "))
+    assert f"v0 {iv['nu_min'] / 42.0 * 1e3:.4g} .. {iv['nu_max'] / 42.0 * 1e3:.4g} mm/s" in first
     assert [r["regime"] for r in d["criterion"]] == ["stick-slip", "pure-slip", "slip-reversal"]
     for name in ("regime_map.nc", "regime_map.png", "criterion_map.png"):
         assert (tmp_path / name).exists()

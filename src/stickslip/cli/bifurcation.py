@@ -11,11 +11,13 @@ import numpy as np
 from ..models.parameters import PhysicalParameters
 from .errors import handle_errors
 from .options import (
+    VELOCITY_UNITS,
     OutPath,
     build_parameters,
     law_command,
     overwrite_option,
     parse_axis,
+    readable_unit,
     scale_options,
     scale_report,
     warn_unwritten,
@@ -198,16 +200,28 @@ def register(main: click.Group) -> None:
         if as_json:
             click.echo(json.dumps(result, indent=2))
         else:
+            # velocities in a unit that suits them (100 um/s, not 0.0001 m/s; the JSON stays SI)
+            unit, size = readable_unit(
+                [nu / beta for nu in (d.nu_min, d.nu_max)] if beta else [], VELOCITY_UNITS
+            )
+
+            def at_v0(nu: float) -> str:
+                return f" (v0 = {nu / beta / size:.6g} {unit})" if beta else ""
+
             for h in d.hopf:
                 why = f"l1 = {h.l1:.4g}" if not h.kink else f"on a row: f'' jumps by {h.kink:+.4g}"
-                click.echo(f"Hopf point      nu = {h.nu:.10g}  {h.criticality} ({why})")
+                click.echo(f"Hopf point      nu = {h.nu:.10g}{at_v0(h.nu)}  {h.criticality} ({why})")
             for pt in d.points:
                 if pt.kind == "hopf":
                     continue
                 what = f"amplitude {pt.amplitude:.6g}" if np.isfinite(pt.amplitude) else pt.detail
-                click.echo(f"{pt.kind:<15} nu = {pt.nu:.10g}  {what}")
+                click.echo(f"{pt.kind:<15} nu = {pt.nu:.10g}{at_v0(pt.nu)}  {what}")
             for iv in d.intervals:
-                v0 = f"   v0 {iv.nu_min / beta:.4g} .. {iv.nu_max / beta:.4g} m/s" if beta else ""
+                v0 = (
+                    f"   v0 {iv.nu_min / beta / size:.4g} .. {iv.nu_max / beta / size:.4g} {unit}"
+                    if beta
+                    else ""
+                )
                 att = " + ".join(iv.attractors) if len(iv.attractors) > 1 else ""
                 click.echo(f"{iv.regime:<15} nu {iv.nu_min:.8g} .. {iv.nu_max:.8g}{v0}  {att}".rstrip())
             for c in checks:

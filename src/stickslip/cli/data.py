@@ -9,7 +9,14 @@ import warnings
 import click
 
 from .errors import handle_errors
-from .options import figure_names, out_dir_option, overwrite_option
+from .options import (
+    FORCE_UNITS,
+    VELOCITY_UNITS,
+    figure_names,
+    out_dir_option,
+    overwrite_option,
+    readable_unit,
+)
 
 __all__ = ["register"]
 
@@ -77,13 +84,12 @@ def register(main: click.Group) -> None:
         # in units that suit the records (um/s or mm/s, mN or N; summary.csv and the JSON stay SI)
         shown = table[["name", "n_cycles"]].copy()
         for col, units in (
-            ("v0 [m/s]", (("um/s", 1e-6), ("mm/s", 1e-3), ("m/s", 1.0))),
-            ("load [N]", (("mN", 1e-3), ("N", 1.0))),
-            ("amplitude [N]", (("mN", 1e-3), ("N", 1.0))),
+            ("v0 [m/s]", VELOCITY_UNITS),
+            ("load [N]", FORCE_UNITS),
+            ("amplitude [N]", FORCE_UNITS),
             ("period [s]", (("s", 1.0),)),
         ):
-            typical = float(table[col].abs().median()) if table[col].notna().any() else 0.0
-            unit, size = ([u for u in units if typical >= u[1]] or [units[0]])[-1]
+            unit, size = readable_unit(table[col], units)
             shown[f"{col.split(' [')[0]} [{unit}]"] = table[col] / size
         shown["stick_fraction"] = table["stick_fraction"]
         click.echo(shown.to_string(index=False, float_format=lambda x: f"{x:.4g}"))
