@@ -201,12 +201,12 @@ def _from_meta(meta: Mapping[str, str], key: str, where: str) -> str | None:
     found = [(k, v) for k, v in meta.items() if (k == key or META_ALIASES.get(k) == key) and v.strip()]
     found.sort(key=lambda kv: kv[0] != key)  # its own name first
     if len(found) > 1:
+        # pint's parse errors are many (a value that is not a quantity, units that differ): then
+        # the texts must agree
         try:
             q: list[pint.Quantity] = [ureg.Quantity(v) for _, v in found]
             agree = all(np.isclose(float((x / q[0]).to("").magnitude), 1.0, rtol=1e-12, atol=0) for x in q)
-        except (
-            Exception
-        ):  # pint's parse errors are many: a value that is not a quantity, or units that differ
+        except Exception:
             agree = len({v for _, v in found}) == 1
         if not agree:
             shown = " and ".join(f"'# {k} = {v}'" for k, v in found)
