@@ -10,6 +10,7 @@ import xarray as xr
 from click.testing import CliRunner
 from reference import forward_branch, pure_slip_orbit_reference, reference_cycle
 from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
 
 from stickslip import CoulombLaw, CubicLaw, DimensionlessParameters, WeakeningLaw
 from stickslip.bifurcation.averaging import averaging_table, thomsen_fidlin
@@ -403,3 +404,51 @@ def test_cubic_law_warns_where_friction_turns_negative() -> None:
         warnings.simplefilter("error")
         CubicLaw(alpha=1.0, gamma=1 / 6)  # 1.0 < 1.125: positive everywhere
         CubicLaw(alpha=0.5, gamma=1 / 6)
+
+
+def test_a_hopf_point_on_a_table_row_starts_its_branch() -> None:
+    """Regression (regime audit, helper-32): a subcritical Hopf point on a pchip row (f'' jumps
+    by J there) got no pure-slip branch at all: the first orbits were guessed from the cubic
+    averaging formula, Newton failed, and the branch was dropped without a word. Near a kink the
+    small cycle grows linearly, f'(nu) = -2 J a / (3 pi); started there, the branch is followed
+    (in scaled coordinates: in (A, T, nu) the period took every step) until the orbit is too
+    unstable to shoot (multiplier 3200), and a note says where. Its orbits agree with plain SciPy
+    shooting, and the intervals do not rest on it."""
+    from stickslip import PhysicalParameters, TabulatedLaw
+    from stickslip.units import Q_
+
+    v = [0, 1, 3, 10, 30, 100, 300, 1000, 3000, 10000]
+    mu = [0.50, 0.49, 0.47, 0.44, 0.41, 0.39, 0.385, 0.39, 0.40, 0.42]
+    table = TabulatedLaw(Q_(v, "um/s"), mu)
+    law = PhysicalParameters(mass="100 g", stiffness="500 N/m", load="2 N", v0="1 mm/s", law=table)
+    law = law.dimensionless().law
+    d = regimes(law, 0.0005, 0.2)
+    (h,) = d.hopf
+    assert h.kink < 0 and h.criticality == "subcritical"
+    assert h.nu == pytest.approx(300e-6 * math.sqrt(0.1 * 500) / (0.5 * 2.0), rel=1e-12)
+    (b,) = [b for b in d.branches if b.kind == "pure-slip"]
+    assert b.nu.size > 50 and not b.stable.any() and np.all(b.nu > h.nu)
+    # linear growth from the kink: for w = nu + a sin(theta), the averaged equation's root r =
+    # (nu - nu_H) / a of the sine coefficient of f''(x) x^2, x = r + sin(theta) (f'(nu_H) = 0 on
+    # a pchip extremum); the spring force's peak-to-trough amplitude is 2 a
+    f2_left, f2_right = law.at(h.nu * (1 - 1e-9), 2), law.at(h.nu * (1 + 1e-9), 2)
+    theta = np.linspace(0.0, 2.0 * math.pi, 200001)[:-1]
+
+    def sine_coefficient(r: float) -> float:
+        x = r + np.sin(theta)
+        return float(np.mean(np.where(x > 0, f2_right, f2_left) * x * x * np.sin(theta)))
+
+    r = brentq(sine_coefficient, -1.0, 1.0)  # 0.327 (the small-r formula -2 J / (3 pi f'') says 0.84)
+    assert (b.nu[0] - h.nu) / (0.5 * b.amplitude[0]) == pytest.approx(r, rel=0.02)
+    k = int(np.argmin(np.abs(b.multiplier - 10.0)))  # an orbit SciPy can still shoot
+    ref = pure_slip_orbit_reference(
+        lambda w: float(law.at(w)),
+        lambda w: float(law.at(w, 1)),
+        float(b.nu[k]),
+        (b.max_force[k], b.period[k]),
+    )
+    assert ref.amplitude == pytest.approx(b.amplitude[k], rel=1e-7)
+    assert ref.period == pytest.approx(b.period[k], rel=1e-8)
+    assert ref.multiplier == pytest.approx(b.multiplier[k], rel=1e-5)
+    assert any(f"born at the Hopf point nu = {h.nu:.8g} were followed to nu" in n for n in d.notes)
+    assert [iv.regime for iv in d.intervals] == ["stick-slip", "bistable", "steady-sliding"]

@@ -254,6 +254,55 @@ class RegimeDiagram:
 # ----------------------------------------------------------------------------- pure slip
 
 
+def _kink_ratio(f2_left: float, f2_right: float) -> float:
+    """Return ``r = (nu - nu_H) / a`` of the small cycles born at a Hopf point on a kink of ``f'``.
+
+    With ``f'(nu_H) = 0`` and ``f''`` equal to ``f2_left`` below ``nu_H`` and ``f2_right``
+    above, the averaged amplitude equation of a cycle ``w = nu + a sin(theta)`` is homogeneous
+    of degree 2 in ``(nu - nu_H, a)``; it vanishes where ``G(r)``, the first Fourier sine
+    coefficient of ``f2(x) x**2`` with ``x = r + sin(theta)``, does: a root in ``(-1, 1)``
+    (the cycle straddles the kink). The small-``r`` expansion ``r = -2 J / (3 pi f2)`` is 2.6
+    times too large for a table with ``f''`` of 8747 and 1757 on its two sides.
+    """
+    from scipy.optimize import brentq
+
+    theta = np.linspace(0.0, 2.0 * math.pi, 4097)[:-1]
+    sin = np.sin(theta)
+
+    def g(r: float) -> float:
+        x = r + sin
+        return float(np.mean(np.where(x > 0, f2_right, f2_left) * x * x * sin))
+
+    lo, hi = g(-1.0), g(1.0)
+    if not (math.isfinite(lo) and math.isfinite(hi)) or lo * hi >= 0:
+        return 0.0
+    return float(brentq(g, -1.0, 1.0, xtol=1e-12))
+
+
+class _Scaled:
+    """A :class:`_Shooter` in scaled coordinates ``y = x / size``, for the continuation's steps.
+
+    The arclength in ``x = (A, T, nu)`` let the period dominate where ``nu`` is small: at
+    a Hopf point at ``nu = 0.002`` (a table law) a step of ``0.02 nu`` moved ``T`` by
+    ``4e-5`` of its ``2 pi``, and 600 steps went nowhere. Scaled by ``(nu_H, 2 pi, nu_H)``
+    (``nu_H`` at least 0.1), each component steps in proportion to its own size.
+    """
+
+    def __init__(self, sh: _Shooter, size: np.ndarray) -> None:
+        self.sh, self.size = sh, size
+
+    def residual(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        g, j = self.sh.residual(y * self.size)
+        return g, j * self.size
+
+    def measure(self, y: np.ndarray) -> dict[str, float]:
+        return self.sh.measure(y * self.size)
+
+    def evaluate(self, y: np.ndarray, *, measure: bool) -> tuple[np.ndarray, np.ndarray, dict[str, float]]:
+        g, j, m = self.sh.evaluate(y * self.size, measure=measure)
+        return g, j * self.size, m
+
+
 class _Shooter:
     """Residual and Jacobian of the periodic-orbit equations in ``x = (A, T, nu)``."""
 
@@ -381,26 +430,43 @@ def continue_pure_slip(
 
     """
     law = require_dimensionless_law(law)
-    sh = _Shooter(law, tol * 1e-2)
+    shooter = _Shooter(law, tol * 1e-2)
     nu_h = hopf.nu
-    f2, f3 = sh.f(nu_h, 2), sh.f(nu_h, 3)
+    f2, f3 = shooter.f(nu_h, 2), shooter.f(nu_h, 3)
     scale = max(nu_h, 0.1)
     ds_max = 0.02 * scale if ds_max is None else ds_max
     # First two points at fixed small A (natural continuation in A): nu from averaging,
     # a^2 = -8 f'(nu)/f'''(nu) ~ -8 f''(nu_H)(nu - nu_H)/f'''(nu_H).
+    # At a Hopf point on a kink of f' (a row of a pchip table, where f' = 0 and f'' jumps) the
+    # small cycle grows linearly: nu - nu_H = r a (see _kink_ratio); its first amplitudes are
+    # kept within a hundredth of nu_H of it (the cubic guess failed there, and the branch was
+    # dropped without a word)
+    amplitudes = (0.01 * scale, 0.02 * scale)
+    if hopf.kink:
+        per_a = _kink_ratio(shooter.f(nu_h * (1 - 1e-9), 2), shooter.f(nu_h * (1 + 1e-9), 2))
+        a_small = min(0.01 * scale, 0.01 * nu_h / max(abs(per_a), 1e-3))
+        amplitudes = (a_small, 2.0 * a_small)
     xs: list[np.ndarray] = []
-    for a in (0.01 * scale, 0.02 * scale):
-        nu0 = nu_h - a * a * f3 / (8.0 * f2) if f2 != 0 else nu_h
+    for a in amplitudes:
+        if hopf.kink:
+            nu0 = nu_h + per_a * a
+        else:
+            nu0 = nu_h - a * a * f3 / (8.0 * f2) if f2 != 0 else nu_h
         x0 = np.array([a, 2.0 * math.pi, nu0])
 
         def fixed_a(x: np.ndarray, a: float = a) -> tuple[np.ndarray, np.ndarray]:
-            g, j = sh.residual(x)
+            g, j = shooter.residual(x)
             return np.concatenate([g, [x[0] - a]]), np.vstack([j, [1.0, 0.0, 0.0]])
 
         res = _newton(fixed_a, x0, tol)
         if res is None:
             return _empty_branch("failed"), []
         xs.append(res[0])
+    # from here on in scaled coordinates (see _Scaled): steps, tangents and arclength
+    size = np.array([scale, 2.0 * math.pi, scale])
+    sh = _Scaled(shooter, size)
+    xs = [x / size for x in xs]
+    ds_max /= scale
     pts: list[np.ndarray] = list(xs)
     meas = [sh.measure(xs[0])]
     _, j_last, m_last = sh.evaluate(xs[1], measure=True)
@@ -422,15 +488,15 @@ def continue_pure_slip(
     while len(pts) < max_points:
         x = pts[-1]
         res = corrector(x + ds * tangent, tangent)
-        if res is None or res[0][0] <= 0 or res[0][1] > 200.0 * math.pi:
-            if res is not None and res[0][1] > 200.0 * math.pi:
+        if res is None or res[0][0] <= 0 or res[0][1] > 100.0:  # T > 200 pi
+            if res is not None and res[0][1] > 100.0:
                 end = "period"
                 break
             if res is not None and res[0][0] <= 0:
                 end = "hopf"
                 break
             ds *= 0.5
-            if ds < 1e-9 * scale:
+            if ds < 1e-9:
                 end = "failed"
                 break
             continue
@@ -441,13 +507,13 @@ def continue_pure_slip(
         # prediction, or turns the tangent by more than 25 degrees, is taken again, shorter
         if np.linalg.norm(xn - (x + ds * tangent)) > ds or abs(np.dot(_null_vector(j_n), tangent)) < 0.9:
             ds *= 0.5
-            if ds < 1e-9 * scale:
+            if ds < 1e-9:
                 end = "failed"
                 break
             continue
-        if not (nu_min <= xn[2] <= nu_max):
+        if not (nu_min <= xn[2] * scale <= nu_max):
             # land exactly on the end of the range
-            target = nu_max if xn[2] > nu_max else nu_min
+            target = (nu_max if xn[2] * scale > nu_max else nu_min) / scale
 
             def on_bound(z: np.ndarray, target: float = target) -> tuple[np.ndarray, np.ndarray]:
                 g, j = sh.residual(z)
@@ -466,7 +532,8 @@ def continue_pure_slip(
                 pts.append(xg)
                 mg = sh.measure(xg)
                 meas.append(mg)
-                special.append(SpecialPoint("grazing", float(xg[2]), mg["amplitude"], "min velocity 0"))
+                nu_g = float(xg[2]) * scale
+                special.append(SpecialPoint("grazing", nu_g, mg["amplitude"], "min velocity 0"))
             end = "grazing"
             break
         if end == "range":
@@ -479,7 +546,7 @@ def continue_pure_slip(
         if t_new[2] * tangent[2] < 0:  # nu turned back: a fold of cycles between the last points
             fold = _refine_fold(sh, pts[-3:], tol)
             if fold is None:  # the quadratic through the three points (to the step's resolution)
-                special.append(_fold(pts[-3:], meas[-3:]))
+                special.append(_fold([p * size for p in pts[-3:]], meas[-3:]))
             else:  # on the branch too: the orbits between its last points and the fold exist
                 xf, mf, k = fold
                 pts.insert(len(pts) - 3 + k, xf)
@@ -487,14 +554,14 @@ def continue_pure_slip(
                 special.append(
                     SpecialPoint(
                         "fold",
-                        float(xf[2]),
+                        float(xf[2]) * scale,
                         mf["amplitude"],
                         f"fold of cycles (saddle-node); multiplier {mf['multiplier']:.6f}",
                     )
                 )
         tangent = t_new
         ds = min(ds_max, ds * (1.5 if its <= 3 else (1.0 if its <= 5 else 0.5)))
-    xa = np.array(pts)
+    xa = np.array(pts) * size
     amp = np.array([m["amplitude"] for m in meas])
     mult = np.array([m["multiplier"] for m in meas])
     branch = Branch(
@@ -503,7 +570,7 @@ def continue_pure_slip(
         amplitude=amp,
         period=xa[:, 1],
         min_velocity=np.array([m["min_velocity"] for m in meas]),
-        max_force=np.array([sh.f(float(x[2])) + float(x[0]) for x in pts]),
+        max_force=np.array([shooter.f(float(x[2])) + float(x[0]) for x in xa]),
         multiplier=mult,
         stable=mult < 1.0,
         end=end,
@@ -512,7 +579,7 @@ def continue_pure_slip(
 
 
 def _grazing(
-    sh: _Shooter,
+    sh: _Shooter | _Scaled,
     x: np.ndarray,
     tangent: np.ndarray,
     ds: float,
@@ -546,7 +613,7 @@ def _grazing(
 
 
 def _refine_fold(
-    sh: _Shooter, pts: Sequence[np.ndarray], tol: float
+    sh: _Shooter | _Scaled, pts: Sequence[np.ndarray], tol: float
 ) -> tuple[np.ndarray, dict[str, float], int] | None:
     """Locate the fold of cycles between the first and last of three branch points, to ``1e-9``.
 
@@ -798,6 +865,7 @@ def regimes(
     )
     branches = [steady]
     points: list[SpecialPoint] = [SpecialPoint("hopf", h.nu, 0.0, h.criticality) for h in hopf_in]
+    cut_short: list[str] = []  # branches the continuation could not follow to their end
     for h in h_all:
         if h.criticality == "degenerate":
             continue
@@ -805,6 +873,8 @@ def regimes(
         if b.nu.size:
             branches.append(b)
             points.extend(p for p in sp if lo <= p.nu <= hi)
+        if b.end == "failed" and lo <= h.nu <= hi:
+            cut_short.append(_cut_short(h, b))
     rest, _ = polish_rows(law, grid, _stick_slip_rows(law, grid))
     ss, sp = stick_slip_branch(law, grid, rows=rest)
     branches.append(ss)
@@ -835,7 +905,7 @@ def regimes(
             intervals[-1] = Interval(name, intervals[-1].nu_min, c1, att)
         else:
             intervals.append(Interval(name, c0, c1, att))
-    notes = _notes(law, hopf_in, grid, fp, intervals, (rest, *probes))
+    notes = cut_short + _notes(law, hopf_in, grid, fp, intervals, (rest, *probes))
     for note in notes:
         warnings.warn(note, UserWarning, stacklevel=2)
     return RegimeDiagram(
@@ -849,6 +919,21 @@ def regimes(
         rest=rest,
         probes=probes,
         notes=tuple(notes),
+    )
+
+
+def _cut_short(h: Hopf, b: Branch) -> str:
+    """Say where the pure-slip branch born at ``h`` was lost (the intervals do not rest on it)."""
+    if not b.nu.size:
+        return (
+            f"the pure-slip orbits born at the Hopf point nu = {h.nu:.8g} could not be followed "
+            "(shooting did not converge on the first small orbit); the figure has no such branch"
+        )
+    return (
+        f"the pure-slip orbits born at the Hopf point nu = {h.nu:.8g} were followed to nu = "
+        f"{b.nu[-1]:.8g} only (amplitude {b.amplitude[-1]:.4g}, multiplier {b.multiplier[-1]:.4g}): "
+        "shooting cannot converge on an orbit this unstable; the figure draws the branch that far "
+        "(the intervals come from the attractors, not from this branch)"
     )
 
 
