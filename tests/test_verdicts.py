@@ -196,7 +196,20 @@ def test_the_bifurcation_legend_names_each_kind_once() -> None:
 
     d = regimes(ExpressionLaw("1/(1+3.8*w)+2*w*exp(-w/2)+0.05*w"), 1.5, 12.0)
     assert sum(b.kind == "pure-slip" for b in d.branches) >= 2
-    legend = plot_bifurcation(d).axes[0].get_legend()
+    ax = plot_bifurcation(d).axes[0]
+    legend = ax.get_legend()
     labels = [t.get_text() for t in legend.get_texts()]
     assert len(labels) == len(set(labels)), labels
     assert "pure-slip" in labels and "regime: pure-slip" in labels
+    # (regime audit, helper-32) a branch's entry took the style of its first piece: steady
+    # sliding read dashed where it is stable; the entries are solid and the styles said once
+    styles = dict(zip(labels, (h.get_linestyle() for h in legend.legend_handles), strict=True))
+    assert styles["steady-sliding"] == "-" and styles["pure-slip"] == "-"
+    assert styles["stable"] == "-" and styles["unstable"] == "--"
+    assert {ln.get_linestyle() for ln in ax.lines} >= {"-", "--"}  # the lines themselves unchanged
+    # two bistable intervals with different attractors: told apart (one 0.07 % of the axis wide)
+    assert "regime: bistable (stick-slip + pure-slip)" in labels
+    assert "regime: bistable (stick-slip + steady-sliding)" in labels
+    # a physical set-up's driving velocity on the top axis
+    top = plot_bifurcation(d, beta=42.0).axes[0].child_axes
+    assert len(top) == 1 and top[0].get_xlabel() == "driving velocity $v_0$ [mm/s]"

@@ -192,7 +192,7 @@ def register(main: click.Group) -> None:
 
             with OutputFolder(out_dir, "regimes", overwrite=overwrite) as out:
                 out.write("regimes.json", "regimes", json_writer(result, "regimes"))
-                save_figure(plot_bifurcation(d), "bifurcation", out=out)
+                save_figure(plot_bifurcation(d, beta=beta), "bifurcation", out=out)
                 if trial is not None:
                     save_sweep(trial, "regime_map.nc", kind="regime-map", out=out)
                     save_figure(plot_regime_map(trial), "regime_map", out=out)

@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 import itertools
+import math
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap
+from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from ..core.results import Regime
-from .style import plain_log_ticks, subplots
+from .style import plain_log_ticks, pretty_units, subplots
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -48,7 +50,43 @@ def _segments(ax: Axes, x: np.ndarray, y: np.ndarray, stable: np.ndarray, color:
             start = i
 
 
-def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None) -> Figure:
+#: hatches telling apart intervals of one multistable regime with different attractors
+_HATCHES = ("", "//", "\\\\", "xx", "..", "++")
+
+
+def _shade(diagram: RegimeDiagram, ax: Axes) -> tuple[list[Any], list[str]]:
+    """Shade the intervals; return the legend's patches and labels, one per set of attractors.
+
+    Two bistable intervals with different attractors (stick-slip + steady sliding, stick-slip +
+    pure slip) get different hatches and labels; an interval narrower than half a percent of
+    the axis gets a line of its colour as well, so that it shows.
+    """
+    combos: dict[tuple[str, tuple[str, ...]], str] = {}
+    lo, hi = diagram.nu_min, diagram.nu_max
+    logx = ax.get_xscale() == "log"
+    width = math.log(hi / lo) if logx else hi - lo
+    for iv in diagram.intervals:
+        names = tuple(str(a) for a in iv.attractors) if len(iv.attractors) > 1 else ()
+        key = (str(iv.regime), names)
+        if key not in combos:
+            used = sum(k[0] == key[0] for k in combos)
+            combos[key] = _HATCHES[used % len(_HATCHES)]
+        color = REGIME_COLORS.get(str(iv.regime), "#ffffff")
+        ax.axvspan(iv.nu_min, iv.nu_max, facecolor=color, hatch=combos[key], edgecolor="0.55", lw=0)
+        span = math.log(iv.nu_max / iv.nu_min) if logx else iv.nu_max - iv.nu_min
+        if span < 0.005 * width:
+            mid = math.sqrt(iv.nu_min * iv.nu_max) if logx else 0.5 * (iv.nu_min + iv.nu_max)
+            ax.axvline(mid, color=color, lw=3.0, zorder=1, alpha=0.9)
+            ax.axvline(mid, color="0.55", lw=0.6, ls=(0, (2, 2)), zorder=1)
+    patches = [
+        Patch(facecolor=REGIME_COLORS.get(r, "#ffffff"), hatch=h, edgecolor="0.55")
+        for (r, _), h in combos.items()
+    ]
+    labels = [f"regime: {r}" + (f" ({' + '.join(n)})" if n else "") for r, n in combos]
+    return patches, labels
+
+
+def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None, beta: float | None = None) -> Figure:
     """Plot amplitude against ``nu``: branches (stable solid, unstable dashed), regimes shaded.
 
     Parameters
@@ -57,11 +95,16 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None) -> Figu
         From :func:`stickslip.bifurcation.regimes.regimes`.
     log : bool, optional
         Logarithmic ``nu`` axis; default when the range spans more than a factor 20.
+    beta : float, optional
+        A physical set-up's ``beta`` (s/m): the top axis gives the driving velocity
+        ``v0 = nu / beta`` in a unit that suits the range.
 
     """
     fig, ax = subplots(figsize=(7.6, 4.2), constrained_layout=True)
-    for iv in diagram.intervals:
-        ax.axvspan(iv.nu_min, iv.nu_max, color=REGIME_COLORS.get(iv.regime, "#ffffff"), lw=0)
+    if log if log is not None else diagram.nu_max / diagram.nu_min > 20:
+        ax.set_xscale("log")
+        plain_log_ticks(ax.xaxis)
+    regime_patches, regime_labels = _shade(diagram, ax)
     grid = diagram.branches[0].nu
     named: set[str] = set()  # one legend entry a kind (a law with two Hopf points has two pure-slip branches)
     for b in diagram.branches:
@@ -123,10 +166,16 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None) -> Figu
             zorder=5,
         )
         seen.add(p.kind)
-    if log if log is not None else diagram.nu_max / diagram.nu_min > 20:
-        ax.set_xscale("log")
-        plain_log_ticks(ax.xaxis)
     ax.set_xlim(diagram.nu_min, diagram.nu_max)
+    if beta:
+        # the driving velocity on the top axis, in um/s, mm/s or m/s as the range suits
+        mid = math.sqrt(diagram.nu_min * diagram.nu_max) / beta
+        unit, size = next((u for u in (("m/s", 1.0), ("mm/s", 1e-3)) if mid >= u[1]), ("um/s", 1e-6))
+        per_nu = 1.0 / (beta * size)  # v0 in the unit per unit of nu
+        top = ax.secondary_xaxis("top", functions=(lambda nu: nu * per_nu, lambda v: v / per_nu))
+        top.set_xlabel(f"driving velocity $v_0$ [{pretty_units(unit)}]")
+        if ax.get_xscale() == "log":
+            plain_log_ticks(top.xaxis)
     top = max([float(np.nanmax(b.amplitude)) for b in diagram.branches if b.nu.size] + rev_amp, default=1.0)
     ax.set_ylim(-0.03 * top, 1.08 * top)
     ax.set_xlabel(r"dimensionless driving velocity $\nu = \beta v_0$")
@@ -135,9 +184,18 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None) -> Figu
     pars = ", ".join(f"{k} = {v:g}" for k, v in law.params.items())
     ax.set_title(f"{law.name} law ({pars})", fontsize=10)
     handles, labels = ax.get_legend_handles_labels()
-    present = dict.fromkeys(iv.regime for iv in diagram.intervals)
-    handles += [Patch(color=REGIME_COLORS[r]) for r in present]
-    labels += [f"regime: {r}" for r in present]
+    # a branch's entry in its colour, solid; the line style is said once (a branch's first piece
+    # set it: steady sliding read dashed where it is stable)
+    handles = [
+        Line2D([], [], color=h.get_color(), ls="-", lw=h.get_linewidth())
+        if isinstance(h, Line2D) and h.get_linestyle() in ("--", "-")
+        else h
+        for h in handles
+    ]
+    handles += [Line2D([], [], color="0.3", ls="-", lw=1.6), Line2D([], [], color="0.3", ls="--", lw=1.6)]
+    labels += ["stable", "unstable"]
+    handles += regime_patches
+    labels += regime_labels
     ax.legend(handles, labels, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     return fig
 
