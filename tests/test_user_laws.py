@@ -440,13 +440,13 @@ def test_a_table_that_ends_falling_names_its_zero_crossing(tmp_path: Path) -> No
     setup += ["--load", "196 mN"]
     res = CliRunner().invoke(main, ["cycle", *setup, "--v0", "1.5 mm/s"])
     assert res.exit_code == 1
-    assert "the table ends at v = 0.0003 m/s with friction still falling" in res.output
-    assert f"reaches zero at v = {zero * 1e-3:.4g} m/s" in res.output
+    assert "the table ends at v = 300 um/s with friction still falling" in res.output
+    assert f"reaches zero at v = {zero:.4g} mm/s" in res.output
     res = CliRunner().invoke(main, ["regimes", *setup, "--nu-min", "0.01", "--nu-max", "3", "--n", "21"])
     assert res.exit_code == 0 and "unknown" in res.output
     assert "extend the table to faster rows" in res.output
     res = CliRunner().invoke(main, ["regimes", *setup, "--nu-min", "0.01", "--nu-max", "0.5", "--n", "21"])
-    assert res.exit_code == 0 and "beyond the table's last row (0.0003 m/s)" in res.output
+    assert res.exit_code == 0 and "beyond the table's last row (300 um/s)" in res.output
 
 
 def test_user_law_audit_small_things() -> None:

@@ -19,7 +19,29 @@ Q_ = ureg.Quantity
 
 QuantityLike = pint.Quantity | str
 
-__all__ = ["Q_", "QuantityLike", "check_count", "check_number", "check_seed", "parse_quantity", "ureg"]
+__all__ = [
+    "Q_",
+    "QuantityLike",
+    "check_count",
+    "check_number",
+    "check_seed",
+    "format_speed",
+    "parse_quantity",
+    "ureg",
+]
+
+
+def format_speed(v: float, digits: int = 4) -> str:
+    """Write a speed given in m/s in the unit that reads best: ``300 um/s``, ``7.143 mm/s``, ``2 m/s``.
+
+    >>> format_speed(3e-4)
+    '300 um/s'
+    """
+    size = abs(v)
+    unit, scale = ("m/s", 1.0) if size >= 1.0 else ("mm/s", 1e3) if size >= 1e-3 else ("um/s", 1e6)
+    if not math.isfinite(v) or v == 0:
+        unit, scale = "m/s", 1.0
+    return f"{v * scale:.{digits}g} {unit}"
 
 
 def parse_quantity(

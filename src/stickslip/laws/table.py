@@ -52,7 +52,7 @@ import sympy as sp
 
 from ..io.errors import DataError
 from ..io.tables import read_table
-from ..units import Q_, check_number, parse_quantity, ureg
+from ..units import Q_, check_number, format_speed, parse_quantity, ureg
 from .base import DimensionlessLaw, PhysicalLaw
 from .spec import LawSpec, Parameter, W
 
@@ -348,7 +348,7 @@ class TabulatedLaw(PhysicalLaw):
     def describe(self) -> str:
         """One line: the table, its interpolation and ``mu_s``."""
         return (
-            f"table: {self.source}, {self.table_v.size} rows up to {self.table_v[-1]:.4g} m/s, "
+            f"table: {self.source}, {self.table_v.size} rows up to {format_speed(self.table_v[-1])}, "
             f"{self.interpolation}; mu_s = {self.mu_s:.6g}"
         )
 
@@ -394,15 +394,16 @@ class TabulatedDimensionlessLaw(DimensionlessLaw):
             if not math.isfinite(zero):
                 return None
             return (
-                f"the table ends at v = {end:.4g} m/s with friction still falling: along the tangent "
-                f"at its last row friction reaches zero at v = {zero:.4g} m/s "
+                f"the table ends at v = {format_speed(end)} with friction still falling: along the tangent "
+                f"at its last row friction reaches zero at v = {format_speed(zero)} "
                 f"(beta v = {zero * self.beta:.4g}), where a motion cannot be followed; "
                 "extend the table to faster rows"
             )
         if v > end:
-            falls = f"; it falls to zero at v = {zero:.4g} m/s" if math.isfinite(zero) else ""
+            falls = f"; it falls to zero at v = {format_speed(zero)}" if math.isfinite(zero) else ""
             return (
-                f"the motion reaches v = {v:.4g} m/s, beyond the table's last row ({end:.4g} m/s): "
+                f"the motion reaches v = {format_speed(v)}, beyond the table's last row "
+                f"({format_speed(end)}): "
                 f"friction there is the tangent at the last row (extrapolated){falls}"
             )
         return None
@@ -417,7 +418,8 @@ class TabulatedDimensionlessLaw(DimensionlessLaw):
         if self.table.interpolation != "pchip":
             return None
         return (
-            f"the Hopf point at nu = {nu:.6g} (v0 = {nu / self.beta:.4g} m/s) lies on a row of the table: "
+            f"the Hopf point at nu = {nu:.6g} (v0 = {format_speed(nu / self.beta)}) lies on a row of the "
+            "table: "
             "pchip puts an extremum (minimum or maximum) of the friction coefficient on the row nearest "
             "to it, so the point is "
             "only as good as the rows' spacing, and its type ("
