@@ -10,8 +10,10 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Sequence
 from typing import Any
 
+import numpy as np
 import pint
 
 ureg: pint.UnitRegistry = pint.UnitRegistry()
@@ -20,15 +22,39 @@ Q_ = ureg.Quantity
 QuantityLike = pint.Quantity | str
 
 __all__ = [
+    "FORCE_UNITS",
     "Q_",
+    "VELOCITY_UNITS",
     "QuantityLike",
     "check_count",
     "check_number",
     "check_seed",
     "format_speed",
     "parse_quantity",
+    "readable_unit",
     "ureg",
 ]
+
+
+#: units values are shown in, smallest first, with their size in SI
+VELOCITY_UNITS = (("um/s", 1e-6), ("mm/s", 1e-3), ("m/s", 1.0))
+FORCE_UNITS = (("mN", 1e-3), ("N", 1.0))
+
+
+def readable_unit(values: Any, units: Sequence[tuple[str, float]]) -> tuple[str, float]:
+    """Return the unit (and its size in SI) that shows typical ``values`` (SI) best.
+
+    The largest of ``units`` not larger than the median magnitude of the finite, nonzero
+    values: 100 um/s, not 0.0001 m/s; the smallest where there are none.
+
+    >>> readable_unit([2e-5, 5e-4], VELOCITY_UNITS)
+    ('um/s', 1e-06)
+    """
+    v = np.abs(np.asarray(values, dtype=float).ravel())
+    v = v[np.isfinite(v) & (v > 0)]
+    typical = float(np.median(v)) if v.size else 0.0
+    fitting = [u for u in units if typical >= u[1]]
+    return fitting[-1] if fitting else units[0]
 
 
 def format_speed(v: float, digits: int = 4) -> str:
@@ -37,11 +63,8 @@ def format_speed(v: float, digits: int = 4) -> str:
     >>> format_speed(3e-4)
     '300 um/s'
     """
-    size = abs(v)
-    unit, scale = ("m/s", 1.0) if size >= 1.0 else ("mm/s", 1e3) if size >= 1e-3 else ("um/s", 1e6)
-    if not math.isfinite(v) or v == 0:
-        unit, scale = "m/s", 1.0
-    return f"{v * scale:.{digits}g} {unit}"
+    unit, size = readable_unit([v], VELOCITY_UNITS) if math.isfinite(v) and v != 0 else ("m/s", 1.0)
+    return f"{v / size:.{digits}g} {unit}"
 
 
 def parse_quantity(

@@ -9,15 +9,14 @@ import click
 import numpy as np
 
 from ..models.parameters import PhysicalParameters
+from ..units import VELOCITY_UNITS, readable_unit
 from .errors import handle_errors
 from .options import (
-    VELOCITY_UNITS,
     OutPath,
     build_parameters,
     law_command,
     overwrite_option,
     parse_axis,
-    readable_unit,
     scale_options,
     scale_report,
     warn_unwritten,

@@ -8,15 +8,9 @@ import warnings
 
 import click
 
+from ..units import FORCE_UNITS, VELOCITY_UNITS, readable_unit
 from .errors import handle_errors
-from .options import (
-    FORCE_UNITS,
-    VELOCITY_UNITS,
-    figure_names,
-    out_dir_option,
-    overwrite_option,
-    readable_unit,
-)
+from .options import figure_names, out_dir_option, overwrite_option
 
 __all__ = ["register"]
 

@@ -50,7 +50,6 @@ __all__ = [
     "out_dir_option",
     "overwrite_option",
     "parse_axis",
-    "readable_unit",
     "scale_options",
     "scale_report",
 ]
@@ -369,24 +368,6 @@ def scale_report(ds: Any) -> None:
             f"({r['points']} points in {r['seconds']:.3g} s, {r['backend']})",
             err=True,
         )
-
-
-#: units a command prints SI values in, smallest first, with their size in SI
-VELOCITY_UNITS = (("um/s", 1e-6), ("mm/s", 1e-3), ("m/s", 1.0))
-FORCE_UNITS = (("mN", 1e-3), ("N", 1.0))
-
-
-def readable_unit(values: Any, units: Sequence[tuple[str, float]]) -> tuple[str, float]:
-    """Return the unit (and its size in SI) that prints typical ``values`` (SI) best.
-
-    The largest of ``units`` not larger than the median magnitude of the finite values:
-    100 um/s, not 0.0001 m/s; the smallest where there are none.
-    """
-    v = np.abs(np.asarray(values, dtype=float).ravel())
-    v = v[np.isfinite(v) & (v > 0)]
-    typical = float(np.median(v)) if v.size else 0.0
-    fitting = [u for u in units if typical >= u[1]]
-    return fitting[-1] if fitting else units[0]
 
 
 def figure_names(stem: str) -> dict[str, str]:

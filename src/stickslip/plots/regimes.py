@@ -12,6 +12,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from ..core.results import Regime
+from ..units import VELOCITY_UNITS, readable_unit
 from .style import plain_log_ticks, pretty_units, subplots
 
 if TYPE_CHECKING:
@@ -169,8 +170,7 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None, beta: f
     ax.set_xlim(diagram.nu_min, diagram.nu_max)
     if beta:
         # the driving velocity on the top axis, in um/s, mm/s or m/s as the range suits
-        mid = math.sqrt(diagram.nu_min * diagram.nu_max) / beta
-        unit, size = next((u for u in (("m/s", 1.0), ("mm/s", 1e-3)) if mid >= u[1]), ("um/s", 1e-6))
+        unit, size = readable_unit([math.sqrt(diagram.nu_min * diagram.nu_max) / beta], VELOCITY_UNITS)
         per_nu = 1.0 / (beta * size)  # v0 in the unit per unit of nu
         top = ax.secondary_xaxis("top", functions=(lambda nu: nu * per_nu, lambda v: v / per_nu))
         top.set_xlabel(f"driving velocity $v_0$ [{pretty_units(unit)}]")
