@@ -68,6 +68,19 @@ def test_inverted_force_is_measured_the_right_way_up(clean: Record, tmp_path: Pa
     assert s.amplitude == pytest.approx(TRUE.amplitude, rel=0.02)
 
 
+def test_a_fit_says_what_was_done_to_the_force(clean: Record) -> None:
+    """Regression: a fit turned an inverted record the right way up and replaced an outlier
+    without a word (analyze said both): its warnings now carry the record's notes."""
+    from stickslip.data.fitting import fit_record
+
+    force = -clean.force.copy()
+    force[5000] = 1e3
+    f = fit_record(Record("inv", clean.time, force, None, None, clean.v0, clean.load, {}))
+    assert any("inverted" in w for w in f.warnings), f.warnings
+    assert any(f"at t = {clean.time[5000]:.9g} s" in w and "outlier" in w for w in f.warnings)
+    assert f.values["mu_s"] == pytest.approx(fit_record(clean).values["mu_s"], rel=1e-3)
+
+
 def test_an_outlier_is_excluded_and_named(clean: Record, tmp_path: Path) -> None:
     """Regression: one sample of 1e308 turned 12 cycles at 18.25 s into 3 at 54.75 s, silently."""
     _, ref = measure_record(clean)

@@ -50,7 +50,7 @@ from ..laws import PhysicalWeakeningLaw
 from ..laws.weakening import WEAKENING
 from ..models.parameters import PhysicalParameters
 from ..units import Q_, check_number
-from .records import CycleTable, RecordSummary, clean_force, measure_record, saturation
+from .records import CycleTable, RecordSummary, clean_force, measure_record
 
 __all__ = ["FitResult", "fit_record"]
 
@@ -432,9 +432,9 @@ def fit_record(
             "at another time t', the static friction coefficient is about mu_s + drift x (t' - t) / "
             "load, and a moves with it (refit the record with the drift removed from t')"
         )
-    clipped = saturation(record.force)
-    if clipped:  # mu_s from clipped peaks is the rail's
-        warnings.append(clipped)
+    # what was done to the force before it was fitted (outliers excluded, turned the right way
+    # up) and a rail that clipped its peaks (mu_s from them is the rail's): said as for analyze
+    warnings += clean_force(record)[1]
     if summary.drop_time < dt:
         warnings.append(
             f"a and m are not identifiable: the force drop is not resolved (it falls within one "

@@ -167,7 +167,7 @@ def clean_force(record: Record) -> tuple[FloatArray, list[str], float]:
     period = _dominant_period(t, f)
     if not math.isfinite(period):
         raise DataError(f"{record.name}: no oscillation found (fewer than 2.5 cycles?)")
-    clipped = saturation(record.force)
+    clipped = saturation(f)  # outliers out: a spike is not the rail
     if clipped:
         notes.append(clipped)
     per_n = max(4, round(period / ((t[-1] - t[0]) / (t.size - 1))))
