@@ -489,3 +489,29 @@ def test_a_flat_stretch_of_a_table_is_named(tmp_path: Path) -> None:
     with pytest.warns(UserWarning, match=r"f'\(nu\) = 0 from nu = 0.6 to 1.5 \(a flat stretch of the law\)"):
         d = regimes(law, 0.05, 6.0, n_grid=41)
     assert d.regime_at(1.0).regime == "stick-slip" and d.regime_at(1.8).regime == "bistable"
+
+
+def test_a_smoothing_table_passes_through_its_first_row() -> None:
+    """Regression (sweep audit, helper-33): a smoothing spline need not pass through the v = 0
+    row, and on a noisy table it put friction just after breakaway 0.02 % (0.22 % in the audit's
+    table) above the static level: the block moved backward at breakaway, status ok, unsaid;
+    below it, an unasked drop at the onset. The first row is now pinned (weight 1e8, then the
+    remaining 1e-10 shifted out), and an interpolant above the static level is refused."""
+    from scipy.interpolate import make_smoothing_spline
+
+    w = np.linspace(0.0, 3.0, 31)
+    rng = np.random.default_rng(1)
+    mu = 1.0 - 0.1 * w + 0.02 * w**2 + np.concatenate([[0.0], 3e-3 * rng.standard_normal(30)])
+    assert make_smoothing_spline(w / 3.0, mu)(0.0) > 1.0 + 1e-4  # the case: unpinned, above mu_s
+    law = TabulatedLaw(ss.Q_(w, "m/s"), mu, interpolation="smoothing").nondimensionalize("1 s/m")
+    assert law.at(0.0) == pytest.approx(1.0, abs=1e-15)
+    # SciPy's smoothing spline with the first row weighted 1e8, shifted by what it leaves
+    weights = np.ones_like(w)
+    weights[0] = 1e8
+    ref = make_smoothing_spline(w / 3.0, mu, w=weights)
+    shift = 1.0 - float(ref(0.0))
+    assert abs(shift) < 1e-9
+    for x in (0.05, 0.7, 1.9, 2.5, 2.95):
+        assert law.at(x) == pytest.approx(float(ref(x / 3.0)) + shift, rel=1e-12)
+    res = ss.cycle(ss.DimensionlessParameters(nu=1.0, law=law))
+    assert str(res.regime) == "stick-slip" and res.backward_slips == 0 and res.min_velocity >= 0.0
