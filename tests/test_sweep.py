@@ -99,6 +99,33 @@ def test_netcdf_round_trip(tmp_path: Path) -> None:
     assert back.regime.dtype == ds.regime.dtype
 
 
+def test_a_sweep_to_a_csv_path_is_a_table(tmp_path: Path) -> None:
+    """Regression (sweep audit, helper-33): `sweep --out x.csv` wrote a NetCDF file named .csv.
+    A .csv path is a table: one row per point, units in the column names, regimes by name,
+    every number as in the NetCDF file; it is replaced on a rerun as stickslip's own."""
+    import pandas as pd
+    from click.testing import CliRunner
+
+    from stickslip.cli import main
+
+    ds = sweep(zv_parameters(), {"v0": Q_([5.0, 50.0], "um/s"), "mass": Q_([0.1, 0.5], "kg")}, progress=False)
+    path = save_sweep(ds, tmp_path / "s.csv")
+    assert open(path, "rb").read(24).startswith(b"# stickslip sweep table")
+    table = pd.read_csv(path, comment="#")
+    assert len(table) == 4
+    assert "amplitude [N]" in table.columns and "period [s]" in table.columns
+    assert f"v0 [{ds.v0.attrs['units']}]" in table.columns and "mass [kg]" in table.columns
+    flat = ds.to_dataframe().reset_index()
+    np.testing.assert_array_equal(table["amplitude [N]"].to_numpy(), flat["amplitude"].to_numpy())
+    np.testing.assert_array_equal(table["period [s]"].to_numpy(), flat["period"].to_numpy())
+    assert table["regime"].tolist() == flat["regime"].astype(str).tolist()
+    save_sweep(ds, tmp_path / "s.csv")  # its own file: replaced without asking
+    args = ["sweep", "--law", "coulomb", "--nu", "0.1,0.2", "--kinetic", "0.5", "--no-plot"]
+    res = CliRunner().invoke(main, [*args, "--out", str(tmp_path / "c.csv")])
+    assert res.exit_code == 0, res.output
+    assert pd.read_csv(tmp_path / "c.csv", comment="#")["regime"].tolist() == ["stick-slip"] * 2
+
+
 def test_failed_point_leaves_the_others_intact() -> None:
     """A slip budget shorter than one oscillation near the Hopf point: that point fails, not the others."""
     base = DimensionlessParameters(nu=0.5, law=CubicLaw(alpha=0.5, gamma=0.5 / 3))

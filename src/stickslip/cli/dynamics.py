@@ -155,7 +155,8 @@ def register(main: click.Group) -> None:
         "out_path",
         type=OutPath(dir_okay=False),
         default=None,
-        help="NetCDF output; the plot goes beside it (.png, .svg). Default results/sweep.nc, "
+        help="NetCDF output (.nc), or a table (.csv: one row per point, units in the column "
+        "names); the plot goes beside it (.png, .svg). Default results/sweep.nc, "
         "or none with --store (the store is the output).",
     )
     @click.option("--no-plot", is_flag=True, help="Write the NetCDF file only.")

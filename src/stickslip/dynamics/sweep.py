@@ -657,13 +657,28 @@ def save_sweep(
     out: OutputFolder | None = None,
     overwrite: bool = False,
 ) -> str:
-    """Write a dataset to NetCDF (netCDF4 format), atomically; return the path.
+    """Write a dataset to NetCDF (netCDF4 format), or a ``.csv`` path as a table; return the path.
 
     The file is marked as stickslip's output of ``kind`` (attribute ``stickslip_output``);
     an existing file that is not stickslip's output of that kind is kept unless
     ``overwrite``. ``out`` stages it with the other files of a run (``path`` a name in it).
+    A ``.csv`` path gets one row per point, its coordinates first, units in the column
+    names (``amplitude [N]``), regimes and statuses by name (a NetCDF file named ``.csv``
+    was written before: the sweep audit).
     """
-    return emit(os.fspath(path), kind, netcdf_writer(ds, kind), out=out, overwrite=overwrite)
+    p = os.fspath(path)
+    if p.lower().endswith(".csv"):
+        table = ds.to_dataframe().reset_index()
+        units = {n: ds[n].attrs.get("units", "") for n in table.columns if n in ds.variables}
+        table.columns = [f"{n} [{units[n]}]" if units.get(n) else str(n) for n in table.columns]
+
+        def write(target: str) -> None:
+            with open(target, "w", encoding="utf-8") as fh:
+                fh.write(f"# stickslip {kind} table\n")  # pandas: read_csv(path, comment="#")
+                table.to_csv(fh, index=False)
+
+        return emit(p, kind, write, out=out, overwrite=overwrite)
+    return emit(p, kind, netcdf_writer(ds, kind), out=out, overwrite=overwrite)
 
 
 def load_sweep(path: str | os.PathLike[str], *, partial: bool = False) -> xr.Dataset:

@@ -85,6 +85,8 @@ CSV_HEADERS: dict[str, tuple[str | re.Pattern[str], ...]] = {
     "fit-parameters": ("parameter,value,error,unit",),
     "ratestate-record": ("# stickslip rate-and-state record",),
     "record": ("# stickslip force-time record",),
+    "sweep": ("# stickslip sweep table",),  # save_sweep to a .csv path
+    "regime-map": ("# stickslip regime-map table",),
 }
 
 
