@@ -232,3 +232,27 @@ def test_a_block_of_a_job_runs_in_few_engine_calls(monkeypatch: pytest.MonkeyPat
     sweep(base, grid, progress=lambda info: seen.append(info.points))
     assert calls == [3000]
     assert len(seen) > 10 and seen == sorted(seen) and seen[-1] == 3000
+
+
+def test_slip_reversal_is_told_apart_in_a_sweep() -> None:
+    """Regression (sweep audit, helper-33): a slip-reversal oscillation (the velocity changes sign
+    without sticking) was 'pure-slip' in a sweep with nothing to tell it from w > 0; the
+    regime map's `observed` said slip-reversal. The sweep has `backward_slips` (the engine's
+    count, as `cycle` gives it), and `cycle` says slip reversal on its regime line."""
+    from click.testing import CliRunner
+
+    from stickslip.cli import main
+
+    base = DimensionlessParameters(nu=1.0, law=WeakeningLaw(c=3.8, p=0.0))
+    nus = [0.5, 4.516952255, 7.181011546]
+    ds = sweep(base, {"nu": nus}, progress=False)
+    for nu, back, regime in zip(nus, ds.backward_slips.values, ds.regime.values, strict=True):
+        single = cycle(DimensionlessParameters(nu=nu, law=WeakeningLaw(c=3.8, p=0.0)), probe=False)
+        assert back == single.backward_slips and regime == str(single.regime)
+    assert ds.backward_slips.values.tolist() == [0, 1, 1]
+    assert ds.regime.values.tolist() == ["stick-slip", "pure-slip", "pure-slip"]
+    assert ds.backward_slips.attrs["units"] == "1"
+    res = CliRunner().invoke(main, ["cycle", "--c", "3.8", "--p", "0", "--nu", "4.516952255"])
+    assert "regime          pure-slip  (slip reversal" in res.output
+    res = CliRunner().invoke(main, ["cycle", "--c", "3.8", "--p", "0.5", "--nu", "0.5"])
+    assert "slip reversal" not in res.output

@@ -54,7 +54,12 @@ def register(main: click.Group) -> None:
             fail_unless_ok(res.status)
             return
         u = res.units
-        click.echo(f"regime          {res.regime}" + ("  (multistable)" if res.multistable else ""))
+        pure = str(res.regime) == "pure-slip"
+        reversal = (
+            "  (slip reversal: it slips backward without sticking)" if pure and res.backward_slips else ""
+        )
+        multi = "  (multistable)" if res.multistable else ""
+        click.echo(f"regime          {res.regime}{reversal}{multi}")
         click.echo(f"amplitude       {res.amplitude:.10g} [{u['force']}]")
         click.echo(f"period          {res.period:.10g} [{u['time']}]")
         click.echo(f"stick fraction  {res.stick_fraction:.6g}")

@@ -112,7 +112,11 @@ class Regime(_Labelled):
     """
 
     STICK_SLIP = "stick-slip", engine.RG_STICK_SLIP, "the block sticks once per cycle"
-    PURE_SLIP = "pure-slip", engine.RG_PURE_SLIP, "an oscillation that never stops (w > 0)"
+    PURE_SLIP = (
+        "pure-slip",
+        engine.RG_PURE_SLIP,
+        "an oscillation that never sticks (w > 0, or, with backward slips, slip reversal)",
+    )
     STEADY_SLIDING = "steady-sliding", engine.RG_STEADY, "sliding at the driving velocity"
     SLIP_REVERSAL = "slip-reversal", 3, "an oscillation that never sticks but slips backward"
     BISTABLE = "bistable", 4, "two attractors coexist"

@@ -564,6 +564,12 @@ _VALUES = {
     "stick_fraction": ("stick_fraction", "1", "fraction of the period at rest"),
     "slip_distance": ("slip_distance", "length", "distance slipped per cycle"),
     "peak_velocity": ("w_max", "velocity", "largest block velocity over the cycle"),
+    "backward_slips": (
+        "n_backward",
+        "1",
+        "backward slip phases per cycle (above 0 in a pure-slip regime: slip reversal, the velocity "
+        "changes sign without sticking)",
+    ),
 }
 _SI = {"force": "N", "time": "s", "length": "m", "velocity": "m/s", "1": "1"}
 _MULTIPLIER_ATTRS = {
@@ -572,7 +578,8 @@ _MULTIPLIER_ATTRS = {
 }
 _REGIME_ATTRS = {
     "long_name": "regime reached from rest",
-    "values": "stick-slip, pure-slip, steady-sliding, unknown",
+    "values": "stick-slip, pure-slip (never sticks; with backward_slips > 0 its velocity changes sign: "
+    "slip reversal), steady-sliding, unknown",
 }
 _STATUS_ATTRS = {"long_name": "ok, or why the point failed"}
 _STABLE_ATTRS = {"long_name": "steady sliding linearly stable, f'(nu) > 0"}
@@ -605,6 +612,7 @@ def _variables(
         "stick_fraction": stick_fraction,
         "slip_distance": np.where(steady, np.nan, nu * period),
         "w_max": out.w_max,
+        "n_backward": np.asarray(out.n_backward, dtype=float),
     }
     data: dict[str, Any] = {}
     for key, (field_, kind, _) in _VALUES.items():
