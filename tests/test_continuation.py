@@ -263,6 +263,26 @@ def test_regime_map_and_criterion(tmp_path: Path) -> None:
     trial.to_netcdf(tmp_path / "m.nc")
     back = xr.load_dataset(tmp_path / "m.nc")
     np.testing.assert_array_equal(back.regime.values, ds.regime.values)
+    # (sweep audit) the coordinates have units, as CF asks; the figure names the onset as the
+    # bifurcation figure and the JSON do
+    assert back.nu.attrs["units"] == "1" and back.gamma.attrs["units"] == "1"
+    from stickslip.plots.regimes import plot_regime_map
+
+    labels = plot_regime_map(ds).axes[0].get_legend_handles_labels()[1]
+    assert "stick-slip-onset" in labels and "stick slip onset" not in labels
+
+
+def test_a_log_sweep_figure_leaves_steady_sliding_out() -> None:
+    """Regression (sweep audit): on log axes steady sliding's amplitude 0 drew lines off the
+    bottom of the figure; those points are left out of the log plot (the data keep them)."""
+    from stickslip.dynamics.sweep import sweep
+    from stickslip.plots.figures import plot_sweep
+
+    ds = sweep(DimensionlessParameters(nu=0.1, law=WeakeningLaw(c=3.8, p=0.5)), {"nu": [0.1, 0.3, 2.0]})
+    assert float(ds.amplitude.values[-1]) == 0.0  # steady sliding at nu = 2
+    line = plot_sweep(ds, log=True).axes[0].get_lines()[0]
+    y = np.asarray(line.get_ydata(), dtype=float)
+    assert np.isnan(y[-1]) and np.all(y[:2] > 0)
 
 
 def test_regimes_bad_input() -> None:

@@ -193,9 +193,9 @@ class RegimeMapJob:
             self.param: (
                 (self.param,),
                 self.values,
-                {"long_name": f"{self.law.name} law parameter {self.param}"},
+                {"long_name": f"{self.law.name} law parameter {self.param}", "units": "1"},
             ),
-            "nu": (("nu",), self.nu, {"long_name": "dimensionless driving velocity beta*v0"}),
+            "nu": (("nu",), self.nu, {"long_name": "dimensionless driving velocity beta*v0", "units": "1"}),
         }
 
     def _attrs(self) -> dict[str, Any]:

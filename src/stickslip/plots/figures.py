@@ -204,7 +204,10 @@ def plot_sweep(ds: Any, *, log: bool = False) -> Figure:
                 if value is None
                 else pretty_units(f"{dims[1]} = {value:g} {sub[dims[1]].attrs.get('units', '')}")
             )
-            ax.plot(part[x].values, part[var].values, marker="o", ms=3, lw=1.2, label=label)
+            y = np.asarray(part[var].values, dtype=float)
+            if log:  # steady sliding's amplitude 0 has no place on a log axis (it drew lines off it)
+                y = np.where(y > 0, y, np.nan)
+            ax.plot(part[x].values, y, marker="o", ms=3, lw=1.2, label=label)
         ax.set_xlabel(pretty_units(f"{x} [{ds[x].attrs.get('units', '1')}]"))
         ax.set_ylabel(pretty_units(f"{var} [{ds[var].attrs.get('units', '1')}]"))
         if log:

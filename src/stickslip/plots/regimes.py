@@ -222,7 +222,9 @@ def _map_axes(ds: Any, variable: str, codes: dict[str, int], colors: dict[str, s
     }
     for key, (c, ls) in styles.items():
         if key in ds and np.any(np.isfinite(ds[key].values)):
-            ax.plot(ds[key].values, ds[param].values, ls, color=c, lw=1.4, label=key.replace("_", " "))
+            # named as in the bifurcation figure and the JSON (stick-slip-onset, not 'stick slip onset')
+            label = key.replace("stick_slip", "stick-slip").replace("_", "-")
+            ax.plot(ds[key].values, ds[param].values, ls, color=c, lw=1.4, label=label)
     nu = ds.nu.values
     if nu[-1] / nu[0] > 20:
         ax.set_xscale("log")
