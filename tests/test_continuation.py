@@ -472,3 +472,18 @@ def test_a_hopf_point_on_a_table_row_starts_its_branch() -> None:
     assert ref.multiplier == pytest.approx(b.multiplier[k], rel=1e-5)
     assert any(f"born at the Hopf point nu = {h.nu:.8g} were followed to nu" in n for n in d.notes)
     assert [iv.regime for iv in d.intervals] == ["stick-slip", "bistable", "steady-sliding"]
+
+
+def test_a_map_cell_on_a_supercritical_hopf_point_is_steady_sliding() -> None:
+    """Regression (sweep audit, helper-33): on a linear grid the cubic law's map had a cell exactly
+    on its supercritical Hopf point (nu = 1, alpha = 0.5) labelled pure-slip, with no orbit (its
+    amplitude is 0 there). There the attractor is steady sliding; just below, the small cycle."""
+    d = regimes(CUBIC, 0.5, 1.5)
+    (h,) = d.hopf
+    assert h.criticality == "supercritical" and h.nu == pytest.approx(1.0, abs=1e-12)
+    assert d.regime_at(h.nu).regime == "steady-sliding"
+    assert d.regime_at(h.nu * (1 - 1e-9)).regime == "pure-slip"
+    ds = regime_map(CUBIC, "alpha", [0.5], 0.5, 1.5, n_nu=11, progress=False)
+    at_hopf = int(np.argmin(np.abs(ds.nu.values - 1.0)))
+    assert ds.nu.values[at_hopf] == pytest.approx(1.0, abs=1e-12)
+    assert int(ds.regime.values[0, at_hopf]) == 2  # steady-sliding's code

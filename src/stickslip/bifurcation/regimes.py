@@ -209,7 +209,21 @@ class RegimeDiagram:
     notes: tuple[str, ...] = ()
 
     def regime_at(self, nu: float) -> Interval:
-        """Return the interval containing ``nu``."""
+        """Return the interval containing ``nu``.
+
+        At an end shared by two intervals, the lower one; but exactly at a supercritical Hopf
+        point, the one on its stable side: the cycle there has amplitude 0, and steady sliding
+        is the attractor (a regime map's cell on the Hopf point of a linear grid said pure-slip).
+        """
+        for h in self.hopf:
+            if h.criticality == "supercritical" and abs(nu - h.nu) <= 1e-12 * h.nu:
+                side = [
+                    iv
+                    for iv in self.intervals
+                    if (iv.nu_min if h.stable_side == "above" else iv.nu_max) == h.nu
+                ]
+                if side:
+                    return side[0]
         for iv in self.intervals:
             if iv.nu_min <= nu <= iv.nu_max:
                 return iv
