@@ -487,3 +487,17 @@ def test_a_map_cell_on_a_supercritical_hopf_point_is_steady_sliding() -> None:
     at_hopf = int(np.argmin(np.abs(ds.nu.values - 1.0)))
     assert ds.nu.values[at_hopf] == pytest.approx(1.0, abs=1e-12)
     assert int(ds.regime.values[0, at_hopf]) == 2  # steady-sliding's code
+
+
+def test_the_mapped_parameter_need_not_be_given_twice(tmp_path: Path) -> None:
+    """Regression (sweep audit, helper-33): `regimes --law cubic --map alpha=0.3..0.7` asked for
+    --alpha as well; the diagram is now drawn at the map's first value, and the output says so.
+    The map is the same as with --alpha given."""
+    args = ["regimes", "--law", "cubic", "--gamma", "0.1666", "--nu-min", "0.5", "--nu-max", "1.5"]
+    args += ["--n", "21", "--map", "alpha=0.3..0.7", "--map-n", "3", "--json"]
+    res = run(*args)
+    assert res.exit_code == 0, res.output
+    assert "the diagram is at alpha = 0.3, the map's first value" in res.output
+    given = run(*args, "--alpha", "0.3")
+    assert given.exit_code == 0, given.output
+    assert json.loads(res.stdout) == json.loads(given.stdout)  # the note is on stderr
