@@ -374,6 +374,15 @@ def test_cli_regimes_physical_and_map(tmp_path: Path) -> None:
     assert [r["regime"] for r in d["criterion"]] == ["stick-slip", "pure-slip", "slip-reversal"]
     for name in ("regime_map.nc", "regime_map.png", "criterion_map.png"):
         assert (tmp_path / name).exists()
+    # (sweep audit) the map of a physical set-up says which: beta stored, v0 on its figures
+    from stickslip.plots.regimes import plot_criterion_map, plot_regime_map
+
+    m = xr.load_dataset(tmp_path / "regime_map.nc")
+    assert m.attrs["beta_s_per_m"] == pytest.approx(42.0)
+    for fig in (plot_regime_map(m), plot_criterion_map(m)):
+        (top,) = fig.axes[0].child_axes
+        assert top.get_xlabel() == "driving velocity $v_0$ [mm/s]"
+        assert "beta_s_per_m" not in fig.axes[0].get_title()
 
 
 @pytest.mark.parametrize(

@@ -193,6 +193,8 @@ def register(main: click.Group) -> None:
                 scale_report(ds)
                 del ds.attrs["run"]
             trial = criterion_trial(ds)
+            if beta is not None:  # the map of a physical set-up says which: v0 = nu / beta
+                trial.attrs["beta_s_per_m"] = beta
             result["criterion"] = criterion_table(trial)
         result = json_clean(result)  # NaN (no pure-slip attractor, no criterion verdict) -> null
         if out_dir is not None:

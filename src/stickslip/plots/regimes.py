@@ -23,6 +23,9 @@ if TYPE_CHECKING:
 
 __all__ = ["REGIME_COLORS", "plot_bifurcation", "plot_criterion_map", "plot_regime_map"]
 
+#: a map's attribute holding a physical set-up's beta (s/m): its figures show v0 too
+BETA_ATTR = "beta_s_per_m"
+
 #: background colour of each regime (colour-blind safe, light)
 REGIME_COLORS = {
     "stick-slip": "#fdd49e",
@@ -85,6 +88,23 @@ def _shade(diagram: RegimeDiagram, ax: Axes) -> tuple[list[Any], list[str]]:
     ]
     labels = [f"regime: {r}" + (f" ({' + '.join(n)})" if n else "") for r, n in combos]
     return patches, labels
+
+
+def _v0_axis(ax: Axes, beta: float, nu_min: float, nu_max: float) -> None:
+    """Put the driving velocity ``v0 = nu / beta`` on the top axis, in um/s, mm/s or m/s as suits."""
+    unit, size = readable_unit([math.sqrt(nu_min * nu_max) / beta], VELOCITY_UNITS)
+    per_nu = 1.0 / (beta * size)  # v0 in the unit per unit of nu
+
+    def forward(nu: Any) -> Any:
+        return np.asarray(nu, dtype=float) * per_nu
+
+    def back(v: Any) -> Any:
+        return np.asarray(v, dtype=float) / per_nu
+
+    top = ax.secondary_xaxis("top", functions=(forward, back))
+    top.set_xlabel(f"driving velocity $v_0$ [{pretty_units(unit)}]")
+    if ax.get_xscale() == "log":
+        plain_log_ticks(top.xaxis)
 
 
 def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None, beta: float | None = None) -> Figure:
@@ -169,13 +189,7 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None, beta: f
         seen.add(p.kind)
     ax.set_xlim(diagram.nu_min, diagram.nu_max)
     if beta:
-        # the driving velocity on the top axis, in um/s, mm/s or m/s as the range suits
-        unit, size = readable_unit([math.sqrt(diagram.nu_min * diagram.nu_max) / beta], VELOCITY_UNITS)
-        per_nu = 1.0 / (beta * size)  # v0 in the unit per unit of nu
-        top = ax.secondary_xaxis("top", functions=(lambda nu: nu * per_nu, lambda v: v / per_nu))
-        top.set_xlabel(f"driving velocity $v_0$ [{pretty_units(unit)}]")
-        if ax.get_xscale() == "log":
-            plain_log_ticks(top.xaxis)
+        _v0_axis(ax, beta, diagram.nu_min, diagram.nu_max)
     top = max([float(np.nanmax(b.amplitude)) for b in diagram.branches if b.nu.size] + rev_amp, default=1.0)
     ax.set_ylim(-0.03 * top, 1.08 * top)
     ax.set_xlabel(r"dimensionless driving velocity $\nu = \beta v_0$")
@@ -229,6 +243,8 @@ def _map_axes(ds: Any, variable: str, codes: dict[str, int], colors: dict[str, s
     if nu[-1] / nu[0] > 20:
         ax.set_xscale("log")
     ax.set_xlim(nu[0], nu[-1])
+    if ds.attrs.get(BETA_ATTR):  # a physical set-up's map
+        _v0_axis(ax, float(ds.attrs[BETA_ATTR]), float(nu[0]), float(nu[-1]))
     ax.set_xlabel(r"dimensionless driving velocity $\nu = \beta v_0$")
     ax.set_ylabel(f"{ds.attrs.get('law', '')} law parameter {param}")
     ax.set_title(title, fontsize=10)
@@ -247,7 +263,7 @@ def plot_regime_map(ds: Any) -> Figure:
     """
     from ..bifurcation.regime_map import REGIME_CODES
 
-    fixed = ", ".join(f"{k} = {v:g}" for k, v in ds.attrs.items() if isinstance(v, float))
+    fixed = ", ".join(f"{k} = {v:g}" for k, v in ds.attrs.items() if isinstance(v, float) and k != BETA_ATTR)
     return _map_axes(ds, "regime", {**REGIME_CODES}, REGIME_COLORS, f"regimes ({fixed})")
 
 
@@ -258,5 +274,7 @@ def plot_criterion_map(trial: Any) -> Figure:
     """
     codes = {"not judged": -1, "wrong": 0, "right": 1}
     colors = {"not judged": "#f0f0f0", "wrong": "#d7301f", "right": "#74c476"}
-    fixed = ", ".join(f"{k} = {v:g}" for k, v in trial.attrs.items() if isinstance(v, float))
+    fixed = ", ".join(
+        f"{k} = {v:g}" for k, v in trial.attrs.items() if isinstance(v, float) and k != BETA_ATTR
+    )
     return _map_axes(trial, "right", codes, colors, f"sign of dA/dv0 against the regime reached ({fixed})")
