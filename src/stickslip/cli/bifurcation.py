@@ -110,23 +110,28 @@ def register(main: click.Group) -> None:
             opts.get(k) is not None
             for k in ("v0", "mass", "beta", "stiffness", "load", "preset", "mu", "table")
         )
-        if map_spec is not None and not physical:
-            # the mapped parameter need not be given as well (it asked for --alpha beside
-            # --map alpha=0.3..0.7): the diagram is drawn at the map's first value, and says so
-            name, _, rng = map_spec.partition("=")
-            key = name.strip().replace("-", "_")
-            if key in opts and opts[key] is None and ".." in rng:
-                opts[key] = rng.split("..", 1)[0].strip()
-                click.echo(
-                    f"note: --{name.strip()} not given: the diagram is at {key} = {opts[key]}, "
-                    "the map's first value",
-                    err=True,  # stdout may be the JSON
-                )
         if not physical:
             opts["nu"] = 1.0  # placeholder: only the law is used
         elif opts.get("v0") is None:
             opts["v0"] = "1 m/s"  # placeholder: only the law and beta are used
-        params = build_parameters(opts)
+        try:
+            params = build_parameters(opts)
+        except click.UsageError as exc:
+            # the mapped parameter need not be given as well (it asked for --alpha beside
+            # --map alpha=0.3..0.7): the diagram is drawn at the map's first value, and says so
+            name, _, rng = (map_spec or "").partition("=")
+            key = name.strip().replace("-", "_")
+            if not (
+                key and opts.get(key, 0) is None and ".." in rng and f"needs --{name.strip()}" in str(exc)
+            ):
+                raise
+            opts[key] = rng.split("..", 1)[0].strip()
+            click.echo(
+                f"note: --{name.strip()} not given: the diagram is at {key} = {opts[key]}, "
+                "the map's first value",
+                err=True,  # stdout may be the JSON
+            )
+            params = build_parameters(opts)
         beta = None
         if isinstance(params, PhysicalParameters):
             beta = params.beta.to("s/m").magnitude
