@@ -196,6 +196,36 @@ def test_round_trip_of_a_simulated_record(tmp_path, steps: list[str]) -> None:
     assert p["dc"]["value"] == pytest.approx(1e-5, rel=1e-6)
 
 
+def test_a_damped_run_is_written_as_a_load_cell_would_measure_it(tmp_path) -> None:
+    """Regression (rate-and-state audit, helper-34): a run with radiation damping was written as
+    a record with no word of the damping, and its friction column was the rate-and-state part,
+    not the spring force a load cell measures; ratestate-fit then gave Dc 6 % off, unsaid but
+    for a chi-square. The record now holds the spring force / W and a header line for the
+    damping, and the fit warns that it does not model it."""
+    import xarray as xr
+
+    args = ["ratestate", "--a", "0.01", "--b", "0.015", "--dc", "10 um", "--v-ref", "1 um/s", "--mu0", "0.6"]
+    args += ["--stiffness-per-load", "1e-2 1/um", "--steps", "1 um/s,10 um/s", "--durations", "10 s,40 s"]
+    args += ["--sample", "0.25 s", "--out", str(tmp_path / "run")]
+    res = CliRunner().invoke(main, [*args, "--radiation-damping", "1000 s/m"])
+    assert res.exit_code == 0, res.output
+    rec = read_lab_record(tmp_path / "run" / "ratestate.csv", need_friction=True)
+    assert rec.metadata["radiation_damping"] == "1000.0 s/m"
+    ds = xr.load_dataset(tmp_path / "run" / "ratestate.nc")
+    np.testing.assert_allclose(rec.friction, ds.spring_friction.values, rtol=1e-15)
+    # the steady state a load cell reads: mu0 + (a - b) ln 10 + eta v (eta in friction per m/s:
+    # 1000 s/m x 10 um/s = 0.01)
+    assert rec.friction[-1] == pytest.approx(0.6 + (0.01 - 0.015) * math.log(10.0) + 0.01, rel=1e-9)
+    fit = CliRunner().invoke(main, ["ratestate-fit", str(tmp_path / "run" / "ratestate.csv"), "--json"])
+    assert fit.exit_code == 0, fit.output
+    warnings = json.loads(fit.stdout)["warnings"]
+    assert warnings[0].startswith("the record was made with radiation_damping = 1000.0 s/m")
+    # without damping: no such header line, no such warning
+    res = CliRunner().invoke(main, [*args[:-1], str(tmp_path / "plain")])
+    assert res.exit_code == 0, res.output
+    assert "radiation_damping" not in (tmp_path / "plain" / "ratestate.csv").read_text()
+
+
 def test_records_that_cannot_be_fitted_are_refused_at_once(tmp_path) -> None:
     """Regression (audit): a record of two rows, or of one velocity throughout, gave a
     'result' with NaN errors and exit status 0; a reversed window said '0 samples'; a

@@ -302,6 +302,15 @@ def register(main: click.Group) -> None:
         }
         if len(set(params.laws)) == 1 and params.laws[0] in ("aging", "slip", "prz"):
             meta["law"] = params.laws[0]
+        # with radiation damping or a mass the spring force is not the friction: the record holds
+        # what a load cell measures (the spring force / W), and says what made it
+        measured = ds.friction.values
+        if params.radiation_damping is not None:
+            meta["radiation_damping"] = f"{params.radiation_damping.to('s/m').magnitude!r} s/m"
+        if params.mass is not None:
+            meta["mass"] = f"{params.mass.to('kg').magnitude!r} kg"
+        if params.radiation_damping is not None or params.mass is not None:
+            measured = ds.spring_friction.values
         states = {
             f"{'state' if i == 0 else f'state_{i + 1}'} [s]": ds[
                 "state" if i == 0 else f"state_{i + 1}"
@@ -311,7 +320,7 @@ def register(main: click.Group) -> None:
         text = format_lab_record(
             ds.time.values,
             ds.load_point_velocity.values,
-            ds.friction.values,
+            measured,
             {"slip velocity [um/s]": ds.slip_velocity.values * 1e6, **states},
             meta,
         )
