@@ -687,3 +687,22 @@ def test_history_file_ends_and_starts_said(tmp_path) -> None:
     hold.write_text("time [s],load-point velocity [um/s]\n0,0\n10,1\n20,1\n")
     res = CliRunner().invoke(main, [*args, "--history", str(hold)])
     assert res.exit_code == 2 and "start the history with a slide" in res.output, res.output
+
+
+def test_steady_sliding_has_no_spring_force_maxima() -> None:
+    """Regression (rate-and-state audit, helper-34): after a velocity step settled, the slip
+    velocity's rounding-level wiggles about the load point's were reported as spring-force
+    maxima (7 for the aging law, 10 for the slip law, 3e-14 above steady sliding). A maximum
+    must stand 1e-9 above steady sliding's spring force; the step's own peak and a soft
+    spring's decaying oscillation keep all theirs."""
+    from stickslip import Q_
+    from stickslip.ratestate.protocols import velocity_steps
+
+    for law, k, n_peaks in (("aging", "1e-2 1/um", 1), ("slip", "1e-2 1/um", 1), ("aging", "6e-4 1/um", 5)):
+        p = RateStateParameters(
+            a=0.01, b=0.015, dc="10 um", v_ref="1 um/s", mu0=0.6, stiffness_per_load=k, state_law=law
+        )
+        ds = velocity_steps(p, ["1 um/s", "10 um/s"], durations=["10 s", "40 s"], sample="0.25 s")
+        excess = ds.spring_peak_friction.values - float(p.steady_state_friction(Q_(10, "um/s")))
+        assert ds.spring_peak.size == n_peaks, (law, k, excess)
+        assert np.all(excess > 1e-3)
