@@ -115,6 +115,14 @@ def test_cli(tmp_path) -> None:
     assert d["budget"]["energy_error"] < 1e-8
     assert (tmp_path / "cycles.png").stat().st_size > 20_000
     assert (tmp_path / "catalog_quasi-dynamic.csv").read_text().count("\n") > 10
+    # (rate-and-state audit) the catalogue's columns carry their units; the values are SI, as in
+    # cycles.nc (the JSON gives years and MPa)
+    import pandas as pd
+
+    cat = pd.read_csv(tmp_path / "catalog_quasi-dynamic.csv")
+    assert {"t_start [s]", "slip [m]", "stress_drop [Pa]", "recurrence [s]"} <= set(cat.columns)
+    recurrence_yr = cat["recurrence [s]"].iloc[2:].mean() / (365.25 * 86400)
+    assert recurrence_yr == pytest.approx(d["recurrence_yr"], rel=1e-3)
 
 
 @pytest.mark.parametrize(

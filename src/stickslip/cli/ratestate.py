@@ -532,13 +532,14 @@ def register_cycles(main: click.Group) -> None:
                 stem = "cycles" if run.model == "quasi-dynamic" else "cycles_inertial"
                 ds = run.series.assign(run.catalog.rename({"slip": "event_slip"}))
                 from ..dynamics.sweep import save_sweep
+                from ..io.tables import frame_with_units
 
                 paths.append(save_sweep(ds, f"{stem}.nc", kind="earthquake-cycles", out=out))
                 paths.append(
                     out.write(
                         f"catalog_{run.model}.csv",
                         "catalog",
-                        text_writer(run.catalog.to_dataframe().to_csv()),
+                        text_writer(frame_with_units(run.catalog).to_csv(index=False)),
                     )
                 )
             paths.append(out.write("cycles.json", "summary", json_writer(summary, "earthquake-cycles")))

@@ -38,6 +38,7 @@ from ..core.laws import N_LAW_PARAMS
 from ..core.memory import check_memory
 from ..core.results import AttractorRows, Regime, Status
 from ..io.output import OutputFolder, emit, netcdf_writer, package_version
+from ..io.tables import frame_with_units
 from ..laws import PhysicalLaw
 from ..laws.spec import STATIC, Parameter
 from ..models.parameters import (
@@ -676,9 +677,7 @@ def save_sweep(
     """
     p = os.fspath(path)
     if p.lower().endswith(".csv"):
-        table = ds.to_dataframe().reset_index()
-        units = {n: ds[n].attrs.get("units", "") for n in table.columns if n in ds.variables}
-        table.columns = [f"{n} [{units[n]}]" if units.get(n) else str(n) for n in table.columns]
+        table = frame_with_units(ds)
 
         def write(target: str) -> None:
             with open(target, "w", encoding="utf-8") as fh:

@@ -6,6 +6,7 @@ import os
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -15,7 +16,7 @@ from ..units import ureg
 from . import text
 from .errors import DataError
 
-__all__ = ["Column", "check_file", "parse_header", "read_table", "split_header"]
+__all__ = ["Column", "check_file", "frame_with_units", "parse_header", "read_table", "split_header"]
 
 _HEADER = re.compile(r"^\s*([^\[\]]*?)\s*(?:\[([^\[\]]*)\])?\s*$")
 MAX_BYTES = 20_000_000_000  # beyond the memory check, a plain bound
@@ -42,6 +43,19 @@ class Column:
 
 
 _PARENS = re.compile(r"^\s*([^()\[\]]*?)\s*\(([^()\[\]]+)\)\s*$")
+
+
+def frame_with_units(ds: Any) -> Any:
+    """Return a dataset as a table: one row per point, its coordinates first, units in the names.
+
+    ``amplitude [N]`` where the variable has a ``units`` attribute, as stickslip's records
+    write their headers; labels (regimes, statuses) as they are. For a CSV file a reader can
+    take without the NetCDF's attributes.
+    """
+    table = ds.to_dataframe().reset_index()
+    units = {n: ds[n].attrs.get("units", "") for n in table.columns if n in ds.variables}
+    table.columns = [f"{n} [{units[n]}]" if units.get(n) else str(n) for n in table.columns]
+    return table
 
 
 def split_header(cell: str, path: str) -> tuple[str, str | None]:
