@@ -176,3 +176,24 @@ def test_a_run_longer_than_one_clock_holds(run) -> None:
     t = long.series.time.values  # the spans' clocks offset back: one increasing time
     assert np.all(np.diff(t) > 0) and t[-1] > 29999 * YEAR
     assert np.all(np.diff(long.catalog.t_start.values) > 0)
+
+
+def test_the_estimate_sits_in_the_stress_panel_above_its_curve() -> None:
+    """Regression (rate-and-state audit, helper-34): the spring-slider estimate was the stress
+    panel's title, between the panels, and read as the slip-rate panel's caption. It is inside
+    the stress panel now, in headroom above the curve (a first try at its foot hid three of the
+    four stress drops)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from stickslip.plots.figures import plot_earthquake_cycles
+
+    run = earthquake_cycles(BP1, "40 yr")
+    est = recurrence_estimate(BP1, run.summary()["peak_slip_rate"])
+    ax = plot_earthquake_cycles([run], est).axes[1]
+    assert ax.get_title() == ""
+    (text,) = [t for t in ax.texts if t.get_text().startswith("spring-slider estimate: stress drop")]
+    assert text.get_position()[1] > 0.9
+    y = np.concatenate([ln.get_ydata() for ln in ax.get_lines()])
+    lo, hi = ax.get_ylim()
+    assert (hi - float(np.max(y))) / (hi - lo) > 0.15  # the text's headroom
