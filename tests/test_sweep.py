@@ -68,7 +68,10 @@ def test_dimensionless_sweep_equals_single_calls() -> None:
     base = DimensionlessParameters(nu=0.01, law=CubicLaw(alpha=0.5, gamma=0.5 / 3))
     ds = sweep(base, {"nu": [0.3, 0.97, 1.2], "gamma": [0.5 / 3]}, progress=False)
     assert list(ds.regime.values[:, 0]) == ["stick-slip", "pure-slip", "steady-sliding"]
-    assert ds.amplitude.attrs["units"].startswith("static friction force")
+    # CF: units a UDUNITS string, the scale in its own attribute (the sweep audit)
+    assert ds.amplitude.attrs["units"] == "1"
+    assert ds.amplitude.attrs["scale"].startswith("static friction force")
+    assert ds.period.attrs["units"] == "1" and ds.period.attrs["scale"] == "sqrt(m/k)"
     for i, nu in enumerate([0.3, 0.97, 1.2]):
         r = cycle(DimensionlessParameters(nu=nu, law=CubicLaw(alpha=0.5, gamma=0.5 / 3)), probe=False)
         np.testing.assert_equal(float(ds.amplitude[i, 0]), r.amplitude)

@@ -386,7 +386,7 @@ class SweepPlan:
         dims = self.coords_names
         out = []
         for key, (_, kind, desc) in _VALUES.items():
-            out.append(Variable(key, dims, "float64", {"units": self._unit(kind), "long_name": desc}))
+            out.append(Variable(key, dims, "float64", {**self._unit_attrs(kind), "long_name": desc}))
         out.append(Variable("multiplier", dims, "float64", _MULTIPLIER_ATTRS))
         out.append(Variable("regime", dims, "int8", {**_REGIME_ATTRS, **_flags(Regime)}))
         out.append(Variable("status", dims, "int8", {**_STATUS_ATTRS, **_flags(Status)}))
@@ -395,10 +395,18 @@ class SweepPlan:
             out.append(Variable(key, dims, "float64", attrs))
         return out
 
-    def _unit(self, kind: str) -> str:
+    def _unit_attrs(self, kind: str) -> dict[str, str]:
+        """Return a value's ``units`` (UDUNITS, as CF asks: "1" for a dimensionless one) and ``scale``.
+
+        A dimensionless sweep's amplitude is in units of the static friction force ``mu_s W``:
+        its ``units`` is "1" and ``scale`` says of what (it was the ``units``, which no CF
+        reader parses: the sweep audit).
+        """
         if kind == "1":
-            return "1"
-        return _SI[kind] if isinstance(self.base, PhysicalParameters) else DIMENSIONLESS_UNITS[kind]
+            return {"units": "1"}
+        if isinstance(self.base, PhysicalParameters):
+            return {"units": _SI[kind]}
+        return {"units": "1", "scale": DIMENSIONLESS_UNITS[kind]}
 
     def _extra_attrs(self) -> dict[str, dict[str, str]]:
         """``nu`` and the law's dimensionless parameters, unless swept."""

@@ -16,7 +16,15 @@ from ..units import ureg
 from . import text
 from .errors import DataError
 
-__all__ = ["Column", "check_file", "frame_with_units", "parse_header", "read_table", "split_header"]
+__all__ = [
+    "Column",
+    "check_file",
+    "frame_with_units",
+    "parse_header",
+    "read_table",
+    "split_header",
+    "unit_of",
+]
 
 _HEADER = re.compile(r"^\s*([^\[\]]*?)\s*(?:\[([^\[\]]*)\])?\s*$")
 MAX_BYTES = 20_000_000_000  # beyond the memory check, a plain bound
@@ -45,15 +53,24 @@ class Column:
 _PARENS = re.compile(r"^\s*([^()\[\]]*?)\s*\(([^()\[\]]+)\)\s*$")
 
 
+def unit_of(variable: Any) -> str:
+    """Return what a variable is measured in: its ``scale``, else its ``units``.
+
+    A dimensionless value's ``scale`` ("static friction force mu_s W") says more than its
+    CF ``units`` ("1").
+    """
+    return str(variable.attrs.get("scale") or variable.attrs.get("units", ""))
+
+
 def frame_with_units(ds: Any) -> Any:
     """Return a dataset as a table: one row per point, its coordinates first, units in the names.
 
-    ``amplitude [N]`` where the variable has a ``units`` attribute, as stickslip's records
+    ``amplitude [N]`` where the variable has units (:func:`unit_of`), as stickslip's records
     write their headers; labels (regimes, statuses) as they are. For a CSV file a reader can
     take without the NetCDF's attributes.
     """
     table = ds.to_dataframe().reset_index()
-    units = {n: ds[n].attrs.get("units", "") for n in table.columns if n in ds.variables}
+    units = {n: unit_of(ds[n]) for n in table.columns if n in ds.variables}
     table.columns = [f"{n} [{units[n]}]" if units.get(n) else str(n) for n in table.columns]
     return table
 

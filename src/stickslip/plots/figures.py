@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..io.output import OutputFolder, emit, generator
+from ..io.tables import unit_of
 from .style import envelope, plain_log_ticks, pretty_units, subplots
 
 if TYPE_CHECKING:
@@ -208,8 +209,8 @@ def plot_sweep(ds: Any, *, log: bool = False) -> Figure:
             if log:  # steady sliding's amplitude 0 has no place on a log axis (it drew lines off it)
                 y = np.where(y > 0, y, np.nan)
             ax.plot(part[x].values, y, marker="o", ms=3, lw=1.2, label=label)
-        ax.set_xlabel(pretty_units(f"{x} [{ds[x].attrs.get('units', '1')}]"))
-        ax.set_ylabel(pretty_units(f"{var} [{ds[var].attrs.get('units', '1')}]"))
+        ax.set_xlabel(pretty_units(f"{x} [{unit_of(ds[x]) or '1'}]"))
+        ax.set_ylabel(pretty_units(f"{var} [{unit_of(ds[var]) or '1'}]"))
         if log:
             ax.set_xscale("log")
             ax.set_yscale("log")
