@@ -266,6 +266,10 @@ def test_regime_map_and_criterion(tmp_path: Path) -> None:
     # (sweep audit) the coordinates have units, as CF asks; the figure names the onset as the
     # bifurcation figure and the JSON do
     assert back.nu.attrs["units"] == "1" and back.gamma.attrs["units"] == "1"
+    assert (
+        back.amplitude.attrs["units"] == "1"
+        and back.amplitude.attrs["scale"] == "static friction force mu_s W"
+    )
     from stickslip.plots.regimes import plot_regime_map
 
     labels = plot_regime_map(ds).axes[0].get_legend_handles_labels()[1]

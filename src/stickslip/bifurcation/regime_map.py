@@ -219,7 +219,11 @@ _OBSERVED_ATTRS = {
     "flag_values": list(OBSERVED_CODES.values()),
     "flag_meanings": " ".join(OBSERVED_CODES),
 }
-_AMPLITUDE_ATTRS = {"long_name": "spring-force range of the attractor reached from rest", "units": "mu_s W"}
+_AMPLITUDE_ATTRS = {
+    "long_name": "spring-force range of the attractor reached from rest",
+    "units": "1",  # CF: UDUNITS; what it is in units of is the scale
+    "scale": "static friction force mu_s W",
+}
 
 
 @dataclass(frozen=True)
