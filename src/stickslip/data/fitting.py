@@ -337,6 +337,9 @@ def fit_record(
             "(give '# v0 = ...' and '# load = ...' header lines or --v0/--load)"
         )
     table, summary = measure_record(record)
+    # the force as measured (outliers out, the right way up), once for every waveform fit below,
+    # and what was done to it, for the warnings
+    force, force_notes, _ = clean_force(record)
     v0 = float(record.v0.to("m/s").magnitude)
     load = float(record.load.to("N").magnitude)
     names = ("mu_s", "a", "k", "m", "b") if fit_b else ("mu_s", "a", "k", "m")
@@ -350,7 +353,7 @@ def fit_record(
     drift_error = _peaks_drift_error(table)
     dt = float(np.median(np.diff(record.time)))  # the sample interval (s)
     if method == "waveform":
-        fitted = _fit_waveform(record, table, summary, coords, theta, v0, load, noise_)
+        fitted = _fit_waveform(record, force, table, summary, coords, theta, v0, load, noise_)
         if fitted.chi2 > CHI2_WARN and summary.drop_time < 3.0 * dt and (guess is None or "m" not in guess):
             # the drop falls between samples: the features cannot place m (nor a, along the a-m
             # valley), and from a poor start the waveform fit wanders off (2 Hz: reduced chi2 900
@@ -363,7 +366,7 @@ def fit_record(
                 try:
                     th, _, _, _, _ = _fit_features(record, table, summary, free, v0, load, guess, {"m": m})
                     start = np.insert(th, coords.index("m"), math.log(m))
-                    other = _fit_waveform(record, table, summary, coords, start, v0, load, noise_)
+                    other = _fit_waveform(record, force, table, summary, coords, start, v0, load, noise_)
                 except (RuntimeError, DataError):
                     continue
                 if other.cost < fitted.cost:
@@ -434,7 +437,7 @@ def fit_record(
         )
     # what was done to the force before it was fitted (outliers excluded, turned the right way
     # up) and a rail that clipped its peaks (mu_s from them is the rail's): said as for analyze
-    warnings += clean_force(record)[1]
+    warnings += force_notes
     if summary.drop_time < dt:
         warnings.append(
             f"a and m are not identifiable: the force drop is not resolved (it falls within one "
@@ -555,11 +558,13 @@ def _with_b_at_bound(
     load = float(record.load.to("N").magnitude)  # type: ignore[union-attr]
     theta = np.log([f1.values[n] for n in f1.names])
     table, summary = measure_record(record)
+    force = clean_force(record)[0]
     scale = max(1.0, f1.reduced_chi2)
 
     def profile(b: float) -> float:
         if method == "waveform":
-            return _fit_waveform(record, table, summary, f1.names, theta, v0, load, f1.noise, fixed_b=b).cost
+            fit = _fit_waveform(record, force, table, summary, f1.names, theta, v0, load, f1.noise, fixed_b=b)
+            return fit.cost
         _, _, cost, _, _ = _fit_features(record, table, summary, f1.names, v0, load, f1.values, {"b": b})
         return cost
 
@@ -747,6 +752,7 @@ def _peaks_drift_error(table: CycleTable) -> float:
 
 def _fit_waveform(
     record: Record,
+    force: FloatArray,
     table: CycleTable,
     summary: RecordSummary,
     names: tuple[str, ...],
@@ -756,9 +762,13 @@ def _fit_waveform(
     noise: float,
     fixed_b: float = 0.0,
 ) -> _Waveform:
-    """Fit the force waveform over a window of whole cycles (``b`` held at ``fixed_b`` unless fitted)."""
+    """Fit the force waveform over a window of whole cycles (``b`` held at ``fixed_b`` unless fitted).
+
+    ``force`` is the record's force as measured (:func:`clean_force`: outliers out, the right
+    way up), computed once by the caller: the refits and the profile call this many times.
+    """
     t = record.time
-    f, _, _ = clean_force(record)  # as measured: outliers out, the right way up
+    f = force
     # a window of whole cycles, from one peak to a later one, at most MAX_WAVEFORM_SAMPLES long
     peaks = np.searchsorted(t, table.peak_time)
     last = int(np.searchsorted(peaks, peaks[0] + MAX_WAVEFORM_SAMPLES, side="right")) - 1

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, fields
 from typing import Any
 
 import numpy as np
@@ -527,19 +527,14 @@ def _failed_row(rec: Record | str, reason: str) -> dict[str, Any]:
 
     NaN values and the reason: ``not measured: ...`` or ``not read: ...``.
     """
-    nan = math.nan
-    measured: tuple[str, ...] = ("amplitude", "amplitude_spread", "period", "period_spread", "peak_force")
-    measured += ("trough_force", "rise_time", "drop_time", "stick_fraction", "rise_slope", "drift")
+    row: dict[str, Any] = dict.fromkeys((f.name for f in fields(RecordSummary)), math.nan)  # its columns
     if isinstance(rec, str):
-        return {"name": rec, "n_cycles": 0, **dict.fromkeys((*measured, "v0", "load"), nan)} | {
-            "warning": "not read: " + reason
-        }
-    return {
+        return row | {"name": rec, "n_cycles": 0, "warning": "not read: " + reason}
+    return row | {
         "name": rec.name,
         "n_cycles": 0,
-        **dict.fromkeys(measured, nan),
-        "v0": float(rec.v0.to("m/s").magnitude) if rec.v0 is not None else nan,
-        "load": float(rec.load.to("N").magnitude) if rec.load is not None else nan,
+        "v0": float(rec.v0.to("m/s").magnitude) if rec.v0 is not None else math.nan,
+        "load": float(rec.load.to("N").magnitude) if rec.load is not None else math.nan,
         "warning": "not measured: " + reason,
     }
 

@@ -30,7 +30,7 @@ import time
 import uuid
 from collections.abc import Callable, Mapping
 from importlib import metadata
-from typing import Any
+from typing import Any, TypeVar
 
 from .errors import DataError
 
@@ -50,6 +50,8 @@ __all__ = [
     "temporary_folder",
     "text_writer",
 ]
+
+_T = TypeVar("_T")
 
 MANIFEST = "stickslip-manifest.json"
 STAGING_PREFIX = ".stickslip-staging-"
@@ -221,13 +223,7 @@ def temporary_file(folder: str, prefix: str, suffix: str = "") -> tuple[int, str
     umask): mkstemp's 0600 stayed with a file renamed into place, so every output (a
     record, a table, a figure, a store) was readable by its owner only.
     """
-    for _ in range(100):
-        tmp = os.path.join(folder, f"{prefix}{os.getpid()}.{uuid.uuid4().hex[:8]}{suffix}")
-        try:
-            return os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666), tmp
-        except FileExistsError:
-            continue
-    raise FileExistsError(errno.EEXIST, "no free temporary name", os.path.join(folder, prefix))
+    return _unique(folder, prefix, suffix, lambda p: os.open(p, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
 
 
 def temporary_folder(folder: str, prefix: str) -> str:
@@ -235,11 +231,15 @@ def temporary_folder(folder: str, prefix: str) -> str:
 
     As :func:`tempfile.mkdtemp`, whose 0700 a store renamed into place kept.
     """
+    return _unique(folder, prefix, "", lambda p: os.mkdir(p, 0o777))[1]
+
+
+def _unique(folder: str, prefix: str, suffix: str, make: Callable[[str], _T]) -> tuple[_T, str]:
+    """Make ``prefix<pid>.<random><suffix>`` in ``folder`` with ``make`` (which fails if it exists)."""
     for _ in range(100):
-        tmp = os.path.join(folder, f"{prefix}{os.getpid()}.{uuid.uuid4().hex[:8]}")
+        path = os.path.join(folder, f"{prefix}{os.getpid()}.{uuid.uuid4().hex[:8]}{suffix}")
         try:
-            os.mkdir(tmp, 0o777)
-            return tmp
+            return make(path), path
         except FileExistsError:
             continue
     raise FileExistsError(errno.EEXIST, "no free temporary name", os.path.join(folder, prefix))

@@ -432,10 +432,10 @@ def read_records(path: str | os.PathLike[str], *, on_error: str = "raise") -> li
             warnings.warn(UnreadableRecord(name, str(exc)), stacklevel=3)
             return None
 
-    def read_all(out: list[Record | None], total: int, what: str) -> list[Record]:
+    def read_all(out: list[Record | None], what: str) -> list[Record]:
         got = [r for r in out if r is not None]
         if not got and unread:
-            raise DataError(f"{p}: none of its {total} {what} could be read: {unread[0]}")
+            raise DataError(f"{p}: none of its {len(out)} {what} could be read: {unread[0]}")
         return got
 
     if os.path.isdir(p):
@@ -469,7 +469,7 @@ def read_records(path: str | os.PathLike[str], *, on_error: str = "raise") -> li
                     UserWarning,
                     stacklevel=2,
                 )
-            return read_all(out, len(out), "indexed records")
+            return read_all(out, "indexed records")
         if not files:
             raise DataError(f"{p}: no .csv, .tsv or .txt records in the folder")
         out = []
@@ -480,7 +480,7 @@ def read_records(path: str | os.PathLike[str], *, on_error: str = "raise") -> li
                 warnings.warn(f"not a record, skipped: {exc}", UserWarning, stacklevel=2)
         if not out:
             raise DataError(f"{p}: none of its {len(files)} .csv, .tsv or .txt files is a record")
-        return read_all(out, len(out), "records")
+        return read_all(out, "records")
     if not os.path.isfile(p):
         raise DataError(f"{p}: no such file or folder")
     check_file(p, MAX_BYTES)
@@ -495,7 +495,7 @@ def read_records(path: str | os.PathLike[str], *, on_error: str = "raise") -> li
     out = []
     for name, part in df.groupby("record", sort=False):
         out.append(attempt(str(name), partial(_table_record, part, units, meta, str(name), p)))
-    return read_all(out, len(out), "records")
+    return read_all(out, "records")
 
 
 def _table_record(

@@ -433,10 +433,8 @@ class TabulatedDimensionlessLaw(DimensionlessLaw):
             return None
         return (
             f"the Hopf point at nu = {nu:.6g} (v0 = {format_speed(nu / self.beta)}) lies on a row of the "
-            "table: "
-            "pchip puts an extremum (minimum or maximum) of the friction coefficient on the row nearest "
-            "to it, so the point is "
-            "only as good as the rows' spacing, and its type ("
+            "table: pchip puts an extremum (minimum or maximum) of the friction coefficient on the row "
+            "nearest to it, so the point is only as good as the rows' spacing, and its type ("
             f"{criticality}, from the jump of mu'' at the row) belongs to the interpolant, not "
             "necessarily to the friction; for a smooth, dense table use interpolation='cubic' "
             "(--interpolation cubic)"
