@@ -180,6 +180,62 @@ def pure_slip_orbit_reference(
     return RefOrbit(s0 - s_min, period, s0, w_min, math.exp(-float(run.y[2, -1])))
 
 
+def unstable_orbit_reference(
+    f: Callable[[float], float], df: Callable[[float], float], nu: float, s0: float, method: str = "DOP853"
+) -> tuple[RefOrbit, float]:
+    """A very unstable pure-slip orbit by plain SciPy: the fixed point of the backward return map.
+
+    Forward shooting cannot converge on an orbit whose multiplier is 1e20 (the error grows by
+    that much in a period); backward in time the orbit attracts as strongly. From ``(s0, w =
+    nu)`` the reversed flow is integrated (``solve_ivp``, DOP853 or ``method``: the backward flow
+    of an orbit with multiplier exp(5000) is stiff) to the next point where it
+    crosses ``w = nu`` as the forward flow does at the spring force's maximum, until the map
+    moves ``s`` by less than 1e-11. The amplitude comes from the crossing of ``w = nu`` the
+    other way (the minimum of ``s``), the smallest velocity from the turns of ``w``, and
+    the log of the multiplier, returned with the orbit, from minus the integral of ``f'(w)``
+    over the period (the multiplier itself overflows; ``multiplier`` is then inf).
+    """
+
+    def rhs(_t: float, y: np.ndarray) -> list[float]:
+        return [y[1] - nu, f(y[1]) - y[0], df(y[1])]
+
+    def at_max(_t: float, y: np.ndarray) -> float:  # forward: w crosses nu upward
+        return y[1] - nu
+
+    def at_min(_t: float, y: np.ndarray) -> float:  # forward: w crosses nu downward
+        return y[1] - nu
+
+    def w_turn(_t: float, y: np.ndarray) -> float:
+        return y[0] - f(y[1])
+
+    at_max.direction, at_min.direction = -1, 1  # type: ignore[attr-defined]
+    at_max.terminal = 2  # type: ignore[attr-defined]  # (the start may count as the first)
+    s, period = s0, math.nan
+    for _ in range(20):
+        run = solve_ivp(
+            rhs, (0.0, 1e4), [s, nu, 0.0], method=method, rtol=1e-12, atol=1e-15,
+            events=[at_max, at_min, w_turn], dense_output=True,
+        )  # fmt: skip
+        times = run.t_events[0][run.t_events[0] > 1e-9]
+        if times.size == 0:
+            raise RuntimeError("the backward flow did not come back to w = nu")
+        period = float(times[0])
+        end = run.sol(period)
+        done = abs(end[0] - s) < 1e-11 * max(1.0, abs(s))  # the flow's noise across the rows
+        s_next = float(end[0])
+        if done:
+            break
+        s = s_next
+    else:
+        raise RuntimeError("the backward return map did not converge")
+    t_min = run.t_events[1][(run.t_events[1] > 0) & (run.t_events[1] < period)]
+    turns = run.t_events[2][(run.t_events[2] > 0) & (run.t_events[2] < period)]
+    s_min = float(run.sol(t_min[0])[0])
+    w_min = min(float(run.sol(t)[1]) for t in turns)
+    log_m = -float(end[2])
+    return RefOrbit(s - s_min, period, s, w_min, math.exp(log_m) if log_m < 709.0 else math.inf), log_m
+
+
 def cubic_orbit_reference(nu: float, alpha: float, gamma: float) -> RefOrbit:
     """The pure-slip orbit of the cubic law ``1 - alpha w + gamma w**3``, from the averaging guess."""
     a2 = 4.0 * (alpha - 3.0 * gamma * nu * nu) / (3.0 * gamma)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import xarray as xr
 from click.testing import CliRunner
-from reference import forward_branch, pure_slip_orbit_reference, reference_cycle
+from reference import forward_branch, pure_slip_orbit_reference, reference_cycle, unstable_orbit_reference
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
@@ -444,9 +444,10 @@ def test_a_hopf_point_on_a_table_row_starts_its_branch() -> None:
     by J there) got no pure-slip branch at all: the first orbits were guessed from the cubic
     averaging formula, Newton failed, and the branch was dropped without a word. Near a kink the
     small cycle grows linearly, f'(nu) = -2 J a / (3 pi); started there, the branch is followed
-    (in scaled coordinates: in (A, T, nu) the period took every step) until the orbit is too
-    unstable to shoot (multiplier 3200), and a note says where. Its orbits agree with plain SciPy
-    shooting, and the intervals do not rest on it."""
+    (in scaled coordinates: in (A, T, nu) the period took every step). Forward shooting then lost
+    it at multiplier 3200 (a note said where); shot backward in time where unstable, it is now
+    followed to its grazing at the stick-slip onset. Its orbits agree with plain SciPy shooting
+    (forward where that can converge, a backward return map beyond)."""
     from stickslip import PhysicalParameters, TabulatedLaw
     from stickslip.units import Q_
 
@@ -483,8 +484,33 @@ def test_a_hopf_point_on_a_table_row_starts_its_branch() -> None:
     assert ref.amplitude == pytest.approx(b.amplitude[k], rel=1e-7)
     assert ref.period == pytest.approx(b.period[k], rel=1e-8)
     assert ref.multiplier == pytest.approx(b.multiplier[k], rel=1e-5)
-    assert any(f"born at the Hopf point nu = {h.nu:.8g} were followed to nu" in n for n in d.notes)
+    # followed to its end (it was lost at multiplier 3200, where forward shooting multiplied the
+    # flow's error by as much): shot backward in time, the unstable orbit grazes where stick-slip
+    # ends, the basin boundary of the whole bistable interval
+    assert not any("were followed to nu" in n for n in d.notes)
     assert [iv.regime for iv in d.intervals] == ["stick-slip", "bistable", "steady-sliding"]
+    assert b.end == "grazing"
+    (onset,) = [p for p in d.points if p.kind == "stick-slip-onset"]
+    (grazing,) = [p for p in d.points if p.kind == "grazing"]
+    assert abs(grazing.nu - onset.nu) < 1e-7 and onset.nu == d.intervals[1].nu_max
+    assert grazing.amplitude == pytest.approx(onset.amplitude, rel=1e-6)
+    assert b.log_multiplier is not None and b.log_multiplier.max() > 5000.0
+    assert np.all(np.isinf(b.multiplier[b.log_multiplier > 710.0]))
+    # orbits far too unstable for SciPy's forward shooting, against SciPy's backward return map:
+    # one of multiplier exp(46), one of exp(5858) (stiff backward: LSODA)
+    for log_m, nu, method in ((46.0, None, "DOP853"), (None, 0.003, "LSODA")):
+        k = int(np.argmin(np.abs(b.log_multiplier - log_m) if nu is None else np.abs(b.nu - nu)))
+        ref, ref_log_m = unstable_orbit_reference(
+            lambda w: float(law.at(w)),
+            lambda w: float(law.at(w, 1)),
+            float(b.nu[k]),
+            float(b.max_force[k]) + 1e-3,  # a start off the orbit
+            method=method,
+        )
+        assert ref.amplitude == pytest.approx(b.amplitude[k], rel=1e-7)
+        assert ref.period == pytest.approx(b.period[k], rel=1e-7)
+        assert ref.w_min == pytest.approx(b.min_velocity[k], rel=1e-7)
+        assert ref_log_m == pytest.approx(b.log_multiplier[k], rel=1e-7)
 
 
 def test_a_map_cell_on_a_supercritical_hopf_point_is_steady_sliding() -> None:

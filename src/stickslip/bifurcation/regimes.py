@@ -101,6 +101,11 @@ class Branch:
     end : str
         Why the branch stops: ``range``, ``grazing``, ``hopf``, ``period`` (blow-up),
         ``points`` (budget), ``failed`` (Newton could not continue).
+    log_multiplier : ndarray or None
+        Pure slip: the natural log of the multiplier, ``-integral of f'(w)`` over the
+        period. An unstable orbit is followed by shooting backward in time however
+        unstable it is, and its multiplier can pass the floats' 1.8e308 (``multiplier``
+        is then inf; this is not). None for the other kinds.
 
     """
 
@@ -113,6 +118,7 @@ class Branch:
     multiplier: np.ndarray
     stable: np.ndarray
     end: str
+    log_multiplier: np.ndarray | None = None
 
     def as_dict(self) -> dict[str, Any]:
         """Return a JSON-ready dictionary."""
@@ -126,6 +132,11 @@ class Branch:
             "max_force": json_clean(self.max_force.tolist()),
             "multiplier": json_clean(self.multiplier.tolist()),
             "stable": [bool(b) for b in self.stable],
+            **(
+                {}
+                if self.log_multiplier is None
+                else {"log_multiplier": json_clean(self.log_multiplier.tolist())}
+            ),
         }
 
 
@@ -318,12 +329,22 @@ class _Scaled:
 
 
 class _Shooter:
-    """Residual and Jacobian of the periodic-orbit equations in ``x = (A, T, nu)``."""
+    """Residual and Jacobian of the periodic-orbit equations in ``x = (A, T, nu)``.
+
+    With ``reverse`` the period is integrated backward in time from the orbit's spring-force
+    maximum: the same orbit, the same unknowns, but an unstable orbit contracts under the
+    backward flow. Forward shooting of an orbit with multiplier ``m`` amplifies the
+    integration's error by ``m`` (and a pchip table's 1e-10 to 1e-8 across its rows): the
+    unstable branch of a table's subcritical Hopf point was lost at ``m = 3200``; backward
+    shooting follows it through multipliers of ``exp(5000)`` to its grazing at the
+    stick-slip onset. The continuation shoots backward wherever the last orbit was unstable.
+    """
 
     def __init__(self, law: DimensionlessLaw, rtol: float) -> None:
         self.law = law
         self.kernel, self.lp = law_arrays(law)
         self.rtol = rtol
+        self.reverse = False
 
     def f(self, nu: float, order: int = 0) -> float:
         return self.law.at(nu, order)
@@ -345,7 +366,16 @@ class _Shooter:
             raise RuntimeError(f"continuation left the domain (nu={nu!r}, period={period!r})")
         # inside Newton's loop: values of our own, checked just above
         fl = run_flow(
-            self.kernel, self.lp, nu, s0, nu, period, rtol=self.rtol, measure=measure, checked=False
+            self.kernel,
+            self.lp,
+            nu,
+            s0,
+            nu,
+            period,
+            rtol=self.rtol,
+            measure=measure,
+            checked=False,
+            reverse=self.reverse,
         )
         y = fl.state
         g = np.array([y[0] - s0, y[1] - nu])
@@ -353,14 +383,18 @@ class _Shooter:
         d0 = np.array([self.f(nu, 1), 1.0])  # d(s0, w0)/d nu
         j = np.empty((2, 3))
         j[:, 0] = phi[:, 0] - np.array([1.0, 0.0])
-        j[:, 1] = [nu - y[1], y[0] - self.f(y[1])]
+        # d/dT of the end point: the vector field there, negative backward
+        j[:, 1] = np.array([nu - y[1], y[0] - self.f(y[1])]) * (-1.0 if self.reverse else 1.0)
         j[:, 2] = phi @ d0 + fl.d_nu - d0
         meas = {}
         if measure:
+            log_m = -fl.integral_dfdw
             meas = {
                 "amplitude": s0 - fl.s_min,
                 "min_velocity": fl.w_min,
-                "multiplier": math.exp(-fl.integral_dfdw),
+                # beyond the floats (an orbit backward shooting still follows): infinite
+                "multiplier": math.exp(log_m) if log_m < 709.0 else math.inf,
+                "log_multiplier": log_m,
             }
         return g, j, meas
 
@@ -375,11 +409,16 @@ def _newton(
 
     Where the residual stagnates above ``tol`` (the integration's own noise: across
     a pchip table's rows, where ``f''`` jumps, the flow is good to 1e-10 to 1e-8
-    however small its tolerance), the best iterate within ``1e3 tol`` is taken once
-    Newton no longer moves it by more than ``1e4 tol``; the count returned is the
-    iteration that first came that close.
+    however small its tolerance), Newton stops at the noise floor: once the residual is
+    within ``1e3 tol`` and the correction no longer shrinks (more than half the last one)
+    or is below ``tol``, the iterate is taken, with its count. Wandering in the noise for
+    the remaining iterations would have the continuation read the count as a hard step
+    and shorten the next one (a table's unstable branch took steps of 1e-7 so). Failing
+    that, the best iterate within ``1e3 tol`` that Newton moved by less than ``1e4 tol``
+    is taken, with the count of the iteration that first came that close.
     """
     best: tuple[float, np.ndarray, int] | None = None
+    dn_last = math.inf
     for it in range(1, max_iter + 1):
         try:
             g, j = fun(x)
@@ -394,7 +433,10 @@ def _newton(
         gn, dn = float(np.linalg.norm(g)), float(np.linalg.norm(dx))
         if gn < 1e3 * tol and dn < 1e4 * tol and (best is None or gn < best[0]):
             best = (gn, x.copy(), it if best is None else best[2])
+        if gn < 1e3 * tol and (dn < tol or (dn < 1e4 * tol and dn > 0.5 * dn_last)):
+            return (x + dx if gn < tol or dn < tol else x), it
         x = x + dx
+        dn_last = dn
         if gn < tol and dn < 1e3 * tol:
             return x, it
         if not np.all(np.isfinite(x)) or x[1] <= 0:
@@ -485,6 +527,7 @@ def continue_pure_slip(
     meas = [sh.measure(xs[0])]
     _, j_last, m_last = sh.evaluate(xs[1], measure=True)
     meas.append(m_last)
+    shooter.reverse = m_last["multiplier"] > 1.0  # unstable: shoot backward (see _Shooter)
     tangent = _null_vector(j_last)
     if np.dot(tangent, xs[1] - xs[0]) < 0:
         tangent = -tangent
@@ -557,6 +600,7 @@ def continue_pure_slip(
             t_new = -t_new
         pts.append(xn)
         meas.append(m)
+        shooter.reverse = m["multiplier"] > 1.0
         if t_new[2] * tangent[2] < 0:  # nu turned back: a fold of cycles between the last points
             fold = _refine_fold(sh, pts[-3:], tol)
             if fold is None:  # the quadratic through the three points (to the step's resolution)
@@ -588,6 +632,7 @@ def continue_pure_slip(
         multiplier=mult,
         stable=mult < 1.0,
         end=end,
+        log_multiplier=np.array([m["log_multiplier"] for m in meas]),
     )
     return branch, special
 
@@ -704,7 +749,7 @@ def _fold(pts: Sequence[np.ndarray], meas: Sequence[dict[str, float]]) -> Specia
 
 def _empty_branch(end: str) -> Branch:
     e = np.empty(0)
-    return Branch("pure-slip", e, e, e, e, e, e, np.empty(0, dtype=bool), end)
+    return Branch("pure-slip", e, e, e, e, e, e, np.empty(0, dtype=bool), end, e)
 
 
 # ----------------------------------------------------------------------------- stick slip
@@ -946,8 +991,8 @@ def _cut_short(h: Hopf, b: Branch) -> str:
     return (
         f"the pure-slip orbits born at the Hopf point nu = {h.nu:.8g} were followed to nu = "
         f"{b.nu[-1]:.8g} only (amplitude {b.amplitude[-1]:.4g}, multiplier {b.multiplier[-1]:.4g}): "
-        "shooting cannot converge on an orbit this unstable; the figure draws the branch that far "
-        "(the intervals come from the attractors, not from this branch)"
+        "Newton's method found no orbit beyond at any step length; the figure draws the branch "
+        "that far (the intervals come from the attractors, not from this branch)"
     )
 
 

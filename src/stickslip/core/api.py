@@ -486,6 +486,7 @@ def run_flow(
     measure: bool = False,
     max_steps: int = 200_000,
     checked: bool = True,
+    reverse: bool = False,
 ) -> FlowResult:
     """Integrate the forward slip flow and its variational equations over ``[0, period]``.
 
@@ -507,6 +508,13 @@ def run_flow(
         Check every argument (default). An inner loop that calls this hundreds of
         times with values it made itself (Newton iterations) may skip the checks;
         ``lp`` must then be a float array of length ``N_LAW_PARAMS``.
+    reverse : bool, optional
+        Integrate backward in time, over ``[-period, 0]`` (the slip still forward: ``w > 0``).
+        An unstable orbit is a stable one of the backward flow: shooting it so is as
+        well-conditioned as shooting a stable orbit forward. The result's monodromy and
+        ``d_nu`` are then those of the backward flow; its ``integral_dfdw`` is still the
+        integral of ``f'(w)`` over the orbit's forward time, and ``s_min`` the spring force
+        where ``w`` crosses ``nu`` downward in forward time.
 
     Raises
     ------
@@ -531,7 +539,10 @@ def run_flow(
     y[0], y[1], y[2], y[5] = s0, w0, 1.0, 1.0
     kv = np.empty((12, 7))
     extras = np.zeros(va.NX)
-    va.flow_variational(kernel.law_id, lp_a, nu, y, period, rtol, rtol * 1e-2, max_steps, measure, kv, extras)
+    direction = -1.0 if reverse else 1.0
+    va.flow_variational(
+        kernel.law_id, lp_a, nu, y, period, rtol, rtol * 1e-2, max_steps, measure, direction, kv, extras
+    )
     if extras[va.X_STATUS] != va.VS_OK:
         why = (
             "the step budget ran out"
@@ -539,6 +550,8 @@ def run_flow(
             else "the state became non-finite"
         )
         raise RuntimeError(f"slip flow from (s, w) = ({s0:.6g}, {w0:.6g}) over tau = {period:.6g}: {why}")
+    if reverse:
+        y[8] = -y[8]  # the integral over the forward-time interval
     return FlowResult(y, extras)
 
 

@@ -80,12 +80,16 @@ def _var_stages(law, lp, y, h, kw, KV):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def flow_variational(law, lp, nu, y, T, rtol, atol, max_steps, measure, KV, extras):  # type: ignore[no-untyped-def]
-    """Integrate ``y`` (length ``NVAR``, updated in place) from ``tau = 0`` to ``T``.
+def flow_variational(law, lp, nu, y, T, rtol, atol, max_steps, measure, direction, KV, extras):  # type: ignore[no-untyped-def]
+    """Integrate ``y`` (length ``NVAR``, updated in place) from ``tau = 0`` to ``direction * T``.
 
-    ``measure`` asks for the dense-output measurements in ``extras``
-    (``X_S_MIN``, ``X_W_MIN``, ``X_W_MAX``); ``extras[X_STEPS]`` and
-    ``extras[X_STATUS]`` are always set.
+    ``direction`` is +1.0 (forward) or -1.0 (backward in time: the flow of an unstable
+    orbit contracts onto it, so that shooting it is as well-conditioned as shooting a
+    stable one forward; the variational components then hold the backward flow's
+    derivatives and ``y[8]`` minus the integral of ``f'`` over the forward-time
+    interval). ``measure`` asks for the dense-output measurements in ``extras``
+    (``X_S_MIN``: the spring force where ``w`` crosses ``nu`` downward in forward time,
+    ``X_W_MIN``, ``X_W_MAX``); ``extras[X_STEPS]`` and ``extras[X_STATUS]`` are always set.
     """
     P = params(lp)
     # forward slip, as the integer direction of the one-block engine (1 + 0 * law: not a
@@ -110,7 +114,8 @@ def flow_variational(law, lp, nu, y, T, rtol, atol, max_steps, measure, KV, extr
         if t + h >= T:
             h = T - t
             last = True
-        err, s1, w1, ks, kw = step_sw(law, P, nu, fwd, s, w, ks0, kw0, h, rtol, atol)
+        hd = direction * h
+        err, s1, w1, ks, kw = step_sw(law, P, nu, fwd, s, w, ks0, kw0, hd, rtol, atol)
         n += 1
         if not (math.isfinite(err) and math.isfinite(s1) and math.isfinite(w1)):
             if h < 1e-14:
@@ -121,20 +126,19 @@ def flow_variational(law, lp, nu, y, T, rtol, atol, max_steps, measure, KV, extr
         if err > 1.0:
             h *= max(MIN_FACTOR, SAFETY * err ** (-1.0 / 8.0))
             continue
-        _var_stages(law, lp, y, h, kw, KV)
+        _var_stages(law, lp, y, hd, kw, KV)
         for i in range(7):
             acc = 0.0
             for j in range(12):
                 acc += B[j] * KV[j, i]
-            y[2 + i] += h * acc
+            y[2 + i] += hd * acc
         if measure:
-            if (
-                (w - nu > 0.0 and w1 - nu <= 0.0)
-                or (kw[0] < 0.0 and kw[12] >= 0.0)
-                or (kw[0] > 0.0 and kw[12] <= 0.0)
-            ):
-                cs, cw, _ksx, _kwx = dense_sw(law, P, nu, fwd, s, w, s1, w1, h, ks, kw)
-                if w - nu > 0.0 and w1 - nu <= 0.0:
+            # w crosses nu downward in forward time: from above to below along a forward
+            # step, from below to above along a backward one
+            down = (w - nu > 0.0 and w1 - nu <= 0.0) if direction > 0.0 else (w - nu < 0.0 and w1 - nu >= 0.0)
+            if down or (kw[0] < 0.0 and kw[12] >= 0.0) or (kw[0] > 0.0 and kw[12] <= 0.0):
+                cs, cw, _ksx, _kwx = dense_sw(law, P, nu, fwd, s, w, s1, w1, hd, ks, kw)
+                if down:
                     x = illinois_sw(law, P, fwd, cs, s, cw, w, LEVEL + 0 * law, nu, 0.0, w - nu, 1.0, w1 - nu)
                     sv = poly7(cs, s, x)
                     if not (extras[X_S_MIN] <= sv):
@@ -204,7 +208,9 @@ def _newton_step(law, lp, nu, s0, period, rtol, max_steps, y, kv, extras):  # ty
     """Integrate one period from ``(s0, nu)``; return ``(ok, residual, ds0, dT)`` of one Newton step."""
     _start(y, s0, nu)
     # law < 0 is False (law ids are not negative) but not a literal: one specialization for every caller
-    flow_variational(law, lp, nu, y, period, rtol, rtol * 1e-2, max_steps, law < 0, kv, extras)
+    flow_variational(
+        law, lp, nu, y, period, rtol, rtol * 1e-2, max_steps, law < 0, 1.0 + 0.0 * law, kv, extras
+    )
     if extras[X_STATUS] != VS_OK:
         return False, math.nan, math.nan, math.nan
     g0 = y[0] - s0
@@ -283,7 +289,9 @@ def shoot(law, lp, nu, s0, period, tol, max_iter, max_steps, out):  # type: igno
         out[SH_STATUS] = SHOOT_TRIVIAL
         return
     _start(y, s0, nu)
-    flow_variational(law, lp, nu, y, period, fine, fine * 1e-2, max_steps, law >= 0, kv, extras)  # True
+    flow_variational(
+        law, lp, nu, y, period, fine, fine * 1e-2, max_steps, law >= 0, 1.0 + 0.0 * law, kv, extras
+    )
     if extras[X_STATUS] != VS_OK:
         out[SH_STATUS] = SHOOT_FLOW_FAILED
         return
