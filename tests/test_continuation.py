@@ -12,7 +12,7 @@ from reference import forward_branch, pure_slip_orbit_reference, reference_cycle
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from stickslip import CoulombLaw, CubicLaw, DimensionlessParameters, WeakeningLaw
+from stickslip import CoulombLaw, CubicLaw, DimensionlessParameters, WeakeningLaw, cycle
 from stickslip.bifurcation.averaging import averaging_table, thomsen_fidlin
 from stickslip.bifurcation.orbits import law_arrays, pure_slip_orbit, saltation, stick_slip_orbit
 from stickslip.bifurcation.regime_map import criterion_table, criterion_trial, regime_map
@@ -412,6 +412,22 @@ def test_pure_slip_orbit_from_branch_guess_matches_direct(cubic_diagram) -> None
     (o,) = pure_slip_orbits_at(cubic_diagram, 0.97)
     direct = pure_slip_orbit(DimensionlessParameters(nu=0.97, law=CUBIC))
     assert o.amplitude == pytest.approx(direct.amplitude, rel=1e-8)
+
+
+@pytest.mark.parametrize(
+    ("c", "nu", "exact"),
+    [(38.547360389217516, 5.568813990945273, 0.6014472250591165), (50.0, 10.0, 0.8556683749985649)],
+)
+def test_the_slip_reversal_multiplier_is_the_variational_one(c: float, nu: float, exact: float) -> None:
+    """Regression (sweep audit, helper-36, MEDIUM): a slip-reversal orbit's multiplier came from
+    one central difference of the return map at h = 1e-5 and was off by 3.4e-7 and 1.9e-7 here,
+    whatever the tolerance. The exact values come from the audit's independent reference (SciPy
+    DOP853 at rtol 1e-13, the variational equations with the saltation matrices at the crossings
+    of w = 0: det of the monodromy; two reversals a period). Extrapolated: within 1e-8."""
+    r = cycle(DimensionlessParameters(nu=nu, law=WeakeningLaw(c=c)), probe=False)
+    assert r.regime.value == "pure-slip" and r.backward_slips > 0
+    assert r.multiplier == pytest.approx(exact, abs=1e-8)
+    assert abs(r.multiplier - exact) < 0.1 * 1.9e-7  # the old error, tenfold smaller at least
 
 
 def test_slip_reversal_is_an_attractor_of_its_own() -> None:
