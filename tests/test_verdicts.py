@@ -213,3 +213,42 @@ def test_the_bifurcation_legend_names_each_kind_once() -> None:
     # a physical set-up's driving velocity on the top axis
     top = plot_bifurcation(d, beta=42.0).axes[0].child_axes
     assert len(top) == 1 and top[0].get_xlabel() == "driving velocity $v_0$ [mm/s]"
+
+
+def test_a_stable_orbit_that_a_tables_noise_keeps_from_1e10_is_still_an_attractor() -> None:
+    """Regression (sweep audit, helper-36, HIGH): the weakening law sampled as a 41-row pchip
+    table. Its small stable pure-slip orbits (multiplier 0.97 to 0.998) could not be shot to
+    1e-10 (the flow is good to 1e-10 to 1e-8 across the rows, and 1 / (1 - multiplier)
+    multiplies that), so they were dropped: `cycle` at nu = 0.674 found two attractors and one
+    ulp either side one; `regimes` said stick-slip alone below the Hopf point (and `--check`
+    confirmed it). Now shot again at the noise floor, they are kept; their multipliers agree
+    with plain SciPy shooting and with the audit's independent reference (0.971187)."""
+    import numpy as np
+    from reference import pure_slip_orbit_reference
+
+    from stickslip import TabulatedLaw
+    from stickslip.units import Q_
+
+    v = np.r_[0.0, np.geomspace(10.0, 2e5, 40)]
+    w = 42.0 * v * 1e-6
+    table = TabulatedLaw(Q_(v, "um/s"), 0.46 * (1.0 / (1.0 + 3.8 * w) + 0.5 * w))
+    law = table.nondimensionalize("60 s/m")
+    for nu in (0.674, float(np.nextafter(0.674, 0.0)), float(np.nextafter(0.674, 1.0))):
+        r = cycle(DimensionlessParameters(nu, law))
+        assert [a.regime.value for a in r.attractors] == ["stick-slip", "pure-slip"], nu
+        orbit = r.attractors[1]
+        guess = (float(law.at(nu)) + 0.5 * orbit.amplitude, orbit.period)  # (s at w = nu, T)
+        ref = pure_slip_orbit_reference(lambda x: float(law.at(x)), lambda x: float(law.at(x, 1)), nu, guess)
+        assert orbit.multiplier == pytest.approx(ref.multiplier, abs=1e-5)
+        assert orbit.multiplier == pytest.approx(0.971187, abs=1e-5)
+        assert orbit.amplitude == pytest.approx(ref.amplitude, rel=1e-6)
+    # at beta 30 the small orbit lives between the fold and the Hopf point (on a row)
+    law = table.nondimensionalize("30 s/m")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the Hopf point on a row
+        d = regimes(law, 0.1, 1.5, n_grid=101)
+    (h,) = d.hopf
+    below = d.regime_at(h.nu * (1.0 - 1e-4))
+    assert below.regime.value == "bistable" and below.nu_max == h.nu
+    assert {a.value for a in below.attractors} == {"stick-slip", "pure-slip"}
+    assert all(c.agree for c in confirm(d))

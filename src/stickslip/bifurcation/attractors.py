@@ -43,6 +43,8 @@ __all__ = ["SAME_ORBIT_RTOL", "SHOOTING_TOL", "OrbitKey", "orbit_key", "polish_r
 
 #: tolerance of the periodicity residual when polishing (the flow runs at 1/100 of it)
 SHOOTING_TOL = 1e-10
+#: the next tries where the flow's noise keeps Newton from SHOOTING_TOL (see polish_rows)
+SHOOTING_TOLS_NOISY = (1e-9, 3e-9, 1e-8)
 #: relative distance under which two orbits of one kind are the same attractor
 SAME_ORBIT_RTOL = 1e-6
 
@@ -158,7 +160,11 @@ def polish_rows(
         next to a Hopf point). Rows that could not be
         polished, or whose orbit's estimated error exceeds
         :data:`~stickslip.defaults.ORBIT_RTOL` (so close to a Hopf point that the
-        orbit is ill-conditioned), have status ``not-converged``.
+        orbit is ill-conditioned), have status ``not-converged``; but a stable orbit that
+        Newton cannot pin down to ``SHOOTING_TOL`` because the flow is noisier (a pchip
+        table's rows) is shot again at :data:`SHOOTING_TOLS_NOISY` and kept when it is
+        stable and next to the motion's own: it is an attractor, known to that noise only
+        (a few 1e-5 of the amplitude of a table's orbit of multiplier 0.998).
     multiplier : ndarray, shape (n,)
         Nontrivial Floquet multiplier: 0 for stick-slip, NaN for steady sliding and
         where unknown.
@@ -184,6 +190,30 @@ def polish_rows(
         idx = np.flatnonzero(pure)
         sh = run_shooting(kernel, lp[idx], nu[idx], rows.s_max[idx], rows.period[idx], tol=SHOOTING_TOL)
         good = _accurate(sh)
+        # a stable orbit that Newton cannot pin down to 1e-10 because the flow itself is noisier
+        # (a pchip table: 1e-10 to 1e-8 across its rows, times 1 / (1 - multiplier)) is still an
+        # attractor: it is shot again at SHOOTING_TOLS_NOISY, and the first stable orbit found
+        # next to the motion's own (1e-3) is kept. One ulp of nu dropped it from `cycle`, and a
+        # band of a table's map read stick-slip alone (the sweep audit, helper-36)
+        for tol in SHOOTING_TOLS_NOISY:
+            retry = np.flatnonzero(
+                ((sh.status != ShootStatus.OK.code) & (sh.status != ShootStatus.TRIVIAL.code)) | ~good
+            )
+            if not retry.size:
+                break
+            k = idx[retry]
+            again = run_shooting(kernel, lp[k], nu[k], rows.s_max[k], rows.period[k], tol=tol)
+            near = (np.abs(again.s0 - rows.s_max[k]) <= 1e-3 * np.maximum(1.0, np.abs(rows.s_max[k]))) & (
+                np.abs(again.period - rows.period[k]) <= 1e-3 * rows.period[k]
+            )
+            for j, r in enumerate(retry):
+                if (
+                    again.status[j] == ShootStatus.OK.code
+                    and abs(again.divergence_multiplier[j]) < 1.0
+                    and near[j]
+                ):
+                    sh.raw[r] = again.raw[j]
+                    good[r] = True
         for j, i in enumerate(idx):
             status = ShootStatus.from_code(sh.status[j])
             if status == ShootStatus.TRIVIAL and rows.dfnu[i] > 0.0:
