@@ -46,7 +46,13 @@ def _exit_on_sigterm(ctx: click.Context) -> None:
 
 
 def _terminated(signum: int, frame: Any) -> None:
-    click.echo("stickslip: stopped by SIGTERM (an interrupted chain goes on with --resume)", err=True)
+    # the same advice as Ctrl-C's: a sweep or map goes on with --store, a chain with --resume
+    # (it named the chain's alone, on a sweep too: the scale audit, helper-36)
+    click.echo(
+        "stickslip: stopped by SIGTERM (the same command with --store, or a chain's with --resume, "
+        "goes on where it stopped)",
+        err=True,
+    )
     raise SystemExit(128 + signum)
 
 

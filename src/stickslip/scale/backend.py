@@ -24,6 +24,7 @@ import logging
 import os
 import time
 from collections.abc import Callable, Mapping
+from concurrent.futures import CancelledError
 from dataclasses import dataclass
 from typing import Any
 
@@ -238,6 +239,39 @@ def _block_task(
     return block.index, result
 
 
+#: seconds a job waits on a cluster without workers before it stops (and says so)
+NO_WORKERS_TIMEOUT = 120.0
+
+
+def _completed(ac: Any, client: Any, backend: str) -> Any:
+    """Yield the futures of ``ac`` as they finish.
+
+    Stop with an error when the cluster has had no worker for :data:`NO_WORKERS_TIMEOUT`
+    seconds: a job on a scheduler without workers, or whose workers all died, waited without
+    a word until it was killed (the sweep audit, helper-36).
+    """
+    idle_since: float | None = None
+    checked = 0.0
+    while not ac.is_empty():
+        if ac.has_ready():
+            idle_since = None
+            yield from ac.next_batch(block=False)
+            continue
+        now = time.monotonic()
+        if now - checked >= 2.0:
+            checked = now
+            if client.nthreads():
+                idle_since = None
+            elif idle_since is None:
+                idle_since = now
+            elif now - idle_since > NO_WORKERS_TIMEOUT:
+                raise RuntimeError(
+                    f"the Dask cluster ({backend}) has had no workers for {NO_WORKERS_TIMEOUT:g} s: "
+                    "start some (dask worker ADDRESS) and run the same command again"
+                )
+        time.sleep(0.02)
+
+
 def _run_dask(
     job: Any,
     layout: Layout,
@@ -268,6 +302,11 @@ def _run_dask(
             ) from None
         own_client = True
         backend = f"dask {scheduler}"
+    # the client logs a lost connection with tracebacks at ERROR (also while it closes); the
+    # RuntimeError below says it in one line
+    client_log = logging.getLogger("distributed.client")
+    level = client_log.level
+    client_log.setLevel(logging.CRITICAL)
     try:
         threads = sum(client.nthreads().values()) or 1
         in_flight = 2 * threads + 2
@@ -292,18 +331,27 @@ def _run_dask(
             submit(block)
             if ac.count() >= in_flight:
                 break
-        for fut in ac:
-            index, result = fut.result()
-            fut.release()
-            finish(by_index[index], result)
-            nxt = next(pending, None)
-            if nxt is not None:
-                submit(nxt)
+        try:
+            for fut in _completed(ac, client, backend):
+                index, result = fut.result()
+                fut.release()
+                finish(by_index[index], result)
+                nxt = next(pending, None)
+                if nxt is not None:
+                    submit(nxt)
+        except (CancelledError, OSError, TimeoutError) as exc:  # the cluster, not the job
+            kept = "the blocks finished are kept in the store" if store is not None else "nothing is kept"
+            why = (str(exc).strip().splitlines() or [""])[0]
+            raise RuntimeError(
+                f"the Dask cluster ({backend}) was lost mid-job ({type(exc).__name__}: {why}); {kept}: "
+                "run the same command again (with --store, only the missing blocks are computed)"
+            ) from None
     finally:
         if own_client:
             client.close()
         if cluster is not None:
             cluster.close()
+        client_log.setLevel(level)
     return backend
 
 
