@@ -278,3 +278,44 @@ def test_a_record_that_starts_in_a_hold_names_where_sliding_begins(tmp_path) -> 
         fit_rate_state(rec)
     fit = fit_rate_state(rec, window=(f"{t_slide} s", f"{rec.time[-1]} s"))
     _check(fit.values, fit.errors, _truth_values(ONE))
+
+
+def test_an_inertial_record_is_fitted_with_the_mass_warning(tmp_path) -> None:
+    """Regression (rate-and-state audit, helper-35, HIGH): every record of a run with a mass put its
+    velocity change a sample late, and ratestate-fit ran away on it ('cannot be simulated at any
+    parameters tried'), so the mass warning was never seen. A 1 kg slider barely biases the fit:
+    a, b and Dc come back within 0.1 %, with the warning that quotes a mass's example."""
+    out = tmp_path / "run"
+    args = ["ratestate", "--a", "0.005", "--b", "0.01", "--dc", "10 um", "--v-ref", "1 um/s", "--mu0", "0.6"]
+    args += ["--stiffness", "1e4 N/m", "--load", "10 N", "--mass", "1 kg", "--steps", "1 um/s,10 um/s"]
+    args += ["--durations", "10 s,30 s", "--sample", "0.1 s", "--out", str(out)]
+    res = CliRunner().invoke(main, args)
+    assert res.exit_code == 0, res.output
+    res = CliRunner().invoke(main, ["ratestate-fit", str(out / "ratestate.csv"), "--json", "--no-plot"])
+    assert res.exit_code == 0, res.output
+    fit = json.loads(res.stdout)
+    for name, true in (("a", 0.005), ("b", 0.01), ("dc", 10e-6)):
+        assert fit["parameters"][name]["value"] == pytest.approx(true, rel=1e-3), name
+    (warning,) = [w for w in fit["warnings"] if "made with mass" in w]
+    assert "1 kg on 1e4 N/m" in warning and "1000 s/m" not in warning
+
+
+def test_a_record_of_a_law_the_fit_lacks_says_so(tmp_path) -> None:
+    """Regression (rate-and-state audit, helper-35, MEDIUM): a Nagata (or formula, or two-law)
+    run's record carried no '# law' line, and ratestate-fit fitted the aging law to it without a
+    word (a = 0.00161 for 0.005). The record now names its law; the fit refuses a law it lacks,
+    naming the header line, and --law still fits one on purpose."""
+    out = tmp_path / "run"
+    args = ["ratestate", "--a", "0.005", "--b", "0.01", "--dc", "10 um", "--v-ref", "1 um/s", "--mu0", "0.6"]
+    args += ["--law", "nagata", "--nagata-c", "2", "--stiffness-per-load", "1e-3 1/um"]
+    args += ["--steps", "1 um/s,10 um/s,1 um/s", "--durations", "20 s,20 s,100 s", "--out", str(out)]
+    res = CliRunner().invoke(main, args)
+    assert res.exit_code == 0, res.output
+    text = (out / "ratestate.csv").read_text()
+    assert "# law = nagata\n" in text and "# nagata_c = 2.0\n" in text
+    res = CliRunner().invoke(main, ["ratestate-fit", str(out / "ratestate.csv"), "--no-plot"])
+    assert res.exit_code == 2 and "law='nagata' (the record's '# law' line" in res.output
+    res = CliRunner().invoke(
+        main, ["ratestate-fit", str(out / "ratestate.csv"), "--no-plot", "--law", "aging"]
+    )
+    assert res.exit_code == 0, res.output

@@ -300,8 +300,13 @@ def register(main: click.Group) -> None:
             "v_ref": f"{params.v_ref.to('um/s').magnitude!r} um/s",
             "stiffness_per_load": f"{params.kw.to('1/um').magnitude!r} 1/um",
         }
-        if len(set(params.laws)) == 1 and params.laws[0] in ("aging", "slip", "prz"):
-            meta["law"] = params.laws[0]
+        # the record says which law made it, the fit's or not: a Nagata or formula law's record
+        # was written without it, and ratestate-fit fitted the aging law to it without a word
+        # (the rate-and-state audit)
+        laws = list(dict.fromkeys(params.laws))
+        meta["law"] = laws[0] if len(laws) == 1 else " + ".join(params.laws)
+        if "nagata" in laws:
+            meta["nagata_c"] = repr(float(params.nagata_c))
         # with radiation damping or a mass the spring force is not the friction: the record holds
         # what a load cell measures (the spring force / W), and says what made it
         measured = ds.friction.values

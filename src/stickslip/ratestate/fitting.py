@@ -237,8 +237,9 @@ def fit_rate_state(
     )
     law_v = str(law if law is not None else meta.get("law") or "aging")
     if law_v not in ("aging", "slip", "prz"):
+        whence = "" if law is not None else " (the record's '# law' line; --law or law= fits another anyway)"
         raise DataError(
-            f"law={law_v!r}: the fit supports 'aging', 'slip' or 'prz' (of {', '.join(STATE_LAWS)})"
+            f"law={law_v!r}{whence}: the fit supports 'aging', 'slip' or 'prz' (of {', '.join(STATE_LAWS)})"
         )
     if n_states not in (1, 2):
         raise DataError(f"n_states={n_states!r}: expected 1 or 2")
@@ -354,10 +355,13 @@ def fit_rate_state(
         return r - q_b @ qr_, np.linalg.solve(r_b, qr_)
 
     def cannot(exc: Exception, at: str) -> DataError:
+        # the integrator's advice for a run (give the slider a mass) is not the fit's to take
+        why = str(exc).split(" Give the slider a mass")[0]
         return DataError(
-            f"{record.name}: its load-point history cannot be simulated at {at} ({exc}). Check the "
-            f"units of the columns: the load point moves {x[-1]:.3g} m in {t[-1]:.3g} s, at up to "
-            f"{np.max(np.abs(v)):.3g} m/s (a velocity in um/s under a header in m/s is 1e6 times "
+            f"{record.name}: its load-point history cannot be simulated at {at} ({why}). A record "
+            "of stick-slip events or of a slider with inertia is not a quasi-static slider's. Check "
+            f"the units of the columns too: the load point moves {x[-1]:.3g} m in {t[-1]:.3g} s, at up "
+            f"to {np.max(np.abs(v)):.3g} m/s (a velocity in um/s under a header in m/s is 1e6 times "
             "faster); fit_rate_state(initial=...) takes other starting values"
         )
 
@@ -395,7 +399,8 @@ def fit_rate_state(
     try:
         m_fit = model(theta)
     except (RuntimeError, ValueError, OverflowError) as exc:
-        raise cannot(exc, "any parameters tried") from None
+        ended = ", ".join(f"{n} = {float(np.exp(val)):.3g}" for n, val in zip(names, theta, strict=True))
+        raise cannot(exc, f"the parameters the fit ended at, {ended}") from None
     r, coef = detrended(m_fit)
     dof = max(t.size - len(names) - basis.shape[1], 1)
     chi2 = float(np.sum(r**2) / sigma**2 / dof)
@@ -424,7 +429,20 @@ def fit_rate_state(
             0,
             f"the record was made with {' and '.join(unmodelled)} (its header), which the fit does not "
             "model (a quasi-static slider: spring force = friction); a, b and Dc absorb their effect "
-            "and are biased (a step from 1 to 10 um/s with 1000 s/m: a 39 % high, Dc 4 %)",
+            "and are biased ("
+            + "; ".join(
+                example
+                for key, example in (
+                    ("radiation_damping", "a step from 1 to 10 um/s with 1000 s/m: a 39 % high, Dc 4 %"),
+                    (
+                        "mass",
+                        "1 kg on 1e4 N/m and 10 N, a step from 1 to 10 um/s: a 0.05 % high; more "
+                        "for a heavier slider",
+                    ),
+                )
+                if meta.get(key)
+            )
+            + ")",
         )
     offset = float(coef[0]) if coef.size else 0.0
     trend = float(coef[1]) if coef.size > 1 else 0.0
