@@ -746,3 +746,13 @@ def test_the_healing_with_radiation_damping_is_spring_to_spring() -> None:
     )  # fmt: skip
     ds = slide_hold_slide(p, "10 um/s", ["10 s", "100 s"], sample="0.5 s")
     assert ds.peak_friction_change.values == pytest.approx([0.0148316, 0.0363487], abs=2e-7)
+
+
+def test_a_hold_without_healing_is_nan_and_said_not_a_stopped_run() -> None:
+    """Regression (rate-and-state audit, helper-35, LOW): with b = 0 a hold heals nothing, no
+    spring-force peak follows it, and the whole run stopped with an error and no output."""
+    p = params(b=0.0)
+    with pytest.warns(UserWarning, match=r"hold 0 \(10 s\): no spring-force peak on reloading"):
+        ds = slide_hold_slide(p, "10 um/s", ["10 s"])
+    assert np.isnan(ds.peak_friction_change.values).all()
+    assert np.isfinite(ds.friction.values).all()

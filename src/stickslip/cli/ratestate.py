@@ -335,6 +335,12 @@ def register(main: click.Group) -> None:
             paths = save_figure(plot_rate_state(ds), "ratestate", out=out)
         click.echo(f"wrote {path}, {csv_path} (a record ratestate-fit reads), {', '.join(paths)}")
         click.echo(f"friction from {float(ds.friction.min()):.6g} to {float(ds.friction.max()):.6g}")
+        if params.radiation_damping is not None or params.mass is not None:
+            # the record's friction column is the spring force / W (what a load cell measures)
+            sp = ds.spring_friction.values
+            click.echo(
+                f"spring force / W (the record's friction column) from {sp.min():.6g} to {sp.max():.6g}"
+            )
         if "peak_friction_change" in ds:
             for t_h, dmu in zip(ds.hold_time.values, ds.peak_friction_change.values, strict=True):
                 click.echo(f"hold {t_h:g} s: peak friction change {dmu:.6g}")
