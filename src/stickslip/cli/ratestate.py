@@ -303,9 +303,9 @@ def register(main: click.Group) -> None:
         # the record says which law made it, the fit's or not: a Nagata or formula law's record
         # was written without it, and ratestate-fit fitted the aging law to it without a word
         # (the rate-and-state audit)
-        laws = list(dict.fromkeys(params.laws))
-        meta["law"] = laws[0] if len(laws) == 1 else " + ".join(params.laws)
-        if "nagata" in laws:
+        distinct = list(dict.fromkeys(params.laws))
+        meta["law"] = distinct[0] if len(distinct) == 1 else " + ".join(params.laws)
+        if "nagata" in distinct:
             meta["nagata_c"] = repr(float(params.nagata_c))
         # with radiation damping or a mass the spring force is not the friction: the record holds
         # what a load cell measures (the spring force / W), and says what made it
