@@ -756,3 +756,20 @@ def test_a_hold_without_healing_is_nan_and_said_not_a_stopped_run() -> None:
         ds = slide_hold_slide(p, "10 um/s", ["10 s"])
     assert np.isnan(ds.peak_friction_change.values).all()
     assert np.isfinite(ds.friction.values).all()
+
+
+def test_an_inertial_start_on_steady_sliding_has_no_rounding_level_velocity_peaks() -> None:
+    """Regression (rate-and-state audit, helper-35, LOW): on settled steady sliding the slip
+    velocity's rounding-level wiggles were reported as maxima (v = 1.0000000000e-4 at 0.011 s and
+    later), as the spring force's were before. The first maximum is the step's, at 6.5003341757e-3
+    m/s in the audit's independent SciPy reference (rtol 1e-12)."""
+    p = RateStateParameters(
+        a=0.005, b=0.01, dc="10 um", v_ref="1 um/s", mu0=0.6, stiffness="1e4 N/m", load="10 N",
+        mass="0.1 kg", state_law="slip",
+    )  # fmt: skip
+    ds = velocity_steps(
+        p, ["100 um/s", "1000 um/s", "100 um/s"], durations=["0.5 s", "0.5 s", "1 s"], sample="0.01 s"
+    )
+    assert ds.velocity_peak_time.values.min() > 0.5
+    assert ds.velocity_peak.values[0] == pytest.approx(6.5003341757e-3, rel=1e-9)
+    assert ds.velocity_peak_time.values[0] == pytest.approx(0.5228265683, abs=1e-8)
