@@ -773,3 +773,16 @@ def test_an_inertial_start_on_steady_sliding_has_no_rounding_level_velocity_peak
     assert ds.velocity_peak_time.values.min() > 0.5
     assert ds.velocity_peak.values[0] == pytest.approx(6.5003341757e-3, rel=1e-9)
     assert ds.velocity_peak_time.values[0] == pytest.approx(0.5228265683, abs=1e-8)
+
+
+def test_a_formula_laws_runaway_is_called_a_runaway() -> None:
+    """Regression (rate-and-state audit, helper-35, LOW): the PRZ law written as a formula ran away
+    after a 100 s hold, and the run stopped with 'the step size fell below the precision of t'
+    (the built-in PRZ law says runaway). The slider was at 6.5 m/s, rising; the audit's SciPy
+    reference passes 10 m/s at 150.5829 s."""
+    from stickslip.ratestate.protocols import RateStateStopped
+
+    p = params(a=0.005, b=0.01, state_law="1 - (v*phi/dc)**2", stiffness_per_load="1e-2 1/um")
+    with pytest.raises(RateStateStopped, match=r"at t = 150\.58\d s the slip velocity passed") as info:
+        slide_hold_slide(p, "10 um/s", ["10 s", "100 s"])
+    assert info.value.reason == "runaway"
