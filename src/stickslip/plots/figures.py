@@ -277,7 +277,10 @@ def plot_rate_state_fit(fit: Any) -> Figure:
     axes[1].plot(t, fit.residuals, ".", ms=1.5, color="0.35")
     axes[1].axhline(0.0, color="C3", lw=0.8)
     for sgn in (-1, 1):
-        axes[1].axhline(sgn * 2 * fit.noise, color="C3", lw=0.6, ls=":")
+        axes[1].axhline(
+            sgn * 2 * fit.noise, color="C3", lw=0.6, ls=":", label="±2σ (the noise)" if sgn > 0 else None
+        )
+    axes[1].legend(frameon=False, fontsize=8, loc="upper right")
     axes[1].set_ylabel("residual")
     axes[1].set_xlabel("time [s]")
     return fig

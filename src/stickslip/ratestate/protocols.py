@@ -186,8 +186,9 @@ def simulate_rate_state(
         if hist[0][1] <= 0:
             raise ValueError(
                 "initial='steady' needs a positive first velocity (there is no steady "
-                "sliding at zero velocity); start the history with a slide, or give "
-                "initial=(friction, state) from Python"
+                "sliding at zero velocity); start the history with a slide (on the command line: "
+                "a first step or a --history row at a positive velocity), or give initial=(friction, "
+                "state) in Python"
             )
         y = _steady_state(params, hist[0][1])
     else:
