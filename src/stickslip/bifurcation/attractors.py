@@ -160,9 +160,9 @@ def polish_rows(
         next to a Hopf point). Rows that could not be
         polished, or whose orbit's estimated error exceeds
         :data:`~stickslip.defaults.ORBIT_RTOL` (so close to a Hopf point that the
-        orbit is ill-conditioned), have status ``not-converged``; but a stable orbit that
-        Newton cannot pin down to ``SHOOTING_TOL`` because the flow is noisier (a pchip
-        table's rows) is shot again at :data:`SHOOTING_TOLS_NOISY` and kept when it is
+        orbit is ill-conditioned), have status ``not-converged``; but a table law's stable
+        orbit that Newton cannot pin down to ``SHOOTING_TOL`` because the flow is noisier
+        (across the rows) is shot again at :data:`SHOOTING_TOLS_NOISY` and kept when it is
         stable and next to the motion's own: it is an attractor, known to that noise only
         (a few 1e-5 of the amplitude of a table's orbit of multiplier 0.998).
     multiplier : ndarray, shape (n,)
@@ -195,7 +195,9 @@ def polish_rows(
         # attractor: it is shot again at SHOOTING_TOLS_NOISY, and the first stable orbit found
         # next to the motion's own (1e-3) is kept. One ulp of nu dropped it from `cycle`, and a
         # band of a table's map read stick-slip alone (the sweep audit, helper-36)
-        for tol in SHOOTING_TOLS_NOISY:
+        # (a table's only: a smooth law's flow is good to its tolerance, and an orbit it cannot
+        # pin down is ill-conditioned, next to a Hopf point, as not-converged says)
+        for tol in SHOOTING_TOLS_NOISY if kernel.name.startswith("table") else ():
             retry = np.flatnonzero(
                 ((sh.status != ShootStatus.OK.code) & (sh.status != ShootStatus.TRIVIAL.code)) | ~good
             )
