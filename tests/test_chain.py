@@ -156,7 +156,9 @@ def test_event_map_is_shift_invariant() -> None:
     p = ChainParameters(3, WeakeningLaw(c=1.0), 0.05, 1.0)
     u = np.array([0.0, 0.3, 0.1])
     a = event_map(p, u)
-    b = event_map(p, u + 0.25)  # all positions shifted: the same event, later
+    # all positions shifted back: the same event, sooner (shifted forward by 0.25, the middle
+    # block's force, -0.8, would pass its backward threshold -1 and slip back at once)
+    b = event_map(p, u - 0.25)
     np.testing.assert_allclose(a, b, atol=1e-9)
 
 
@@ -1346,3 +1348,29 @@ def test_events_with_backward_moment_are_counted() -> None:
     assert "no magnitude         1 events (a net backward or zero moment" in res.output
     res = CliRunner().invoke(main, ["chain", "--nu", "0.02", "--c", "1", "--ell", "1", "--blocks", "3"])
     assert res.exit_code == 0 and "no magnitude" not in res.output
+
+
+def test_a_block_that_starts_beyond_its_backward_threshold_slips_back_at_once() -> None:
+    """Regression (chain audit, helper-37, HIGH): random initial positions with ell = 10 put the
+    middle block's force at -1.463, beyond its backward threshold -1; it was left stuck until a
+    neighbour broke away at 24.4, which wrote a spurious event and put every later event 28.4 early,
+    status ok. Now it slips back at t = 0. The values are the audit's independent SciPy reference
+    (event-driven, exact stick, DOP853 at rtol 1e-12): this suite's own reference starts from rest
+    below the thresholds only."""
+    r = chain(
+        ChainParameters(3, WeakeningLaw(c=3.0), 0.01, 10.0),
+        4,
+        seed=12,
+        progress=False,
+        rtol=1e-12,
+        atol=1e-14,
+    )
+    cat = r.catalog
+    assert int(cat["epicentre"].values[0]) == 1 and cat["t_start"].values[0] == 0.0
+    np.testing.assert_allclose(cat["t_end"].values[0], 0.222379719308814, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(cat["moment"].values[0], -0.0054120736432995776, rtol=0, atol=1e-12)
+    ref_start = [78.56680098556922, 79.27792675260615, 79.98905251964388]
+    ref_end = [79.0742739253632, 79.78539969239932, 80.49652545943796]
+    np.testing.assert_allclose(cat["t_start"].values[1:], ref_start, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(cat["t_end"].values[1:], ref_end, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(cat["moment"].values[1:], 7.0408491785836e-05, rtol=1e-9)

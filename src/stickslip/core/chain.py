@@ -556,15 +556,31 @@ def chain_run(  # type: ignore[no-untyped-def]
                 sc[S_T] = t
                 sc[S_STALL] = stalled
                 return written, CH_EVENTS
-            tb = tree[1]
-            if tb > t_max:
-                sc[S_T] = t_max
-                return written, CH_T_MAX
-            if tb > t:
-                t = tb
-            j0 = _tree_argmin(tree, size)
+            # every block stuck: a block beyond its backward threshold slips back at once. While
+            # all stick the forces only grow (nu t), so this is a start's (random positions
+            # with a large ell); the stops of an event check it themselves. It was left stuck,
+            # and every later event came early (the chain audit, helper-37)
+            j0 = -1
+            d0 = 1
+            if backward:
+                worst = BREAK_TOL * (1.0 + abs(nu * t))
+                for j in range(n):
+                    if mode[j] == STUCK:
+                        beyond = -phi[j] - stuck_force(x, j, t, nu, ell2, periodic)
+                        if beyond > worst:
+                            worst = beyond
+                            j0 = j
+                            d0 = -1
+            if j0 < 0:
+                tb = tree[1]
+                if tb > t_max:
+                    sc[S_T] = t_max
+                    return written, CH_T_MAX
+                if tb > t:
+                    t = tb
+                j0 = _tree_argmin(tree, size)
             _event_begin(sc, x, v, t, j0, nu, ell2, periodic)
-            _start_slip(j0, 1, t, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws)
+            _start_slip(j0, d0, t, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws)
             _tree_refresh(tree, size, x, mode, phi, j0, nu, ell2, periodic)
             _break_near(
                 j0,
