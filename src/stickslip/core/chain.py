@@ -542,6 +542,18 @@ def chain_run(  # type: ignore[no-untyped-def]
     work_start = sc[S_NWORK]
     stalled = int(sc[S_STALL])
     t = sc[S_T]
+    # a block beyond its backward threshold while every block sticks slips back at once. While
+    # all stick the forces only grow (nu t), and the stops of an event check it themselves, so
+    # only a start holds one (random positions with a large ell): looked for once a call, not
+    # at every jump. It was left stuck, and every later event came early (the chain audit)
+    j_back = -1
+    if backward and ws[0] == 0.0:
+        worst = BREAK_TOL * (1.0 + abs(nu * t))
+        for j in range(n):
+            beyond = -phi[j] - stuck_force(x, j, t, nu, ell2, periodic)
+            if beyond > worst:
+                worst = beyond
+                j_back = j
     while True:
         if stalled > STALL_STEPS:
             sc[S_T] = t
@@ -556,21 +568,9 @@ def chain_run(  # type: ignore[no-untyped-def]
                 sc[S_T] = t
                 sc[S_STALL] = stalled
                 return written, CH_EVENTS
-            # every block stuck: a block beyond its backward threshold slips back at once. While
-            # all stick the forces only grow (nu t), so this is a start's (random positions
-            # with a large ell); the stops of an event check it themselves. It was left stuck,
-            # and every later event came early (the chain audit, helper-37)
-            j0 = -1
-            d0 = 1
-            if backward:
-                worst = BREAK_TOL * (1.0 + abs(nu * t))
-                for j in range(n):
-                    if mode[j] == STUCK:
-                        beyond = -phi[j] - stuck_force(x, j, t, nu, ell2, periodic)
-                        if beyond > worst:
-                            worst = beyond
-                            j0 = j
-                            d0 = -1
+            j0 = j_back  # a start's block beyond its backward threshold (see above the loop)
+            d0 = -1 if j_back >= 0 else 1
+            j_back = -1
             if j0 < 0:
                 tb = tree[1]
                 if tb > t_max:

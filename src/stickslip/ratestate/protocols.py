@@ -251,6 +251,18 @@ def _segments(hist: list[tuple[float, float]]) -> tuple[FloatArray, FloatArray]:
     return np.cumsum([d for d, _ in hist]), np.array([v for _, v in hist])
 
 
+def _history_velocity(hist: list[tuple[float, float]], t: FloatArray) -> FloatArray:
+    """Return the load-point velocity of ``hist`` at the times ``t`` (a change's own time: the new one)."""
+    seg_end, seg_v = _segments(hist)
+    return seg_v[np.clip(np.searchsorted(seg_end, t, side="right"), 0, len(hist) - 1)]
+
+
+def _record_velocity(ds: xr.Dataset, t: float) -> float:
+    """Return the load-point velocity of the record ``ds`` at ``t`` (held from each row to the next)."""
+    t_s = ds.time.values
+    return float(ds.load_point_velocity.values[max(0, int(np.searchsorted(t_s, t, side="right")) - 1)])
+
+
 class RateStateStopped(RuntimeError):
     """The integration stopped before the end of the history.
 
@@ -371,8 +383,7 @@ def _dop853(
         "velocity": [],
     }
     t_out = t_s[:js]
-    vlp = seg_v[np.clip(np.searchsorted(seg_end, t_out, side="right"), 0, len(hist) - 1)]
-    return t_out, out[:js, : 1 + n].T, out[:js, nvar], vlp, peaks
+    return t_out, out[:js, : 1 + n].T, out[:js, nvar], _history_velocity(hist, t_out), peaks
 
 
 def _radau(
@@ -454,9 +465,7 @@ def _radau(
     # a sample at a change of the load-point velocity carries the new velocity, as the
     # quasi-static record's does: the record holds each row's velocity until the next row, and
     # the old one put every change a sample late (a fit of it ran away: the rate-and-state audit)
-    seg_end, seg_v = _segments(hist)
-    vlp = seg_v[np.clip(np.searchsorted(seg_end, t_out, side="right"), 0, len(hist) - 1)]
-    return t_out, np.concatenate(states, axis=1), vlp, peaks
+    return t_out, np.concatenate(states, axis=1), _history_velocity(hist, t_out), peaks
 
 
 #: a spring-force maximum less than this above steady sliding's spring force is rounding, not a peak
@@ -475,10 +484,9 @@ def _above_steady(
     if not spring:
         return spring
     eta = 0.0 if params.radiation_damping is None else float(params.radiation_damping.to("s/m").magnitude)
-    t_s, v_s = ds.time.values, ds.load_point_velocity.values
     kept = []
     for t, y in spring:
-        v_lp = float(v_s[max(0, int(np.searchsorted(t_s, t, side="right")) - 1)])
+        v_lp = _record_velocity(ds, t)
         if not v_lp > 0:
             kept.append((t, y))
             continue
@@ -514,12 +522,11 @@ def _with_peaks(
     if params.inertial:
         # a 'maximum' of the slip velocity within 1e-8 of the load point's, on steady sliding, is
         # rounding (four of them at v = 1.0000000000e-4 in a settled start: the rate-and-state audit)
-        t_s, v_s = ds.time.values, ds.load_point_velocity.values
-
-        def lp_at(t: float) -> float:
-            return float(v_s[max(0, int(np.searchsorted(t_s, t, side="right")) - 1)])
-
-        vp = [(t, y) for t, y in peaks["velocity"] if not abs(float(y[1]) - lp_at(t)) <= 1e-8 * lp_at(t)]
+        vp = []
+        for t, y in peaks["velocity"]:
+            v_lp = _record_velocity(ds, t)
+            if not abs(float(y[1]) - v_lp) <= 1e-8 * v_lp:
+                vp.append((t, y))
         ds["velocity_peak_time"] = (
             "velocity_peak",
             np.array([t for t, _ in vp]),
