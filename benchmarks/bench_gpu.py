@@ -15,7 +15,12 @@ the same tolerances, a terminal event at ``w = 0`` located by Newton's method, `
 over the sets, double precision) on JAX's default device: phases per second and the
 spring force at the stop against the engine's.
 
-Run: python benchmarks/bench_gpu.py [--n 10000000] [--n-cpu 200000] [--n-diffrax 1000000]
+Then, on fewer sets (``--n-extra``), the GPU's cycles per second for F2, the cubic law, a
+law typed as a formula and a measured table (600 rows), for F1 at other block sizes and
+register limits, and for F1 with the rows in the caller's order (not sorted for the load
+balance), random or sorted beforehand (as a grid's rows come).
+
+Run: python benchmarks/bench_gpu.py [--n 10000000] [--n-cpu 200000] [--n-diffrax 1000000] [--n-extra 2000000]
 """
 
 from __future__ import annotations
@@ -25,12 +30,14 @@ import os
 import platform
 import sys
 import time
+from unittest import mock
 
 import numpy as np
 from bench_cycles import ATOL, RTOL, workload
 
+from stickslip.core import api
 from stickslip.core import cuda as core_cuda
-from stickslip.core.api import run_attractors
+from stickslip.core.api import run_attractors, threads
 from stickslip.laws import WeakeningLaw
 
 
@@ -78,6 +85,9 @@ def main() -> None:
     ap.add_argument("--n", type=int, default=10_000_000, help="parameter sets on the GPU")
     ap.add_argument("--n-cpu", type=int, default=200_000, help="parameter sets on the CPU (the first ones)")
     ap.add_argument("--n-diffrax", type=int, default=1_000_000, help="parameter sets for diffrax")
+    ap.add_argument(
+        "--n-extra", type=int, default=2_000_000, help="sets for other laws and launches (0: none)"
+    )
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--diffrax-only", action="store_true", help="diffrax against the CPU engine (no GPU)")
     args = ap.parse_args()
@@ -99,12 +109,18 @@ def main() -> None:
     t0 = time.perf_counter()
     gpu = run_attractors(kernel, lp, nu, backend="cuda", **kw)
     t_gpu = time.perf_counter() - t0
+    times = dict(core_cuda.TIMES)
 
     m = min(args.n_cpu, args.n)
     run_attractors(kernel, lp[:8], nu[:8], **kw)  # compile or load from the cache
     t0 = time.perf_counter()
     cpu = run_attractors(kernel, lp[:m], nu[:m], **kw)
     t_cpu = time.perf_counter() - t0
+    m1 = max(1, m // 10)
+    with mock.patch.object(api, "threads", lambda: 1):
+        t0 = time.perf_counter()
+        run_attractors(kernel, lp[:m1], nu[:m1], **kw)
+        t_one = time.perf_counter() - t0
 
     same_status = bool(np.array_equal(gpu.status[:m], cpu.status))
     okm = cpu.status == 0
@@ -115,14 +131,29 @@ def main() -> None:
         f"GPU  : {args.n:10d} cycles in {t_gpu:8.3f} s = {args.n / t_gpu:14.0f} cycles/s"
         f"  (first call incl. compile {t_compile:.1f} s)"
     )
-    print(f"CPU  : {m:10d} cycles in {t_cpu:8.3f} s = {m / t_cpu:14.0f} cycles/s ({os.cpu_count()} cores)")
+    back = times["total"] - times["order"] - times["gpu"]
+    print(
+        f"       of which ordering the rows {times['order']:.3f} s, the GPU with the copies "
+        f"{times['gpu']:.3f} s, putting the results back {back:.3f} s;"
+    )
+    print(
+        f"       the kernels alone (CUDA events) {times['kernel']:.3f} s = "
+        f"{args.n / times['kernel']:14.0f} cycles/s"
+    )
+    print(f"CPU  : {m:10d} cycles in {t_cpu:8.3f} s = {m / t_cpu:14.0f} cycles/s ({threads()} threads)")
+    print(f"       {m1:10d} cycles in {t_one:8.3f} s = {m1 / t_one:14.0f} cycles/s (one thread)")
     print(f"ratio: {(args.n / t_gpu) / (m / t_cpu):.1f} x the CPU engine")
     worst = float(rel.max()) if rel.size else float("nan")
     print(
         f"agreement on the {m} common sets: statuses equal {same_status}, amplitude largest relative "
         f"difference {worst:.3e} (median {float(np.median(rel)):.3e})"
     )
+    if args.n_extra:
+        _other_laws_and_launches(args.n_extra, nu, c, kw)
     k = min(args.n_diffrax, args.n)
+    if k == 0:
+        print("diffrax: not run (--n-diffrax 0)")
+        return
     got = diffrax_phases(nu[:k], c[:k])
     if got is None:
         print("diffrax: JAX or diffrax does not import here; not compared")
@@ -135,6 +166,59 @@ def main() -> None:
         f"(compile {t_dc:.1f} s); the GPU engine's cycles/s are {(args.n / t_gpu) / (k / t_d):.1f} x"
     )
     print(f"  spring force at the stop against the engine's: largest relative difference {drel.max():.3e}")
+
+
+def _other_laws_and_launches(n: int, nu: np.ndarray, c: np.ndarray, kw: dict) -> None:
+    """Cycles per second of the other kinds of law, other block sizes, and without the sorting."""
+    from stickslip.laws import CubicLaw, ExpressionLaw, TabulatedLaw
+    from stickslip.units import Q_
+
+    n = min(n, nu.size)
+    nu, c = nu[:n], c[:n]
+    v = np.linspace(0.0, 50.0, 600)  # mm/s: the paper's F1 for zv, as a measured table
+    table = TabulatedLaw(Q_(v, "mm/s"), 0.46 / (1.0 + 160e-3 * v)).nondimensionalize(Q_(160.0, "s/m"))
+    laws = {
+        "F2 (p = 0.5)": (WeakeningLaw(c=1.0, p=0.5).kernel, np.column_stack([c, np.full(n, 0.5)])),
+        "cubic": (CubicLaw(alpha=1.2, gamma=0.3).kernel, np.tile([1.2, 0.3], (n, 1))),
+        "expression 1/(1 + c*w)": (ExpressionLaw("1/(1 + c*w)", c=1.0).kernel, c[:, None]),
+        "table (600 rows)": (table.kernel, np.tile(table.core_params(), (n, 1))),
+    }
+    for name, (kernel, lp) in laws.items():
+        run_attractors(kernel, lp[:256], nu[:256], backend="cuda", **kw)
+        t0 = time.perf_counter()
+        run_attractors(kernel, lp, nu, backend="cuda", **kw)
+        dt = time.perf_counter() - t0
+        print(f"  {name:26s}: {n:9d} cycles in {dt:7.3f} s = {n / dt:14.0f} cycles/s")
+    kernel, lp = WeakeningLaw(c=1.0).kernel, c[:, None]
+
+    def f1(label: str, lp_: np.ndarray = lp, nu_: np.ndarray = nu) -> None:
+        run_attractors(kernel, lp_[:256], nu_[:256], backend="cuda", **kw)  # compiled, if a knob changed
+        t0 = time.perf_counter()
+        run_attractors(kernel, lp_, nu_, backend="cuda", **kw)
+        dt = time.perf_counter() - t0
+        print(f"  F1, {label:22s}: {n:9d} cycles in {dt:7.3f} s = {n / dt:14.0f} cycles/s")
+
+    default = core_cuda.THREADS_PER_BLOCK
+    for threads_ in (64, 256):
+        core_cuda.THREADS_PER_BLOCK = threads_
+        f1(f"{threads_} threads a block")
+    core_cuda.THREADS_PER_BLOCK = default
+    default_options = core_cuda.JIT_OPTIONS
+    for label, options in {
+        "<= 128 registers": {"max_registers": 128},
+        "L1 cache at its largest": {"shared_memory_carveout": "MaxL1"},
+        "both": {"max_registers": 128, "shared_memory_carveout": "MaxL1"},
+    }.items():
+        core_cuda.JIT_OPTIONS = options
+        f1(label)
+    core_cuda.JIT_OPTIONS = default_options
+    sort = core_cuda.SORT_ROWS
+    core_cuda.SORT_ROWS = True
+    order = core_cuda.balance_order(lp, nu)
+    f1("rows sorted (key)")
+    core_cuda.SORT_ROWS = False
+    f1("rows sorted beforehand", lp[order], nu[order])  # as a grid's rows come, in order
+    core_cuda.SORT_ROWS = sort
 
 
 def _diffrax_against_engine(args: argparse.Namespace) -> None:

@@ -8,26 +8,53 @@ from __future__ import annotations
 
 from typing import Any
 
-from numba import cuda
+from numba import cuda, float64, int64
+
+from . import engine
+from .laws import N_LAW_PARAMS
 
 
-def make(one: Any) -> Any:
+def make(one: Any, width: int = 2, options: dict[str, Any] | None = None) -> Any:
     """Return the CUDA kernel running the per-row function ``one`` (a law's ``engine.attractor_ws``).
 
-    Thread ``i`` runs row ``i`` with work arrays ``K[i]`` .. ``evn[i]``; the
-    empty sample and event buffers are shared (an attractor records nothing).
+    Thread ``i`` runs row ``i``: the law's id ``law`` (one for all rows), the
+    law's parameters ``lp_a[i]`` (only the columns the law has: the rest are
+    zeros), ``nu_a[i]`` and the start ``s0_a[i]``, ``w0_a[i]`` (or ``[0]`` where
+    they are of length 1: a start at breakaway ignores them). What goes to the
+    GPU is so kept to what differs between rows. Its work arrays (the stages ``K`` to the event
+    count ``evn``, ``width`` = 2 state variables, 4 with the variational ones)
+    and a copy of its law parameters are the thread's own local arrays, which
+    the GPU lays out interleaved across a warp's threads: the warp reads and
+    writes them in whole cache lines (a row-major array of every thread's
+    work, each thread a contiguous slice of it, was read line by line, a
+    thread at a time: about 10 times slower on an H100). The empty sample and
+    event buffers are shared (an attractor records nothing). ``options`` go to
+    ``cuda.jit`` (``max_registers``, ``shared_memory_carveout``).
     """
+    ns, nt = engine.N_STAGES_EXTENDED, engine.NTRK
+    npar = N_LAW_PARAMS
 
     def rows(  # type: ignore[no-untyped-def]
-        law_a, lp_a, nu_a, s0_a, w0_a, from_breakaway, rtol, atol, t_max, conv_tol, max_steps, out,
-        K, F, y_new, ytmp, y, trk, t_eval, out_y, out_mode, evbuf, evn,
+        law, lp_a, nu_a, s0_a, w0_a, from_breakaway, rtol, atol, t_max, conv_tol, max_steps, out,
+        t_eval, out_y, out_mode, evbuf,
     ):  # fmt: skip
         i = cuda.grid(1)
         if i < nu_a.shape[0]:
+            k = cuda.local.array((ns, width), float64)
+            f = cuda.local.array((7, width), float64)
+            y_new = cuda.local.array(width, float64)
+            ytmp = cuda.local.array(width, float64)
+            y = cuda.local.array(width, float64)
+            trk = cuda.local.array(nt, float64)
+            evn = cuda.local.array(1, int64)
+            lp = cuda.local.array(npar, float64)
+            for j in range(npar):
+                lp[j] = lp_a[i, j] if j < lp_a.shape[1] else 0.0
+            evn[0] = 0
+            r0 = i if s0_a.shape[0] > 1 else 0
             one(
-                law_a[i], lp_a[i], nu_a[i], s0_a[i], w0_a[i], from_breakaway, rtol, atol, t_max,
-                conv_tol, max_steps, out[i], K[i], F[i], y_new[i], ytmp[i], y[i], trk[i], t_eval,
-                out_y, out_mode, evbuf, evn[i],
+                law, lp, nu_a[i], s0_a[r0], w0_a[r0], from_breakaway, rtol, atol, t_max, conv_tol,
+                max_steps, out[i], k, f, y_new, ytmp, y, trk, t_eval, out_y, out_mode, evbuf, evn,
             )  # fmt: skip
 
-    return cuda.jit(rows)
+    return cuda.jit(rows, **(options or {}))

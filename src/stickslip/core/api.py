@@ -197,6 +197,7 @@ def run_attractors(
         cuda.run_attractors_cuda(
             kernel.engine.attractor_ws, law_a, lp_a, nu_a, s0_a, w0_a, bool(from_breakaway), rtol, atol,
             max_slip_time, conv_tol, bool(diag), max_steps, out, on_rows,
+            n_params=int(np.shape(lp)[-1]) if np.ndim(lp) else 0,
         )  # fmt: skip
         return AttractorRows(out)
     if n <= SERIAL_ROWS:

@@ -25,6 +25,7 @@ from __future__ import annotations
 import importlib.util
 import os
 import sys
+import time
 import warnings
 from collections.abc import Callable
 from typing import Any
@@ -40,6 +41,14 @@ BACKENDS = ("cpu", "cuda", "auto")
 THREADS_PER_BLOCK = 128
 #: rows per launch in the simulator (it runs every thread in Python)
 SIMULATOR_BATCH = 256
+#: sort the rows for the load balance (:func:`balance_order`); off: on an H100 it gained 6 %
+#: on the GPU for random rows and cost the host more than the GPU's whole work (docs/gpu.md)
+SORT_ROWS = False
+#: seconds of the last GPU run: ordering the rows, the GPU's work with the copies, the
+#: kernels alone (CUDA events; 0 in the simulator), in all
+TIMES: dict[str, float] = {}
+#: options of the kernel's ``cuda.jit`` on a GPU (``max_registers``, ``shared_memory_carveout``)
+JIT_OPTIONS: dict[str, Any] = {}
 #: rows per launch at most on a GPU (a launch also sizes itself to the free memory)
 MAX_BATCH = 1 << 22
 #: host memory of one row beyond the CPU path's (:data:`stickslip.core.api.BYTES_PER_ROW`): the
@@ -121,38 +130,83 @@ def resolve_backend(backend: str) -> str:
     return "cuda"
 
 
-_KERNELS: dict[int, Any] = {}
+_KERNELS: dict[tuple[int, int, str], Any] = {}
 
 
-def attractor_kernel(one: Any) -> Any:
-    """Return the CUDA kernel running the per-row function ``one`` (a law's ``engine.attractor_ws``)."""
-    key = id(one)
+def _load_registries_without_row_stack() -> None:
+    """Load numba-cuda's typing registries where NumPy has no ``row_stack`` (NumPy 2.5 and later).
+
+    numba-cuda 0.30 (the newest release, 2026-11) registers an overload for
+    ``np.row_stack`` while it loads its typing registries, at the first kernel's
+    compilation, and NumPy 2.5 removed that alias of ``np.vstack``: every kernel
+    then fails to compile (AttributeError). The registries are loaded once here
+    with the alias put back for that moment, and removed again.
+    """
+    if hasattr(np, "row_stack") or simulator():
+        return
+    from numba.cuda.descriptor import cuda_target
+
+    alias = "row_stack"
+    setattr(np, alias, np.vstack)
+    try:
+        cuda_target.typing_context.refresh()
+    finally:
+        delattr(np, alias)
+
+
+def attractor_kernel(one: Any, width: int = 2) -> Any:
+    """Return the CUDA kernel running the per-row function ``one`` (a law's ``engine.attractor_ws``).
+
+    ``width`` is the state's size: 2, or 4 with the variational equations.
+    """
+    options = {} if simulator() else dict(JIT_OPTIONS)
+    key = (id(one), width, repr(sorted(options.items())))
     if key not in _KERNELS:
         from . import _cuda_kernel
 
-        _KERNELS[key] = (one, _cuda_kernel.make(one))  # the function kept alive with it: ids stay unique
+        _load_registries_without_row_stack()
+        kern = _cuda_kernel.make(one, width, options)
+        _KERNELS[key] = (one, kern)  # the function kept alive with it: ids stay unique
     return _KERNELS[key][1]
 
 
-def balance_order(lp: np.ndarray, nu: np.ndarray) -> np.ndarray:
-    """Return the order of the rows for the GPU: sorted by law parameters, then ``nu``.
+def balance_order(lp: np.ndarray, nu: np.ndarray) -> np.ndarray | None:
+    """Return the order of the rows for the GPU (None: the caller's): by law parameters, then ``nu``.
 
     A warp's 32 threads wait for the slowest; the number of steps of a cycle
     follows the law's parameters (the width of its boundary layers) and ``nu``,
-    so neighbouring threads get similar rows.
+    so neighbouring threads get similar rows. The order is a radix sort of a
+    16-bit key (a few nanoseconds a row; sorting the values themselves took
+    0.5 s a million rows, longer than the GPU's work): the law parameters that
+    vary and ``nu``, in that order of precedence, each binned in equal steps
+    (of its logarithm where it is positive and spans more than a decade).
+    None where :data:`SORT_ROWS` is off or nothing varies.
     """
-    keys = [nu] + [lp[:, j] for j in range(lp.shape[1] - 1, -1, -1)]
-    return np.lexsort(keys)
+    if not SORT_ROWS:
+        return None
+    cols = [lp[:, j] for j in range(lp.shape[1])] + [nu]
+    varying = [x for x in cols if x.size and x.min() != x.max()]
+    if not varying:
+        return None
+    bits = max(1, 16 // len(varying))
+    key = np.zeros(nu.size, dtype=np.uint16)
+    for x in varying[: 16 // bits]:
+        lo, hi = x.min(), x.max()
+        if lo > 0 and hi > 10 * lo:
+            x, lo, hi = np.log(x), np.log(lo), np.log(hi)
+        step = ((x - lo) * (((1 << bits) - 1) / (hi - lo))).astype(np.uint16)
+        key = (key << np.uint16(bits)) | step
+    return np.argsort(key, kind="stable")
 
 
-def _batch_rows(n: int, width: int) -> int:
+def _batch_rows(n: int) -> int:
     """Rows per launch: what a quarter of the free device memory holds (bounded)."""
     if simulator():
         return SIMULATOR_BATCH
     from numba import cuda
 
     free, _total = cuda.current_context().get_memory_info()
-    per_row = 8 * ((engine.N_STAGES_EXTENDED + 7 + 3) * width + engine.NTRK + engine.NOUT + 13 + 1)
+    per_row = 8 * (1 + N_LAW_PARAMS + 3 + engine.NOUT)  # the row's inputs and its result
     return int(max(THREADS_PER_BLOCK, min(MAX_BATCH, free // 4 // per_row, n)))
 
 
@@ -196,50 +250,70 @@ def run_attractors_cuda(
     max_steps: int,
     out: np.ndarray,
     on_rows: Callable[[int], None] | None = None,
+    n_params: int = N_LAW_PARAMS,
 ) -> None:
     """Fill ``out`` (rows x ``engine.NOUT``) as the CPU engine's ``attractor_ws`` row by row, on the GPU.
 
     The arguments are those of the CPU kernels, already validated (see
-    :func:`stickslip.core.api.run_attractors`).
+    :func:`stickslip.core.api.run_attractors`); one law for all rows, of which
+    only the first ``n_params`` columns of ``lp_a`` go to the GPU (the others
+    are zeros), and no start where the rows start at breakaway. The bytes that
+    cross to the GPU and back bound the speed (docs/gpu.md).
     """
     from numba import cuda
     from numba.core.errors import NumbaPerformanceWarning
 
     check_kernel(one)
-    kern = attractor_kernel(one)
     n = nu_a.shape[0]
+    if n == 0:
+        return
+    law = np.int64(law_a[0])
+    if not np.all(law_a == law):
+        raise ValueError("the GPU kernel runs one law for all rows; law_a has several")
+    lp_a = lp_a[:, : max(1, min(n_params, N_LAW_PARAMS))]
+    if from_breakaway:  # the start is ignored
+        s0_a, w0_a = np.zeros(1), np.zeros(1)
     width = 4 if diag else 2
+    kern = attractor_kernel(one, width)
+    t0 = time.perf_counter()
     order = balance_order(lp_a, nu_a)
-    law_s, lp_s, nu_s = law_a[order], np.ascontiguousarray(lp_a[order]), nu_a[order]
-    s0_s, w0_s = s0_a[order], w0_a[order]
-    res = np.empty_like(out)
-    batch = _batch_rows(n, width)
+    one_start = s0_a.shape[0] == 1
+    if order is None:  # the caller's order: no copies
+        lp_s, nu_s, s0_s, w0_s = np.ascontiguousarray(lp_a), nu_a, s0_a, w0_a
+        res = out
+    else:
+        lp_s, nu_s = np.ascontiguousarray(lp_a[order]), nu_a[order]
+        s0_s, w0_s = (s0_a, w0_a) if one_start else (s0_a[order], w0_a[order])
+        res = np.empty_like(out)
+    TIMES["order"] = time.perf_counter() - t0
+    batch = _batch_rows(n)
     empty = (np.empty(0), np.empty((0, 2)), np.empty(0, dtype=np.int64), np.empty((0, 3)))
     shared = tuple(cuda.to_device(a) for a in empty)
+    timed = not simulator()
+    TIMES["kernel"] = 0.0
     for lo in range(0, n, batch):
         hi = min(n, lo + batch)
         b = hi - lo
-        work = (
-            cuda.device_array((b, engine.N_STAGES_EXTENDED, width)),
-            cuda.device_array((b, 7, width)),
-            cuda.device_array((b, width)),
-            cuda.device_array((b, width)),
-            cuda.device_array((b, width)),
-            cuda.device_array((b, engine.NTRK)),
-        )
-        evn = cuda.to_device(np.zeros((b, 1), dtype=np.int64))
-        d_out = cuda.device_array((b, engine.NOUT))
         blocks = -(-b // THREADS_PER_BLOCK)
         try:
+            d_out = cuda.device_array((b, engine.NOUT))
+            start = slice(None) if one_start else slice(lo, hi)
+            args = (
+                law, cuda.to_device(lp_s[lo:hi]), cuda.to_device(nu_s[lo:hi]), cuda.to_device(s0_s[start]),
+                cuda.to_device(w0_s[start]), bool(from_breakaway), float(rtol), float(atol), float(t_max),
+                float(conv_tol), int(max_steps), d_out, *shared,
+            )  # fmt: skip
+            if timed:
+                ev0, ev1 = cuda.event(), cuda.event()
+                ev0.record()
             with warnings.catch_warnings():
                 # a small grid under-uses the GPU: known (a small sweep, a store's last block)
                 warnings.simplefilter("ignore", NumbaPerformanceWarning)
-                kern[blocks, THREADS_PER_BLOCK](
-                    cuda.to_device(law_s[lo:hi]), cuda.to_device(lp_s[lo:hi]), cuda.to_device(nu_s[lo:hi]),
-                    cuda.to_device(s0_s[lo:hi]), cuda.to_device(w0_s[lo:hi]), bool(from_breakaway),
-                    float(rtol), float(atol), float(t_max), float(conv_tol), int(max_steps), d_out,
-                    *work, *shared, evn,
-                )  # fmt: skip
+                kern[blocks, THREADS_PER_BLOCK](*args)
+            if timed:
+                ev1.record()
+                ev1.synchronize()
+                TIMES["kernel"] += cuda.event_elapsed_time(ev0, ev1) / 1e3
             d_out.copy_to_host(res[lo:hi])  # into the result: no temporary of the batch's size
         except (ValueError, CudaUnavailableError):
             raise
@@ -249,4 +323,7 @@ def run_attractors_cuda(
             ) from exc
         if on_rows is not None:
             on_rows(b)
-    out[order] = res
+    TIMES["gpu"] = time.perf_counter() - t0 - TIMES["order"]
+    if order is not None:
+        out[order] = res
+    TIMES["total"] = time.perf_counter() - t0
