@@ -187,17 +187,17 @@ def run_attractors(
     nu_a = np.array(np.atleast_1d(_nu(nu)), order="C")
     n = nu_a.shape[0]
     kernel = _kernel(law)
-    law_a, lp_a = _laws(kernel, lp, n)
+    on_gpu = cuda.resolve_backend(backend) == "cuda"
+    law_a, lp_a = _laws(kernel, lp, n, pad=not on_gpu)
     z = np.zeros(n)
     s0_a = z if s0 is None else _broadcast("s0", checks.finite_array("s0", s0), (n,))
     w0_a = z if w0 is None else _broadcast("w0", checks.finite_array("w0", w0), (n,))
     out = np.empty((n, engine.NOUT))
-    if cuda.resolve_backend(backend) == "cuda":
+    if on_gpu:
         check_memory(n * (BYTES_PER_ROW + cuda.HOST_BYTES_PER_ROW), f"{n} parameter sets on the GPU")
         cuda.run_attractors_cuda(
             kernel.engine.attractor_ws, law_a, lp_a, nu_a, s0_a, w0_a, bool(from_breakaway), rtol, atol,
             max_slip_time, conv_tol, bool(diag), max_steps, out, on_rows,
-            n_params=int(np.shape(lp)[-1]) if np.ndim(lp) else 0,
         )  # fmt: skip
         return AttractorRows(out)
     if n <= SERIAL_ROWS:
@@ -330,7 +330,14 @@ def _nu(nu: npt.ArrayLike) -> FloatArray:
     return a
 
 
-def _laws(kernel: Kernel, lp: npt.ArrayLike, n: int) -> tuple[npt.NDArray[np.int64], FloatArray]:
+def _laws(
+    kernel: Kernel, lp: npt.ArrayLike, n: int, pad: bool = True
+) -> tuple[npt.NDArray[np.int64], FloatArray]:
+    """Return the law ids and the parameters, ``(n, N_LAW_PARAMS)`` (``pad``) or ``(n, max(k, 1))``.
+
+    The CPU kernels take all :data:`N_LAW_PARAMS` columns, the trailing unused ones
+    zeros; the GPU's takes the ``k`` given (fewer bytes to copy, fewer to make).
+    """
     law_a = np.full(n, kernel.law_id, dtype=np.int64)
     lp_c = checks.finite_array("lp", lp, bound=1e15)
     k = lp_c.shape[-1] if lp_c.ndim else 0
@@ -338,11 +345,12 @@ def _laws(kernel: Kernel, lp: npt.ArrayLike, n: int) -> tuple[npt.NDArray[np.int
         raise ValueError(
             f"lp: shape {lp_c.shape}: expected law parameters of shape (n, k) or (k,), k <= {N_LAW_PARAMS}"
         )
-    if k < N_LAW_PARAMS:  # the trailing parameters of a law with fewer are unused: zeros
-        lp_c = np.concatenate([lp_c, np.zeros((*lp_c.shape[:-1], N_LAW_PARAMS - k))], axis=-1)
-    if lp_c.shape == (n, N_LAW_PARAMS) and lp_c.flags.c_contiguous and lp_c.flags.writeable:
+    width = N_LAW_PARAMS if pad else max(k, 1)
+    if k < width:  # the trailing parameters of a law with fewer are unused: zeros
+        lp_c = np.concatenate([lp_c, np.zeros((*lp_c.shape[:-1], width - k))], axis=-1)
+    if lp_c.shape == (n, width) and lp_c.flags.c_contiguous and lp_c.flags.writeable:
         return law_a, lp_c  # already what the kernels take: no copy
-    lp_a = _broadcast("lp", lp_c, (n, N_LAW_PARAMS))
+    lp_a = _broadcast("lp", lp_c, (n, width))
     return law_a, lp_a
 
 

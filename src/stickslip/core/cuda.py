@@ -250,15 +250,15 @@ def run_attractors_cuda(
     max_steps: int,
     out: np.ndarray,
     on_rows: Callable[[int], None] | None = None,
-    n_params: int = N_LAW_PARAMS,
 ) -> None:
     """Fill ``out`` (rows x ``engine.NOUT``) as the CPU engine's ``attractor_ws`` row by row, on the GPU.
 
     The arguments are those of the CPU kernels, already validated (see
-    :func:`stickslip.core.api.run_attractors`); one law for all rows, of which
-    only the first ``n_params`` columns of ``lp_a`` go to the GPU (the others
-    are zeros), and no start where the rows start at breakaway. The bytes that
-    cross to the GPU and back bound the speed (docs/gpu.md).
+    :func:`stickslip.core.api.run_attractors`); one law for all rows, its
+    parameters ``lp_a`` of shape ``(n, k)``, ``1 <= k <= N_LAW_PARAMS`` (the
+    kernel takes the missing ones as zeros), and no start where the rows start
+    at breakaway. The bytes that cross to the GPU and back bound the speed
+    (docs/gpu.md).
     """
     from numba import cuda
     from numba.core.errors import NumbaPerformanceWarning
@@ -270,7 +270,6 @@ def run_attractors_cuda(
     law = np.int64(law_a[0])
     if not np.all(law_a == law):
         raise ValueError("the GPU kernel runs one law for all rows; law_a has several")
-    lp_a = lp_a[:, : max(1, min(n_params, N_LAW_PARAMS))]
     if from_breakaway:  # the start is ignored
         s0_a, w0_a = np.zeros(1), np.zeros(1)
     width = 4 if diag else 2
