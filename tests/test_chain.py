@@ -137,6 +137,19 @@ def test_a_chain_that_never_sticks_again_stops_with_a_status() -> None:
     assert r.status == "sliding" and 0 < r.events < 50
 
 
+@pytest.mark.parametrize("longest", [100.0, 1000.0])
+def test_a_sliding_chain_is_told_when_its_event_passes_max_event_duration(longest: float) -> None:
+    """The chain audit (helper-37): three blocks at c = 0.3 slide for ever from t = 127.6; with
+    max_event_duration 100 the run said so at t = 29 182 (the status was decided between two
+    engine calls of 2e6 units of work). The engine now pauses at the step that passes it."""
+    p = ChainParameters(3, WeakeningLaw(c=0.3), 0.01, 1.0)
+    start = ss.core.api.ChainState.at_rest(np.array([0.0, 0.3, 0.1]))
+    r = chain(p, 50, state=start, progress=False, max_event_duration=longest)
+    assert r.status == "sliding" and r.events == 12
+    last = float(r.catalog.t_start.values[-1])  # 122.72; the sliding event starts at 127.6
+    assert last + longest < r.simulated_time < last + longest + 6.0
+
+
 def test_krakow_three_blocks_lateral_synchrony_and_chaos() -> None:
     """Szkutnik, Kawecka-Magiera, Kułakowski (arXiv nlin/0310030): periodic with the outer blocks in
     step below a critical weakening, chaotic above (largest Lyapunov exponent of the event map)."""

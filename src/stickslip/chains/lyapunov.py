@@ -132,7 +132,7 @@ def _next_event_end(
         cat, _, code = chain_advance(
             params.law.kernel, params.law.core_params(), params.nu, params.ell2,
             str(params.boundary) == "periodic", bool(params.backslip), params.phi, state,
-            max_events=1, rtol=rtol, atol=atol, max_steps=steps,
+            max_events=1, rtol=rtol, atol=atol, max_steps=steps, max_event_duration=longest,
         )  # fmt: skip
         if cat.shape[0] == 1:
             return state.x - params.nu * state.t

@@ -369,7 +369,7 @@ def chain(
     status = ChainStatus.OK
     ended = False
     bar = progress_bar(events, unit="event", desc="chain", progress=progress)
-    advance = _Advance(args, state, t_max, rtol, atol, bar, factor[ce.C_T0], units["time"])
+    advance = _Advance(args, state, t_max, rtol, atol, bar, factor[ce.C_T0], units["time"], longest)
     if bar is not None and done:
         bar.update(done)
     try:
@@ -537,16 +537,18 @@ class _Advance:
         bar: Any,
         time_factor: float,
         time_unit: str,
+        longest: float,
     ) -> None:
         self.args, self.state, self.t_max, self.rtol, self.atol = args, state, t_max, rtol, atol
         self.bar, self.time_factor, self.time_unit = bar, time_factor, time_unit
+        self.longest = longest
 
     def __call__(
         self, max_events: int, slip_rows: int
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], int]:
         return chain_advance(
             *self.args, self.state, max_events=max_events, t_max=self.t_max, rtol=self.rtol,
-            atol=self.atol, max_work=WORK_PER_CALL, slip_rows=slip_rows,
+            atol=self.atol, max_work=WORK_PER_CALL, max_event_duration=self.longest, slip_rows=slip_rows,
         )  # fmt: skip
 
     def show(self, note: str = "") -> None:

@@ -654,6 +654,7 @@ def chain_advance(
     atol: float = 1e-12,
     max_steps: int = 2_000_000,
     max_work: float = np.inf,
+    max_event_duration: float = np.inf,
     slip_rows: int = 0,
 ) -> tuple[FloatArray, FloatArray, int]:
     """Advance a chain (``state``, updated in place) by up to ``max_events`` complete events.
@@ -663,6 +664,9 @@ def chain_advance(
     (``max_steps`` steps, or ``max_work`` units of work: ``chain.WORK_STEP`` plus the
     slipping blocks per step): call again to go on (the state is exact, not an
     approximation; where a call pauses changes the events' works in their last bits only).
+    It also pauses at the step where the event in progress passes ``max_event_duration``
+    (time units): the caller's sign that the chain slides for ever, to be told at once
+    (a call of ``max_work`` units could run on for tens of thousands of time units).
     """
     n = state.x.shape[0]
     check_state(state)
@@ -680,7 +684,7 @@ def chain_advance(
     written, status = kernel.chain_engine.chain_run(
         kernel.law_id, lpa, float(nu), float(ell2), bool(periodic), bool(backward), phia,
         state.x, state.v, state.mode, state.sc, state.ev_x0, state.ev_flag, state.ev_list,
-        int(max_events), float(t_max), float(rtol), float(atol), int(max_steps), float(max_work), cat,
-        slips,
+        int(max_events), float(t_max), float(rtol), float(atol), int(max_steps), float(max_work),
+        float(max_event_duration), cat, slips,
     )  # fmt: skip
     return cat[:written], slips[: min(written, slips.shape[0])], int(status)

@@ -481,6 +481,7 @@ def chain_run(  # type: ignore[no-untyped-def]
     atol,
     max_steps,
     max_work,
+    max_event,
     cat,
     slips,
 ):
@@ -494,8 +495,10 @@ def chain_run(  # type: ignore[no-untyped-def]
 
     A call pauses (``CH_PAUSED``) after ``max_steps`` steps or ``max_work`` units of
     work (a step counts ``WORK_STEP`` plus its slipping blocks: about proportional to
-    its time); where it pauses changes nothing but the rounding of the events' works
-    (summed per segment, and a pause starts a segment).
+    its time), and as soon as the event in progress has lasted longer than
+    ``max_event`` (time units: the caller's mark of a chain that slides for ever,
+    seen at the step that passes it); where it pauses changes nothing but the
+    rounding of the events' works (summed per segment, and a pause starts a segment).
 
     Returns ``(events_written, status)`` with a ``CH_*`` status.
     """
@@ -650,7 +653,11 @@ def chain_run(  # type: ignore[no-untyped-def]
         nev = 0
         # ------------------------------------------------------------- steps
         while True:
-            if steps >= max_steps or sc[S_NWORK] - work_start >= max_work:
+            if (
+                steps >= max_steps
+                or sc[S_NWORK] - work_start >= max_work
+                or (sc[S_IN_EVENT] != 0.0 and t - sc[S_EV_T0] > max_event)
+            ):
                 for k in range(m):
                     x[idx[k]] = y[2 * k]
                     v[idx[k]] = y[2 * k + 1]
