@@ -15,6 +15,7 @@ import os
 import re
 import shutil
 import signal
+import socket
 import subprocess
 import sys
 import time
@@ -670,6 +671,23 @@ def test_a_bad_scheduler_address_is_refused_before_anything_is_made(base: Any, t
     check_scheduler("tcp://10.0.0.1:8786")
     check_scheduler("[::1]:8786")
     check_scheduler(None)
+
+
+def test_an_unreachable_scheduler_makes_no_store(
+    base: Any, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Regression (scale audit, helper-36, LOW): a well-formed address where no scheduler answers
+    made an empty store before it failed; it is reached first now, and the job makes nothing."""
+    from stickslip.scale import backend
+
+    monkeypatch.setattr(backend, "CONNECT_TIMEOUT", "2s")
+    with socket.socket() as sock:  # a port nobody listens on
+        sock.bind(("127.0.0.1", 0))
+        port = sock.getsockname()[1]
+    address = f"tcp://127.0.0.1:{port}"
+    with pytest.raises(ValueError, match=f"scheduler='{address}': cannot reach a Dask scheduler there"):
+        sweep(base, _grid(), progress=False, store=tmp_path / "s.zarr", scheduler=address)
+    assert not (tmp_path / "s.zarr").exists()
 
 
 def test_review_of_the_store_fixes(base: Any, reference: xr.Dataset, tmp_path: Path) -> None:

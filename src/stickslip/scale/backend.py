@@ -272,6 +272,27 @@ def _completed(ac: Any, client: Any, backend: str) -> Any:
         time.sleep(0.02)
 
 
+#: how long a job waits for a scheduler's address to answer
+CONNECT_TIMEOUT = "30s"
+
+
+def _connect(scheduler: str) -> Any:
+    """Return a ``distributed.Client`` of the scheduler at this address (:data:`CONNECT_TIMEOUT`).
+
+    Raises
+    ------
+    ValueError
+        Where no scheduler answers there, naming ``scheduler`` and why.
+
+    """
+    from distributed import Client
+
+    try:
+        return Client(str(scheduler), timeout=CONNECT_TIMEOUT)
+    except (OSError, TimeoutError, TypeError, ValueError, ImportError) as exc:  # ucx:// without ucx
+        raise ValueError(f"scheduler={scheduler!r}: cannot reach a Dask scheduler there ({exc})") from None
+
+
 def _run_dask(
     job: Any,
     layout: Layout,
@@ -294,12 +315,7 @@ def _run_dask(
         client = scheduler
         backend = f"dask {scheduler.scheduler.address}" if scheduler.scheduler else "dask"
     else:
-        try:
-            client = Client(str(scheduler), timeout="30s")
-        except (OSError, TimeoutError, TypeError, ValueError, ImportError) as exc:  # ucx:// without ucx
-            raise ValueError(
-                f"scheduler={scheduler!r}: cannot reach a Dask scheduler there ({exc})"
-            ) from None
+        client = _connect(scheduler)
         own_client = True
         backend = f"dask {scheduler}"
     # the client logs a lost connection with tracebacks at ERROR (also while it closes); the
@@ -373,16 +389,29 @@ def run_job(
     as JSON in its ``run`` attribute.
     """
     check_scheduler(scheduler)  # before the store is made
-    chunks = ChunkStore.open(store, layout) if store is not None else None
-    arrays, report = run_blocks(
-        job,
-        chunks.layout if chunks is not None else layout,
-        store=chunks,
-        scheduler=scheduler,
-        workers=workers,
-        progress=progress,
-        desc=desc,
-    )
+    # an address is reached before the store is made, too: an unreachable one left an empty
+    # store behind (the sweep audit, helper-36); the client is then this job's to close
+    client = _connect(scheduler) if isinstance(scheduler, str) and store is not None else None
+    try:
+        chunks = ChunkStore.open(store, layout) if store is not None else None
+        arrays, report = run_blocks(
+            job,
+            chunks.layout if chunks is not None else layout,
+            store=chunks,
+            scheduler=client if client is not None else scheduler,
+            workers=workers,
+            progress=progress,
+            desc=desc,
+        )
+    finally:
+        if client is not None:
+            client_log = logging.getLogger("distributed.client")
+            level = client_log.level
+            client_log.setLevel(logging.CRITICAL)  # a lost cluster's close logs tracebacks
+            try:
+                client.close()
+            finally:
+                client_log.setLevel(level)
     if chunks is None:
         assert arrays is not None
         return job.dataset(arrays)
