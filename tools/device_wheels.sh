@@ -4,17 +4,16 @@
 # Its image holds numpy, scipy, numba, numba-cuda, xarray, pandas, matplotlib, sympy,
 # click, tqdm, JAX and diffrax (the device's KINDS.md); stickslip's other dependencies
 # are downloaded here, at the versions of this checkout's .venv, as CPython 3.12 x86-64
-# wheels (the image's python3) into .whl/ (ignored by git), 24 MB. Then, on the
+# wheels (the image's python3) into .whl/ (ignored by git), 24 MB, and numba-cuda 0.30.4
+# into .whl/alt/ (installed there only if the image's own does not import). Then, on the
 # device, with carry [".whl"]:
 #
-#   python3 -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --upgrade \
-#       --target /tmp/site .whl/*.whl && export PYTHONPATH=/tmp/site:$PWD/src:$PWD/benchmarks || exit;
-#   python3 -c "import numpy, numba, numba_cuda; print(numpy.__version__, numba.__version__, numba_cuda.__version__)";
-#   PYTHONUNBUFFERED=1 python3 benchmarks/bench_gpu.py 2>&1 | tee $OUT/bench_gpu.txt;
-#   python3 -m pytest -p no:cacheprovider -q tests/test_cuda.py 2>&1 | tee $OUT/test_cuda.txt
+#   bash tools/gpu_run.sh
 #
-# (The image's numpy is 2.5: should its numba-cuda fail to import with it, carry
-# numba-cuda 0.30.x too: NAMES below, one more line.)
+# which installs them, names the device and the versions, and runs benchmarks/bench_gpu.py
+# and the real-GPU tests of tests/test_cuda.py into $OUT (2026-11-25 on an H100: about 5
+# minutes; the machine's start takes 20-60 s more). The image's numpy was 2.5.2 and its
+# numba-cuda 0.30.4, which stickslip.core.cuda makes work with it (np.row_stack).
 #
 # Run: bash tools/device_wheels.sh
 set -euo pipefail
@@ -29,5 +28,8 @@ for name in $NAMES; do
     --platform manylinux_2_28_x86_64 --platform manylinux_2_27_x86_64 --platform manylinux_2_17_x86_64 \
     --platform manylinux2014_x86_64 --platform manylinux1_x86_64 -d .whl "$name==$version"
 done
+mkdir -p .whl/alt
+"$PY" -m pip download -q --no-deps --only-binary=:all: --python-version 3.12 --implementation cp \
+  --platform manylinux_2_28_x86_64 --platform manylinux_2_24_x86_64 -d .whl/alt "numba-cuda==0.30.4"
 du -sh .whl
 ls .whl
