@@ -21,15 +21,15 @@ def make(one: Any, width: int = 2, options: dict[str, Any] | None = None) -> Any
     law's parameters ``lp_a[i]`` (only the columns the law has: the rest are
     zeros), ``nu_a[i]`` and the start ``s0_a[i]``, ``w0_a[i]`` (or ``[0]`` where
     they are of length 1: a start at breakaway ignores them). What goes to the
-    GPU is so kept to what differs between rows. Its work arrays (the stages ``K`` to the event
-    count ``evn``, ``width`` = 2 state variables, 4 with the variational ones)
-    and a copy of its law parameters are the thread's own local arrays, which
-    the GPU lays out interleaved across a warp's threads: the warp reads and
-    writes them in whole cache lines (a row-major array of every thread's
-    work, each thread a contiguous slice of it, was read line by line, a
-    thread at a time: about 10 times slower on an H100). The empty sample and
-    event buffers are shared (an attractor records nothing). ``options`` go to
-    ``cuda.jit`` (``max_registers``, ``shared_memory_carveout``).
+    GPU is so kept to what differs between rows. Its work arrays (the stages
+    ``K`` to the event count ``evn``, ``width`` = 2 state variables, 4 with the
+    variational ones) and a copy of its law parameters are the thread's own
+    local arrays, which NVVM keeps in registers (ptxas for sm_90: no local
+    memory, no spills); they were slices of global arrays, one per thread,
+    before (on an H100, 2 x 10^6 rows in 0.545 s against 0.477 s now, the host's
+    copies included). The empty sample and event buffers are shared (an
+    attractor records nothing). ``options`` go to ``cuda.jit``
+    (``max_registers``, ``shared_memory_carveout``).
     """
     ns, nt = engine.N_STAGES_EXTENDED, engine.NTRK
     npar = N_LAW_PARAMS
