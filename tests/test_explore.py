@@ -450,3 +450,45 @@ def test_the_page_in_process_switches_laws_and_shows_errors():
     for nu in (100.0, 1e-7):
         with pytest.raises(ValueError, match=f"nu={nu!r}: expected a driving velocity from 1e-5 to 10"):
             Explorer(Document(), Setup(nu=nu))
+
+
+def test_the_page_keeps_its_view_whole_says_its_warnings_and_that_it_computes():
+    """The explorer audit (helper-39): a formula's parameter 'nan' left the page on 'Compiling'
+    for good (a traceback on the server), one the formula lacks left sliders that did not match
+    the plots; a law's warnings reached only the server's terminal; a served page said nothing
+    while it computed (seconds to minutes); log10 nu set past the slider ran minutes."""
+    from bokeh.document import Document
+
+    from stickslip.explore import Explorer
+
+    ex = Explorer(Document(), Setup(law="expr", expression="1/(1 + c*w) + q*w", params={"c": 3.8, "q": 0.5}))
+    shown = ex.command.text
+    for bad, why in (("c=nan, q=0.5", "c=nan"), ("c=3.8, q=0.5, z=1", "z")):
+        ex.expr_params.value = bad
+        ex._on_apply()
+        ex._rebuild()  # the next tick
+        assert "error" in ex.status.text and why in ex.status.text, ex.status.text
+        assert "Compiling" not in ex.status.text and ex.command.text == shown
+        assert [s.name for s in ex.param_sliders] == ["param_c", "param_q"]  # the shown view's
+    # a law's warning on the page, under the result
+    ex = Explorer(Document(), Setup(nu=0.05))
+    ex.law.value = "cubic"
+    assert "warning" not in ex.status.text
+    ex.param_sliders[0].value = ex.param_sliders[0].end  # alpha 1.995: the friction turns negative
+    assert "<b>warning</b>" in ex.status.text and "the friction turns negative" in ex.status.text
+    assert f"<b>period</b>: {ex.view.period!r}" in ex.status.text  # every digit, as the amplitude
+    # a log10 nu past the slider's end is held to it
+    ex.nu.value = 3.0
+    assert ex.view.setup.nu == pytest.approx(10.0**ex.nu.end)
+    # a served page: "computing" at once, the work on the next tick, once for many changes
+    ex = Explorer(Document(), Setup(nu=0.05))
+    ex.doc._session_context = lambda: object()  # as the Bokeh server's
+    before = ex.updates
+    ex.param_sliders[0].value = 2.0
+    ex.param_sliders[0].value = 2.5
+    assert ex.status.text.endswith("<i>computing...</i>") and ex.updates == before
+    ticks = list(ex.doc.session_callbacks)
+    assert len(ticks) == 1
+    ticks[0].callback()
+    assert ex.updates == before + 1 and ex.view.setup.params["c"] == 2.5
+    assert "computing" not in ex.status.text

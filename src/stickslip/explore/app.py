@@ -14,8 +14,10 @@ so that a test or a script can read them from BokehJS.
 
 from __future__ import annotations
 
+import html
 import math
 import time
+import warnings
 import webbrowser
 from typing import Any
 
@@ -210,7 +212,8 @@ class Explorer:
             self._on_apply()
             return
         self.setup = self.setup.with_(law=new, params=default_params(new))
-        self._rebuild()
+        # a law's first view compiles its engine (seconds): said before, done on the next tick
+        self._later(self._rebuild, f"Computing the {new} law (the first time: compiling it, about 10 s)...")
 
     def _on_apply(self) -> None:
         """Take the formula and its parameters; compile (once) and show it on the next tick."""
@@ -224,17 +227,67 @@ class Explorer:
         self.doc.add_next_tick_callback(self._rebuild)
 
     def _rebuild(self) -> None:
+        """Make the sliders of ``self.setup``'s law and show it; where it fails, keep the shown one whole.
+
+        A formula's parameter that is not a number (``c=nan``) failed in its slider's range and
+        left the page on "Compiling" for good; one the formula does not have (``z=1``) failed
+        after its slider was made, and the sliders no longer matched the plots (the explorer
+        audit, helper-39).
+        """
+        shown = self.view.setup if getattr(self, "view", None) is not None else None
+        self._building = True
+        try:
+            self._build_params()
+        except Exception as e:  # a user's value
+            self._building = False
+            self._error(str(e))
+            self._restore(shown)
+            return
+        finally:
+            self._building = False
+        if not self.update():
+            self._restore(shown)
+
+    def _restore(self, shown: Setup | None) -> None:
+        """Put the sliders of the shown view back (its set-up), the error message kept."""
+        if shown is None:
+            return
+        self.setup = shown
         self._building = True
         try:
             self._build_params()
         finally:
             self._building = False
-        self.update()
 
     def _on_change(self, attr: str, old: Any, new: Any) -> None:
         if getattr(self, "_building", False):
             return
-        self.update()
+        self._later(self.update, None)
+
+    def _later(self, work: Any, message: str | None) -> None:
+        """Run ``work`` on the next tick of a served page, once however many changes ask for it.
+
+        The page first says that it is computing (``message``, or a line under the last
+        result): a slow case (a steep law, a large nu, a law's first compilation) left the
+        page as it was for seconds to minutes without a word. In a document not served
+        (a test, a script) ``work`` runs at once.
+        """
+        if self.doc.session_context is None:
+            work()
+            return
+        pending: set[str] = self.__dict__.setdefault("_pending", set())
+        key = str(getattr(work, "__name__", work))
+        if key in pending:
+            return  # one update, with the widgets' values when it runs
+        pending.add(key)
+        note = message or "<i>computing...</i>"
+        self._set_status(note if message else f"{self.status.text}<br>{note}")
+
+        def run() -> None:
+            pending.discard(key)
+            work()
+
+        self.doc.add_next_tick_callback(run)
 
     def _on_csv(self) -> None:
         view = getattr(self, "view", None)
@@ -249,21 +302,30 @@ class Explorer:
                 scales[key] = float(w.value)
             except ValueError:
                 raise ValueError(f"{key}={w.value!r}: expected a number ({w.title})") from None
-        # the slider holds log10(nu) to 0.01: the set-up's own nu until it is moved
-        nu = self._nu_exact[1] if self.nu.value == self._nu_exact[0] else float(10.0**self.nu.value)
+        # the slider holds log10(nu) to 0.01: the set-up's own nu until it is moved; a value set
+        # from outside the page (a script) is held to the slider's range (log10 nu = 3 ran minutes)
+        log_nu = min(max(float(self.nu.value), float(self.nu.start)), float(self.nu.end))
+        nu = self._nu_exact[1] if self.nu.value == self._nu_exact[0] else float(10.0**log_nu)
         return self.setup.with_(params=params, nu=nu, physical=self.units.active == 1, **scales)
 
     # ---- the update --------------------------------------------------
-    def update(self) -> None:
-        """Recompute the view from the widgets and push it to the page."""
+    def update(self) -> bool:
+        """Recompute the view from the widgets and push it to the page; return whether it could.
+
+        The warnings of the computation (a law that turns negative, a motion beyond a
+        table) are shown under the result: they reached only the server's terminal.
+        """
         t0 = time.perf_counter()
         try:
-            setup = self._read_setup()
-            view = compute(setup)
-            diagram = self._diagram_data(view)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                setup = self._read_setup()
+                view = compute(setup)
+                diagram = self._diagram_data(view)
         except Exception as e:  # a user's value: shown on the page, the last view stays whole
             self._error(str(e))
-            return
+            return False
+        notes = list(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, UserWarning)))
         self.setup = setup
         self.view = view
         # one message to the page for the whole update, not one per changed property
@@ -272,9 +334,10 @@ class Explorer:
             self._push(view, diagram)
             self.last_update_s = time.perf_counter() - t0
             self.updates += 1
-            self._set_status(self._summary(view))
+            self._set_status(self._summary(view) + _warnings_html(notes))
         finally:
             self.doc.unhold()
+        return True
 
     def _push(self, v: View, diagram: dict[str, Any] | None) -> None:
         u = v.units
@@ -345,12 +408,12 @@ class Explorer:
 
     def _summary(self, v: View) -> str:
         u = v.units
-        period = "-" if not math.isfinite(v.period) else f"{v.period:.6g} {u['time']}"
+        period = "-" if not math.isfinite(v.period) else f"{v.period!r} {u['time']}"
         ok = v.verdict == v.regime or v.verdict == "inconclusive"
         mark = "" if v.verdict == "inconclusive" else (" (right)" if ok else " (<b>wrong</b>)")
         return (
             f"<b>regime</b>: {v.regime}<br><b>amplitude</b>: <span id='amplitude'>{v.amplitude!r}</span> "
-            f"{u['force']}<br><b>period</b>: {period}<br><b>stick fraction</b>: {v.stick_fraction:.4g}<br>"
+            f"{u['force']}<br><b>period</b>: {period}<br><b>stick fraction</b>: {v.stick_fraction:.6g}<br>"
             f"<b>criterion</b>: {v.verdict}{mark}<br><small>{v.verdict_reason}</small><br>"
             f"<small>update {1e3 * self.last_update_s:.0f} ms (#{self.updates})</small>"
             + (
@@ -365,6 +428,15 @@ class Explorer:
 
     def _error(self, message: str) -> None:
         self.status.text = f"<span style='color:#b00020'><b>error</b>: {message}</span>"
+
+
+def _warnings_html(notes: list[str]) -> str:
+    """Return the computation's warnings as HTML for under the result (empty where there are none)."""
+    if not notes:
+        return ""
+    items = "".join(f"<br>{html.escape(n)}" for n in notes[:5])
+    more = f"<br>(and {len(notes) - 5} more)" if len(notes) > 5 else ""
+    return f"<br><span id='warnings' style='color:#a05a00'><b>warning</b>:{items}{more}</span>"
 
 
 def _edges(centres: np.ndarray) -> np.ndarray:
