@@ -548,12 +548,20 @@ def chain_run(  # type: ignore[no-untyped-def]
     # a block beyond its backward threshold while every block sticks slips back at once. While
     # all stick the forces only grow (nu t), and the stops of an event check it themselves, so
     # only a start holds one (random positions with a large ell): looked for once a call, not
-    # at every jump. It was left stuck, and every later event came early (the chain audit)
+    # at every jump. It was left stuck, and every later event came early (the chain audit);
+    # every such block starts, the worst first (the event's epicentre), the others with it at
+    # the same instant: one far from the first was left stuck until a neighbour moved (the
+    # second chain audit, helper-38: ten blocks, ell 30, seed 5)
     j_back = -1
+    n_back = 0
+    back = np.empty(n, dtype=np.int64)
     if backward and ws[0] == 0.0:
         worst = BREAK_TOL * (1.0 + abs(nu * t))
         for j in range(n):
             beyond = -phi[j] - stuck_force(x, j, t, nu, ell2, periodic)
+            if beyond > BREAK_TOL * (1.0 + abs(nu * t)):
+                back[n_back] = j
+                n_back += 1
             if beyond > worst:
                 worst = beyond
                 j_back = j
@@ -583,30 +591,44 @@ def chain_run(  # type: ignore[no-untyped-def]
                     t = tb
                 j0 = _tree_argmin(tree, size)
             _event_begin(sc, x, v, t, j0, nu, ell2, periodic)
-            _start_slip(j0, d0, t, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws)
-            _tree_refresh(tree, size, x, mode, phi, j0, nu, ell2, periodic)
-            _break_near(
-                j0,
-                t,
-                x,
-                v,
-                mode,
-                phi,
-                nu,
-                ell2,
-                periodic,
-                backward,
-                tree,
-                size,
-                sc,
-                ev_x0,
-                ev_flag,
-                ev_list,
-                idx,
-                pos,
-                ws,
-                stack,
-            )
+            q = 0
+            while True:
+                _start_slip(j0, d0, t, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws)
+                _tree_refresh(tree, size, x, mode, phi, j0, nu, ell2, periodic)
+                _break_near(
+                    j0,
+                    t,
+                    x,
+                    v,
+                    mode,
+                    phi,
+                    nu,
+                    ell2,
+                    periodic,
+                    backward,
+                    tree,
+                    size,
+                    sc,
+                    ev_x0,
+                    ev_flag,
+                    ev_list,
+                    idx,
+                    pos,
+                    ws,
+                    stack,
+                )
+                # the start's other blocks beyond their backward threshold, at this instant
+                j0 = -1
+                while q < n_back and j0 < 0:
+                    jb = back[q]
+                    q += 1
+                    beyond = -phi[jb] - stuck_force(x, jb, t, nu, ell2, periodic)
+                    if mode[jb] == STUCK and beyond > BREAK_TOL * (1.0 + abs(nu * t)):
+                        j0 = jb
+                if j0 < 0:
+                    break
+                d0 = -1
+            n_back = 0
             continue
         s_stuck = n_stuck * nu * t - ws[1]
         # stuck blocks next to slipping ones: their forces are watched step by step
