@@ -470,6 +470,11 @@ def test_the_page_keeps_its_view_whole_says_its_warnings_and_that_it_computes():
         assert "error" in ex.status.text and why in ex.status.text, ex.status.text
         assert "Compiling" not in ex.status.text and ex.command.text == shown
         assert [s.name for s in ex.param_sliders] == ["param_c", "param_q"]  # the shown view's
+    # an error that quotes a quantity keeps it (its '<Quantity(...)>' was read as a tag)
+    ex = Explorer(Document(), Setup(nu=0.05))
+    ex.units.active = 1
+    ex.scales["mass"].value = "1e300"
+    assert "error" in ex.status.text and "a=&lt;Quantity(3.3" in ex.status.text, ex.status.text
     # a law's warning on the page, under the result
     ex = Explorer(Document(), Setup(nu=0.05))
     ex.law.value = "cubic"

@@ -427,7 +427,9 @@ class Explorer:
         self.status.text = html
 
     def _error(self, message: str) -> None:
-        self.status.text = f"<span style='color:#b00020'><b>error</b>: {message}</span>"
+        # escaped: a message that quotes a quantity (<Quantity(3.3e+152, 's / m')>) lost it as a
+        # tag, and read "a= , b= :" (the explorer audit)
+        self.status.text = f"<span style='color:#b00020'><b>error</b>: {html.escape(message)}</span>"
 
 
 def _warnings_html(notes: list[str]) -> str:
