@@ -283,6 +283,13 @@ def test_ctrl_c_while_the_command_line_starts_is_one_line(tmp_path: Path, module
         stderr=subprocess.PIPE,
         text=True,
     )
+    # a signal sent between the fork and the exec goes to the handler the child inherited from
+    # this process and is lost with it: on a loaded CI machine the child, not yet exec'd 0.4 s
+    # after Popen, then ran its command to the end (exit 0). Wait for the exec (its command line)
+    cmdline = Path(f"/proc/{proc.pid}/cmdline")
+    deadline = time.monotonic() + 30.0
+    while cmdline.exists() and b"\0cycle\0--nu\0" not in cmdline.read_bytes() and time.monotonic() < deadline:
+        time.sleep(0.01)
     time.sleep(0.4)  # the interpreter is up; the imports take seconds more
     proc.send_signal(signal.SIGINT)
     out, err = proc.communicate(timeout=60)
