@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -13,6 +14,7 @@ import pytest
 from chain_reference import reference_chain
 
 import stickslip as ss
+from stickslip import Q_
 from stickslip.chains import (
     BValue,
     ChainParameters,
@@ -30,7 +32,7 @@ from stickslip.chains import (
 from stickslip.chains.lyapunov import event_map, lyapunov_exponent
 from stickslip.chains.statistics import KS_CRITICAL_5, power_law_range, slope_change
 from stickslip.io.errors import DataError
-from stickslip.laws import CarlsonLangerLaw, CubicLaw, WeakeningLaw
+from stickslip.laws import CarlsonLangerLaw, CubicLaw, TabulatedLaw, WeakeningLaw
 
 TIGHT = {"rtol": 1e-11, "atol": 1e-13}
 
@@ -1387,6 +1389,22 @@ def test_a_block_that_starts_beyond_its_backward_threshold_slips_back_at_once() 
     np.testing.assert_allclose(cat["t_start"].values[1:], ref_start, rtol=0, atol=1e-9)
     np.testing.assert_allclose(cat["t_end"].values[1:], ref_end, rtol=0, atol=1e-9)
     np.testing.assert_allclose(cat["moment"].values[1:], 7.0408491785836e-05, rtol=1e-9)
+
+
+def test_a_tables_chain_that_fails_where_its_friction_reaches_zero_says_why() -> None:
+    """The second chain audit (helper-38, LOW): a table whose extrapolation falls to zero friction
+    (at 0.5 m/s, along the tangent at its last row) ended not-finite after a few events without
+    a word; `cycle` names the cause, and a chain now does too."""
+    law = TabulatedLaw(Q_([0.0, 0.1, 0.2, 0.3, 0.4], "m/s"), [0.5, 0.4, 0.3, 0.2, 0.1])
+    p = ChainParameters(5, law.nondimensionalize(Q_(1.0, "s/m")), 0.01, 3.0)
+    with pytest.warns(
+        UserWarning, match=r"chain: the table ends at v = 400 mm/s with friction still falling"
+    ):
+        r = chain(p, 20, seed=1, progress=False)
+    assert r.status == "not-finite"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # an ordinary run says nothing
+        chain(ChainParameters(3, WeakeningLaw(c=3.0), 0.01, 1.0), 5, progress=False)
 
 
 @pytest.mark.parametrize(

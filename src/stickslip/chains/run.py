@@ -423,6 +423,14 @@ def chain(
         ds = _in_memory(rows_mem, slips_mem, n, attrs, units)
     mags = ds["magnitude"].values
     fit = b_value(mags, mc=mc, m_max=m_max, block="auto")  # in time order: blocks of events
+    # the law's own word where the motion failed or went beyond its range (a measured table
+    # whose extrapolation reaches zero friction): `cycle` said it, a chain did not (the second
+    # chain audit, helper-38: a table's chain ended not-finite after 2 events without a word)
+    failed = status in (ChainStatus.NONFINITE, ChainStatus.STEP_TOO_SMALL)
+    peaks = np.append(ds["peak_velocity"].values / factor[ce.C_PEAK], np.abs(state.v))
+    note = params.law.motion_warning(peaks, failed)
+    if note:
+        warnings.warn(f"chain: {note}", UserWarning, stacklevel=2)
     return ChainResult(params, ds, path, status, float(t_end), state, fit, units)
 
 
