@@ -239,7 +239,6 @@ class Explorer:
         try:
             self._build_params()
         except Exception as e:  # a user's value
-            self._building = False
             self._error(str(e))
             self._restore(shown)
             return

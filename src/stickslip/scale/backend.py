@@ -20,10 +20,11 @@ however many blocks there are.
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import os
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from concurrent.futures import CancelledError
 from dataclasses import dataclass
 from typing import Any
@@ -276,6 +277,18 @@ def _completed(ac: Any, client: Any, backend: str) -> Any:
 CONNECT_TIMEOUT = "30s"
 
 
+@contextlib.contextmanager
+def _client_log_quiet() -> Iterator[None]:
+    """Silence Dask's client log (below CRITICAL) over a block: a lost cluster's tracebacks."""
+    client_log = logging.getLogger("distributed.client")
+    level = client_log.level
+    client_log.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        client_log.setLevel(level)
+
+
 def _connect(scheduler: str) -> Any:
     """Return a ``distributed.Client`` of the scheduler at this address (:data:`CONNECT_TIMEOUT`).
 
@@ -320,54 +333,51 @@ def _run_dask(
         backend = f"dask {scheduler}"
     # the client logs a lost connection with tracebacks at ERROR (also while it closes); the
     # RuntimeError below says it in one line
-    client_log = logging.getLogger("distributed.client")
-    level = client_log.level
-    client_log.setLevel(logging.CRITICAL)
-    try:
-        threads = sum(client.nthreads().values()) or 1
-        in_flight = 2 * threads + 2
-        by_index = {b.index: b for b in todo}
-        pending = iter(todo)
-        ac = as_completed()
-        token = f"{layout.kind}-{os.getpid()}-{time.monotonic_ns()}"
-
-        def submit(block: Block) -> None:
-            ac.add(
-                client.submit(
-                    _block_task,
-                    job.task(block),
-                    block,
-                    store,
-                    key=f"stickslip-{token}-{block.index}",
-                    pure=False,
-                )
-            )
-
-        for block in pending:
-            submit(block)
-            if ac.count() >= in_flight:
-                break
+    with _client_log_quiet():
         try:
-            for fut in _completed(ac, client, backend):
-                index, result = fut.result()
-                fut.release()
-                finish(by_index[index], result)
-                nxt = next(pending, None)
-                if nxt is not None:
-                    submit(nxt)
-        except (CancelledError, OSError, TimeoutError) as exc:  # the cluster, not the job
-            kept = "the blocks finished are kept in the store" if store is not None else "nothing is kept"
-            why = (str(exc).strip().splitlines() or [""])[0]
-            raise RuntimeError(
-                f"the Dask cluster ({backend}) was lost mid-job ({type(exc).__name__}: {why}); {kept}: "
-                "run the same command again (with --store, only the missing blocks are computed)"
-            ) from None
-    finally:
-        if own_client:
-            client.close()
-        if cluster is not None:
-            cluster.close()
-        client_log.setLevel(level)
+            threads = sum(client.nthreads().values()) or 1
+            in_flight = 2 * threads + 2
+            by_index = {b.index: b for b in todo}
+            pending = iter(todo)
+            ac = as_completed()
+            token = f"{layout.kind}-{os.getpid()}-{time.monotonic_ns()}"
+
+            def submit(block: Block) -> None:
+                ac.add(
+                    client.submit(
+                        _block_task,
+                        job.task(block),
+                        block,
+                        store,
+                        key=f"stickslip-{token}-{block.index}",
+                        pure=False,
+                    )
+                )
+
+            for block in pending:
+                submit(block)
+                if ac.count() >= in_flight:
+                    break
+            try:
+                for fut in _completed(ac, client, backend):
+                    index, result = fut.result()
+                    fut.release()
+                    finish(by_index[index], result)
+                    nxt = next(pending, None)
+                    if nxt is not None:
+                        submit(nxt)
+            except (CancelledError, OSError, TimeoutError) as exc:  # the cluster, not the job
+                kept = "the blocks finished are kept in the store" if store is not None else "nothing is kept"
+                why = (str(exc).strip().splitlines() or [""])[0]
+                raise RuntimeError(
+                    f"the Dask cluster ({backend}) was lost mid-job ({type(exc).__name__}: {why}); {kept}: "
+                    "run the same command again (with --store, only the missing blocks are computed)"
+                ) from None
+        finally:
+            if own_client:
+                client.close()
+            if cluster is not None:
+                cluster.close()
     return backend
 
 
@@ -405,13 +415,8 @@ def run_job(
         )
     finally:
         if client is not None:
-            client_log = logging.getLogger("distributed.client")
-            level = client_log.level
-            client_log.setLevel(logging.CRITICAL)  # a lost cluster's close logs tracebacks
-            try:
+            with _client_log_quiet():  # a lost cluster's close logs tracebacks
                 client.close()
-            finally:
-                client_log.setLevel(level)
     if chunks is None:
         assert arrays is not None
         return job.dataset(arrays)
