@@ -9,12 +9,14 @@ from __future__ import annotations
 import json
 import math
 import pickle
+import re
 from pathlib import Path
 
 import numpy as np
 import pytest
 from click.testing import CliRunner
 from reference import coulomb_cycle
+from sympy import sstr as sympy_str
 
 import stickslip as ss
 from stickslip.cli import main
@@ -299,12 +301,86 @@ def test_user_law_audit_regressions(tmp_path: Path) -> None:
 
 def test_a_pole_between_the_checked_velocities_is_an_error_not_a_traceback() -> None:
     """Regression (audit of user laws): a pole at w = 0.7, between the velocities the law is
-    checked at, raised ZeroDivisionError from the compiled engine in `regimes`."""
+    checked at, raised ZeroDivisionError from the compiled engine in `regimes`; it is now
+    found when the law is made, with where it is."""
     f = "1/(1+3.8*w) + 0.001/(w-0.7) + 0.001/0.7"
     res = CliRunner().invoke(main, ["regimes", "--law", "expr", "--f", f, "--nu-min", "0.1", "--nu-max", "2"])
     assert res.exit_code == 2, res.output
-    assert "the friction law divides by zero at a velocity the motion reached" in res.output
+    assert "has a pole at w = 0.7, where w - 0.7 is zero" in res.output
     assert "Traceback" not in res.output
+
+
+@pytest.mark.parametrize(
+    ("formula", "at", "zero"),
+    [
+        ("1/(w - 0.5) + 3", 0.5, "w - 0.5"),  # the chain audit's: called a compile failure
+        ("0.9/(1+w) + 0.001/(w**2 - w + 0.25)", 0.5, "w**2 - w + 0.25"),  # a double root: no sign change
+        ("0.9/(1+w) + 1e-6/((w - 0.5)*(w - 0.51))", 0.5, "w - 0.5"),  # two poles between grid points
+        ("0.9/(1+w) + 1e-6/(w - 1e-5)**2", 1e-5, "w - 1.0e-5"),
+        ("0.9/(1+w) + 1e-3/(1 + cos(w))", math.pi, "cos(w) + 1"),  # a touch of a function
+        ("0.9 + 0.001*tan(w)", math.pi / 2, "cos(w)"),
+        ("0.5 + 0.001/abs(w - 0.3)", 0.3, "Abs(w - 0.3)"),  # a V, no sign change
+        ("0.9/(1+w) + 1e-6/(w - 73.1)**2", 73.1, "w - 73.1"),
+    ],
+)
+def test_a_pole_anywhere_the_block_can_reach_is_found_when_the_law_is_made(
+    formula: str, at: float, zero: str
+) -> None:
+    """Regression (second chain audit, helper-38, LOW): the law's check looked at 46 velocities,
+    so a pole between two of them was accepted; a run then failed or went wrong far from the
+    cause. Each denominator (tan's cos, log's argument) is now searched for a zero on a grid
+    of 6.5 % steps, its sign changes and the minima of its magnitude refined."""
+    with pytest.raises(ValueError, match=r"has a pole at w = ([0-9.e+-]+), where (.*) is zero") as err:
+        ExpressionLaw(formula, static=1)
+    found = re.search(r"has a pole at w = ([0-9.e+-]+), where (.*) is zero", str(err.value))
+    assert found is not None
+    assert float(found.group(1)) == pytest.approx(at, rel=1e-5), str(err.value)
+    assert found.group(2) == zero and str(err.value).startswith(f"f(w) = {formula} has")
+
+
+def test_poles_of_a_slope_of_a_physical_law_and_of_one_sweep_point() -> None:
+    """The slope's poles (the engine evaluates f' too), a physical law's pole in m/s, and the
+    one point of a swept parameter that puts a pole in reach; laws near a pole but finite,
+    and singular only at w = 0 itself (sqrt(w)), are taken."""
+    with pytest.raises(ValueError, match=r"^the slope of f\(w\) = .* has a pole at w = 0.5, where Abs"):
+        ExpressionLaw("0.9/(1+w) + 0.01*sqrt(abs(w - 0.5))", static=1)
+    with pytest.raises(
+        ValueError, match=r"^mu\(v\) = .* has a pole at v = 0.02 m/s, where -v/v0 \+ 1 is zero"
+    ):
+        ExpressionLaw(mu="0.4/(1 + a*v) + 0.001/(1 - v/v0)", a="160 s/m", v0="2 cm/s")
+    for ok in (
+        "0.9/(1+w) + 1e-3/((w - 0.5)**2 + 1e-8)",  # steep but finite
+        "0.9/(1+w) + 0.01*sqrt(w)",
+        "0.9/(1+w) + 0.01*abs(w - 0.5)",
+        "0.9/(1+w) + 1e-3*log(w + 1)",
+        "0.9/(1+w) + 1e-3/(w + 2)",
+    ):
+        ExpressionLaw(ok, static=1)
+    law = ExpressionLaw("0.9/(1+w) + 1e-3/(2.5 + cos(c*w))", static=1, c=3.8)
+    law.spec.validate({"c": np.linspace(1.0, 5.0, 2000)})  # bounded away from zero at every point
+    law = ExpressionLaw("0.99/(1 + c*w) + 1e-3/(w + p)", static=1, c=3.8, p=2.0)
+    p = np.linspace(2.0, -0.3, 1000)
+    with pytest.raises(ValueError, match=r"has a pole at w = 0.000700701 at point 869, where p \+ w is zero"):
+        law.spec.validate({"c": np.full(p.size, 3.8), "p": p})
+    assert p[869] < 0 <= p[868]
+
+
+def test_a_formula_that_runs_into_the_compile_check_pole_still_compiles() -> None:
+    """The compile check calls the law at w = 0.5 with every parameter 0.5: 1e-3/(c - w) divides
+    by zero there and was 'numba cannot compile its formula (division by zero)'. A pole beyond
+    the checked range that a motion reaches is the engine's ValueError, not a traceback."""
+    law = ExpressionLaw("0.9/(1+w) + 1e-3/(c - w) + 5e-4", static=1, c=-2.0)
+    res = ss.cycle(ss.DimensionlessParameters(law=law, nu=0.3))
+    assert res.regime.name == "STICK_SLIP"
+    far = ExpressionLaw("0.9/(1+w) + 1e-3/(200 - w)", static=1)
+    for call in (
+        lambda: ss.cycle(ss.DimensionlessParameters(law=far, nu=200.0)),
+        lambda: ss.simulate(ss.DimensionlessParameters(law=far, nu=1.0), duration=5.0, initial=(0.0, 200.0)),
+    ):
+        with pytest.raises(
+            ValueError, match="the friction law divides by zero at a velocity the motion reached"
+        ):
+            call()
 
 
 def _f2_table(rows: int) -> ss.laws.DimensionlessLaw:
@@ -515,3 +591,17 @@ def test_a_smoothing_table_passes_through_its_first_row() -> None:
         assert law.at(x) == pytest.approx(float(ref(x / 3.0)) + shift, rel=1e-12)
     res = ss.cycle(ss.DimensionlessParameters(nu=1.0, law=law))
     assert str(res.regime) == "stick-slip" and res.backward_slips == 0 and res.min_velocity >= 0.0
+
+
+def test_a_continuation_that_sympy_cannot_take_stops_where_it_can() -> None:
+    """A term that switches on at w = 50 as a power 1.5 has a second derivative 0/0 at w = 0 for
+    sympy: its limit stayed unevaluated (a Limit) and the code printer failed with a traceback.
+    The continuation below w = 0 now stops at the last derivative sympy gives; below w = 50 the
+    law is 0.9/(1+w), and the cycle is that law's."""
+    law = ExpressionLaw("0.9/(1+w) + 0.01*(w - 50 + abs(w - 50))**1.5", static=1)
+    assert sympy_str(law.spec.continuation) == "0.9 - 0.9*w"
+    got = ss.cycle(ss.DimensionlessParameters(law=law, nu=0.3))
+    plain = ss.cycle(ss.DimensionlessParameters(law=ExpressionLaw("0.9/(1+w)", static=1), nu=0.3))
+    assert got.regime.name == "STICK_SLIP" and got.status.name == "OK"
+    assert got.amplitude == pytest.approx(plain.amplitude, rel=1e-9)
+    assert got.period == pytest.approx(plain.period, rel=1e-9)

@@ -9,7 +9,8 @@ model layer does that before calling them.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import contextlib
+from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
 from types import ModuleType
@@ -207,21 +208,22 @@ def run_attractors(
         one = kernel.engine.attractor_ws
         ws = _workspace(4 if diag else 2)
         for i in range(n):
-            one(
-                law_a[i],
-                lp_a[i],
-                nu_a[i],
-                s0_a[i],
-                w0_a[i],
-                bool(from_breakaway),
-                rtol,
-                atol,
-                max_slip_time,
-                conv_tol,
-                max_steps,
-                out[i],
-                *ws,
-            )
+            with pole_is_an_error():
+                one(
+                    law_a[i],
+                    lp_a[i],
+                    nu_a[i],
+                    s0_a[i],
+                    w0_a[i],
+                    bool(from_breakaway),
+                    rtol,
+                    atol,
+                    max_slip_time,
+                    conv_tol,
+                    max_steps,
+                    out[i],
+                    *ws,
+                )
         if on_rows is not None:
             on_rows(n)
         return AttractorRows(out)
@@ -276,12 +278,24 @@ def in_blocks(call: Callable[[int, int], None], n: int, done: Callable[[int], No
     A user's formula with a pole (``0.001/(w - 0.7)``) raises ZeroDivisionError inside the
     compiled code when a row lands on it exactly; it was a traceback from deep in the engine.
     """
-    try:
+    with pole_is_an_error():
         _in_blocks(call, n, done)
+
+
+@contextlib.contextmanager
+def pole_is_an_error() -> Iterator[None]:
+    """Turn a compiled friction law's ZeroDivisionError into a ValueError that says what it is.
+
+    Every call into the compiled engine goes through it: the row blocks of
+    :func:`in_blocks`, a few rows run serially, a trajectory, a chain.
+    """
+    try:
+        yield
     except ZeroDivisionError:
         raise ValueError(
             "the friction law divides by zero at a velocity the motion reached (a pole of its "
-            "formula); give a law that is finite at every velocity w >= 0"
+            "formula, or of its derivative); give a law that is finite, with a finite slope, at every "
+            "velocity w >= 0"
         ) from None
 
 
@@ -409,21 +423,22 @@ def run_trajectory(
         mode = np.empty(t.shape[0], dtype=np.int64)
         ev = np.empty((cap, 3))
         evn = np.zeros(1, dtype=np.int64)
-        status = kernel.engine.trajectory(
-            int(law_a[0]),
-            lp_a,
-            float(nu),
-            float(s0),
-            float(w0),
-            t,
-            float(rtol),
-            float(atol),
-            int(max_steps),
-            y,
-            mode,
-            ev,
-            evn,
-        )
+        with pole_is_an_error():
+            status = kernel.engine.trajectory(
+                int(law_a[0]),
+                lp_a,
+                float(nu),
+                float(s0),
+                float(w0),
+                t,
+                float(rtol),
+                float(atol),
+                int(max_steps),
+                y,
+                mode,
+                ev,
+                evn,
+            )
         if evn[0] <= cap:
             return TrajectoryResult(y, mode, ev[: evn[0]].copy(), Status.from_code(status))
         cap = int(evn[0])
@@ -681,10 +696,11 @@ def chain_advance(
     phia = np.ascontiguousarray(phi, dtype=np.float64)
     cat = np.zeros((max(int(max_events), 0), kernel.chain_engine.NCAT))
     slips = np.zeros((min(int(slip_rows), max(int(max_events), 0)), n))
-    written, status = kernel.chain_engine.chain_run(
-        kernel.law_id, lpa, float(nu), float(ell2), bool(periodic), bool(backward), phia,
-        state.x, state.v, state.mode, state.sc, state.ev_x0, state.ev_flag, state.ev_list,
-        int(max_events), float(t_max), float(rtol), float(atol), int(max_steps), float(max_work),
-        float(max_event_duration), cat, slips,
-    )  # fmt: skip
+    with pole_is_an_error():
+        written, status = kernel.chain_engine.chain_run(
+            kernel.law_id, lpa, float(nu), float(ell2), bool(periodic), bool(backward), phia,
+            state.x, state.v, state.mode, state.sc, state.ev_x0, state.ev_flag, state.ev_list,
+            int(max_events), float(t_max), float(rtol), float(atol), int(max_steps), float(max_work),
+            float(max_event_duration), cat, slips,
+        )  # fmt: skip
     return cat[:written], slips[: min(written, slips.shape[0])], int(status)

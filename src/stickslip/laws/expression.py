@@ -46,6 +46,15 @@ V = sp.Symbol("v", real=True)
 ONSET_TOL = 1e-9
 #: velocities at which a formula must be finite (model units; physical: these times 1 m/s)
 _PROBE = np.concatenate([[0.0], np.geomspace(1e-9, 1e2, 45)])
+#: where a formula's denominators (and tan's, log's arguments) are looked at for a zero: steps of 6.5 %
+_POLE_GRID = np.concatenate([[0.0], np.geomspace(1e-9, _PROBE[-1], 401)])
+#: a denominator whose least |value| between grid points falls below this of its neighbours' is zero there
+_TOUCH = 1e-12
+#: local minima of |denominator| below this of its largest on the grid are searched (a double root's
+#: grid value is at most (step/2)^2 = 1e-3 of it); a denominator bounded away from zero has none
+_NEAR = 1e-2
+#: parameter points of a sweep looked at together (memory: grid size times this)
+_POLE_CHUNK = 2048
 
 _SPECS: dict[tuple[Any, ...], LawSpec] = {}
 
@@ -106,6 +115,21 @@ def _check_values(spec: LawSpec, values: Mapping[str, npt.ArrayLike], text: str)
             f"f(w) = {text} is not finite at w = {_PROBE[i]:.3g}{at}: friction must be finite for every "
             "velocity the block can reach"
         )
+    pole = _pole(spec, arrays, shape)
+    if pole is not None:
+        at_w, part, j, of = pole
+        at = f" at point {j}" if f.shape[1] > 1 else ""
+        names = [p.name for p in spec.parameters]
+        law, x, zero = f"f(w) = {text}", f"w = {at_w:.6g}", sp.sstr(part)
+        if "beta" in names:  # the physical form, mu(w/beta)/mu_s: say it in m/s
+            beta = float(np.ravel(np.broadcast_to(arrays[names.index("beta")], shape))[j])
+            law, x = text.split("mu_s, ", 1)[-1], f"v = {at_w / beta:.6g} m/s"
+            zero = sp.sstr(part.subs(W, sp.Symbol("beta", real=True) * V))
+        whose = law if of == "f" else f"the slope of {law}"
+        raise ValueError(
+            f"{whose} has a pole at {x}{at}, where {zero} is zero: friction and its slope must be finite "
+            "for every velocity the block can reach"
+        )
     onset = f[0]
     if np.any(onset > 1.0 + ONSET_TOL):
         j = int(np.argmax(onset > 1.0 + ONSET_TOL))
@@ -120,6 +144,99 @@ def _check_values(spec: LawSpec, values: Mapping[str, npt.ArrayLike], text: str)
             UserWarning,
             stacklevel=5,
         )
+
+
+def _singular_parts(expr: sp.Expr) -> tuple[sp.Expr, ...]:
+    """Sub-expressions of ``expr`` whose zero makes it infinite: denominators, tan's cos, log's argument."""
+    parts = []
+    for node in sp.preorder_traversal(expr):
+        if isinstance(node, sp.Pow) and node.exp.is_number and node.exp.is_negative:
+            parts.append(node.base)
+        elif isinstance(node, sp.tan):
+            parts.append(sp.cos(node.args[0]))
+        elif isinstance(node, sp.log):
+            parts.append(node.args[0])
+    return tuple(dict.fromkeys(p for p in parts if p.has(W)))
+
+
+def _pole(
+    spec: LawSpec, arrays: list[FloatArray], shape: tuple[int, ...]
+) -> tuple[float, sp.Expr, int, str] | None:
+    """Return ``(w, part, point, of)`` of the first zero of a singular part for ``0 < w <= 100``, or None.
+
+    The 46 probes of :func:`_check_values` step over a pole between them
+    (``1/(w - 0.5)``); here each denominator is evaluated on a grid of 6.5 % steps:
+    a change of sign between two points is a zero, and so is a local minimum of
+    its magnitude that falls to zero between them (``1/(w - 0.5)**2`` written
+    out as ``1/(w**2 - w + 0.25)``), found by golden-section search. ``of`` says
+    whose pole it is: ``f``'s, or only its slope's (``sqrt(abs(w - 0.5))``), which
+    the engine evaluates as well.
+    """
+    own = _singular_parts(spec.expr)
+    parts = [(p, "f") for p in own] + [
+        (p, "slope") for p in _singular_parts(spec.derivative(1)) if p not in own
+    ]
+    if not parts:
+        return None
+    flat = [np.broadcast_to(a, shape).ravel() for a in arrays]
+    w = _POLE_GRID[:, None]
+    old = np.seterr(all="ignore")
+    try:
+        for part, of in parts:
+            # only the parameters in this part matter: a sweep's distinct values of those
+            used = [i for i, s in enumerate(spec.symbols) if s in part.free_symbols]
+            fn = sp.lambdify((W, *(spec.symbols[i] for i in used)), part, modules=["scipy", "numpy"])
+            table = np.stack([flat[i] for i in used], axis=1) if used else np.zeros((1, 0))
+            points, first = np.unique(table, axis=0, return_index=True)
+            for lo in range(0, len(points), _POLE_CHUNK):
+                chunk = points[lo : lo + _POLE_CHUNK]
+                cols = [chunk[:, i] for i in range(chunk.shape[1])]
+                g = np.broadcast_to(np.asarray(fn(w, *cols), dtype=float), (w.size, len(chunk)))
+                found = _zero_on_grid(fn, g, cols)
+                if found is not None:
+                    at, k = found
+                    return at, part, int(first[lo + k]), of
+    finally:
+        np.seterr(**old)
+    return None
+
+
+def _zero_on_grid(fn: Any, g: FloatArray, cols: list[FloatArray]) -> tuple[float, int] | None:
+    """First ``(w, column)`` where ``g`` (grid by points) is zero, changes sign, or touches zero."""
+    from scipy.optimize import brentq
+
+    finite = np.isfinite(g)
+    neg = g < 0
+    hit = ((neg[1:] != neg[:-1]) & finite[1:] & finite[:-1]) | (g[1:] == 0)
+    if hit.any():
+        i, k = np.argwhere(hit)[0]
+        a, b = _POLE_GRID[i], _POLE_GRID[i + 1]
+        args = [float(c[k]) for c in cols]
+        if g[i + 1, k] == 0:
+            return float(b), int(k)
+        return float(brentq(lambda x: float(fn(x, *args)), a, b, xtol=1e-15, rtol=1e-14)), int(k)
+    m = np.where(finite, np.abs(g), np.inf)
+    top = np.max(np.where(finite, m, 0.0), axis=0)
+    inner = (m[1:-1] <= m[:-2]) & (m[1:-1] <= m[2:]) & (m[1:-1] <= _NEAR * top)
+    i, k = np.nonzero(inner)
+    if i.size == 0:
+        return None
+    a, b = _POLE_GRID[i].copy(), _POLE_GRID[i + 2].copy()
+    at = [c[k] for c in cols]
+    ratio = (np.sqrt(5.0) - 1.0) / 2.0
+    for _ in range(100):  # golden section on |g| in [a, b], every candidate at once
+        x1, x2 = b - ratio * (b - a), a + ratio * (b - a)
+        left = np.abs(fn(x1, *at)) <= np.abs(fn(x2, *at))
+        b = np.where(left, x2, b)
+        a = np.where(left, a, x1)
+    x = (a + b) / 2
+    low = np.abs(np.asarray(fn(x, *at), dtype=float))
+    near = np.minimum(m[i, k], m[i + 2, k])
+    touch = np.flatnonzero(low <= _TOUCH * near)
+    if touch.size == 0:
+        return None
+    c = touch[np.argmin(k[touch] * g.shape[0] + i[touch])]  # the first point, its lowest zero
+    return float(x[c]), int(k[c])
 
 
 def _continuous_onset(spec: LawSpec, text: str) -> Any:
