@@ -473,8 +473,8 @@ def test_the_page_keeps_its_view_whole_says_its_warnings_and_that_it_computes():
         assert [s.name for s in ex.param_sliders] == ["param_c", "param_p"]  # the shown view's
     # an error that quotes a quantity keeps it (its '<Quantity(...)>' was read as a tag)
     ex = Explorer(Document(), Setup(nu=0.05))
+    ex.scales["mass"].value = "1e300"  # dimensionless: not used yet
     ex.units.active = 1
-    ex.scales["mass"].value = "1e300"
     assert "error" in ex.status.text and "a=&lt;Quantity(3.3" in ex.status.text, ex.status.text
     # a law's warning on the page, under the result
     ex = Explorer(Document(), Setup(nu=0.05))
@@ -499,3 +499,49 @@ def test_the_page_keeps_its_view_whole_says_its_warnings_and_that_it_computes():
     ticks[0].callback()
     assert ex.updates == before + 1 and ex.view.setup.params["c"] == 2.5
     assert "computing" not in ex.status.text
+
+
+def test_a_new_physical_scale_holds_v0_and_the_law_in_si():
+    """The explorer audit (helper-39): in physical units the sliders held nu and the law's
+    dimensionless parameters, so a new mass changed v0 and the law's a and b (the command
+    showed them moved). A new scale now holds v0 and the law in SI; nu = beta v0 and the
+    sliders follow, and the command still reproduces the view."""
+    from bokeh.document import Document
+
+    from stickslip.explore import Explorer
+
+    ex = Explorer(Document(), Setup(nu=0.05))
+    ex.units.active = 1
+    v0, law = ex.view.v0, ex.view.setup.parameters().law
+    assert "in SI: mu_s = " in ex.law_si.text and " s/m" in ex.law_si.text
+    mass = 4.0 * ex.setup.mass
+    ex.scales["mass"].value = repr(mass)
+    assert "error" not in ex.status.text, ex.status.text
+    s = ex.view.setup
+    assert s.mass == mass and ex.view.v0 == pytest.approx(v0, rel=1e-12)  # beta doubled
+    assert s.nu == pytest.approx(0.1, rel=1e-12)
+    assert s.params == {"c": pytest.approx(3.8 / 2, rel=1e-12), "p": 0.0}
+    held = s.parameters().law
+    for (name, q), q0 in zip(held.params.items(), law.params.values(), strict=True):
+        assert q.to(q0.units).magnitude == pytest.approx(q0.magnitude, rel=1e-12), name
+    assert [sl.value for sl in ex.param_sliders] == [s.params["c"], s.params["p"]]
+    assert ex.nu.value == pytest.approx(-1.0) and ex._nu_exact[1] == s.nu
+    out = _run_command(ex.command.text)
+    assert out["amplitude"] == pytest.approx(ex.view.amplitude, rel=1e-12)
+    # a v0 that the new scales put beyond the slider: an error that says how out, the view kept
+    shown = ex.command.text
+    ex.scales["mass"].value = repr(1e6 * mass)
+    assert "error" in ex.status.text and "outside the driving-velocity slider" in ex.status.text
+    assert ex.command.text == shown
+    ex.scales["mass"].value = repr(mass)
+    assert "error" not in ex.status.text and ex.view.v0 == pytest.approx(v0, rel=1e-12)
+    # mu_k held above a new mu_s cannot be: the dimensionless kinetic is kept, and the page says so
+    ex = Explorer(Document(), Setup(law="coulomb", params={"kinetic": 0.6}, nu=0.05))
+    ex.units.active = 1
+    ex.scales["mu_s"].value = repr(0.5 * ex.setup.mu_s)
+    assert "<b>warning</b>" in ex.status.text and "cannot be held" in ex.status.text, ex.status.text
+    assert ex.view.setup.params == {"kinetic": 0.6}
+    # the dimensionless view keeps its values whatever the scales
+    ex = Explorer(Document(), Setup(nu=0.05))
+    ex.scales["mass"].value = "1.0"
+    assert ex.view.setup.nu == 0.05 and ex.view.setup.params == {"c": 3.8, "p": 0.0}

@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from ..models import PhysicalParameters
 from .session import (
     DEFAULT_EXPRESSION_PARAMS,
     EXPR,
@@ -84,6 +85,7 @@ class Explorer:
         )
         self.apply = Button(label="Compile and apply the formula", name="apply", visible=s.law == EXPR)
         self.param_box = column(name="param_box")
+        self.law_si = Div(text="", name="law_si", width=330)  # the law in SI units, in physical units
         self.diagram_param = Select(title="Regime diagram: vertical axis", name="diagram_param")
         self.nu = Slider(
             title="log10 nu (nu = beta v0)",
@@ -175,8 +177,8 @@ class Explorer:
             name="title",
         )
         controls = column(
-            head, self.law, self.expression, self.expr_params, self.apply, self.param_box, self.nu,
-            self.diagram_param, self.units, *self.scales.values(), self.status, self.csv_button,
+            head, self.law, self.expression, self.expr_params, self.apply, self.param_box, self.law_si,
+            self.nu, self.diagram_param, self.units, *self.scales.values(), self.status, self.csv_button,
             Div(text="<b>The same set-up from the shell:</b>"), self.command, width=350,
         )  # fmt: skip
         plots = gridplot(
@@ -305,7 +307,28 @@ class Explorer:
         # from outside the page (a script) is held to the slider's range (log10 nu = 3 ran minutes)
         log_nu = min(max(float(self.nu.value), float(self.nu.start)), float(self.nu.end))
         nu = self._nu_exact[1] if self.nu.value == self._nu_exact[0] else float(10.0**log_nu)
-        return self.setup.with_(params=params, nu=nu, physical=self.units.active == 1, **scales)
+        read = self.setup.with_(params=params, nu=nu, physical=self.units.active == 1)
+        if not (self.setup.physical and read.physical):
+            return read.with_(**scales)
+        # in physical units a new scale holds v0 and the law in SI: nu and the sliders follow
+        return read.rescaled(**scales)
+
+    def _sync_widgets(self, setup: Setup) -> None:
+        """Set the sliders to ``setup``'s nu and law parameters (moved by a new physical scale)."""
+        self._building = True
+        try:
+            log_nu = round(math.log10(setup.nu), 2)
+            if self._nu_exact[1] != setup.nu:
+                self.nu.value = log_nu
+                self._nu_exact = (log_nu, float(setup.nu))
+            for sl in self.param_sliders:
+                name = str(sl.name).removeprefix("param_")
+                value = float(setup.params[name])
+                if float(sl.value) != value:
+                    start, end, step = slider_range(setup.law, name, value)
+                    sl.update(start=start, end=end, step=step, value=min(max(value, start), end))
+        finally:
+            self._building = False
 
     # ---- the update --------------------------------------------------
     def update(self) -> bool:
@@ -327,6 +350,7 @@ class Explorer:
         notes = list(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, UserWarning)))
         self.setup = setup
         self.view = view
+        self._sync_widgets(setup)
         # one message to the page for the whole update, not one per changed property
         self.doc.hold("combine")
         try:
@@ -363,6 +387,7 @@ class Explorer:
         self._push_diagram(v, diagram)
         self.command.text = v.command
         self.nu.title = f"log10 nu (nu = beta v0 = {v.setup.nu:.4g}; v0 = {v.v0:.4g} {u['velocity']})"
+        self.law_si.text = _law_si(v.setup)
 
     def _diagram_data(self, v: View) -> dict[str, Any] | None:
         """Return the regime diagram's new cells, or None when the shown ones still hold."""
@@ -429,6 +454,17 @@ class Explorer:
         # escaped: a message that quotes a quantity (<Quantity(3.3e+152, 's / m')>) lost it as a
         # tag, and read "a= , b= :" (the explorer audit)
         self.status.text = f"<span style='color:#b00020'><b>error</b>: {html.escape(message)}</span>"
+
+
+def _law_si(setup: Setup) -> str:
+    """Return the law's physical parameters, shown under the sliders in physical units."""
+    params = setup.parameters()
+    if not isinstance(params, PhysicalParameters):
+        return ""
+    values = [f"mu_s = {params.law.mu_s:.6g}"] + [
+        f"{k} = {q:.6g~P}" if hasattr(q, "units") else f"{k} = {q:.6g}" for k, q in params.law.params.items()
+    ]
+    return f"<small>in SI: {html.escape(', '.join(values))} (held when a scale below changes)</small>"
 
 
 def _warnings_html(notes: list[str]) -> str:

@@ -19,6 +19,7 @@ import math
 import re
 import shlex
 import sys
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
@@ -159,6 +160,52 @@ class Setup:
     def with_(self, **changes: Any) -> Setup:
         """Return a copy with some fields changed."""
         return replace(self, **changes)
+
+    def rescaled(self, mass: float, stiffness: float, load: float, mu_s: float) -> Setup:
+        """Return the set-up under other physical scales, the same machine and law in SI units.
+
+        In physical units a new mass (stiffness, load, ``mu_s``) changes the set-up, not
+        the driving velocity ``v0`` in m/s or the law's physical parameters (``a``, ``b``
+        in s/m; ``mu_k``; ...): those are held, and ``nu = beta v0`` and the law's
+        dimensionless parameters follow. (They were held instead, so that a new mass
+        changed ``v0`` and the law: the explorer audit.) Where the law cannot be held
+        (``mu_k`` above a new ``mu_s``), its dimensionless parameters are kept and a
+        warning says so. A formula (dimensionless) and the dimensionless view keep their
+        values.
+
+        Raises
+        ------
+        ValueError
+            For a scale that is not a positive number, or a ``v0`` whose ``nu`` under the
+            new scales falls outside the driving-velocity slider's range, :data:`NU_RANGE`.
+
+        """
+        new = self.with_(mass=mass, stiffness=stiffness, load=load, mu_s=mu_s)
+        same = (mass, stiffness, load, mu_s) == (self.mass, self.stiffness, self.load, self.mu_s)
+        if same or not self.physical or self.law == EXPR:
+            return new
+        v0 = self.nu / self.beta
+        nu = v0 * new.beta
+        if not (NU_RANGE[0] <= nu <= NU_RANGE[1]):
+            raise ValueError(
+                f"v0 = {v0:.6g} m/s is nu = beta v0 = {nu:.4g} with these scales "
+                f"(beta = {new.beta:.6g} s/m), outside the driving-velocity slider's range, 1e-5 to 10: "
+                "lower v0 or change the scales back"
+            )
+        law = self.dimensionless_law().to_physical(Q_(self.beta, "s/m"), self.mu_s)
+        try:
+            if mu_s != self.mu_s:
+                law = law.replace(mu_s=mu_s)
+            params = law.nondimensionalize(Q_(new.beta, "s/m")).params
+        except ValueError as e:
+            warnings.warn(
+                f"the {self.law} law's physical parameters ({law.describe()}) cannot be held with these "
+                f"scales ({e}): its dimensionless parameters are kept",
+                UserWarning,
+                stacklevel=2,
+            )
+            params = dict(self.params)
+        return new.with_(nu=nu, params=params)
 
 
 @dataclass(frozen=True)
