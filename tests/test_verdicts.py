@@ -252,3 +252,39 @@ def test_a_stable_orbit_that_a_tables_noise_keeps_from_1e10_is_still_an_attracto
     assert below.regime.value == "bistable" and below.nu_max == h.nu
     assert {a.value for a in below.attractors} == {"stick-slip", "pure-slip"}
     assert all(c.agree for c in confirm(d))
+
+
+def test_an_orbit_kept_at_a_tables_noise_floor_says_how_well_it_is_known() -> None:
+    """An orbit shot again at the noise floor (the test above) was reported ok with every digit,
+    though known to a few 1e-8..1e-5 only (carried since the sweep audit). `cycle` now warns,
+    with the estimate: the SciPy reference's amplitude lies within three times it. An orbit
+    pinned to 1e-8 (nu = 0.674, multiplier 0.97) says nothing."""
+    import re
+
+    import numpy as np
+    from reference import pure_slip_orbit_reference
+
+    from stickslip import TabulatedLaw
+    from stickslip.bifurcation.attractors import NoisyOrbitWarning
+    from stickslip.units import Q_
+
+    v = np.r_[0.0, np.geomspace(10.0, 2e5, 40)]
+    w = 42.0 * v * 1e-6
+    law = TabulatedLaw(Q_(v, "um/s"), 0.46 * (1.0 / (1.0 + 3.8 * w) + 0.5 * w)).nondimensionalize("60 s/m")
+    for nu, noisy in ((0.674, False), (0.73, True), (0.732, True)):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            r = cycle(DimensionlessParameters(nu, law))
+        said = [str(c.message) for c in caught if issubclass(c.category, NoisyOrbitWarning)]
+        assert bool(said) == noisy, (nu, said)
+        orbit = r.attractors[1]
+        assert orbit.regime.value == "pure-slip" and orbit.status.value == "ok"
+        if not noisy:
+            continue
+        (message,) = said
+        found = re.search(r"known to about ([0-9.e+-]+) of its amplitude only, not to 1e-08", message)
+        assert found is not None, message
+        guess = (float(law.at(nu)) + 0.5 * orbit.amplitude, orbit.period)
+        ref = pure_slip_orbit_reference(lambda x: float(law.at(x)), lambda x: float(law.at(x, 1)), nu, guess)
+        error = abs(orbit.amplitude / ref.amplitude - 1.0)
+        assert 1e-8 < float(found.group(1)) and error <= 3.0 * float(found.group(1)), (nu, error, message)

@@ -27,6 +27,7 @@ slip-reversal orbits are told apart by their orbits, not by names.
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -39,7 +40,15 @@ from ..core.results import AttractorRows, Regime, ShootingRows, ShootStatus, Sta
 from ..laws import DimensionlessLaw
 from .orbits import law_arrays, return_map_orbit_core
 
-__all__ = ["SAME_ORBIT_RTOL", "SHOOTING_TOL", "OrbitKey", "orbit_key", "polish_rows", "same_orbit"]
+__all__ = [
+    "SAME_ORBIT_RTOL",
+    "SHOOTING_TOL",
+    "NoisyOrbitWarning",
+    "OrbitKey",
+    "orbit_key",
+    "polish_rows",
+    "same_orbit",
+]
 
 #: tolerance of the periodicity residual when polishing (the flow runs at 1/100 of it)
 SHOOTING_TOL = 1e-10
@@ -123,6 +132,33 @@ def _accurate(sh: ShootingRows) -> npt.NDArray[np.bool_]:
     )
 
 
+class NoisyOrbitWarning(UserWarning):
+    """A table law's pure-slip orbit kept at its flow's noise floor, known to less than 1e-8."""
+
+
+def _say_noisy(error: np.ndarray, multiplier: np.ndarray) -> None:
+    """Warn once for the orbits of a call kept at the noise floor: how well their amplitude is known.
+
+    Such an orbit is an attractor (stable, next to the motion's own), but its amplitude
+    and period are known to the table's flow noise over the orbit's contraction, a few
+    1e-5 at a multiplier of 0.998, not to :data:`~stickslip.defaults.ORBIT_RTOL`; it
+    was reported ``ok`` without a word. The error is rounded to one digit, so that a
+    regime search's many calls repeat one message (Python shows it once).
+    """
+    kept = error > 0.0
+    if not kept.any():
+        return
+    worst = int(np.argmax(np.where(kept, error, -1.0)))
+    warnings.warn(
+        f"a pure-slip orbit of this table law is known to about {float(error[worst]):.0e} of its amplitude "
+        f"only, not to {defaults.ORBIT_RTOL:g} (multiplier {float(multiplier[worst]):.3f}: nearly neutral, "
+        "as next to a Hopf point, and the interpolated law's flow is good to 1e-10..1e-8 across its rows, "
+        "which the slow contraction multiplies); its regime and stability stand",
+        NoisyOrbitWarning,
+        stacklevel=3,
+    )
+
+
 def polish_rows(
     law: DimensionlessLaw | tuple[Kernel, np.ndarray],
     nu: np.ndarray,
@@ -190,6 +226,7 @@ def polish_rows(
         idx = np.flatnonzero(pure)
         sh = run_shooting(kernel, lp[idx], nu[idx], rows.s_max[idx], rows.period[idx], tol=SHOOTING_TOL)
         good = _accurate(sh)
+        noisy = np.zeros(len(idx))  # the estimated error of an orbit kept at the noise floor
         # a stable orbit that Newton cannot pin down to 1e-10 because the flow itself is noisier
         # (a pchip table: 1e-10 to 1e-8 across its rows, times 1 / (1 - multiplier)) is still an
         # attractor: it is shot again at SHOOTING_TOLS_NOISY, and the first stable orbit found
@@ -216,6 +253,7 @@ def polish_rows(
                 ):
                     sh.raw[r] = again.raw[j]
                     good[r] = True
+                    noisy[r] = 2.0 * again.err_s0[j] / again.amplitude[j]
         for j, i in enumerate(idx):
             status = ShootStatus.from_code(sh.status[j])
             if status == ShootStatus.TRIVIAL and rows.dfnu[i] > 0.0:
@@ -235,6 +273,7 @@ def polish_rows(
             rows.status[i] = Status.OK.code
             mult[i] = sh.divergence_multiplier[j]
             polished[i] = True
+        _say_noisy(noisy, sh.divergence_multiplier)
     for i in np.flatnonzero(reversal):
         try:
             orb = return_map_orbit_core(
