@@ -10,6 +10,7 @@ import pytest
 from click.testing import CliRunner
 from reference import coulomb_cycle, reference_cycle
 
+import stickslip as ss
 from stickslip.cli import main
 from stickslip.cli.options import OnceCommand
 
@@ -251,6 +252,14 @@ BAD = [
     (["simulate", "--preset", "zv", "--duration", "-3 s", "--no-plot"], "must be positive"),
     (["simulate", "--nu", "0.1", "--c", "3", "--points", "1", "--no-plot"], "n_points=1"),
     (["simulate", "--nu", "0.1", "--c", "3", "--cycles", "0", "--no-plot"], "cycles=0.0"),
+    # the simulate audit: the engine's bound was 't_eval[0]=1.6373e+31', the dimensionless value
+    (
+        ["simulate", "--nu", "0.3", "--c", "3.8", "--duration", "1e300", "--no-plot"],
+        "duration=1e+300: 1e+300 in",
+    ),
+    (["simulate", "--preset", "zv", "--duration", "1e30 s", "--no-plot"], "duration='1e30 s': 1.64e+31 in"),
+    # physical options alone are not the zv set-up that no options give: say how to take it
+    (["simulate", "--v0", "20 um/s", "--no-plot"], "needs --mu-s (or add --preset zv: the paper's set-up"),
     # options that reached nothing in that combination: refused, no longer dropped without a word
     (["simulate", "--nu", "0.1", "--c", "3", "--duration", "50", "--cycles", "3"], "--duration or --cycles"),
     (["cycle", "--law", "expr", "--mu", "0.46/(1+160*v)", "--preset", "zv", "--mu-s", "0.9"], "is --static"),
@@ -436,3 +445,31 @@ def test_a_single_valued_option_given_twice_is_refused() -> None:
     assert res.exit_code == 0, res.output
     res = run("cycle", "--nu", "0.01", "--c", "3", "--json", "--json")
     assert res.exit_code == 0 and json.loads(res.output)["parameters"]["c"] == 3.0, res.output
+
+
+def test_a_simulation_that_runs_out_of_phases_or_steps_says_which_and_what_to_change(tmp_path: Path) -> None:
+    """The simulate audit (helper-40, LOW): a long run failed with 'too-many-phases' or
+    'too-many-steps (try a larger rtol)', naming neither the limit nor --duration; a pure-slip
+    run is one slip phase however long, which no rtol fixes. A start beyond the backward
+    threshold was given a stick of -s0/nu by the default duration (1e6/nu from s0 = -1e6)."""
+    res = run(
+        "simulate", "--nu", "0.3", "--c", "3.8", "--duration", "1e7", "--no-plot", "--out", str(tmp_path)
+    )
+    assert res.exit_code == 1 and "Traceback" not in res.output
+    assert (
+        "more than 100,000 stick and slip phases before t = 1e+07 (sqrt(m/k)), the end of duration="
+        in res.output
+    )
+    args = ["--law", "cubic", "--alpha", "0.5", "--gamma", "1", "--nu", "0.39", "--duration", "1e9"]
+    res = run("simulate", *args, "--no-plot", "--out", str(tmp_path))
+    assert res.exit_code == 1 and "Traceback" not in res.output
+    assert "one slip phase needed more than 2,000,000 steps" in res.output and "duration=" in res.output
+    assert "never sticks" in res.output
+    dp = ss.DimensionlessParameters(nu=0.3, law=ss.WeakeningLaw(c=3.8, p=0.0))
+    period = ss.cycle(dp).period
+    traj = ss.simulate(dp, initial=(-1e6, 0.0))  # ran out of phases
+    assert traj.time[-1] == pytest.approx(2.0 / 0.3 + 3.0 * period, rel=1e-6)
+    traj = ss.simulate(dp, initial=(-0.5, 0.0))  # stuck until s = 1: 1.5 / nu, then three cycles
+    assert traj.time[-1] == pytest.approx(1.5 / 0.3 + 3.0 * period, rel=1e-6)
+    traj = ss.simulate(ss.zv_parameters(), duration="1 min", n_points=50)
+    assert traj.time[-1] == 60.0  # it ended at 60.00000000000001 s

@@ -416,10 +416,10 @@ def _to_float(name: str, value: Any) -> Any:
         raise ValueError(f"{name}={value!r}: expected a number") from None
 
 
-def _require(opts: dict[str, Any], names: Sequence[str], context: str) -> None:
+def _require(opts: dict[str, Any], names: Sequence[str], context: str, hint: str = "") -> None:
     missing = [n for n in names if opts.get(n) is None]
     if missing:
-        raise click.UsageError(f"{context} needs {', '.join(map(opt, missing))}")
+        raise click.UsageError(f"{context} needs {', '.join(map(opt, missing))}{hint}")
 
 
 def params_of(opts: dict[str, Any]) -> dict[str, Any]:
@@ -537,8 +537,11 @@ def _registered(
         if law == "weakening":
             o["mu_s"] = ZV_MU0 if o.get("mu_s") is None else o["mu_s"]
             o["a"] = ZV_A if o.get("a") is None else o["a"]
-    _require(o, ("mu_s",), f"a physical set-up of --law {law}")
-    _require(o, [p.name for p in spec.physical if p.default is None], f"--law {law}")
+    # physical options alone (--v0 "20 um/s") are not the zv set-up the command runs with none
+    # (the simulate audit): say how to take it for the rest
+    rest = "" if preset else " (or add --preset zv: the paper's set-up for the options not given)"
+    _require(o, ("mu_s",), f"a physical set-up of --law {law}", rest)
+    _require(o, [p.name for p in spec.physical if p.default is None], f"--law {law}", rest)
     values = {
         p.name: _to_float(p.name, o[p.name]) if not p.unit else o[p.name]
         for p in spec.physical
@@ -546,7 +549,7 @@ def _registered(
     }
     plaw = entry.physical(**{static_name: _to_float(static_name, o["mu_s"])}, **values)
     _setup_mass(o, plaw.mu_s)
-    _require(o, SETUP, "a physical set-up")
+    _require(o, SETUP, "a physical set-up", rest)
     return PhysicalParameters(mass=o["mass"], stiffness=o["stiffness"], load=o["load"], v0=o["v0"], law=plaw)
 
 

@@ -14,6 +14,7 @@ import numpy.typing as npt
 from .. import defaults
 from ..bifurcation.orbits import law_arrays
 from ..core.api import run_trajectory
+from ..core.engine import MAX_PHASES
 from ..core.memory import check_memory
 from ..core.results import EventKind, Regime, Status
 from ..models.parameters import DimensionlessParameters, PhysicalParameters, as_dimensionless
@@ -46,7 +47,9 @@ class Trajectory:
     spring_force : ndarray
         Spring force ``k (v0 t - x)`` (N, or units of ``mu_s W``).
     phase : ndarray of int
-        0 stick, +1 slip, -1 backward slip.
+        0 stick, +1 slip, -1 backward slip. A sample at an event's time has the
+        phase that the event ends: a stop's sample is ``slip`` (velocity 0 to
+        rounding, e.g. -8.7e-17), a breakaway's ``stick``.
     event_time, event_force : ndarray
         Time and spring force of each event.
     event_kind : tuple of str
@@ -94,6 +97,28 @@ class Trajectory:
         from ..io.csv import write_columns
 
         return write_columns(path, self.columns(), kind="trajectory", out=out, overwrite=overwrite)
+
+
+#: the longest run (units of sqrt(m/k)): the engine's bound on its sample times
+MAX_TIME = 1e15
+
+
+def _failure_hint(status: Status, t_end: float, duration: Any, cycles: float | None) -> str:
+    """Say why a run failed and what to change; the limits are the engine's (the simulate audit)."""
+    asked = f"duration={duration!r}" if duration is not None else f"cycles={cycles!r}"
+    if status == Status.TOO_MANY_PHASES:
+        return (
+            f"the motion has more than {MAX_PHASES:,} stick and slip phases before t = {t_end:.6g} "
+            f"(sqrt(m/k)), the end of {asked}: simulate a shorter duration, or use `cycle` for the "
+            "steady oscillation"
+        )
+    if status == Status.TOO_MANY_STEPS:
+        return (
+            f"one slip phase needed more than {defaults.MAX_STEPS:,} steps before t = {t_end:.6g} "
+            f"(sqrt(m/k)), the end of {asked}: a motion that never sticks is one slip phase however "
+            "long; simulate a shorter duration, or a larger rtol if the law is stiff"
+        )
+    return "try a larger rtol"
 
 
 def simulate(
@@ -156,7 +181,11 @@ def simulate(
         cycles = check_number(3.0 if cycles is None else cycles, "cycles", what="a positive number of cycles")
         res = cycle(dp, rtol=max(rtol, 1e-9), atol=atol, probe=False)
         period = res.period if math.isfinite(res.period) else 2.0 * math.pi
-        t_end = max(0.0, -s0) / dp.nu + 1.0 / dp.nu + cycles * period
+        # at rest between the thresholds the block sticks until s = 1; from any other start it
+        # slips at once, and after its first stop breaks away within 2 / nu (the simulate audit:
+        # s0 = -1e6 was given 1e6 / nu of stick, and ran out of phases)
+        stuck = w0 == 0.0 and -1.0 <= s0 < 1.0
+        t_end = ((1.0 - s0) if stuck else 2.0) / dp.nu + cycles * period
         if res.regime != Regime.STICK_SLIP:
             t_end = min(res.transient_time, defaults.MAX_SLIP_TIME) + cycles * period
     elif scales is not None:
@@ -165,6 +194,11 @@ def simulate(
     else:
         t_end = check_number(duration, "duration", what="a positive dimensionless duration")
 
+    if t_end > MAX_TIME:  # the engine's own bound named t_eval (the simulate audit)
+        raise ValueError(
+            f"duration={duration!r}: {t_end:.3g} in units of sqrt(m/k), expected at most {MAX_TIME:g} "
+            "(time is a double: past that, a slip step is below its resolution)"
+        )
     kernel, lp = law_arrays(dp.law)
     grid = np.linspace(0.0, t_end, n_points)
     # first pass: the event times, so that corners and extrema are sampled exactly
@@ -174,12 +208,7 @@ def simulate(
         kernel, lp, dp.nu, s0, w0, t, rtol=rtol, atol=atol, event_capacity=max(16, ev.shape[0])
     )
     if status != Status.OK:
-        hint = (
-            "simulate fewer cycles or a shorter duration"
-            if status == Status.TOO_MANY_PHASES
-            else "try a larger rtol"
-        )
-        raise RuntimeError(f"integration failed: {status} ({hint})")
+        raise RuntimeError(f"integration failed: {status} ({_failure_hint(status, t_end, duration, cycles)})")
     s = y[:, 0]
     w = y[:, 1]
     u = dp.nu * t - s
@@ -192,6 +221,9 @@ def simulate(
     fx = scales.length.to("m").magnitude
     fv = scales.velocity.to("m/s").magnitude
     ff = scales.force.to("N").magnitude
+    times = t * ft
+    if duration is not None:  # the end as asked: 1 min ended at 60.00000000000001 s (the simulate audit)
+        times[-1] = float(parse_quantity(duration, "duration", "[time]", "10 s").to("s").magnitude)
     return Trajectory(
-        t * ft, (u - u[0]) * fx, w * fv, s * ff, mode, ev[:, 0] * ft, kinds, ev[:, 2] * ff, dict(SI_UNITS)
+        times, (u - u[0]) * fx, w * fv, s * ff, mode, ev[:, 0] * ft, kinds, ev[:, 2] * ff, dict(SI_UNITS)
     )
