@@ -473,3 +473,8 @@ def test_a_simulation_that_runs_out_of_phases_or_steps_says_which_and_what_to_ch
     assert traj.time[-1] == pytest.approx(1.5 / 0.3 + 3.0 * period, rel=1e-6)
     traj = ss.simulate(ss.zv_parameters(), duration="1 min", n_points=50)
     assert traj.time[-1] == 60.0  # it ended at 60.00000000000001 s
+    # a start at rest beyond a threshold breaks away at t = 0 and says so, as after a stop
+    for start, kind in (((2.0, 0.0), "breakaway"), ((-1.5, 0.0), "backward-slip"), ((1.0, 0.0), "breakaway")):
+        traj = ss.simulate(dp, initial=start, duration=10.0)
+        assert traj.event_time[0] == 0.0 and traj.event_kind[0] == kind and traj.event_force[0] == start[0]
+    assert ss.simulate(dp, duration=10.0).event_time[0] == pytest.approx(1.0 / 0.3, rel=1e-15)

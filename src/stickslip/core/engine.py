@@ -725,6 +725,8 @@ def trajectory(  # type: ignore[no-untyped-def]
     t = 0.0
     ie = np.int64(0)
     d = _mode_at(s0, w0)
+    if w0 == 0.0 and d != 0:  # a start at rest beyond a threshold breaks away at t = 0, as after a stop
+        _log(evbuf, evn, 0.0, EV_FORWARD if d == 1 else EV_BACKWARD, s0)
     for _ in range(MAX_PHASES + n_eval):
         if ie >= n_eval:
             return ST_OK
