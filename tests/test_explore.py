@@ -545,3 +545,21 @@ def test_a_new_physical_scale_holds_v0_and_the_law_in_si():
     ex = Explorer(Document(), Setup(nu=0.05))
     ex.scales["mass"].value = "1.0"
     assert ex.view.setup.nu == 0.05 and ex.view.setup.params == {"c": 3.8, "p": 0.0}
+
+
+def test_a_law_switched_back_keeps_one_slider_per_parameter_name():
+    """The explorer audit (helper-39, LOW): each law switch made new sliders, so weakening, cubic,
+    weakening left two 'param_c' models in BokehJS and get_model_by_name found the stale one.
+    A name's slider is now made once and reused, with the new law's range and value."""
+    from bokeh.document import Document
+
+    from stickslip.explore import Explorer
+
+    ex = Explorer(Document(), Setup(nu=0.05))
+    first = list(ex.param_sliders)
+    ex.param_sliders[0].value = 2.0
+    ex.law.value = "cubic"
+    ex.law.value = "weakening"
+    assert ex.param_sliders == first and len(first[0]._callbacks["value"]) == 1
+    assert [sl.value for sl in ex.param_sliders] == [3.8, 0.5] == list(ex.view.setup.params.values())
+    assert ex.updates == 4 and "--c 3.8" in ex.command.text

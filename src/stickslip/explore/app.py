@@ -194,11 +194,21 @@ class Explorer:
         from bokeh.models.widgets import Slider
 
         sliders: list[Any] = []
+        # one slider per parameter name for the page's life: a new one for a name seen before
+        # (weakening, cubic, weakening again) left two models of that name in BokehJS, and
+        # get_model_by_name found the stale one (the explorer audit)
+        pool: dict[str, Any] = self.__dict__.setdefault("_slider_pool", {})
         for name, value in self.setup.params.items():
             start, end, step = slider_range(self.setup.law, name, float(value))
             v = min(max(float(value), start), end)
-            sl = Slider(title=name, start=start, end=end, step=step, value=v, name=f"param_{name}")
-            sl.on_change("value", self._on_change)
+            sl = pool.get(name)
+            if sl is None:
+                sl = pool[name] = Slider(
+                    title=name, start=start, end=end, step=step, value=v, name=f"param_{name}"
+                )
+                sl.on_change("value", self._on_change)
+            else:
+                sl.update(start=start, end=end, step=step, value=v)
             sliders.append(sl)
         self.param_box.children = sliders
         self.param_sliders: list[Any] = sliders
