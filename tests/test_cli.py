@@ -189,6 +189,11 @@ def test_simulate_dimensionless_duration(tmp_path: Path) -> None:
     assert res.exit_code == 0, res.output
     header = (tmp_path / "trajectory.csv").read_text().splitlines()[0]
     assert header.startswith("time [sqrt(m/k)]")
+    # the count of stick phases is the CSV's, the stick from the start included (it said one less)
+    with (tmp_path / "trajectory.csv").open() as f:
+        phases = [row["phase"] for row in csv.DictReader(line for line in f if not line.startswith("#"))]
+    runs = [k for i, k in enumerate(phases) if i == 0 or k != phases[i - 1]]
+    assert f"{runs.count('stick')} stick phases simulated" in res.output and runs[0] == "stick"
 
 
 BAD = [
