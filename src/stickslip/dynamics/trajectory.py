@@ -191,6 +191,7 @@ def simulate(
     elif scales is not None:
         dq = parse_quantity(duration, "duration", "[time]", "10 s")
         t_end = float((dq / scales.time).to("").magnitude)
+        end_s = float(dq.to("s").magnitude)  # the last sample's time as asked
     else:
         t_end = check_number(duration, "duration", what="a positive dimensionless duration")
 
@@ -223,7 +224,7 @@ def simulate(
     ff = scales.force.to("N").magnitude
     times = t * ft
     if duration is not None:  # the end as asked: 1 min ended at 60.00000000000001 s (the simulate audit)
-        times[-1] = float(parse_quantity(duration, "duration", "[time]", "10 s").to("s").magnitude)
+        times[-1] = end_s
     return Trajectory(
         times, (u - u[0]) * fx, w * fv, s * ff, mode, ev[:, 0] * ft, kinds, ev[:, 2] * ff, dict(SI_UNITS)
     )
