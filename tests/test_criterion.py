@@ -228,3 +228,21 @@ def test_the_slope_and_its_interval_against_scipy() -> None:
         t95 = stats.t.ppf(0.975, v.size - 2)
         assert r.slope == pytest.approx(coef[0], rel=1e-10)
         assert r.slope_ci == pytest.approx((coef[0] - t95 * se, coef[0] + t95 * se), rel=1e-10)
+
+
+def test_errors_that_differ_by_1e9_keep_a_rising_trend_rising() -> None:
+    """Regression (measured-data audit, helper-41, HIGH): noise-free records give amplitude
+    errors of 1e-16 next to 1e-5; the normal matrix of the weighted fit squared that spread
+    and pinv truncated it, so the upper half's slope came out -0.0136 (exact: +0.0349) and a
+    monotonic rise was 'inconclusive (non-monotonic: the amplitude rises below and falls
+    above ...)'. The fit is now solved from the scaled design's SVD: the audit's numbers, and
+    the exact weighted slope in closed form."""
+    v = np.array([50, 100, 200, 500, 1000, 2000, 5000]) * 1e-6
+    a = np.array([1.002489, 1.005890, 1.012011, 1.027669, 1.050437, 1.090061, 1.187516])
+    spread = np.array([1.975e-15, 1.317e-15, 6.584e-16, 9.876e-16, 1.639e-05, 5.097e-05, 6.509e-04])
+    err = spread / np.sqrt([11, 11, 11, 11, 10, 9, 8])
+    r = classify(v, a, amplitude_err=err)
+    assert r.verdict == "stick-slip", r.reason
+    x, y, w = np.log(v), np.log(a), (a / err) ** 2
+    xb, yb = np.sum(w * x) / w.sum(), np.sum(w * y) / w.sum()
+    assert r.slope == pytest.approx(np.sum(w * (x - xb) * (y - yb)) / np.sum(w * (x - xb) ** 2), rel=1e-9)
