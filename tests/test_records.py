@@ -844,3 +844,70 @@ def test_a_header_of_unknown_names_lists_the_names(tmp_path: Path) -> None:
     title.write_text("My scratch test\n0,1\n1,2\n")
     with pytest.raises(ValueError, match=r"a title line\? put '# ' before it"):
         read_record(title)
+
+
+def _f1_setup(v0: str) -> S.PhysicalParameters:
+    """The measured-data audit's set-up: 50 g, 2 kN/m, 2 N, mu_s 0.4, F1 with a = 50 s/m."""
+    law = S.PhysicalWeakeningLaw(mu_s=0.4, a="50 s/m")
+    return S.PhysicalParameters(mass="50 g", stiffness="2000 N/m", load="2 N", v0=v0, law=law)
+
+
+def test_measured_data_audit_stick_fraction_force_plausibility_and_dead_columns() -> None:
+    """Measured-data audit (helper-41), three HIGH findings on one record each:
+
+    * velocity noise of v0 at 5 mm/s (here 0.8 v0), where slip is 15 % of the cycle: the slow start and end
+      of each slip lie below four noise deviations and were counted as rest, 0.904 for 0.847;
+      a slip is now grown over the samples that still move its way;
+    * a velocity column of zeros gave a stick fraction of 1 without a word;
+    * a force column in mN read as N: amplitudes of 1000 N against a 2 N load, no word."""
+    from stickslip.io.records import Record
+
+    p = _f1_setup("5 mm/s")
+    true = S.cycle(p, probe=False)
+    rec = synthetic_record(
+        p,
+        duration=f"{12 * true.period} s",
+        rate="1 kHz",
+        with_velocity=True,
+        start=f"{true.transient_time} s",
+    )
+    assert rec.velocity is not None
+    rng = np.random.default_rng(11)
+    noisy = Record(
+        rec.name, rec.time, rec.force, None, rec.velocity + 4e-3 * rng.standard_normal(rec.time.size)
+    )
+    s = measure_record(noisy)[1]
+    assert true.stick_fraction == pytest.approx(0.8466, abs=1e-4)
+    assert s.stick_fraction == pytest.approx(true.stick_fraction, abs=0.02)  # +0.017; it was +0.046
+    assert measure_record(rec)[1].stick_fraction == pytest.approx(true.stick_fraction, abs=2e-3)  # noise-free
+    dead = Record(rec.name, rec.time, rec.force, None, np.zeros(rec.time.size), rec.v0, rec.load)
+    s = measure_record(dead)[1]
+    assert math.isnan(s.stick_fraction) and "the velocity column is zero throughout" in s.warning
+    mislabelled = Record(rec.name, rec.time, 1e3 * rec.force, None, None, rec.v0, rec.load)
+    s = measure_record(mislabelled)[1]
+    assert "times the normal load 2 N: a friction coefficient above 5 is not plausible" in s.warning
+    assert "coefficient above 5" not in measure_record(rec)[1].warning
+
+
+def test_the_noise_of_a_quantized_fast_record_and_a_fit_better_than_its_noise() -> None:
+    """Measured-data audit (helper-41, MEDIUM): 1 mN ADC steps over 0.3 mN of noise (0.41 mN of
+    error) on a record of 136 samples a cycle read 1.98 mN of noise: the RMS of the second
+    differences kept the fast drops (only their largest 1 % was left out); they are now clipped
+    at four deviations until none is left. A fit whose reduced chi-square falls below 0.25
+    says that the noise it read, and the errors with it, are too large."""
+    from stickslip.core.noise import noise_level
+    from stickslip.data.fitting import fit_record
+    from stickslip.io.records import Record
+
+    p = _f1_setup("5 mm/s")
+    true = S.cycle(p, probe=False)
+    rec = synthetic_record(p, duration=f"{8 * true.period} s", rate="1 kHz", start=f"{true.transient_time} s")
+    rng = np.random.default_rng(7)
+    error = 1e-3 * np.round(1e3 * rec.force + 0.3 * rng.standard_normal(rec.time.size)) - rec.force
+    adc = Record(rec.name, rec.time, rec.force + error, None, None, rec.v0, rec.load)
+    assert noise_level(adc.force) == pytest.approx(float(np.std(error)), rel=0.15)  # was 4.8 times it
+    res = fit_record(rec, noise=None)  # noise-free: the noise read is the rounding's, far above the misfit
+    assert any("the record fits better than the noise read off it" in w for w in res.warnings), res.warnings
+    res = fit_record(adc)
+    assert not any("fits better than the noise" in w for w in res.warnings), res.warnings
+    assert 0.5 < res.reduced_chi2 < 1.5

@@ -180,12 +180,13 @@ def register(main: click.Group) -> None:
             click.echo(json.dumps(d, indent=2))
             return
         for name, v in d["parameters"].items():
+            unit = "" if v["unit"] in ("1", "") else f" {v['unit']}"  # mu_s is a number ('+- 1.9e-05 1')
             if v.get("at_bound"):
-                click.echo(f"{name:4s} = 0 (at its bound; < {v['upper_limit_95']:.3g} {v['unit']} at 95%)")
+                click.echo(f"{name:4s} = 0 (at its bound; < {v['upper_limit_95']:.3g}{unit} at 95%)")
             elif v["error"] is None:
-                click.echo(f"{name:4s} = {v['value']:.6g} {v['unit']} (not constrained by the record)")
+                click.echo(f"{name:4s} = {v['value']:.6g}{unit} (not constrained by the record)")
             else:
-                click.echo(f"{name:4s} = {v['value']:.6g} +- {v['error']:.2g} {v['unit']}")
+                click.echo(f"{name:4s} = {v['value']:.6g} +- {v['error']:.2g}{unit}")
         click.echo(
             f"reduced chi2 = {res.reduced_chi2:.3f} ({res.method} fit, {res.samples} "
             f"{'samples' if res.method == 'waveform' else 'features'}, noise {1e3 * res.noise:.3g} mN)"

@@ -40,8 +40,15 @@ def noise_level(y: npt.NDArray[np.float64]) -> float:
         # little noise) the second differences are mostly 0 and their RMS falls short (0.2 of
         # the residual from a smooth signal at 0.01 step per sample); the rounding error itself,
         # uniform over a step, is at least step / sqrt(12)
-        cut = float(np.quantile(np.abs(d), 0.99))
-        kept = d[np.abs(d) <= cut]
+        # the signal's turns are left out by clipping at 4 of the kept ones' deviations until
+        # none is left (the largest 1% alone kept a fast record's drops: 1.98 mN for 0.41 at
+        # 136 samples a cycle, the measured-data audit); white noise loses 6e-5 of its samples
+        kept = d
+        for _ in range(50):
+            within = kept[np.abs(kept) <= 4.0 * math.sqrt(float(np.mean(kept**2)))]
+            if within.size == kept.size or within.size == 0:
+                break
+            kept = within
         rms = math.sqrt(float(np.mean(kept**2)) / 6.0)
         return float(max(rms, float(steps.min()) / math.sqrt(12.0)))
     return float(1.4826 * mad / math.sqrt(6.0))

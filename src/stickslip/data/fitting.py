@@ -265,6 +265,8 @@ B_AT_BOUND = 1e-4
 DCHI2_95_ONE_SIDED = 2.706
 #: largest number of samples the waveform fit uses (a window of whole cycles)
 MAX_WAVEFORM_SAMPLES = 200_000
+#: reduced chi-square below which the waveform fit warns that the noise it read is too large
+CHI2_LOW = 0.25
 #: reduced chi-square above which the fit warns that the model does not describe the record
 CHI2_WARN = 2.0
 #: a drift this many standard errors from zero is one the record shows (not its noise)
@@ -417,6 +419,15 @@ def fit_record(
         warnings.append(
             f"reduced chi-square {chi2:.2f} > {CHI2_WARN:g}: the model does not describe the record "
             f"to within its noise ({1e3 * noise_:.3g} mN); errors scaled up by its square root"
+        )
+    elif method == "waveform" and given_noise is None and chi2 < CHI2_LOW:
+        # the noise read off the record is larger than the misfit: the errors scale with it
+        # (0.045 and errors 4.8 times too large, without a word: the measured-data audit)
+        warnings.append(
+            f"reduced chi-square {chi2:.2g} < {CHI2_LOW:g}: the record fits better than the noise read "
+            f"off it ({1e3 * noise_:.3g} mN), so that estimate is too large and the errors with it, by "
+            f"about {1.0 / math.sqrt(max(chi2, 1e-300)):.2g} times; give the noise if you know it "
+            "(--noise '0.4 mN', noise= in Python)"
         )
     half_window = (
         0.5 * samples * dt if method == "waveform" else 0.5 * float(record.time[-1] - record.time[0])
