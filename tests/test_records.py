@@ -911,3 +911,48 @@ def test_the_noise_of_a_quantized_fast_record_and_a_fit_better_than_its_noise() 
     res = fit_record(adc)
     assert not any("fits better than the noise" in w for w in res.warnings), res.warnings
     assert 0.5 < res.reduced_chi2 < 1.5
+
+
+def test_a_decimal_point_among_decimal_commas_is_named_at_its_line(tmp_path: Path) -> None:
+    """Measured-data audit (helper-41, MEDIUM): a file of decimal commas with one row written
+    with a point far down (line 5001) was refused at line 4, a good row, with the advice to
+    write decimal points. The row is now named, and what is wrong with it."""
+    rows = [f"{i},0;{10 + i % 7},25" for i in range(60)]
+    rows[57] = "57.0;12.25"
+    path = tmp_path / "r.csv"
+    path.write_text("# v0;500 um/s\ntime [s];force [mN]\n" + "\n".join(rows) + "\n")
+    with pytest.raises(
+        ValueError, match=r"r.csv: line 60, column 'time': '57.0' has a decimal point, and the"
+    ):
+        read_record(path)
+
+
+def test_an_f1_fit_of_a_record_that_never_sticks_says_so() -> None:
+    """Measured-data audit (helper-41, MEDIUM): the F1 fit of a pure-slip record gave k and m
+    to 0.06 % for half their true values (only m/k is set), with only a chi-square warning.
+    A record whose velocity shows no rest now says that F1 cannot make its motion."""
+    from stickslip.data.fitting import fit_record
+
+    p = cubic_params(48.5)
+    true = S.cycle(p)
+    rec = synthetic_record(
+        p,
+        duration=f"{10 * true.period} s",
+        rate="500 Hz",
+        with_velocity=True,
+        start=f"{true.transient_time} s",
+    )
+    assert measure_record(rec)[1].stick_fraction == 0.0
+    res = fit_record(rec, method="features")
+    assert any("the record never sticks (stick fraction 0" in w for w in res.warnings), res.warnings
+
+
+def test_a_folder_of_title_lines_says_why_none_is_a_record(tmp_path: Path) -> None:
+    """Measured-data audit (helper-41, LOW): exports that open with a title line were 'none of
+    its 2 files is a record' and no more; the first file's reason now comes with it."""
+    for name in ("a.csv", "b.csv"):
+        (tmp_path / name).write_text("Pin-on-disc test PMMA/steel\ntime [s],force [N]\n0,1\n0.1,2\n")
+    with pytest.raises(
+        ValueError, match=r"none of its 2 .* is a record \(the first: .*a.csv: line 1 .*a title line"
+    ):
+        read_records(tmp_path)

@@ -449,6 +449,13 @@ def fit_record(
     # what was done to the force before it was fitted (outliers excluded, turned the right way
     # up) and a rail that clipped its peaks (mu_s from them is the rail's): said as for analyze
     warnings += force_notes
+    if not fit_b and summary.stick_fraction == 0.0:
+        # k and m came with errors of 0.06 % for values half the truth (the measured-data audit)
+        warnings.append(
+            "the record never sticks (stick fraction 0, from its velocity): a pure-slip oscillation, "
+            "which the F1 law (friction falling at every speed) cannot make, so these parameters are "
+            "not the record's, whatever their errors; F2 (--fit-b) has a pure-slip regime"
+        )
     if summary.drop_time < dt:
         warnings.append(
             f"a and m are not identifiable: the force drop is not resolved (it falls within one "

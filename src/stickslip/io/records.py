@@ -473,13 +473,19 @@ def read_records(path: str | os.PathLike[str], *, on_error: str = "raise") -> li
         if not files:
             raise DataError(f"{p}: no .csv, .tsv or .txt records in the folder")
         out = []
+        why: list[str] = []
         for f in files:
             try:
                 out.append(attempt(f, partial(read_record, os.path.join(p, f))))
             except NotARecord as exc:  # a README.txt, notes: not a record, said and left out
+                why.append(str(exc))
                 warnings.warn(f"not a record, skipped: {exc}", UserWarning, stacklevel=2)
         if not out:
-            raise DataError(f"{p}: none of its {len(files)} .csv, .tsv or .txt files is a record")
+            # with the first file's reason: a folder of exports with a title line said no more
+            # (the measured-data audit)
+            raise DataError(
+                f"{p}: none of its {len(files)} .csv, .tsv or .txt files is a record (the first: {why[0]})"
+            )
         return read_all(out, "records")
     if not os.path.isfile(p):
         raise DataError(f"{p}: no such file or folder")

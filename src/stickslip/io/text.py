@@ -493,6 +493,13 @@ def diagnose(
                 )
             for name, j in cols.items():
                 cell = cells[j].strip()
+                if layout.decimal == ",":  # the file's decimal comma (its first lines said so)
+                    if _POINT_NUMBER.match(cell):
+                        raise DataError(
+                            f"{place}, column {name!r}: {_show(cell)} has a decimal point, and the file's "
+                            "numbers before it a decimal comma: write one kind"
+                        )  # the first line was named, with the advice to write points (the data audit)
+                    cell = cell.replace(",", ".")
                 try:
                     x = float(cell)
                 except ValueError:
