@@ -238,6 +238,14 @@ def test_analyze_stick_slip_folder(tmp_path: Path) -> None:
         [2e-5, 5e-5, 1e-4, 2e-4, 5e-4], rel=1e-12
     )
     assert (tmp_path / "out" / "records_vs_v0.png").stat().st_size > 5000
+    assert "with a warning above" not in res.output
+    # one file in mN labelled N (the data audit): its warning, and the verdict line counts it
+    rec = read_records(folder / "r4.csv")[0]
+    write_record(folder / "r4.csv", rec, header="time [s],force [N]")  # the mN values, labelled N
+    res = CliRunner().invoke(main, ["analyze", str(folder), "--out", str(tmp_path / "out2"), "--no-plot"])
+    assert res.exit_code == 0, res.output
+    assert "warning: r4.csv: the force reaches" in res.output and "times the normal load" in res.output
+    assert "from 5 records at load 196 mN; 1 of them with a warning above" in res.output, res.output
 
 
 @pytest.mark.parametrize("index", [True, False])
