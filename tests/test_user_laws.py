@@ -512,6 +512,8 @@ def test_a_table_that_ends_falling_names_its_zero_crossing(tmp_path: Path) -> No
     slope = float(PchipInterpolator(w, mu)(0.3, 1))  # per mm/s: SciPy's pchip on the rows
     zero = 0.3 - mu[-1] / slope  # mm/s
     assert law.zero_velocity() * 1e3 == pytest.approx(zero, rel=1e-12)
+    # said with the law too, not only when a motion fails there (the second chain audit)
+    assert f"the last row's tangent reaches zero friction at {zero:.4g} mm/s" in law.describe()
     setup = ["--law", "table", "--table", str(path), "--beta", "1000 s/m", "--stiffness", "62 N/m"]
     setup += ["--load", "196 mN"]
     res = CliRunner().invoke(main, ["cycle", *setup, "--v0", "1.5 mm/s"])

@@ -359,11 +359,20 @@ class TabulatedLaw(PhysicalLaw):
         x = _velocity(v)
         return np.where(x == 0, 0.0, np.sign(x) * _mu(self._pp, np.abs(x)))
 
+    def zero_velocity(self) -> float:
+        """Return where the extrapolation falls to zero friction (m/s); inf when it does not fall."""
+        pp = self._pp
+        end = float(pp.x[-1])
+        slope = float(pp(end, 1))
+        return end + float(pp(end)) / -slope if slope < 0 else math.inf
+
     def describe(self) -> str:
-        """One line: the table, its interpolation and ``mu_s``."""
+        """One line: the table, its interpolation, ``mu_s``, and where its extrapolation reaches zero."""
+        zero = self.zero_velocity()  # told with the law, not only when a motion fails there
+        falls = f"; beyond it the last row's tangent reaches zero friction at {format_speed(zero)}"
         return (
             f"table: {self.source}, {self.table_v.size} rows up to {format_speed(self.table_v[-1])}, "
-            f"{self.interpolation}; mu_s = {self.mu_s:.6g}"
+            f"{self.interpolation}; mu_s = {self.mu_s:.6g}{falls if math.isfinite(zero) else ''}"
         )
 
 
@@ -390,10 +399,7 @@ class TabulatedDimensionlessLaw(DimensionlessLaw):
 
     def zero_velocity(self) -> float:
         """Return where the extrapolation falls to zero friction (m/s); inf when it does not fall."""
-        pp = self.table._pp
-        end = float(pp.x[-1])
-        slope = float(pp(end, 1))
-        return end + float(pp(end)) / -slope if slope < 0 else math.inf
+        return self.table.zero_velocity()
 
     def range_warning(self, w_max: float) -> str | None:
         """Say so when a motion reaches beyond the table's last row, or failed where it falls to zero.
