@@ -532,6 +532,9 @@ def test_a_new_physical_scale_holds_v0_and_the_law_in_si():
     shown = ex.command.text
     ex.scales["mass"].value = repr(1e6 * mass)
     assert "error" in ex.status.text and "outside the driving-velocity slider" in ex.status.text
+    assert "lower v0" in ex.status.text  # nu above the range; below it, raise (the review)
+    ex.scales["mass"].value = repr(1e-12 * mass)
+    assert "raise v0" in ex.status.text and ex.command.text == shown
     assert ex.command.text == shown
     ex.scales["mass"].value = repr(mass)
     assert "error" not in ex.status.text and ex.view.v0 == pytest.approx(v0, rel=1e-12)

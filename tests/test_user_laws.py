@@ -321,6 +321,11 @@ def test_a_pole_between_the_checked_velocities_is_an_error_not_a_traceback() -> 
         ("0.9 + 0.001*tan(w)", math.pi / 2, "cos(w)"),
         ("0.5 + 0.001/abs(w - 0.3)", 0.3, "Abs(w - 0.3)"),  # a V, no sign change
         ("0.9/(1+w) + 1e-6/(w - 73.1)**2", 73.1, "w - 73.1"),
+        # the review: a double root next to w = 100 (its minimum's neighbour was past the grid)
+        ("0.9/(1+w) + 1e-3/(w**2 - 198*w + 9801)", 99.0, "w**2 - 198*w + 9801"),
+        ("0.5 + 1e-3/abs(w - 99.5)", 99.5, "Abs(w - 99.5)"),
+        # 1/tan jumps through infinity at pi/2 - 0.1, where 1/tan is 0: its pole is at pi - 0.1
+        ("0.9 + 0.001/tan(w + 0.1)", math.pi - 0.1, "tan(w + 0.1)"),
     ],
 )
 def test_a_pole_anywhere_the_block_can_reach_is_found_when_the_law_is_made(
@@ -350,6 +355,8 @@ def test_poles_of_a_slope_of_a_physical_law_and_of_one_sweep_point() -> None:
         ExpressionLaw(mu="0.4/(1 + a*v) + 0.001/(1 - v/v0)", a="160 s/m", v0="2 cm/s")
     for ok in (
         "0.9/(1+w) + 1e-3/((w - 0.5)**2 + 1e-8)",  # steep but finite
+        "0.9/(1+w) + 0.01/(1 + 1e16*(w - 0.5)**2)",  # at most 0.01: was refused against its neighbours
+        "0.9/(1+w) + 1e-3/(w - 105)",  # beyond w = 100
         "0.9/(1+w) + 0.01*sqrt(w)",
         "0.9/(1+w) + 0.01*abs(w - 0.5)",
         "0.9/(1+w) + 1e-3*log(w + 1)",

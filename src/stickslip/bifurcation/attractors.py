@@ -136,24 +136,23 @@ class NoisyOrbitWarning(UserWarning):
     """A table law's pure-slip orbit kept at its flow's noise floor, known to less than 1e-8."""
 
 
-def _say_noisy(error: np.ndarray, multiplier: np.ndarray) -> None:
-    """Warn once for the orbits of a call kept at the noise floor: how well their amplitude is known.
+def _say_noisy(error: np.ndarray) -> None:
+    """Warn once for the orbits of a call kept at the noise floor beyond ORBIT_RTOL: how well known.
 
     Such an orbit is an attractor (stable, next to the motion's own), but its amplitude
     and period are known to the table's flow noise over the orbit's contraction, a few
     1e-5 at a multiplier of 0.998, not to :data:`~stickslip.defaults.ORBIT_RTOL`; it
-    was reported ``ok`` without a word. The error is rounded to one digit, so that a
-    regime search's many calls repeat one message (Python shows it once).
+    was reported ``ok`` without a word. The error is given as its power of ten, so that a
+    regime search's or a sweep's many calls repeat few messages (Python shows each once).
     """
-    kept = error > 0.0
-    if not kept.any():
+    worst = float(np.max(error)) if error.size else 0.0
+    if not worst > defaults.ORBIT_RTOL:
         return
-    worst = int(np.argmax(np.where(kept, error, -1.0)))
     warnings.warn(
-        f"a pure-slip orbit of this table law is known to about {float(error[worst]):.0e} of its amplitude "
-        f"only, not to {defaults.ORBIT_RTOL:g} (multiplier {float(multiplier[worst]):.3f}: nearly neutral, "
-        "as next to a Hopf point, and the interpolated law's flow is good to 1e-10..1e-8 across its rows, "
-        "which the slow contraction multiplies); its regime and stability stand",
+        f"a pure-slip orbit of this table law is known to about {10.0 ** math.ceil(math.log10(worst)):.0e} "
+        f"of its amplitude and period only, not to {defaults.ORBIT_RTOL:g}: it is nearly neutral, as next "
+        "to a Hopf point, and the interpolated law's flow is good to 1e-10..1e-8 across its rows, which "
+        "the slow contraction multiplies; its regime and stability stand",
         NoisyOrbitWarning,
         stacklevel=3,
     )
@@ -253,7 +252,9 @@ def polish_rows(
                 ):
                     sh.raw[r] = again.raw[j]
                     good[r] = True
-                    noisy[r] = 2.0 * again.err_s0[j] / again.amplitude[j]
+                    noisy[r] = max(
+                        2.0 * again.err_s0[j] / again.amplitude[j], again.err_period[j] / again.period[j]
+                    )
         for j, i in enumerate(idx):
             status = ShootStatus.from_code(sh.status[j])
             if status == ShootStatus.TRIVIAL and rows.dfnu[i] > 0.0:
@@ -273,7 +274,7 @@ def polish_rows(
             rows.status[i] = Status.OK.code
             mult[i] = sh.divergence_multiplier[j]
             polished[i] = True
-        _say_noisy(noisy, sh.divergence_multiplier)
+        _say_noisy(noisy)
     for i in np.flatnonzero(reversal):
         try:
             orb = return_map_orbit_core(

@@ -228,7 +228,8 @@ def _polyfit(
     keep = sv > sv[0] * max(X.shape) * np.finfo(float).eps
     inv = np.where(keep, 1.0 / np.where(keep, sv, 1.0), 0.0)
     coef = vt.T @ (inv * (u.T @ (y * sw)))
-    cov = (vt.T * inv**2) @ vt
+    # a direction the data do not fix (every x equal) has no error, not an error of 0
+    cov = (vt.T * inv**2) @ vt if keep.all() else np.full((degree + 1, degree + 1), math.nan)
     dof = n - degree - 1
     chi2 = float(np.sum((sw * (y - X @ coef)) ** 2))
     if dof <= 0:

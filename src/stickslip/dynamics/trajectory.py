@@ -196,8 +196,9 @@ def simulate(
         t_end = check_number(duration, "duration", what="a positive dimensionless duration")
 
     if t_end > MAX_TIME:  # the engine's own bound named t_eval (the simulate audit)
+        asked = f"duration={duration!r}" if duration is not None else f"cycles={cycles!r}"
         raise ValueError(
-            f"duration={duration!r}: {t_end:.3g} in units of sqrt(m/k), expected at most {MAX_TIME:g} "
+            f"{asked}: {t_end:.3g} in units of sqrt(m/k), expected at most {MAX_TIME:g} "
             "(time is a double: past that, a slip step is below its resolution)"
         )
     kernel, lp = law_arrays(dp.law)

@@ -190,7 +190,7 @@ class Setup:
             raise ValueError(
                 f"v0 = {v0:.6g} m/s is nu = beta v0 = {nu:.4g} with these scales "
                 f"(beta = {new.beta:.6g} s/m), outside the driving-velocity slider's range, 1e-5 to 10: "
-                "lower v0 or change the scales back"
+                f"{'lower' if nu > NU_RANGE[1] else 'raise'} v0 or change the scales back"
             )
         law = self.dimensionless_law().to_physical(Q_(self.beta, "s/m"), self.mu_s)
         try:

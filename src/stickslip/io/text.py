@@ -497,7 +497,7 @@ def diagnose(
                     if _POINT_NUMBER.match(cell):
                         raise DataError(
                             f"{place}, column {name!r}: {_show(cell)} has a decimal point, and the file's "
-                            "numbers before it a decimal comma: write one kind"
+                            "first lines decimal commas: write one kind"
                         )  # the first line was named, with the advice to write points (the data audit)
                     cell = cell.replace(",", ".")
                 try:

@@ -327,17 +327,17 @@ def compile_kernel(law_source: str, name: str, law_id: int = 0, *, check: bool =
             sys.modules[pkg] = module
             spec.loader.exec_module(module)
         laws = importlib.import_module(f"{pkg}.laws")
-        try:  # compile the law's own functions now: a formula numba cannot compile fails here, clearly
-            if check:
-                p = (0.5,) * 8
-                laws.f_plus(law_id, p, 0.5)
-                laws.df_plus(law_id, p, 0.5)
-                laws.f_plus(law_id, p, -1e-3)
-        except ArithmeticError:  # compiled, and the probe landed on a pole (1/(w - 0.5)): the law's check
-            pass  # tells a pole the block can reach; compiling is what is asked here
-        except Exception as exc:  # numba's TypingError and friends
-            first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-            raise ValueError(f"law {name!r}: numba cannot compile its formula ({first})") from None
+        # compile the law's own functions now: a formula numba cannot compile fails here, clearly;
+        # each on its own, so that a probe that lands on a pole does not skip the next one's typing
+        probes = ((laws.f_plus, 0.5), (laws.df_plus, 0.5), (laws.f_plus, -1e-3)) if check else ()
+        for fn, w in probes:
+            try:
+                fn(law_id, (0.5,) * 8, w)
+            except ArithmeticError:  # compiled, and the probe landed on a pole (1/(w - 0.5)): the
+                pass  # law's check tells a pole the block can reach; compiling is what is asked here
+            except Exception as exc:  # numba's TypingError and friends
+                first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+                raise ValueError(f"law {name!r}: numba cannot compile its formula ({first})") from None
         kernel = Kernel(
             int(law_id),
             importlib.import_module(f"{pkg}.engine"),

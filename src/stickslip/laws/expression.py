@@ -47,9 +47,14 @@ ONSET_TOL = 1e-9
 #: velocities at which a formula must be finite (model units; physical: these times 1 m/s)
 _PROBE = np.concatenate([[0.0], np.geomspace(1e-9, 1e2, 45)])
 #: where a formula's denominators (and tan's, log's arguments) are looked at for a zero: steps of 6.5 %
-_POLE_GRID = np.concatenate([[0.0], np.geomspace(1e-9, _PROBE[-1], 401)])
-#: a denominator whose least |value| between grid points falls below this of its neighbours' is zero there
+#: to two past w = 100 (a minimum of a denominator's magnitude just below 100 has both neighbours)
+_STEPS = np.geomspace(1e-9, _PROBE[-1], 401)
+_POLE_GRID = np.concatenate([[0.0], _STEPS, _STEPS[-1] * (_STEPS[-1] / _STEPS[-2]) ** np.arange(1, 3)])
+#: a denominator is zero where its value is below this of the magnitude of its terms (rounding)
 _TOUCH = 1e-12
+#: a sign change is a zero where the value found is below this of its neighbours'; else it is a
+#: jump through infinity (tan's at pi/2, where 1/tan(w) is 0)
+_CROSS = 1e-6
 #: local minima of |denominator| below this of its largest on the grid are searched (a double root's
 #: grid value is at most (step/2)^2 = 1e-3 of it); a denominator bounded away from zero has none
 _NEAR = 1e-2
@@ -185,14 +190,17 @@ def _pole(
         for part, of in parts:
             # only the parameters in this part matter: a sweep's distinct values of those
             used = [i for i, s in enumerate(spec.symbols) if s in part.free_symbols]
-            fn = sp.lambdify((W, *(spec.symbols[i] for i in used)), part, modules=["scipy", "numpy"])
+            args = (W, *(spec.symbols[i] for i in used))
+            fn = sp.lambdify(args, part, modules=["scipy", "numpy"])
+            terms = _magnitude(part)
+            size = None if terms is None else sp.lambdify(args, terms, modules=["scipy", "numpy"])
             table = np.stack([flat[i] for i in used], axis=1) if used else np.zeros((1, 0))
             points, first = np.unique(table, axis=0, return_index=True)
             for lo in range(0, len(points), _POLE_CHUNK):
                 chunk = points[lo : lo + _POLE_CHUNK]
                 cols = [chunk[:, i] for i in range(chunk.shape[1])]
                 g = np.broadcast_to(np.asarray(fn(w, *cols), dtype=float), (w.size, len(chunk)))
-                found = _zero_on_grid(fn, g, cols)
+                found = _zero_on_grid(fn, size, g, cols)
                 if found is not None:
                     at, k = found
                     return at, part, int(first[lo + k]), of
@@ -201,20 +209,43 @@ def _pole(
     return None
 
 
-def _zero_on_grid(fn: Any, g: FloatArray, cols: list[FloatArray]) -> tuple[float, int] | None:
-    """First ``(w, column)`` where ``g`` (grid by points) is zero, changes sign, or touches zero."""
+def _magnitude(part: sp.Expr) -> sp.Expr | None:
+    """Return the size of a sum's terms, ``|a| + |b| + ...`` for ``a + b + ...`` (None for no sum).
+
+    A zero of a sum cancels its terms: its value falls to rounding against their size.
+    """
+    if isinstance(part, sp.Abs):
+        return _magnitude(part.args[0])
+    if isinstance(part, sp.Add):
+        return sp.Add(*(sp.Abs(t) for t in part.args))
+    return None
+
+
+def _zero_on_grid(fn: Any, size: Any, g: FloatArray, cols: list[FloatArray]) -> tuple[float, int] | None:
+    """First ``(w, column)`` where ``g`` (grid by points) is zero, changes sign, or touches zero.
+
+    A sign change is a zero where the value found is small against the neighbours' (not a
+    jump through infinity: tan's at pi/2, where ``1/tan(w)`` is 0). A minimum of a sum is a
+    zero where its terms cancel, its value at rounding against ``size``, their magnitude
+    (``w**2 - w + 0.25`` at 0.5: 0 against 1; a steep but finite ``1 + 1e16 (w - 0.5)**2``
+    was taken for one against its neighbours, and an expanded quartic's root missed); of
+    another expression, where it is small against its neighbours.
+    """
     from scipy.optimize import brentq
 
     finite = np.isfinite(g)
     neg = g < 0
     hit = ((neg[1:] != neg[:-1]) & finite[1:] & finite[:-1]) | (g[1:] == 0)
-    if hit.any():
-        i, k = np.argwhere(hit)[0]
+    for i, k in np.argwhere(hit):
         a, b = _POLE_GRID[i], _POLE_GRID[i + 1]
         args = [float(c[k]) for c in cols]
+        if b > _PROBE[-1]:  # past w = 100: only there for a minimum's neighbour
+            continue
         if g[i + 1, k] == 0:
             return float(b), int(k)
-        return float(brentq(lambda x: float(fn(x, *args)), a, b, xtol=1e-15, rtol=1e-14)), int(k)
+        x = float(brentq(lambda x, p=args: float(fn(x, *p)), a, b, xtol=1e-15, rtol=1e-14))
+        if abs(float(fn(x, *args))) <= _CROSS * max(abs(g[i, k]), abs(g[i + 1, k])):
+            return x, int(k)
     m = np.where(finite, np.abs(g), np.inf)
     top = np.max(np.where(finite, m, 0.0), axis=0)
     inner = (m[1:-1] <= m[:-2]) & (m[1:-1] <= m[2:]) & (m[1:-1] <= _NEAR * top)
@@ -231,8 +262,8 @@ def _zero_on_grid(fn: Any, g: FloatArray, cols: list[FloatArray]) -> tuple[float
         a = np.where(left, a, x1)
     x = (a + b) / 2
     low = np.abs(np.asarray(fn(x, *at), dtype=float))
-    near = np.minimum(m[i, k], m[i + 2, k])
-    touch = np.flatnonzero(low <= _TOUCH * near)
+    scale = np.minimum(m[i, k], m[i + 2, k]) if size is None else np.asarray(size(x, *at), dtype=float)
+    touch = np.flatnonzero((low <= _TOUCH * scale) & (x <= _PROBE[-1]))
     if touch.size == 0:
         return None
     c = touch[np.argmin(k[touch] * g.shape[0] + i[touch])]  # the first point, its lowest zero
