@@ -110,6 +110,12 @@ def test_own_outputs_are_replaced_without_asking(tmp_path: Path) -> None:
     manifest = json.loads((tmp_path / MANIFEST).read_text())
     files = manifest["runs"]["simulate"]["files"]
     assert set(files) == {"trajectory.csv", "spring_force.png", "spring_force.svg"}
+    # what made the folder: the command, its options, the source's commit where it runs from a
+    # checkout (the reproduction audit: 'stickslip 0.1.0' alone, which many commits share)
+    run = manifest["runs"]["simulate"]
+    assert run["command"] == "stickslip simulate"
+    assert run["options"]["nu"] == 0.1 and run["options"]["c"] == 3.0
+    assert run.get("source", "git ").startswith("git ")
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".stickslip-staging")]
 
 
@@ -294,3 +300,31 @@ def test_outputs_have_the_mode_a_plain_open_gives(tmp_path: Path) -> None:
         assert stat.S_IMODE(os.stat(path).st_mode) == 0o600
     finally:
         os.umask(old)
+
+
+def test_the_same_figure_is_the_same_svg_and_errors_speak_the_callers_language(tmp_path: Path) -> None:
+    """The reproduction audit (LOW): two identical runs wrote different SVGs (their date, and ids
+    from a random salt); a foreign file's error said '--overwrite (overwrite=True)' to both a
+    command's user and a Python caller."""
+    import matplotlib.pyplot as plt
+
+    from stickslip.io.output import ForeignFileError, check_target
+    from stickslip.plots.figures import figure_bytes
+
+    def svg() -> bytes:
+        fig, ax = plt.subplots()
+        ax.plot([1, 2, 3], [1, 4, 9], marker="o", label="a")
+        ax.legend()
+        try:
+            return figure_bytes(fig, ("svg",))["svg"]
+        finally:
+            plt.close(fig)
+
+    first = svg()
+    assert first == svg() and b"<dc:date>" not in first
+    target = tmp_path / "notes.txt"
+    target.write_text("a colleague's notes\n")
+    with pytest.raises(ForeignFileError, match=r"give overwrite=True to replace it"):
+        check_target(str(target), "sweep")
+    res = CliRunner().invoke(main, [*SWEEP, "--out", str(target), "--no-plot"])
+    assert "give --overwrite to replace it" in res.output and "overwrite=True" not in res.output

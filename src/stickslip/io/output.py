@@ -21,11 +21,13 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import functools
 import hashlib
 import json
 import os
 import re
 import shutil
+import subprocess
 import time
 import uuid
 from collections.abc import Callable, Mapping
@@ -151,10 +153,20 @@ def check_target(path: str | os.PathLike[str], kind: str, *, overwrite: bool = F
     if found == kind:
         return
     what = "not a file stickslip wrote" if found is None else f"stickslip's {found} output, not {kind}"
+    # in the words of where it was asked: a command's option, or Python's argument
+    give = "--overwrite" if _click_context() is not None else "overwrite=True"
     raise ForeignFileError(
-        f"{p} exists and is {what}: not replaced; give --overwrite (overwrite=True) to replace it, "
-        "or choose another output"
+        f"{p} exists and is {what}: not replaced; give {give} to replace it, or choose another output"
     )
+
+
+def _click_context() -> Any:
+    """Return the command line's click context when a command runs, else None (Python)."""
+    try:
+        import click
+    except ImportError:  # pragma: no cover - click is a dependency
+        return None
+    return click.get_current_context(silent=True)
 
 
 def atomic_write(
@@ -358,6 +370,7 @@ class OutputFolder:
             "run": self.run,
             "finished": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
             "generator": generator(self.command),
+            **_provenance(),
             "files": {},
         }
         for name, staged in self._staged.items():
@@ -371,6 +384,57 @@ class OutputFolder:
             except OSError as exc:
                 raise OSError(exc.errno, f"cannot write ({exc.strerror or exc})", final) from None
         _update_manifest(self.folder, self.command, entry)
+
+
+def _provenance() -> dict[str, Any]:
+    """Return what made a run: the command and its options (from the command line), the source.
+
+    The manifest said only 'stickslip 0.1.0', which many commits share, and not which options
+    (--quick) made the folder (the reproduction audit).
+    """
+    out: dict[str, Any] = {}
+    ctx = _click_context()
+    if ctx is not None:
+        out["command"] = " ".join(["stickslip", *ctx.command_path.split()[1:]])  # as installed, or run
+        out["options"] = {
+            k: _plain(v)
+            for k, v in sorted(ctx.params.items())
+            if v is not None and v is not False and v != ()
+        }
+    source = _source_revision()
+    if source:
+        out["source"] = source
+    return out
+
+
+def _plain(value: Any) -> Any:
+    """Return an option's value as JSON: numbers and text as they are, tuples as lists, the rest as text."""
+    if isinstance(value, bool | int | float | str):
+        return value
+    if isinstance(value, tuple | list):
+        return [_plain(v) for v in value]
+    return str(value)
+
+
+@functools.cache
+def _source_revision() -> str:
+    """Return the git commit of the source this package runs from ('-dirty' if changed), or ''."""
+    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    try:
+        head = subprocess.run(
+            ["git", "-C", here, "rev-parse", "--short=12", "HEAD"], capture_output=True, text=True, timeout=5
+        )
+        if head.returncode != 0:
+            return ""
+        dirty = subprocess.run(
+            ["git", "-C", here, "status", "--porcelain", "--untracked-files=no"],
+            capture_output=True,
+            text=True,
+            timeout=5,
+        )
+    except (OSError, subprocess.SubprocessError):  # no git, or not a checkout: an installed wheel
+        return ""
+    return f"git {head.stdout.strip()}" + ("-dirty" if dirty.stdout.strip() else "")
 
 
 def _update_manifest(folder: str, command: str, entry: Mapping[str, Any]) -> None:

@@ -9,6 +9,7 @@ import xarray as xr
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
+from ..models import zv_parameters
 from ..plots.figures import draw_phases, figure_bytes, phase_legend
 from ..plots.regimes import plot_criterion_map, plot_regime_map
 from ..plots.style import plain_log_ticks, pretty_units, subplots
@@ -123,7 +124,13 @@ def load_dependence(ds: xr.Dataset) -> Figure:
         plain_log_ticks(ax.xaxis)
         ax.set_ylabel(ylabel)
         ax.legend(frameon=False, fontsize=8)
-    fig.suptitle("Dependence on the normal load (zv set-up otherwise)", fontsize=10)
+    # which law and mass (the reproduction audit could only tell by matching the numbers)
+    zv = zv_parameters()
+    fig.suptitle(
+        f"Dependence on the normal load: the zv set-up otherwise (F1, a = {zv.law.params['a']:~P}, "
+        f"m = {zv.mass.to('g'):.4g~P}, k = {zv.stiffness:~P}, mu0 = {zv.law.mu_s:g}; beta falls as 1/W)",
+        fontsize=10,
+    )
     return fig
 
 
@@ -131,35 +138,44 @@ def mass_dependence(ds: xr.Dataset) -> Figure:
     """Relative change of the amplitude against v0 for masses from 0.1 g to 1 kg, one panel per law.
 
     The change ``A(v0)/A(v0_min) - 1`` spans six orders of magnitude and changes sign (F2 at
-    small masses): its magnitude is drawn on a logarithmic axis, solid where the amplitude
-    rises and dashed where it falls.
+    small masses): it is drawn with its sign on a symmetric logarithmic axis (falling curves
+    below zero), solid where the amplitude rises and dashed where it falls. (Its magnitude on
+    a log axis drew the falling curves going up, as the rising ones: the reproduction audit.)
     """
     v = ds["mass_v0"].values
     unit = ds["mass_mass"].attrs.get("units", "")
     amp = ds["mass_amplitude"].values  # (b, mass, v0)
     b_values = ds["mass_b"].values
     fig, axes = subplots(1, len(b_values), figsize=(11, 4.2), sharey=True, layout="constrained")
+    changes = amp[:, :, 1:] / amp[:, :, :1] - 1.0
+    small = np.abs(changes[np.isfinite(changes) & (changes != 0)])
+    linear = 10.0 ** np.floor(np.log10(small.min())) if small.size else 1e-6  # the axis is linear below it
     for ax, i in zip(np.atleast_1d(axes), range(len(b_values)), strict=True):
         for j, m in enumerate(ds["mass_mass"].values):
-            change = amp[i, j, 1:] / amp[i, j, 0] - 1.0
+            change = changes[i, j]
             falling = np.median(change) < 0
             ax.plot(
                 v[1:],
-                np.abs(change),
+                change,
                 ls="--" if falling else "-",
                 color=f"C{j}",
                 lw=1.8,
                 label=f"m = {m:g} {unit}" + (" (falls)" if falling else ""),
             )
-        ax.set_yscale("log")
+        ax.set_yscale("symlog", linthresh=linear)
+        ax.axhline(0.0, color="0.6", lw=0.8)
         _v0_axis(ax, ds, "mass_v0")
         b = float(b_values[i])
         ax.set_title("F1 (b = 0)" if b == 0 else f"F2 (b = {b:g} s/m)", fontsize=10)
-        ax.legend(frameon=False, fontsize=8, loc="lower right")
+        # below the curves where all rise, about the zero line (clear of both kinds) where some fall
+        some_fall = bool(np.any(np.median(changes[i], axis=-1) < 0))
+        ax.legend(frameon=False, fontsize=8, loc="center right" if some_fall else "lower right")
     lowest = pretty_units(f"{v[0]:g} {ds['mass_v0'].attrs.get('units', '')}")
-    np.atleast_1d(axes)[0].set_ylabel(f"|amplitude / amplitude at {lowest} - 1|")
+    np.atleast_1d(axes)[0].set_ylabel(f"amplitude / amplitude at {lowest} - 1 (symmetric log)")
     fig.suptitle(
-        "Dependence on the mass (zv set-up otherwise): solid rises with $v_0$, dashed falls", fontsize=10
+        "Dependence on the mass (zv set-up otherwise): above 0 the amplitude rises with $v_0$, below it "
+        "falls (dashed)",
+        fontsize=10,
     )
     return fig
 

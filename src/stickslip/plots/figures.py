@@ -146,7 +146,17 @@ def _layout_once(fig: Figure) -> Iterator[Callable[[], None]]:
 def _savefig(fig: Figure, target: Any, fmt: str) -> None:
     """Write ``fig`` to a path or a binary file in ``fmt``, marked as stickslip's figure."""
     key = {"png": "Software", "svg": "Creator", "pdf": "Creator"}.get(fmt)
-    fig.savefig(target, dpi=200, format=fmt, metadata={key: generator("figure")} if key else None)
+    metadata: dict[str, Any] | None = {key: generator("figure")} if key else None
+    if fmt == "svg" and metadata is not None:
+        # the same figure, the same bytes: no date, and ids from a fixed salt (two identical
+        # reproductions wrote different SVGs: the reproduction audit)
+        metadata["Date"] = None
+        import matplotlib
+
+        with matplotlib.rc_context({"svg.hashsalt": "stickslip"}):
+            fig.savefig(target, dpi=200, format=fmt, metadata=metadata)
+        return
+    fig.savefig(target, dpi=200, format=fmt, metadata=metadata)
 
 
 def figure_bytes(fig: Figure, formats: Sequence[str] = ("png", "svg")) -> dict[str, bytes]:
