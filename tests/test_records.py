@@ -30,6 +30,15 @@ def write_record(path: Path, rec, header: str = "time [s],force [mN]", meta: str
     return path
 
 
+def steady_record(p: S.PhysicalParameters, cycles: int, rate: str, **kwargs):  # type: ignore[no-untyped-def]
+    """Return the steady cycle of ``p`` and a record of ``cycles`` of them sampled at ``rate``."""
+    true = S.cycle(p, probe=False)
+    rec = synthetic_record(
+        p, duration=f"{cycles * true.period} s", rate=rate, start=f"{true.transient_time} s", **kwargs
+    )
+    return true, rec
+
+
 @pytest.mark.parametrize(
     ("noise", "drift", "rate"),
     [
@@ -113,14 +122,7 @@ def test_stick_fraction_of_a_noisy_velocity(column: str, noise: float) -> None:
     from stickslip.io.records import Record
 
     p = S.zv_parameters("100 um/s")
-    true = S.cycle(p, probe=False)
-    rec = synthetic_record(
-        p,
-        duration=f"{22 * true.period} s",
-        rate="1 kHz",
-        with_velocity=True,
-        start=f"{true.transient_time} s",
-    )
+    true, rec = steady_record(p, 22, "1 kHz", with_velocity=True)
     assert rec.velocity is not None
     rng = np.random.default_rng(3)
     if column == "velocity":
@@ -870,15 +872,7 @@ def test_measured_data_audit_stick_fraction_force_plausibility_and_dead_columns(
     * a force column in mN read as N: amplitudes of 1000 N against a 2 N load, no word."""
     from stickslip.io.records import Record
 
-    p = _f1_setup("5 mm/s")
-    true = S.cycle(p, probe=False)
-    rec = synthetic_record(
-        p,
-        duration=f"{12 * true.period} s",
-        rate="1 kHz",
-        with_velocity=True,
-        start=f"{true.transient_time} s",
-    )
+    true, rec = steady_record(_f1_setup("5 mm/s"), 12, "1 kHz", with_velocity=True)
     assert rec.velocity is not None
     rng = np.random.default_rng(11)
     noisy = Record(
@@ -907,9 +901,7 @@ def test_the_noise_of_a_quantized_fast_record_and_a_fit_better_than_its_noise() 
     from stickslip.data.fitting import fit_record
     from stickslip.io.records import Record
 
-    p = _f1_setup("5 mm/s")
-    true = S.cycle(p, probe=False)
-    rec = synthetic_record(p, duration=f"{8 * true.period} s", rate="1 kHz", start=f"{true.transient_time} s")
+    _, rec = steady_record(_f1_setup("5 mm/s"), 8, "1 kHz")
     rng = np.random.default_rng(7)
     error = 1e-3 * np.round(1e3 * rec.force + 0.3 * rng.standard_normal(rec.time.size)) - rec.force
     adc = Record(rec.name, rec.time, rec.force + error, None, None, rec.v0, rec.load)
@@ -941,15 +933,7 @@ def test_an_f1_fit_of_a_record_that_never_sticks_says_so() -> None:
     A record whose velocity shows no rest now says that F1 cannot make its motion."""
     from stickslip.data.fitting import fit_record
 
-    p = cubic_params(48.5)
-    true = S.cycle(p)
-    rec = synthetic_record(
-        p,
-        duration=f"{10 * true.period} s",
-        rate="500 Hz",
-        with_velocity=True,
-        start=f"{true.transient_time} s",
-    )
+    _, rec = steady_record(cubic_params(48.5), 10, "500 Hz", with_velocity=True)
     assert measure_record(rec)[1].stick_fraction == 0.0
     res = fit_record(rec, method="features")
     assert any("the record never sticks (stick fraction 0" in w for w in res.warnings), res.warnings
