@@ -187,12 +187,27 @@ def appendix_phase_portraits(ds: xr.Dataset) -> Figure:
     for ax, k in zip(axes, range(ds.sizes["kappa"]), strict=True):
         kappa = float(ds["kappa"].values[k])
         for j in range(ds.sizes["orbit"]):
-            ax.plot(ds["portrait_alpha"].values[k, j], ds["portrait_phi"].values[k, j], lw=0.8)
+            x, y = ds["portrait_alpha"].values[k, j], ds["portrait_phi"].values[k, j]
+            ok = np.isfinite(x) & np.isfinite(y)
+            x, y = x[ok], y[ok]
+            (line,) = ax.plot(x, y, lw=0.8)
+            if x.size < 3:
+                continue
+            # where each orbit starts, and which way it runs: the titles alone said whether orbits
+            # spiral in or out (the reproduction audit)
+            ax.plot(x[0], y[0], "o", ms=4, color=line.get_color())
+            arrow = {"arrowstyle": "-|>", "color": line.get_color(), "lw": 0.8, "mutation_scale": 12}
+            for m in (x.size // 8, (3 * x.size) // 4):  # early and late: a spiral in or out shows both
+                ax.annotate("", xy=(x[m + 1], y[m + 1]), xytext=(x[m], y[m]), arrowprops=arrow)
         rel = "=" if abs(kappa - b_minus_a) < 1e-12 else (">" if kappa > b_minus_a else "<")
         ax.set_title(rf"$\kappa$ = {kappa:g} {rel} B - A", fontsize=10)
         ax.set_xlabel(r"$\alpha - \alpha^*$")
         ax.set_ylabel(r"$\phi$")
-    fig.suptitle("Quasi-static Rice-Ruina model (aging law), derived dimensionless system", fontsize=10)
+    fig.suptitle(
+        "Quasi-static Rice-Ruina model (aging law), derived dimensionless system: each orbit from its dot, "
+        "the arrow its direction",
+        fontsize=10,
+    )
     return fig
 
 
