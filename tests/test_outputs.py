@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -328,3 +330,67 @@ def test_the_same_figure_is_the_same_svg_and_errors_speak_the_callers_language(t
         check_target(str(target), "sweep")
     res = CliRunner().invoke(main, [*SWEEP, "--out", str(target), "--no-plot"])
     assert "give --overwrite to replace it" in res.output and "overwrite=True" not in res.output
+
+
+def test_provenance_is_stickslips_own_command_line_only(tmp_path: Path) -> None:
+    """The review of the manifest's provenance (helper-44): under `python -m stickslip` the command
+    read 'stickslip -m stickslip simulate'; another click app calling the Python API was taken for
+    stickslip's command line ('give --overwrite', and its command in the manifest); an install
+    inside a user's own git repository recorded the user's commit."""
+    import click
+
+    import stickslip as ss
+    from stickslip.io.output import _source_revision, check_target
+
+    out = tmp_path / "m"
+    res = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "stickslip",
+            "simulate",
+            "--nu",
+            "0.1",
+            "--c",
+            "3",
+            "--out",
+            str(out),
+            "--no-plot",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert res.returncode == 0, res.stderr
+    run = json.loads((out / MANIFEST).read_text())["runs"]["simulate"]
+    assert run["command"] == "stickslip simulate" and run["options"]["points"] == 4000
+
+    target = tmp_path / "notes.txt"
+    target.write_text("a colleague's notes\n")
+
+    @click.command()
+    def their_app() -> None:
+        check_target(str(target), "sweep")
+
+    res = CliRunner().invoke(their_app, [])
+    assert isinstance(res.exception, ForeignFileError) and "give overwrite=True" in str(res.exception)
+    # a copy of the package inside another git repository (a project's .venv) is not a checkout
+    if shutil.which("git") is not None:
+        repo = tmp_path / "project"
+        (repo / "site").mkdir(parents=True)
+        subprocess.run(["git", "init", "-q", str(repo)], check=True)
+        who = ["-c", "user.email=a@example.org", "-c", "user.name=a"]
+        subprocess.run(
+            ["git", "-C", str(repo), *who, "commit", "-q", "--allow-empty", "-m", "theirs"], check=True
+        )
+        package = Path(ss.__file__).parent
+        shutil.copytree(package, repo / "site" / "stickslip", ignore=shutil.ignore_patterns("__pycache__"))
+        code = "from stickslip.io.output import _source_revision; print(repr(_source_revision()))"
+        res = subprocess.run(
+            [sys.executable, "-c", code],
+            capture_output=True,
+            text=True,
+            env={**os.environ, "PYTHONPATH": str(repo / "site")},
+        )
+        assert res.stdout.strip() == "''", (res.stdout, res.stderr)
+    assert _source_revision() in ("",) or _source_revision().startswith("git ")

@@ -13,6 +13,7 @@ from typing import Any
 
 import click
 
+from ..io.output import COMMAND_LINE
 from . import bifurcation, chain, data, dynamics, explore, paper, ratestate
 from .options import OnceCommand, build_parameters, describe_parameters
 
@@ -24,7 +25,9 @@ __all__ = ["build_parameters", "describe_parameters", "main"]
 def main() -> None:
     """Friction oscillators: the one-block spring-slider, exact and fast."""
     warnings.showwarning = _one_line_warning
-    _exit_on_sigterm(click.get_current_context())
+    ctx = click.get_current_context()
+    ctx.meta[COMMAND_LINE] = True  # outputs record this command and its options (io.output)
+    _exit_on_sigterm(ctx)
 
 
 def _exit_on_sigterm(ctx: click.Context) -> None:

@@ -109,7 +109,7 @@ def register(main: click.Group) -> None:
             other = f"; {left} measured at other loads left out" if left > 0 else ""
             # records with a warning stay in the verdict: say how many, next to it (three files in
             # mN labelled N turned a folder's verdict, their warnings scrolled away: the data audit)
-            warned = int(used["warning"].fillna("").astype(bool).sum())
+            warned = int(used["warning"].map(lambda w: isinstance(w, str) and bool(w)).sum())
             other += f"; {warned} of them with a warning above" if warned else ""
             click.echo(
                 f"criterion: {verdict.verdict} ({verdict.reason}); from {len(used)} records{at}{other}"

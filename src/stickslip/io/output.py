@@ -24,6 +24,7 @@ import errno
 import functools
 import hashlib
 import json
+import math
 import os
 import re
 import shutil
@@ -160,13 +161,19 @@ def check_target(path: str | os.PathLike[str], kind: str, *, overwrite: bool = F
     )
 
 
+#: the key stickslip's command line sets in its click context's meta (another click app's
+#: context is not stickslip's command line: it has no --overwrite, and no command of ours)
+COMMAND_LINE = "stickslip.command_line"
+
+
 def _click_context() -> Any:
-    """Return the command line's click context when a command runs, else None (Python)."""
+    """Return stickslip's command line's click context when one of its commands runs, else None."""
     try:
         import click
     except ImportError:  # pragma: no cover - click is a dependency
         return None
-    return click.get_current_context(silent=True)
+    ctx = click.get_current_context(silent=True)
+    return ctx if ctx is not None and ctx.meta.get(COMMAND_LINE) else None
 
 
 def atomic_write(
@@ -395,12 +402,16 @@ def _provenance() -> dict[str, Any]:
     out: dict[str, Any] = {}
     ctx = _click_context()
     if ctx is not None:
-        out["command"] = " ".join(["stickslip", *ctx.command_path.split()[1:]])  # as installed, or run
         out["options"] = {
             k: _plain(v)
             for k, v in sorted(ctx.params.items())
-            if v is not None and v is not False and v != ()
+            if v is not None and v is not False and not (isinstance(v, tuple) and not v)
         }
+        names = []  # the subcommands' names; the root's is the program's (python -m stickslip, main)
+        while ctx.parent is not None:
+            names.append(ctx.info_name or "")
+            ctx = ctx.parent
+        out["command"] = " ".join(["stickslip", *reversed(names)])
     source = _source_revision()
     if source:
         out["source"] = source
@@ -409,6 +420,8 @@ def _provenance() -> dict[str, Any]:
 
 def _plain(value: Any) -> Any:
     """Return an option's value as JSON: numbers and text as they are, tuples as lists, the rest as text."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return str(value)  # strict JSON has no NaN
     if isinstance(value, bool | int | float | str):
         return value
     if isinstance(value, tuple | list):
@@ -418,23 +431,41 @@ def _plain(value: Any) -> Any:
 
 @functools.cache
 def _source_revision() -> str:
-    """Return the git commit of the source this package runs from ('-dirty' if changed), or ''."""
-    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    try:
-        head = subprocess.run(
-            ["git", "-C", here, "rev-parse", "--short=12", "HEAD"], capture_output=True, text=True, timeout=5
-        )
-        if head.returncode != 0:
-            return ""
-        dirty = subprocess.run(
-            ["git", "-C", here, "status", "--porcelain", "--untracked-files=no"],
+    """Return the git commit of the stickslip checkout this package runs from ('-dirty' if changed).
+
+    '' for an installed package, even one inside a user's own repository (git looks upward:
+    the user's commit was taken for stickslip's, the review). Read once per process: a
+    notebook keeps the state it started with.
+    """
+    here = os.path.dirname(os.path.abspath(__file__))
+    env = {k: v for k, v in os.environ.items() if k not in ("GIT_DIR", "GIT_WORK_TREE", "GIT_INDEX_FILE")}
+
+    def git(*args: str) -> subprocess.CompletedProcess[str]:
+        return subprocess.run(
+            ["git", "--no-optional-locks", "-C", here, *args],
             capture_output=True,
             text=True,
             timeout=5,
+            env=env,
         )
-    except (OSError, subprocess.SubprocessError):  # no git, or not a checkout: an installed wheel
+
+    try:
+        top = git("rev-parse", "--show-toplevel")
+        if top.returncode != 0 or git("ls-files", "--error-unmatch", __file__).returncode != 0:
+            return ""  # not a checkout, or one in which this file is not tracked (an install)
+        with open(os.path.join(top.stdout.strip(), "pyproject.toml"), encoding="utf-8") as fh:
+            if not re.search(r'^name\s*=\s*"stickslip"', fh.read(), re.MULTILINE):
+                return ""
+        head = git("rev-parse", "--short=12", "HEAD")
+        if head.returncode != 0:
+            return ""
+    except (OSError, subprocess.SubprocessError):  # no git, no pyproject: an installed wheel
         return ""
-    return f"git {head.stdout.strip()}" + ("-dirty" if dirty.stdout.strip() else "")
+    try:
+        dirty = bool(git("status", "--porcelain", "--untracked-files=no").stdout.strip())
+    except subprocess.SubprocessError:  # a slow status: the commit alone
+        return f"git {head.stdout.strip()}"
+    return f"git {head.stdout.strip()}" + ("-dirty" if dirty else "")
 
 
 def _update_manifest(folder: str, command: str, entry: Mapping[str, Any]) -> None:

@@ -369,7 +369,9 @@ class TabulatedLaw(PhysicalLaw):
     def describe(self) -> str:
         """One line: the table, its interpolation, ``mu_s``, and where its extrapolation reaches zero."""
         zero = self.zero_velocity()  # told with the law, not only when a motion fails there
-        falls = f"; beyond it the last row's tangent reaches zero friction at {format_speed(zero)}"
+        end = float(self.table_v[-1])
+        where = format_speed(zero) if zero <= 1e3 * end else "more than 1000 times that speed"
+        falls = f"; beyond it the last row's tangent reaches zero friction at {where}"
         return (
             f"table: {self.source}, {self.table_v.size} rows up to {format_speed(self.table_v[-1])}, "
             f"{self.interpolation}; mu_s = {self.mu_s:.6g}{falls if math.isfinite(zero) else ''}"

@@ -149,7 +149,9 @@ def mass_dependence(ds: xr.Dataset) -> Figure:
     fig, axes = subplots(1, len(b_values), figsize=(11, 4.2), sharey=True, layout="constrained")
     changes = amp[:, :, 1:] / amp[:, :, :1] - 1.0
     small = np.abs(changes[np.isfinite(changes) & (changes != 0)])
-    linear = 10.0 ** np.floor(np.log10(small.min())) if small.size else 1e-6  # the axis is linear below it
+    # the axis is linear below the smallest change, held to within 1e-6 of the largest (a change at
+    # rounding, 2e-16, made the axis span 16 decades: the review)
+    linear = 10.0 ** np.floor(np.log10(max(small.min(), 1e-6 * small.max()))) if small.size else 1e-6
     for ax, i in zip(np.atleast_1d(axes), range(len(b_values)), strict=True):
         for j, m in enumerate(ds["mass_mass"].values):
             change = changes[i, j]

@@ -267,8 +267,8 @@ def _appendix_claims(ds: xr.Dataset) -> list[Claim]:
             f"linearised inertial model: k_c(m)/k_c(0) - 1 = m v0^2/(W A D0) to within "
             f"{dev:.1e} (relative) over 1e-4 to 10, so the quasi-static threshold holds while "
             "m v0^2/(W A D0) is small. At k = 0.8 k_c and v0 = "
-            f"{float(ds.attrs['appendix_inertia_v0']) * 1e3:g} mm/s the inertial slider "
-            f"(m = {_demo_mass(ds)}) settles on a bounded stick-slip cycle{_settling(ds)} (peak velocity "
+            f"{float(ds.attrs['appendix_inertia_v0']) * 1e3:g} mm/s the inertial slider"
+            f"{_demo_mass(ds)} settles on a bounded stick-slip cycle{_settling(ds)} (peak velocity "
             f"{float(ds.attrs['appendix_cycle_peak_velocity']):.3g} m/s, period "
             f"{float(ds.attrs['appendix_cycle_period']):.3g} s), while the quasi-static one: "
             f"{runaway}",
@@ -305,7 +305,7 @@ def _settling(ds: xr.Dataset) -> str:
 def _demo_mass(ds: xr.Dataset) -> str:
     """Return the inertial demonstration slider's mass as the report names it (quick and full runs differ)."""
     mass = float(ds.attrs.get("appendix_inertia_demo_mass", float("nan")))
-    return f"{mass * 1e3:.3g} g"
+    return f" (m = {mass * 1e3:.3g} g)" if math.isfinite(mass) else ""  # an older reproduce.nc lacks it
 
 
 def _directions(amplitude: list[float], period: list[float]) -> str:

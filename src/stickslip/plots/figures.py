@@ -147,6 +147,8 @@ def _savefig(fig: Figure, target: Any, fmt: str) -> None:
     """Write ``fig`` to a path or a binary file in ``fmt``, marked as stickslip's figure."""
     key = {"png": "Software", "svg": "Creator", "pdf": "Creator"}.get(fmt)
     metadata: dict[str, Any] | None = {key: generator("figure")} if key else None
+    if fmt == "pdf" and metadata is not None:
+        metadata["CreationDate"] = None  # the same figure, the same bytes (as the SVG below)
     if fmt == "svg" and metadata is not None:
         # the same figure, the same bytes: no date, and ids from a fixed salt (two identical
         # reproductions wrote different SVGs: the reproduction audit)
