@@ -93,3 +93,33 @@ def test_core_trajectory_checks_times() -> None:
         run_trajectory(0, [2.0, 0.0, 0.0], 0.1, 0.0, 0.0, np.array([1.0, 0.5]), rtol=1e-9, atol=1e-12)
     with pytest.raises(ValueError, match="t_eval"):
         run_trajectory(0, [2.0, 0.0, 0.0], 0.1, 0.0, 0.0, np.array([]), rtol=1e-9, atol=1e-12)
+
+
+def test_python_api_audit_findings() -> None:
+    """The Python-API audit (helper-45): a formula with erf took parameters in any unit (the units
+    check gave up on SciPy's erf and read 160 kg as 160 s/m: HIGH); a physical formula's law
+    showed the units of an earlier law of the same formula (MEDIUM); probe='no' ran the probe;
+    a physical start given as quantities was 'expected a pair'; v in a dimensionless formula
+    was 'reserved' without saying that its velocity is w."""
+    from stickslip import Q_, ExpressionLaw
+
+    for wrong in ("160 kg", "160 m/s"):
+        with pytest.raises(ValueError, match="is not dimensionally consistent with v in m/s"):
+            ExpressionLaw(mu="0.46 - 0.2*erf(a*v)", a=wrong)
+    right = ExpressionLaw(mu="0.46 - 0.2*erf(a*v)", a="160 s/m")
+    assert right.params["a"] == Q_(160.0, "s/m")
+    plain = ExpressionLaw(mu="0.46/(1 + a*v)", a=160)  # SI, as the docstring says
+    held = ExpressionLaw(mu="0.46/(1 + a*v)", a="160 s/mm")
+    assert plain.params["a"] == 160.0 and held.params["a"] == Q_(160000.0, "s/m")
+    assert plain.si_parameters() == {"a": 160.0} and held.si_parameters() == {"a": 160000.0}
+    with pytest.raises(ValueError, match=r"the dimensionless formula's velocity is w .* give mu="):
+        ExpressionLaw("1/(1 + 3.8*v)")
+    with pytest.raises(TypeError, match=r"probe='no': expected True or False"):
+        cycle(DimensionlessParameters(nu=0.1, law=WeakeningLaw(c=3.8)), probe="no")
+    zv = zv_parameters()
+    traj = simulate(zv, initial=("50 mN", "0 m/s"), duration="5 s", n_points=20)
+    assert traj.spring_force[0] == pytest.approx(0.05, rel=1e-12) and traj.velocity[0] == 0.0
+    same = simulate(zv, initial=(0.05 / zv.scales.force.to("N").magnitude, 0.0), duration="5 s", n_points=20)
+    np.testing.assert_allclose(traj.spring_force, same.spring_force, rtol=1e-12)
+    with pytest.raises(ValueError, match=r"initial\[0\] \(spring force\)='50 kg' has dimension \[mass\]"):
+        simulate(zv, initial=("50 kg", "0 m/s"), duration="5 s")

@@ -85,16 +85,17 @@ class Attractor:
 
     Attributes
     ----------
-    regime : str
-        ``stick-slip``, ``pure-slip``, ``steady-sliding`` or ``unknown``.
+    regime : Regime
+        ``stick-slip``, ``pure-slip``, ``steady-sliding`` or ``unknown`` (a :class:`Regime`,
+        a ``str`` enum: it compares equal to those strings).
     amplitude : float
         Range of the spring force over the cycle (force unit of the result).
     period : float
         Period (time unit of the result); NaN for steady sliding.
     start : str
         Where it was reached from: ``rest`` or ``near steady sliding``.
-    status : str
-        ``ok`` or the reason the search did not converge.
+    status : Status
+        ``ok`` or the reason the search did not converge (a ``str`` enum).
     multiplier : float
         Nontrivial Floquet multiplier of the orbit: 0 for stick-slip, between -1
         and 1 for a polished pure-slip or slip-reversal orbit, NaN for steady
@@ -120,8 +121,9 @@ class CycleResult:
 
     Attributes
     ----------
-    regime : str
-        ``stick-slip``, ``pure-slip``, ``steady-sliding`` or ``unknown``, reached from rest.
+    regime : Regime
+        ``stick-slip``, ``pure-slip``, ``steady-sliding`` or ``unknown``, reached from rest (a
+        ``str`` enum: it compares equal to those strings).
     amplitude : float
         ``max s - min s`` over one steady cycle (force).
     period : float
@@ -143,8 +145,8 @@ class CycleResult:
         steady cycle (energy balance).
     transient_time : float
         Time from rest until the measured cycle starts (time).
-    status : str
-        ``ok``, or why the attractor could not be pinned down: ``not-converged``
+    status : Status
+        ``ok`` (a ``str`` enum), or why the attractor could not be pinned down: ``not-converged``
         when a non-sticking transient could not be polished into a periodic orbit
         (its values are then the transient's, not within the tolerance).
     multiplier : float
@@ -247,6 +249,8 @@ def cycle(
     """
     dp, scales = as_dimensionless(params)
     rtol, atol = validate_tolerances(rtol, atol)
+    if not isinstance(probe, bool | np.bool_):  # 'no' is a true string: the probe ran (the API audit)
+        raise TypeError(f"probe={probe!r}: expected True or False")
     max_slip_time = check_number(max_slip_time, "max_slip_time")
     conv_tol = check_number(conv_tol, "conv_tol", upper=0.1, what="a relative tolerance below 0.1")
     law = dp.law

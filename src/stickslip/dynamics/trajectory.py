@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
+import pint
 
 from .. import defaults
 from ..bifurcation.orbits import law_arrays
@@ -121,6 +122,21 @@ def _failure_hint(status: Status, t_end: float, duration: Any, cycles: float | N
     return "try a larger rtol"
 
 
+def _initial_state(initial: Any, scales: Any) -> Any:
+    """Return ``initial`` in the model's units: a physical set-up's quantities are converted.
+
+    ``('50 mN', '0 m/s')`` was 'expected a pair', though it is one (the API audit).
+    """
+    if scales is None or not isinstance(initial, tuple | list) or len(initial) != 2:
+        return initial
+    if not any(isinstance(x, str | pint.Quantity) for x in initial):
+        return initial
+    signed = {"allow_zero": True, "allow_negative": True}
+    force = parse_quantity(initial[0], "initial[0] (spring force)", "[force]", "50 mN", **signed)
+    speed = parse_quantity(initial[1], "initial[1] (velocity)", "[length] / [time]", "0 m/s", **signed)
+    return (float((force / scales.force).to("").magnitude), float((speed / scales.velocity).to("").magnitude))
+
+
 def simulate(
     params: DimensionlessParameters | PhysicalParameters,
     *,
@@ -147,7 +163,8 @@ def simulate(
         Number of uniform samples (event times are added). Default 4000.
     initial : (float, float), optional
         Initial spring force and velocity, dimensionless (units of ``mu_s W`` and
-        ``mu_s W / sqrt(k m)``). Default ``(0, 0)``: at rest, spring relaxed.
+        ``mu_s W / sqrt(k m)``), or for physical parameters quantities
+        (``("50 mN", "0 m/s")``). Default ``(0, 0)``: at rest, spring relaxed.
     rtol, atol : float, optional
         Tolerances of the slip integration.
 
@@ -165,10 +182,15 @@ def simulate(
         f"n_points={n_points}",
         "sample fewer points (events are always added) or simulate a shorter duration",
     )
+    initial = _initial_state(initial, scales)
     try:
         s0, w0 = (float(v) for v in initial)  # exactly two: a third value was dropped
     except (TypeError, ValueError):
-        raise ValueError(f"initial={initial!r}: expected a pair (spring force, velocity)") from None
+        raise ValueError(
+            f"initial={initial!r}: expected a pair (spring force, velocity): numbers in the model's "
+            "units (mu_s W and mu_s W / sqrt(k m)), or, for physical parameters, quantities "
+            "('50 mN', '0 m/s')"
+        ) from None
     if cycles is not None and duration is not None:  # cycles reached nothing
         raise ValueError(f"cycles={cycles!r} and duration={duration!r}: give one or the other")
     bound = 1e6
