@@ -123,3 +123,20 @@ def test_python_api_audit_findings() -> None:
     np.testing.assert_allclose(traj.spring_force, same.spring_force, rtol=1e-12)
     with pytest.raises(ValueError, match=r"initial\[0\] \(spring force\)='50 kg' has dimension \[mass\]"):
         simulate(zv, initial=("50 kg", "0 m/s"), duration="5 s")
+
+
+def test_law_classes_show_their_parameters_and_a_sweep_grid_is_a_mapping() -> None:
+    """The Python-API audit (LOW): every law class had the signature (*args, **kwargs), so help(),
+    inspect.signature and a notebook's completion showed no parameter; sweep(d, [('nu', [...])])
+    ended in 'unhashable type: list' from inside the sweep."""
+    import inspect
+
+    from stickslip import CubicLaw, PhysicalWeakeningLaw
+    from stickslip.dynamics.sweep import sweep
+
+    assert str(inspect.signature(WeakeningLaw)) == "(c, p=0.0)"
+    assert str(inspect.signature(CubicLaw)) == "(alpha, gamma)"
+    assert str(inspect.signature(PhysicalWeakeningLaw)) == "(mu_s, a, b=0.0)"
+    assert inspect.signature(WeakeningLaw).bind(3.8).arguments == {"c": 3.8}
+    with pytest.raises(TypeError, match=r"grid=\[\('nu', \[0.1, 0.2\]\)\]: expected a mapping of names"):
+        sweep(DimensionlessParameters(nu=0.1, law=WeakeningLaw(c=3.8)), [("nu", [0.1, 0.2])])  # type: ignore[arg-type]

@@ -253,6 +253,8 @@ def sweep(
     backend = resolve_backend(backend)  # an unknown backend, or no GPU for "cuda": said before any work
     if not isinstance(base, DimensionlessParameters | PhysicalParameters):
         raise ValueError(f"base={base!r}: expected DimensionlessParameters or PhysicalParameters")
+    if not isinstance(grid, Mapping):  # a list of pairs ended in 'unhashable type: list' (the API audit)
+        raise TypeError(f"grid={grid!r}: expected a mapping of names to values, e.g. {{'nu': [0.01, 0.1]}}")
     if not grid:
         raise ValueError("grid is empty: give at least one parameter to sweep")
     allowed = axes(base)

@@ -9,10 +9,11 @@ registry when it parses.
 
 from __future__ import annotations
 
+import inspect
 from typing import Any
 
 from .base import DimensionlessLaw, PhysicalLaw
-from .spec import LawSpec
+from .spec import LawSpec, Parameter
 
 __all__ = [
     "RESERVED",
@@ -95,10 +96,30 @@ def register(
         dimensionless = type(f"{title}Law", (DimensionlessLaw,), {"__slots__": (), "_spec": spec})
     if physical is None:
         physical = type(f"Physical{title}Law", (PhysicalLaw,), {"__slots__": (), "_spec": spec})
+    # help(), inspect.signature and a notebook's completion show the law's parameters, not
+    # (*args, **kwargs) (the API audit)
+    dimensionless.__signature__ = _signature(spec.parameters)  # type: ignore[attr-defined]
+    physical.__signature__ = _signature(  # type: ignore[attr-defined]
+        (Parameter("mu_s", "static friction coefficient"), *spec.physical)
+    )
     entry = LawEntry(spec, dimensionless, physical)
     _LAWS[spec.name] = entry
     version += 1
     return entry
+
+
+def _signature(params: tuple[Parameter, ...]) -> inspect.Signature:
+    """Return a law class's call signature: its parameters, a default where they have one."""
+    return inspect.Signature(
+        [
+            inspect.Parameter(
+                p.name,
+                inspect.Parameter.POSITIONAL_OR_KEYWORD,
+                default=inspect.Parameter.empty if p.default is None else p.default,
+            )
+            for p in params
+        ]
+    )
 
 
 def unregister(name: str) -> None:
