@@ -140,3 +140,24 @@ def test_law_classes_show_their_parameters_and_a_sweep_grid_is_a_mapping() -> No
     assert inspect.signature(WeakeningLaw).bind(3.8).arguments == {"c": 3.8}
     with pytest.raises(TypeError, match=r"grid=\[\('nu', \[0.1, 0.2\]\)\]: expected a mapping of names"):
         sweep(DimensionlessParameters(nu=0.1, law=WeakeningLaw(c=3.8)), [("nu", [0.1, 0.2])])  # type: ignore[arg-type]
+
+
+def test_a_trajectory_reads_at_a_glance_and_goes_to_xarray_with_its_units() -> None:
+    """The Python-API audit (LOW): a Trajectory's repr dumped its arrays, and it had no xarray
+    export (only CSV), unlike a sweep's results."""
+    traj = simulate(zv_parameters(), duration="30 s", n_points=200)
+    assert (
+        repr(traj) == f"Trajectory({traj.time.size} samples, t = 0..30 s, {traj.event_time.size} events, SI)"
+    )
+    ds = traj.to_xarray()
+    assert ds["spring_force"].attrs["units"] == "N" and ds["time"].attrs["units"] == "s"
+    np.testing.assert_array_equal(ds["spring_force"].values, traj.spring_force)
+    np.testing.assert_array_equal(ds["event_time"].values, traj.event_time)
+    assert list(ds["event_kind"].values) == [str(k) for k in traj.event_kind]
+    assert ds["phase"].attrs["flag_meanings"] == "stick slip backward-slip"
+    dim = simulate(DimensionlessParameters(nu=0.1, law=WeakeningLaw(c=3.8)), n_points=50).to_xarray()
+    assert dim["spring_force"].attrs == {
+        "units": "1",
+        "long_name": "spring force k (v0 t - x)",
+        "scale": "static friction force mu_s W",
+    }
