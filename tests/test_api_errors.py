@@ -161,3 +161,16 @@ def test_a_trajectory_reads_at_a_glance_and_goes_to_xarray_with_its_units() -> N
         "long_name": "spring force k (v0 t - x)",
         "scale": "static friction force mu_s W",
     }
+
+
+def test_a_physical_set_ups_slip_time_bound_may_be_a_time() -> None:
+    """The Python-API audit (MEDIUM, in part): cycle(zv, max_slip_time='10 s') was refused; only
+    the model's units were taken, unlike simulate's duration. A time is converted for physical
+    parameters; a wrong dimension is named."""
+    zv = zv_parameters()
+    scale = zv.scales.time.to("s").magnitude
+    given = cycle(zv, max_slip_time="100 s", probe=False)
+    same = cycle(zv, max_slip_time=100.0 / scale, probe=False)
+    assert given.amplitude == same.amplitude and given.period == same.period
+    with pytest.raises(ValueError, match=r"max_slip_time='10 kg' has dimension \[mass\], expected \[time\]"):
+        cycle(zv, max_slip_time="10 kg")

@@ -34,7 +34,7 @@ from ..models.parameters import (
     Scales,
     as_dimensionless,
 )
-from ..units import Q_, check_number
+from ..units import Q_, check_number, parse_quantity
 
 __all__ = ["Attractor", "CycleResult", "cycle", "validate_tolerances"]
 
@@ -228,8 +228,9 @@ def cycle(
         dimensionless output.
     rtol, atol : float, optional
         Tolerances of the slip integration (see :mod:`stickslip.defaults`).
-    max_slip_time : float, optional
-        Bound on the slip time followed from each start (units of ``sqrt(m/k)``).
+    max_slip_time : float, str or pint.Quantity, optional
+        Bound on the slip time followed from each start (units of ``sqrt(m/k)``; for physical
+        parameters also a time, ``"10 s"``).
     conv_tol : float, optional
         Relative amplitude change at which a non-sticking transient counts as converged.
     probe : bool, optional
@@ -251,6 +252,9 @@ def cycle(
     rtol, atol = validate_tolerances(rtol, atol)
     if not isinstance(probe, bool | np.bool_):  # 'no' is a true string: the probe ran (the API audit)
         raise TypeError(f"probe={probe!r}: expected True or False")
+    if scales is not None and isinstance(max_slip_time, str | pint.Quantity):  # '10 s' was refused
+        bound = parse_quantity(max_slip_time, "max_slip_time", "[time]", "10 s")
+        max_slip_time = float((bound / scales.time).to("").magnitude)
     max_slip_time = check_number(max_slip_time, "max_slip_time")
     conv_tol = check_number(conv_tol, "conv_tol", upper=0.1, what="a relative tolerance below 0.1")
     law = dp.law
