@@ -104,6 +104,7 @@ BATCH = 4096
 BYTES_PER_ROW = 8.0 * (21 + 1 + 8 + 3) * 1.5
 
 __all__ = [
+    "MAX_TIME",
     "ChainState",
     "Kernel",
     "TrajectoryResult",
@@ -376,6 +377,11 @@ def _broadcast(name: str, a: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
         raise ValueError(f"{name}: shape {a.shape} does not broadcast to {shape}") from None
 
 
+#: the latest sample time of a trajectory (units of sqrt(m/k)): past it, a slip step is below
+#: the resolution of a double
+MAX_TIME = 1e15
+
+
 def run_trajectory(
     law: Kernel | int,
     lp: npt.ArrayLike,
@@ -405,7 +411,7 @@ def run_trajectory(
         How the integration ended.
 
     """
-    t = np.ascontiguousarray(checks.finite_array("t_eval", t_eval, bound=1e15))
+    t = np.ascontiguousarray(checks.finite_array("t_eval", t_eval, bound=MAX_TIME))
     if t.ndim != 1 or t.size == 0 or t[0] < 0 or np.any(np.diff(t) < 0):
         raise ValueError("t_eval: expected a non-empty, sorted 1-d array of finite times >= 0")
     kernel = _kernel(law)

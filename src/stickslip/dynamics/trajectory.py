@@ -14,7 +14,7 @@ import pint
 
 from .. import defaults
 from ..bifurcation.orbits import law_arrays
-from ..core.api import run_trajectory
+from ..core.api import MAX_TIME, run_trajectory
 from ..core.engine import MAX_PHASES
 from ..core.memory import check_memory
 from ..core.results import EventKind, Regime, Status
@@ -152,10 +152,6 @@ class Trajectory:
         from ..io.csv import write_columns
 
         return write_columns(path, self.columns(), kind="trajectory", out=out, overwrite=overwrite)
-
-
-#: the longest run (units of sqrt(m/k)): the engine's bound on its sample times
-MAX_TIME = 1e15
 
 
 def _failure_hint(status: Status, t_end: float, duration: Any, cycles: float | None) -> str:

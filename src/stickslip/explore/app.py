@@ -199,16 +199,13 @@ class Explorer:
         # get_model_by_name found the stale one (the explorer audit)
         pool: dict[str, Any] = self.__dict__.setdefault("_slider_pool", {})
         for name, value in self.setup.params.items():
-            start, end, step = slider_range(self.setup.law, name, float(value))
-            v = min(max(float(value), start), end)
+            settings = _slider_settings(self.setup.law, name, float(value))
             sl = pool.get(name)
             if sl is None:
-                sl = pool[name] = Slider(
-                    title=name, start=start, end=end, step=step, value=v, name=f"param_{name}"
-                )
+                sl = pool[name] = Slider(title=name, name=f"param_{name}", **settings)
                 sl.on_change("value", self._on_change)
             else:
-                sl.update(start=start, end=end, step=step, value=v)
+                sl.update(**settings)
             sliders.append(sl)
         self.param_box.children = sliders
         self.param_sliders: list[Any] = sliders
@@ -335,8 +332,7 @@ class Explorer:
                 name = str(sl.name).removeprefix("param_")
                 value = float(setup.params[name])
                 if float(sl.value) != value:
-                    start, end, step = slider_range(setup.law, name, value)
-                    sl.update(start=start, end=end, step=step, value=min(max(value, start), end))
+                    sl.update(**_slider_settings(setup.law, name, value))
         finally:
             self._building = False
 
@@ -464,6 +460,12 @@ class Explorer:
         # escaped: a message that quotes a quantity (<Quantity(3.3e+152, 's / m')>) lost it as a
         # tag, and read "a= , b= :" (the explorer audit)
         self.status.text = f"<span style='color:#b00020'><b>error</b>: {html.escape(message)}</span>"
+
+
+def _slider_settings(law: str, name: str, value: float) -> dict[str, Any]:
+    """Return a parameter slider's range, step and value (held inside the range) for ``value``."""
+    start, end, step = slider_range(law, name, value)
+    return {"start": start, "end": end, "step": step, "value": min(max(value, start), end)}
 
 
 def _law_si(setup: Setup) -> str:
