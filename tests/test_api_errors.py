@@ -1,6 +1,7 @@
 """Bad input to the Python entry points: clear errors, never a numba traceback."""
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -174,3 +175,16 @@ def test_a_physical_set_ups_slip_time_bound_may_be_a_time() -> None:
     assert given.amplitude == same.amplitude and given.period == same.period
     with pytest.raises(ValueError, match=r"max_slip_time='10 kg' has dimension \[mass\], expected \[time\]"):
         cycle(zv, max_slip_time="10 kg")
+
+
+def test_results_can_be_keys_and_trajectories_compare_by_identity() -> None:
+    """The Python-API audit (LOW): hash(CycleResult) failed on its units dict, so results could not
+    be set members or cache keys; a Trajectory's == compared arrays and raised for two equal runs."""
+    params = DimensionlessParameters(nu=0.5, law=WeakeningLaw(c=3.8))
+    first, second = cycle(params, probe=False), cycle(params, probe=False)
+    assert first == second and hash(first) == hash(second) and len({first, second}) == 1
+    assert first != replace(first, units={"force": "N"})
+    traj = simulate(params, duration=20.0)
+    again = simulate(params, duration=20.0)
+    assert traj == traj and traj != again and len({traj, again}) == 2
+    np.testing.assert_allclose(traj.spring_force, again.spring_force)

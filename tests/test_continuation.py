@@ -308,6 +308,8 @@ def test_regimes_bad_input() -> None:
     # every value and the nu grid are checked before the first row (the map's n_nu, not n_grid)
     with pytest.raises(ValueError, match="n_nu=4"):
         regime_map(CUBIC, "alpha", [0.5], 0.5, 1.0, n_nu=4)
+    with pytest.raises(ValueError, match=r"alpha: 0.5 is given twice \(points 0 and 2\)"):  # one row twice
+        regime_map(CUBIC, "alpha", [0.5, 0.6, 0.5], 0.5, 1.0)
     with pytest.raises(ValueError, match="gamma"):
         regime_map(CUBIC, "gamma", [1 / 6, -1.0], 0.5, 1.0, progress=False)
 

@@ -182,6 +182,16 @@ def test_progress_bar(capsys: pytest.CaptureFixture[str]) -> None:
         ({"mu0": [0.4, -1]}, r"mu0=-1\.0 must be positive"),
         ({"b": ["-1 s/m"]}, "must be non-negative"),
         ({"beta": ["42 s/m"], "mass": ["1 kg"]}, "either 'beta' or 'mass'"),
+        # a bad point is named as given, not in SI (it said v0=<Quantity(-0.005, 'meter / second')>)
+        ({"v0": ["10 um/s", "-5 mm/s"]}, r"v0='-5 mm/s' must be positive \(point 1\)"),
+        ({"v0": Q_([5.0, -1.0], "um/s")}, r"v0='-1 µm/s' must be positive \(point 1\)"),
+        # a value given twice made a coordinate that .sel could not pick out
+        ({"v0": ["5 um/s", "6 um/s", "5 um/s"]}, r"v0: 5 um/s is given twice \(points 0 and 2\)"),
+        (
+            {"v0": ["5 um/s", "0.005 mm/s"]},
+            r"5 um/s \(point 0\) and 0.005 mm/s \(point 1\) are the same value",
+        ),
+        ({"mu0": [0.4, 0.5, 0.4]}, r"mu0: 0.4 is given twice \(points 0 and 2\): expected distinct values"),
     ],
 )
 def test_bad_grids(grid: dict, message: str) -> None:

@@ -29,6 +29,7 @@ import xarray as xr
 from ..core.results import AttractorRows, Regime
 from ..io.progress import show_progress
 from ..laws import DimensionlessLaw, require_dimensionless_law
+from ..laws.spec import check_distinct
 from ..scale.progress import ProgressLike
 from ..scale.store import Block, Layout, Variable
 from .regimes import RegimeDiagram, _grid, pure_slip_orbits_at, regimes
@@ -116,6 +117,7 @@ def regime_map(
         raise ValueError(f"values={values!r}: expected a 1-d sequence of finite numbers")
     for v in vals:  # the name, and every value before any row runs (not row by row, in the store)
         _with(law, param, float(v))
+    check_distinct(param, vals, [f"{v:g}" for v in vals])
     if not (0 < nu_min < nu_max) or not math.isfinite(nu_max):
         raise ValueError(f"nu_min={nu_min!r}, nu_max={nu_max!r}: expected 0 < nu_min < nu_max")
     if isinstance(n_nu, bool) or not isinstance(n_nu, int | np.integer) or n_nu < 5:

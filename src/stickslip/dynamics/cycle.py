@@ -183,7 +183,7 @@ class CycleResult:
     attractors: tuple[Attractor, ...]
     multistable: bool
     steady_sliding_stable: bool
-    units: Mapping[str, str] = field(default_factory=dict)
+    units: Mapping[str, str] = field(default_factory=dict, hash=False)
 
     def quantity(self, name: str) -> pint.Quantity:
         """Return a result field as a pint quantity (SI results only).

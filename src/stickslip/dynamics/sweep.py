@@ -40,7 +40,7 @@ from ..core.results import AttractorRows, Regime, Status
 from ..io.output import OutputFolder, emit, netcdf_writer, package_version
 from ..io.tables import frame_with_units
 from ..laws import PhysicalLaw
-from ..laws.spec import STATIC, Parameter
+from ..laws.spec import STATIC, Parameter, check_distinct
 from ..models.parameters import (
     DimensionlessParameters,
     PhysicalParameters,
@@ -140,7 +140,9 @@ def _grid_values(p: Parameter, name: str, values: Any) -> tuple[FloatArray, Floa
             shown = np.asarray(values.magnitude, dtype=float).ravel()
             if si.size == 0:
                 raise ValueError(f"{name}: the list of values is empty")
-            p.check_array(si)
+            as_given = [f"{m:g} {values.units:~P}" for m in shown]
+            p.check_array(si, shown=as_given)
+            check_distinct(name, si, as_given)
             return shown, si, f"{values.units:~}"
         items: list[Any] = [values[i] for i in range(len(values.magnitude))]
     else:
@@ -153,13 +155,18 @@ def _grid_values(p: Parameter, name: str, values: Any) -> tuple[FloatArray, Floa
     if not p.unit:
         shown = np.array([_number(name, v) for v in items], dtype=float)
         p.check_array(shown)
+        check_distinct(name, shown, [f"{x:g}" for x in shown])
         return shown, shown.copy(), ""
     example = p.example or f"1 {p.unit}"
     qs = [parse_quantity(v, name, p.dimension, example, allow_zero=True, allow_negative=True) for v in items]
     unit = qs[0].units
     shown = np.array([q.to(unit).magnitude for q in qs], dtype=float)
     si = np.array([q.to(p.unit).magnitude for q in qs], dtype=float)
-    p.check_array(si)
+    as_given = [
+        v if isinstance(v, str) else f"{q.magnitude:g} {q.units:~P}" for v, q in zip(items, qs, strict=True)
+    ]
+    p.check_array(si, shown=as_given)  # named as given ('-5 um/s'), not in SI
+    check_distinct(name, si, as_given)
     return shown, si, f"{unit:~}"
 
 

@@ -33,7 +33,7 @@ FloatArray = npt.NDArray[np.float64]
 BYTES_PER_SAMPLE = 200.0
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Trajectory:
     """A sampled motion of the block.
 
@@ -57,6 +57,11 @@ class Trajectory:
         ``stop``, ``stick``, ``breakaway``, ``backward-slip``, ``force-maximum``, ``force-minimum``.
     units : Mapping[str, str]
         Units of force, time, length and velocity.
+
+    Notes
+    -----
+    A trajectory holds arrays, so ``==`` and ``hash`` go by identity; compare two
+    trajectories' arrays with :func:`numpy.allclose`.
 
     """
 

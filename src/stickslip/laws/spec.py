@@ -149,6 +149,9 @@ class Parameter:
     def check_array(self, values: npt.ArrayLike, *, shown: Any = None, where: str = "") -> None:
         """Check SI values (any shape) against the bounds, in one vectorised pass.
 
+        ``shown`` is the value as the user gave it, for the message: one for a
+        scalar, or one per point (the same size as ``values``) for an array.
+
         Raises
         ------
         ValueError
@@ -166,6 +169,8 @@ class Parameter:
             return
         i = int(np.flatnonzero(~ok.ravel())[0])
         bad = float(x.ravel()[i])
+        if shown is not None and np.ndim(shown) > 0:  # each point as the user gave it
+            shown = np.ravel(np.asarray(shown, dtype=object))[i]
         v = shown if shown is not None else (Q_(bad, self.unit) if self.unit else bad)
         at = f" (point {i}{where})" if x.size > 1 else where
         if math.isnan(bad):
@@ -186,6 +191,38 @@ class Parameter:
     def quantity(self, si: float) -> Any:
         """Return an SI value as the user sees it (a pint quantity for a physical parameter)."""
         return Q_(si, self.unit) if self.unit else float(si)
+
+
+def check_distinct(name: str, si: npt.ArrayLike, as_given: Sequence[str]) -> None:
+    """Refuse a value given twice: a grid axis's coordinates must be distinct to be selected by.
+
+    Parameters
+    ----------
+    name : str
+        The parameter, for the message.
+    si : array_like
+        Its values in one unit (SI); equal within 1e-12 relative counts as the same.
+    as_given : sequence of str
+        Each value as the user gave it ('5 um/s'), for the message.
+
+    Raises
+    ------
+    ValueError
+        Naming the first value given twice and its two points.
+
+    """
+    si = np.asarray(si, dtype=float)
+    order = np.argsort(si, kind="stable")
+    ordered = si[order]
+    same = np.flatnonzero(np.diff(ordered) <= 1e-12 * np.abs(ordered[1:]))  # 5 um/s and 0.005 mm/s too
+    if same.size:
+        i, j = sorted((int(order[same[0]]), int(order[same[0] + 1])))
+        twice = (
+            f"{as_given[i]} is given twice (points {i} and {j})"
+            if as_given[i] == as_given[j]
+            else f"{as_given[i]} (point {i}) and {as_given[j]} (point {j}) are the same value"
+        )
+        raise ValueError(f"{name}: {twice}: expected distinct values")
 
 
 #: the static friction coefficient of every physical law
