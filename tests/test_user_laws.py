@@ -10,6 +10,7 @@ import json
 import math
 import pickle
 import re
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -614,3 +615,39 @@ def test_a_continuation_that_sympy_cannot_take_stops_where_it_can() -> None:
     assert got.regime.name == "STICK_SLIP" and got.status.name == "OK"
     assert got.amplitude == pytest.approx(plain.amplitude, rel=1e-9)
     assert got.period == pytest.approx(plain.period, rel=1e-9)
+
+
+def test_a_negative_dip_between_probe_points_is_warned_with_its_minimum() -> None:
+    """The regimes audit (MEDIUM): docs/laws.md promises a warning where a formula's friction turns
+    negative, but 1 - 2.9 w + 2 w**2 (negative on 0.565 < w < 0.885 only) fell between the 45 probe
+    points, and 1 - 2 w + w**3 warned as the built-in cubic law does but the formula did not. The
+    minimum is exact: 1 - 2.9**2/8 at w = 2.9/4; mu's own for the physical form, said in m/s. The
+    warning names the user's line (it named expression.py)."""
+    with pytest.warns(UserWarning, match=r"turns negative \(minimum -0.0513 at w = 0.725\)") as got:
+        ExpressionLaw("1 - 2.9*w + 2*w**2")
+    assert got[0].filename == __file__
+    with pytest.warns(UserWarning, match=r"minimum -0.0887 at w = 0.816"):  # 1 - 2 (2/3)^(3/2) / ... exact
+        ExpressionLaw("1 - 2*w + w**3")
+    with pytest.warns(
+        UserWarning,
+        match=r"mu\(v\) = 0.5 - 2.9\*v \+ 2\*v\*\*2 turns negative \(minimum -0.551 at v = 0.725 m/s\)",
+    ):
+        PhysicalExpressionLaw("0.5 - 2.9*v + 2*v**2")
+    with pytest.warns(UserWarning, match=r"at 4 of 8 points, the first shown: a=1.9"):
+        ExpressionLaw("1 - a*w + w**3", a=1.5).spec.check({"a": np.linspace(1.5, 2.2, 8)})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # positive everywhere (minimum 0.0705): no warning
+        ExpressionLaw("1 - 1.8*w + w**3")
+        ExpressionLaw("1 - a*w + w**3", a=1.5).spec.check({"a": np.linspace(1.0, 1.85, 8)})
+
+
+def test_e_and_pi_are_constants_and_a_parameter_of_that_name_is_refused() -> None:
+    """The regimes audit (MEDIUM): 'e' in a formula was Euler's number without a word, and
+    --param e=75 then said only that the formula had no parameter 'e'."""
+    law = ExpressionLaw("1/(1 + 3.8*w) + 0.1*e*w")
+    assert float(law.forward(1.0)) == pytest.approx(1 / 4.8 + 0.1 * math.e, rel=1e-14)
+    assert float(ExpressionLaw("1/(1 + pi*w)").forward(1.0)) == pytest.approx(1 / (1 + math.pi), rel=1e-14)
+    with pytest.raises(ValueError, match=r"'e' in a formula is the constant e = 2.71828, not a parameter"):
+        ExpressionLaw("1/(1 + 3.8*w) + 0.1*e*w", e=2.0)
+    with pytest.raises(ValueError, match=r"allowed: .*the constants pi and e"):
+        ExpressionLaw("1/(1 + w.real)")

@@ -27,7 +27,6 @@ slip-reversal orbits are told apart by their orbits, not by names.
 from __future__ import annotations
 
 import math
-import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -38,6 +37,7 @@ from .. import defaults
 from ..core.api import Kernel, run_attractors, run_shooting
 from ..core.results import AttractorRows, Regime, ShootingRows, ShootStatus, Status
 from ..laws import DimensionlessLaw
+from ..userwarnings import warn
 from .orbits import law_arrays, return_map_orbit_core
 
 __all__ = [
@@ -148,13 +148,12 @@ def _say_noisy(error: np.ndarray) -> None:
     worst = float(np.max(error)) if error.size else 0.0
     if not worst > defaults.ORBIT_RTOL:
         return
-    warnings.warn(
+    warn(
         f"a pure-slip orbit of this table law is known to about {10.0 ** math.ceil(math.log10(worst)):.0e} "
         f"of its amplitude and period only, not to {defaults.ORBIT_RTOL:g}: it is nearly neutral, as next "
         "to a Hopf point, and the interpolated law's flow is good to 1e-10..1e-8 across its rows, which "
         "the slow contraction multiplies; its regime and stability stand",
         NoisyOrbitWarning,
-        stacklevel=3,
     )
 
 

@@ -37,7 +37,6 @@ from __future__ import annotations
 import itertools
 import json
 import math
-import warnings
 from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
@@ -53,6 +52,7 @@ from ..io.jsonable import json_clean
 from ..laws import DimensionlessLaw, require_dimensionless_law
 from ..models.parameters import DimensionlessParameters
 from ..units import check_number
+from ..userwarnings import warn
 from .attractors import OrbitKey, distinct, orbit_key, polish_rows, same_orbit
 from .orbits import PeriodicOrbit, law_arrays, pure_slip_orbit
 from .stability import Hopf, hopf_points
@@ -966,7 +966,7 @@ def regimes(
             intervals.append(Interval(name, c0, c1, att))
     notes = cut_short + _notes(law, hopf_in, grid, fp, intervals, (rest, *probes))
     for note in notes:
-        warnings.warn(note, UserWarning, stacklevel=2)
+        warn(note, UserWarning)
     return RegimeDiagram(
         law=law,
         nu_min=lo,

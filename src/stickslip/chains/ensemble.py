@@ -15,7 +15,6 @@ import contextlib
 import dataclasses
 import math
 import os
-import warnings
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -30,6 +29,7 @@ from ..dynamics.cycle import validate_tolerances
 from ..scale.progress import ProgressLike
 from ..scale.store import Block, Layout, Variable
 from ..units import check_count, check_number
+from ..userwarnings import warn
 from .catalog import read_state
 from .model import ChainParameters, Init, static_thresholds
 from .run import chain, check_events
@@ -302,7 +302,7 @@ def _drop_if_unreadable(path: str) -> None:
     except PermissionError:
         raise  # not broken: not ours to read (said as a file error)
     except (OSError, RuntimeError, KeyError, IndexError, ValueError) as exc:
-        warnings.warn(f"{path}: cannot be continued ({exc}); its member starts again", stacklevel=2)
+        warn(f"{path}: cannot be continued ({exc}); its member starts again")
         os.remove(path)
 
 

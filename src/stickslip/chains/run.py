@@ -10,7 +10,6 @@ import signal
 import tempfile
 import threading
 import time
-import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
@@ -27,6 +26,7 @@ from ..dynamics.cycle import validate_tolerances
 from ..io.errors import DataError
 from ..io.progress import progress_bar
 from ..units import check_count, check_seed, parse_quantity
+from ..userwarnings import warn
 from .catalog import COLUMNS, CatalogWriter, open_catalog, read_state
 from .model import ChainParameters, Init, initial_positions, sliding_after
 from .statistics import BValue, b_value, check_fit_range
@@ -170,9 +170,8 @@ def _check_same_setup(path: str, saved: str, setup: str) -> None:
     if differ == ["atol"] and "atol" not in old:
         # written before the set-up kept atol: at the default, or, a member of an ensemble, at the
         # store's own tolerances (its identity holds them)
-        warnings.warn(
+        warn(
             f"{path}: written before its atol was recorded; resumed assuming atol={new['atol']!r}",
-            stacklevel=3,
         )
         return
     if "init" in differ and "state" in (old.get("init"), new.get("init")):
@@ -430,7 +429,7 @@ def chain(
     peaks = np.append(ds["peak_velocity"].values / factor[ce.C_PEAK], np.abs(state.v))
     note = params.law.motion_warning(peaks, failed)
     if note:
-        warnings.warn(f"chain: {note}", UserWarning, stacklevel=2)
+        warn(f"chain: {note}", UserWarning)
     return ChainResult(params, ds, path, status, float(t_end), state, fit, units)
 
 
@@ -451,11 +450,10 @@ def _warn_stiff_start(params: ChainParameters, state: ChainState) -> None:
     force = [ce.stuck_force(x, j, state.t, params.nu, params.ell2, periodic) for j in range(x.shape[0])]
     load = float(np.max(np.abs(force) / params.phi))
     if load > STIFF_START:
-        warnings.warn(
+        warn(
             f"the initial displacements load the coupling springs to {load:.3g} times the static "
             f"threshold (ell = {params.ell:g}): the first event will ring for a long time; give a "
             f"smaller amplitude (about 1/ell**2 = {1 / params.ell2:.2g}) or init='uniform'",
-            stacklevel=3,
         )
 
 

@@ -187,7 +187,8 @@ def _option_decorators(text: bool) -> list[Any]:
             "param",
             multiple=True,
             metavar="NAME=VALUE",
-            help="expr: a value of the formula's other names, e.g. 'c=3.8' or 'a=160 s/m' (repeatable).",
+            help="expr: a value of the formula's other names, e.g. 'c=3.8' or 'a=160 s/m' (repeatable); "
+            "a plain number in a --mu formula is in SI units.",
         ),
         click.option(
             "--static",

@@ -89,7 +89,8 @@ class Status(_Labelled):
         "step-size-too-small",
         engine.ST_STEP_TOO_SMALL,
         "the integration step fell below the resolution of the time: the friction law is "
-        "singular or not finite where the motion went",
+        "singular or not finite where the motion went, or the motion ran away where friction "
+        "falls to zero or below",
     )
     TOO_MANY_STEPS = (
         "too-many-steps",

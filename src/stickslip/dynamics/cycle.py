@@ -14,7 +14,6 @@ from __future__ import annotations
 import functools
 import json
 import math
-import warnings
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 from typing import Any
@@ -35,6 +34,7 @@ from ..models.parameters import (
     as_dimensionless,
 )
 from ..units import Q_, check_number, parse_quantity
+from ..userwarnings import warn
 
 __all__ = ["Attractor", "CycleResult", "cycle", "validate_tolerances"]
 
@@ -314,7 +314,7 @@ def cycle(
     # reaches zero friction); else whether the motions went beyond the table
     note = law.motion_warning(polished.w_max, Status.from_code(o.status[0]) != Status.OK)
     if note:
-        warnings.warn(note, UserWarning, stacklevel=2)
+        warn(note, UserWarning)
     period = float(o.period[0])
     regime = Regime.from_code(o.regime[0])
     stick_time = float(o.stick_time[0])

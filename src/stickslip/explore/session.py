@@ -19,7 +19,6 @@ import math
 import re
 import shlex
 import sys
-import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
@@ -35,6 +34,7 @@ from ..laws.base import DimensionlessLaw
 from ..models import DimensionlessParameters, PhysicalParameters, zv_parameters
 from ..models.parameters import beta_of
 from ..units import Q_, check_number
+from ..userwarnings import warn
 
 __all__ = [
     "EXPR",
@@ -198,11 +198,10 @@ class Setup:
                 law = law.replace(mu_s=mu_s)
             params = law.nondimensionalize(Q_(new.beta, "s/m")).params
         except ValueError as e:
-            warnings.warn(
+            warn(
                 f"the {self.law} law's physical parameters ({law.describe()}) cannot be held with these "
                 f"scales ({e}): its dimensionless parameters are kept",
                 UserWarning,
-                stacklevel=2,
             )
             params = dict(self.params)
         return new.with_(nu=nu, params=params)

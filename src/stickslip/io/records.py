@@ -15,7 +15,6 @@ column (and ``v0``/``load`` columns) holds several records at once.
 from __future__ import annotations
 
 import os
-import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import partial
@@ -27,6 +26,7 @@ import pandas as pd
 import pint
 
 from ..units import parse_quantity, ureg
+from ..userwarnings import warn
 from . import text
 from .errors import DataError
 from .tables import check_file, header_name, parse_header, split_header
@@ -298,10 +298,8 @@ def _record_from_frame(
         )
     force_col = forces[0]
     if len(forces) > 1:
-        warnings.warn(
+        warn(
             f"{where}: columns {', '.join(map(repr, forces))}: the force analysed is {force_col!r}",
-            UserWarning,
-            stacklevel=4,
         )
     if len(df) < 3:
         raise DataError(f"{where}: only {len(df)} samples; a record needs many cycles")
@@ -429,7 +427,7 @@ def read_records(path: str | os.PathLike[str], *, on_error: str = "raise") -> li
             if on_error == "raise":
                 raise
             unread.append(str(exc))
-            warnings.warn(UnreadableRecord(name, str(exc)), stacklevel=3)
+            warn(UnreadableRecord(name, str(exc)))
             return None
 
     def read_all(out: list[Record | None], what: str) -> list[Record]:
@@ -463,11 +461,10 @@ def read_records(path: str | os.PathLike[str], *, on_error: str = "raise") -> li
             left = [f for f in files if f not in named and f != "index.csv"]
             if left:
                 shown = ", ".join(left[:5]) + (f" and {len(left) - 5} more" if len(left) > 5 else "")
-                warnings.warn(
+                warn(
                     f"{index}: {len(left)} file(s) in the folder are not in the index and were not "
                     f"read: {shown}",
                     UserWarning,
-                    stacklevel=2,
                 )
             return read_all(out, "indexed records")
         if not files:
@@ -479,7 +476,7 @@ def read_records(path: str | os.PathLike[str], *, on_error: str = "raise") -> li
                 out.append(attempt(f, partial(read_record, os.path.join(p, f))))
             except NotARecord as exc:  # a README.txt, notes: not a record, said and left out
                 why.append(str(exc))
-                warnings.warn(f"not a record, skipped: {exc}", UserWarning, stacklevel=2)
+                warn(f"not a record, skipped: {exc}", UserWarning)
         if not out:
             # with the first file's reason: a folder of exports with a title line said no more
             # (the measured-data audit)

@@ -11,13 +11,13 @@ vibration amplitudes", Int. J. Non-Linear Mech. 38 (2003) 389-403.
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Mapping
 
 import numpy as np
 import numpy.typing as npt
 
 from ..core.laws import LAW_CUBIC
+from ..userwarnings import warn
 from .base import DimensionlessLaw, PhysicalLaw
 from .registry import register
 from .spec import LawSpec, Parameter
@@ -34,13 +34,11 @@ def _warn_negative(values: Mapping[str, npt.NDArray[np.float64]]) -> None:
     if bad.size:
         i = int(bad[0])
         where = f" (at {bad.size} of {f_min.size} points, the first shown)" if f_min.size > 1 else ""
-        warnings.warn(
+        warn(
             f"cubic law alpha={float(np.ravel(a)[i])!r}, gamma={float(np.ravel(g)[i])!r}: the friction turns "
             f"negative (minimum {float(np.ravel(f_min)[i]):.3g} at w = {float(np.ravel(w_min)[i]):.3g}; "
             "it stays "
             f"positive for alpha**3 < 27 gamma / 4): it drives the block there{where}",
-            UserWarning,
-            stacklevel=5,
         )
 
 

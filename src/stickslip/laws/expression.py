@@ -24,7 +24,6 @@ derivatives come from sympy, and the engine is compiled for it once
 from __future__ import annotations
 
 import math
-import warnings
 from collections.abc import Mapping
 from typing import Any
 
@@ -34,8 +33,9 @@ import pint
 import sympy as sp
 
 from ..units import Q_, check_number, parse_quantity, ureg
+from ..userwarnings import warn
 from .base import DimensionlessLaw, PhysicalLaw
-from .formula import FormulaError, parse_formula
+from .formula import CONSTANTS, FormulaError, parse_formula
 from .spec import LawSpec, Parameter, W
 
 __all__ = ["ExpressionLaw", "PhysicalExpressionLaw"]
@@ -98,6 +98,13 @@ def _parameters(expr: sp.Expr, variable: str, given: Mapping[str, Any], what: st
             f"({', '.join(f'{n}=...' for n in missing)}; on the command line --param {missing[0]}=...)"
         )
     extra = [n for n in given if n not in names]
+    constant = [n for n in extra if n in CONSTANTS]
+    if constant:  # 'e' in the formula was Euler's number, silently (the regimes audit)
+        n = constant[0]
+        raise FormulaError(
+            f"{what}={text!r}: {n!r} in a formula is the constant {n} = {float(CONSTANTS[n]):.6g}, "
+            f"not a parameter; give the parameter another name ({n}0, say)"
+        )
     if extra:
         raise FormulaError(f"{what}={text!r} has no parameter {', '.join(map(repr, extra))}")
     return names
@@ -152,13 +159,63 @@ def _check_values(spec: LawSpec, values: Mapping[str, npt.ArrayLike], text: str)
             f"f(0+) = {onset[j]:.6g} for f(w) = {text}: friction just after breakaway exceeds the static "
             "threshold 1, so the block could never slip"
         )
-    if np.any(f < 0.0):
-        i, j = np.argwhere(f < 0.0)[0]
-        warnings.warn(
-            f"f(w) = {text} is negative at w = {_PROBE[i]:.3g}: the friction drives the block there",
-            UserWarning,
-            stacklevel=5,
-        )
+    low = _lowest(spec, arrays, shape)
+    if low is not None:
+        f_min, w_min, j, count = low
+        names = [p.name for p in spec.parameters]
+        law, x = f"f(w) = {text}", f"w = {w_min:.3g}"
+        if "beta" in names:  # the physical form: say it in m/s, as a pole is
+            beta = float(np.ravel(np.broadcast_to(arrays[names.index("beta")], shape))[j])
+            law, x = text.split("mu_s, ", 1)[-1], f"v = {w_min / beta:.3g} m/s"
+            f_min *= float(np.ravel(np.broadcast_to(arrays[names.index("mu_s")], shape))[j])  # mu's minimum
+        where = ""
+        if f.shape[1] > 1:
+            point = ", ".join(
+                f"{name}={float(np.ravel(np.broadcast_to(a, shape))[j]):g}"
+                for name, a in zip(names, arrays, strict=True)
+                if np.size(a) > 1
+            )
+            where = f" (at {count} of {f.shape[1]} points, the first shown: {point})"
+        warn(f"{law} turns negative (minimum {f_min:.3g} at {x}): the friction drives the block there{where}")
+
+
+def _lowest(
+    spec: LawSpec, arrays: list[FloatArray], shape: tuple[int, ...]
+) -> tuple[float, float, int, int] | None:
+    """Where friction is negative for ``0 <= w <= 100``: (minimum, its w, first point, points), or None.
+
+    The grid is :data:`_POLE_GRID`'s (steps of 6.5 %); every local minimum on it is
+    refined by golden-section search within its two neighbours, so a negative dip
+    narrower than a step is found (1 - 2.9 w + 2 w**2, negative on 0.565..0.885 only,
+    passed the 45 probe points).
+    """
+    grid = _POLE_GRID[_POLE_GRID <= _PROBE[-1]]
+    f = spec.evaluate(grid.reshape((-1,) + (1,) * len(shape)), arrays)
+    f = np.broadcast_to(f, (grid.size, *shape)).reshape(grid.size, -1)
+    f = np.where(np.isfinite(f), f, np.inf)
+    best = f.min(axis=0)
+    at = grid[f.argmin(axis=0)]
+    i, j = np.nonzero((f[1:-1] < f[:-2]) & (f[1:-1] <= f[2:]))
+    if i.size:
+        values = [np.ravel(np.broadcast_to(np.asarray(a, dtype=float), shape))[j] for a in arrays]
+        a, b = grid[i], grid[i + 2]
+        golden = (math.sqrt(5.0) - 1.0) / 2.0
+        for _ in range(60):  # 0.618**60: the bracket to 3e-13 of itself
+            c, d = b - golden * (b - a), a + golden * (b - a)
+            fc, fd = spec.evaluate(c, values), spec.evaluate(d, values)
+            left = ~(fc > fd)  # the minimum is in [a, d]; NaN leaves it there too
+            a, b = np.where(left, a, c), np.where(left, d, b)
+        w = 0.5 * (a + b)
+        fw = spec.evaluate(w, values)
+        fw = np.where(np.isfinite(fw), fw, np.inf)
+        for k in np.flatnonzero(fw < best[j]):
+            if fw[k] < best[j[k]]:
+                best[j[k]], at[j[k]] = fw[k], w[k]
+    negative = np.flatnonzero(best < 0.0)
+    if not negative.size:
+        return None
+    first = int(negative[0])
+    return float(best[first]), float(at[first]), first, int(negative.size)
 
 
 def _singular_parts(expr: sp.Expr) -> tuple[sp.Expr, ...]:

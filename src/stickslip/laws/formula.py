@@ -58,8 +58,8 @@ class FormulaError(ValueError):
 def _allowed(variables: Iterable[str]) -> str:
     v = ", ".join(variables)
     return (
-        f"numbers, the variable{'s' if ',' in v else ''} {v}, parameter names, + - * / ** ( ) and the "
-        f"functions {', '.join(sorted(FUNCTIONS))}"
+        f"numbers, the variable{'s' if ',' in v else ''} {v}, parameter names, the constants "
+        f"{' and '.join(CONSTANTS)}, + - * / ** ( ) and the functions {', '.join(sorted(FUNCTIONS))}"
     )
 
 

@@ -292,8 +292,10 @@ class TabulatedLaw(PhysicalLaw):
         p = os.fspath(path)
         vel = cols["velocity"]
         if vel.unit is None or not (1.0 * vel.unit).check("[length] / [time]"):
+            found = "no unit" if vel.unit is None else f"the unit [{vel.unit:~}]"
             raise DataError(
-                f"{p}: column 'velocity' needs a velocity unit in its header, e.g. 'velocity [um/s]'"
+                f"{p}: column 'velocity' has {found}: it needs a velocity unit in its header, "
+                "e.g. 'velocity [um/s]'"
             )
         force_col = next((cols[k] for k in ("friction force", "friction") if k in cols), None)
         coef_col = next((cols[k] for k in ("friction coefficient", "mu") if k in cols), None)

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import math
 import time
-import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -30,6 +29,7 @@ import xarray as xr
 from ..core import radau
 from ..core import ratestate as core
 from ..units import Q_, parse_quantity
+from ..userwarnings import warn
 from .model import RateStateParameters, jacobian, steady_state
 
 __all__ = [
@@ -755,12 +755,11 @@ def slide_hold_slide(
         if not sel.any():
             # no healing to measure (b = 0, a hold of nanoseconds): said, and the run kept (it
             # stopped the whole run without output: the rate-and-state audit)
-            warnings.warn(
+            warn(
                 f"hold {j} ({hold_s[j]:g} s): no spring-force peak on reloading within the slide (no "
                 "healing to measure: b = 0, or a hold too short to age the contact); its peak "
                 "friction change is NaN",
                 UserWarning,
-                stacklevel=2,
             )
             peaks.append(math.nan)
             continue
