@@ -123,6 +123,26 @@ def test_cli(tmp_path) -> None:
     assert {"t_start [s]", "slip [m]", "stress_drop [Pa]", "recurrence [s]"} <= set(cat.columns)
     recurrence_yr = cat["recurrence [s]"].iloc[2:].mean() / (365.25 * 86400)
     assert recurrence_yr == pytest.approx(d["recurrence_yr"], rel=1e-3)
+    # (rate-and-state audit) the range's top is the events' located peak, not only the samples'
+    # (it was 0.83259 below the peak 0.83291 in the same JSON)
+    assert d["slip_rate_range_m_s"][1] == pytest.approx(cat["peak_slip_rate [m/s]"].max(), rel=1e-12)
+    assert d["slip_rate_range_m_s"][1] >= d["peak_slip_rate"]
+
+
+def test_json_has_null_not_nan(tmp_path) -> None:
+    """The rate-and-state audit: cycles.json and --json held bare NaN (one event: no recurrence
+    spread; an inertial run without events), which JSON parsers other than Python's refuse."""
+
+    def strict(text: str) -> dict:
+        return json.loads(text, parse_constant=lambda c: pytest.fail(f"{c} in JSON"))
+
+    res = CliRunner().invoke(
+        main, ["earthquake-cycles", "--duration", "20 yr", "--out", str(tmp_path), "--json"]
+    )
+    assert res.exit_code == 0, res.output
+    printed = strict(res.output)
+    assert printed["quasi-dynamic"]["recurrence_spread"] is None  # one event after the spin-up, or none
+    strict((tmp_path / "cycles.json").read_text())
 
 
 @pytest.mark.parametrize(

@@ -4,6 +4,7 @@ import dataclasses
 import json
 import math
 import time
+import warnings
 
 import numpy as np
 import pytest
@@ -786,3 +787,19 @@ def test_a_formula_laws_runaway_is_called_a_runaway() -> None:
     with pytest.raises(RateStateStopped, match=r"at t = 150\.58\d s the slip velocity passed") as info:
         slide_hold_slide(p, "10 um/s", ["10 s", "100 s"])
     assert info.value.reason == "runaway"
+
+
+def test_healing_from_an_unsettled_slide_is_warned() -> None:
+    """The rate-and-state audit (LOW): at k = 2 k_c the default slides (20 Dc) still ring, and the
+    healing of a 10000 s hold was measured from 0.601333, not steady sliding's 0.6 (0.0900 for
+    0.0913), without a word. Longer slides settle and agree with the steady baseline."""
+    p = RateStateParameters(
+        a=0.01, b=0.015, dc="10 um", v_ref="1 um/s", mu0=0.6, stiffness_per_load="1e-3 1/um"
+    )
+    with pytest.warns(UserWarning, match=r"hold 1 \(10000 s\): the slide before it has not settled"):
+        short = slide_hold_slide(p, "1 um/s", ["1000 s", "10000 s"])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        long = slide_hold_slide(p, "1 um/s", ["1000 s", "10000 s"], displacement="2 mm")
+    assert float(short.peak_friction_change[1]) == pytest.approx(0.0900, abs=1e-4)
+    assert float(long.peak_friction_change[1]) == pytest.approx(0.09135, abs=1e-4)

@@ -319,3 +319,49 @@ def test_a_record_of_a_law_the_fit_lacks_says_so(tmp_path) -> None:
         main, ["ratestate-fit", str(out / "ratestate.csv"), "--no-plot", "--law", "aging"]
     )
     assert res.exit_code == 0, res.output
+
+
+def test_a_noisy_velocity_column_or_a_displacement_column_fits_the_truth(tmp_path) -> None:
+    """The rate-and-state audit (HIGH): a logged velocity with 1e-4 relative noise made every row a
+    'step' (np.diff(v) != 0), the starting values absurd (Dc = 1e-9 m), and the fit ended at
+    a = b = 0.032, Dc = 3e-10 m with tiny error bars; the same history as a displacement column
+    (velocities differing in their last bits) failed. Steps are now changes beyond the noise."""
+    from stickslip.ratestate.fitting import velocity_steps
+
+    t, v, mu = generate(
+        a=0.008, b=[0.012], dc_um=[10.0], law="aging", k_per_um=2e-3, steps=STEPS_ONE, dt=0.2,
+        noise=1e-4, seed=3,
+    )  # fmt: skip
+    header = {"mu0": "0.6", "v_ref": "1 um/s", "stiffness_per_load": "0.002 1/um", "law": "aging"}
+    noisy = v * (1.0 + np.random.default_rng(7).normal(0.0, 1e-4, v.size))
+    assert velocity_steps(noisy).size == velocity_steps(v).size == 3  # three steps, not every row
+    path = tmp_path / "noisy.csv"
+    write_csv(path, t, noisy, mu, header)
+    fit = fit_rate_state(read_lab_record(path, need_friction=True))
+    _check(fit.values, fit.errors, _truth_values(ONE))
+    x = np.concatenate([[0.0], np.cumsum(v[:-1] * np.diff(t))])  # um: the same history, as a lab logs it
+    lines = [f"# {k} = {val}" for k, val in header.items()] + [
+        "time [s],load-point displacement [um],friction [1]"
+    ]
+    lines += [f"{a:.6f},{b:.9f},{c:.9f}" for a, b, c in zip(t, x, mu, strict=True)]
+    (tmp_path / "disp.csv").write_text("\n".join(lines) + "\n")
+    fit = fit_rate_state(read_lab_record(tmp_path / "disp.csv", need_friction=True))
+    _check(fit.values, fit.errors, _truth_values(ONE))
+
+
+def test_a_fit_that_cannot_finish_says_what_to_check_within_its_bound(tmp_path) -> None:
+    """The rate-and-state audit (MEDIUM): a velocity header mislabelled [mm/s] (1000 times too fast)
+    ran past 400 s without a word; the fit has a wall-time bound that names the units to check."""
+    import time
+
+    path = _record(tmp_path, "aging", ONE, STEPS_ONE, ONE["k_per_um"])
+    text = path.read_text().replace("load-point velocity [um/s]", "load-point velocity [mm/s]")
+    path.write_text(text)
+    start = time.monotonic()
+    with pytest.raises(
+        DataError, match=r"did not finish in max_seconds=2 s\. Check the units of the columns"
+    ):
+        fit_rate_state(read_lab_record(path, need_friction=True), max_seconds=2.0)
+    assert time.monotonic() - start < 30.0  # one model run is cut to the bound too (at least 1 s)
+    with pytest.raises(ValueError, match="max_seconds=-1"):
+        fit_rate_state(read_lab_record(path, need_friction=True), max_seconds=-1.0)

@@ -144,7 +144,7 @@ def parse_quantity(
 
 
 _NUMBER = re.compile(
-    r"^\s*([+-]?(?:(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|nan|inf|infinity))(?:\s+|(?=[^\d.,\s]))(.*?)\s*$",
+    r"^\s*([+-]?(?:(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|nan|inf|infinity))(?:\s+|(?=[^\d.,\s])|$)(.*?)\s*$",
     re.IGNORECASE,
 )
 

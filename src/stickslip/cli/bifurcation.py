@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import json
 from typing import Any
 
 import click
 import numpy as np
 
+from ..io.jsonable import dumps as dumps_json
 from ..models.parameters import PhysicalParameters
 from ..units import VELOCITY_UNITS, readable_unit
 from .errors import handle_errors
@@ -216,7 +216,7 @@ def register(main: click.Group) -> None:
                     save_figure(plot_regime_map(trial), "regime_map", out=out)
                     save_figure(plot_criterion_map(trial), "criterion_map", out=out)
         if as_json:
-            click.echo(json.dumps(result, indent=2))
+            click.echo(dumps_json(result, indent=2))
         else:
             # velocities in a unit that suits them (100 um/s, not 0.0001 m/s; the JSON stays SI)
             unit, size = readable_unit(

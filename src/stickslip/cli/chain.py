@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 import os
 from typing import Any
@@ -10,6 +9,7 @@ from typing import Any
 import click
 import numpy as np
 
+from ..io.jsonable import dumps as dumps_json
 from .errors import handle_errors
 from .options import (
     OutPath,
@@ -288,7 +288,7 @@ def _jsonable(d: dict[str, Any]) -> dict[str, Any]:
 def _report(res: Any, as_json: bool, out_dir: str | None = None, *, figures: bool = True) -> None:
     s = _jsonable(res.summary())
     if as_json:
-        click.echo(json.dumps(s, indent=2))
+        click.echo(dumps_json(s, indent=2))
     else:
         u = s["units"]
         click.echo(f"blocks               {s['blocks']}")
@@ -434,7 +434,7 @@ def _ensemble(
         "per_member": members,
     }
     if as_json:
-        click.echo(json.dumps(summary, indent=2))
+        click.echo(dumps_json(summary, indent=2))
     else:
         click.echo(f"members              {summary['members']}")
         click.echo(f"events               {summary['events']}")

@@ -8,6 +8,7 @@ import warnings
 
 import click
 
+from ..io.jsonable import dumps as dumps_json
 from ..units import FORCE_UNITS, VELOCITY_UNITS, readable_unit
 from .errors import handle_errors
 from .options import figure_names, out_dir_option, overwrite_option
@@ -62,7 +63,7 @@ def register(main: click.Group) -> None:
                     written += save_figure(fig, name, out=out)
         if as_json:
             click.echo(
-                json.dumps(
+                dumps_json(
                     {
                         "verdict": None if verdict is None else verdict.as_dict(),
                         "records": json.loads(table.to_json(orient="records")),
@@ -181,7 +182,7 @@ def register(main: click.Group) -> None:
 
                 paths += save_figure(plot_fit_overlay(rec, res), "fit_overlay", out=out)
         if as_json:
-            click.echo(json.dumps(d, indent=2))
+            click.echo(dumps_json(d, indent=2))
             return
         for name, v in d["parameters"].items():
             unit = "" if v["unit"] in ("1", "") else f" {v['unit']}"  # mu_s is a number ('+- 1.9e-05 1')
@@ -226,7 +227,7 @@ def register(main: click.Group) -> None:
 
         res = classify_file(file, confidence=confidence, min_points=min_points)
         if as_json:
-            click.echo(json.dumps(res.as_dict(), indent=2))
+            click.echo(dumps_json(res.as_dict(), indent=2))
             return
         lo, hi = res.slope_ci
         click.echo(f"verdict   {res.verdict}")

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import json
 import os
 from typing import Any
 
 import click
 import numpy as np
 
+from ..io.jsonable import dumps as dumps_json
 from ..models.parameters import DimensionlessParameters, PhysicalParameters
 from .errors import fail_unless_ok, handle_errors
 from .options import (
@@ -50,7 +50,7 @@ def register(main: click.Group) -> None:
         if as_json:
             d = res.as_dict()
             d["parameters"] = describe_parameters(params)
-            click.echo(json.dumps(d, indent=2))
+            click.echo(dumps_json(d, indent=2))
             fail_unless_ok(res.status)
             return
         u = res.units

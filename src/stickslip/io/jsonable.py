@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import json
 import math
 from typing import Any
 
-__all__ = ["json_clean"]
+__all__ = ["dumps", "json_clean"]
 
 
 def json_clean(x: Any) -> Any:
@@ -21,3 +22,13 @@ def json_clean(x: Any) -> Any:
     if isinstance(x, list | tuple):
         return [json_clean(v) for v in x]
     return x
+
+
+def dumps(obj: Any, **kwargs: Any) -> str:
+    """Return ``obj`` as JSON text, NaN and infinities as ``null`` (never the invalid ``NaN``).
+
+    ``json.dumps`` writes ``NaN``, which JSON parsers other than Python's refuse
+    (the rate-and-state audit: ``cycles.json``); every JSON stickslip writes or
+    prints goes through here. Keyword arguments are ``json.dumps``'s.
+    """
+    return json.dumps(json_clean(obj), allow_nan=False, **kwargs)

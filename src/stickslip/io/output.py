@@ -36,6 +36,7 @@ from importlib import metadata
 from typing import Any, TypeVar
 
 from .errors import DataError
+from .jsonable import dumps as dumps_json
 
 __all__ = [
     "MANIFEST",
@@ -476,7 +477,7 @@ def _update_manifest(folder: str, command: str, entry: Mapping[str, Any]) -> Non
         if isinstance(loaded, dict) and isinstance(loaded.get("runs"), dict):
             runs = loaded["runs"]
     runs[command] = dict(entry)
-    text = json.dumps({"generator": generator("manifest"), "runs": runs}, indent=2)
+    text = dumps_json({"generator": generator("manifest"), "runs": runs}, indent=2)
 
     def write(tmp: str) -> None:
         with open(tmp, "w", encoding="utf-8") as fh:
@@ -547,7 +548,7 @@ def netcdf_writer(ds: Any, kind: str) -> Callable[[str], None]:
 
 def json_writer(obj: Mapping[str, Any], kind: str) -> Callable[[str], None]:
     """Return a writer of ``obj`` as indented JSON with a ``generator`` entry first."""
-    text = json.dumps({"generator": generator(kind), **obj}, indent=2)
+    text = dumps_json({"generator": generator(kind), **obj}, indent=2)
 
     def write(path: str) -> None:
         with open(path, "w", encoding="utf-8") as fh:

@@ -170,12 +170,12 @@ def _check_values(spec: LawSpec, values: Mapping[str, npt.ArrayLike], text: str)
             f_min *= float(np.ravel(np.broadcast_to(arrays[names.index("mu_s")], shape))[j])  # mu's minimum
         where = ""
         if f.shape[1] > 1:
-            point = ", ".join(
+            first = ", ".join(
                 f"{name}={float(np.ravel(np.broadcast_to(a, shape))[j]):g}"
                 for name, a in zip(names, arrays, strict=True)
                 if np.size(a) > 1
             )
-            where = f" (at {count} of {f.shape[1]} points, the first shown: {point})"
+            where = f" (at {count} of {f.shape[1]} points, the first shown: {first})"
         warn(f"{law} turns negative (minimum {f_min:.3g} at {x}): the friction drives the block there{where}")
 
 

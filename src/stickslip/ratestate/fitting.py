@@ -26,6 +26,7 @@ positive). As a friction lab does it:
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 from typing import Any
 
@@ -130,14 +131,41 @@ def _option(value: Any, meta: dict[str, str], key: str, name: str) -> Any:
     raise DataError(f"{name} is not given: pass it as an option or as '# {key} = ...' in the record's header")
 
 
+#: a change of the load-point velocity counts as a step beyond this in ln(v2/v1) (5 %), and beyond
+#: ten times the sample-to-sample noise of its plateaus
+STEP_MIN_LOG = 0.05
+
+
+def velocity_steps(v: FloatArray) -> npt.NDArray[np.intp]:
+    """Return the samples at which the load-point velocity steps (into or out of a hold too).
+
+    A logged velocity is noisy (a servo's 1e-4), and one computed from a displacement
+    column differs in its last bits from row to row: ``np.diff(v) != 0`` called every
+    row a step (the rate-and-state audit: a = b = 0.032, Dc = 3e-10 m with tiny error
+    bars, for a = 0.008, b = 0.012, Dc = 20 um). A step is a change of ``ln v`` beyond
+    :data:`STEP_MIN_LOG` and beyond ten times the noise, the median change between
+    neighbours (steps are rare among the rows; 1.4826 turns it into a standard deviation).
+    """
+    moving = v > 0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        change = np.abs(np.diff(np.log(np.where(moving, v, np.nan))))
+    known = change[np.isfinite(change)]
+    noise = 1.4826 * float(np.median(known)) if known.size else 0.0
+    threshold = max(STEP_MIN_LOG, 10.0 * noise)
+    hold = moving[1:] != moving[:-1]
+    return np.flatnonzero(hold | (np.nan_to_num(change, nan=0.0) > threshold)) + 1
+
+
 def _initial(
     t: FloatArray, mu: FloatArray, x: FloatArray, v: FloatArray, n_states: int, kw: float
 ) -> dict[str, float]:
     """Return starting values from the steps: direct jump, steady-state change and decay length."""
-    jumps = np.flatnonzero(np.diff(v) != 0) + 1
+    jumps = velocity_steps(v)
     a_est, ab_est, dc_est = [], [], []
     for k, i in enumerate(jumps):
-        v1, v2 = v[i - 1], v[i]
+        begin = jumps[k - 1] if k else 0
+        stop = jumps[k + 1] if k + 1 < len(jumps) else len(v)
+        v1, v2 = float(np.median(v[begin:i])), float(np.median(v[i:stop]))  # the plateaus, not one sample
         if v1 <= 0 or v2 <= 0:
             continue
         r = math.log(v2 / v1)
@@ -158,8 +186,9 @@ def _initial(
         a0 = float(np.median(a_est)) * 1.2
         b0 = max(a0 - float(np.median(ab_est)), 0.2 * a0)
         dc0 = float(np.median(dc_est)) if dc_est else float(np.ptp(x)) / 20
-    else:
-        # slide-hold-slide only: typical laboratory values, the fit refines them
+    if not a_est or not (1e-5 < a0 < 0.5 and float(np.ptp(x)) * 1e-6 < dc0 < float(np.ptp(x))):
+        # slide-hold-slide only, or estimates no laboratory gives (a step read off noise):
+        # typical laboratory values, the fit refines them
         a0, b0, dc0 = 0.01, 0.012, float(np.ptp(x)) / 50
     out = {"a": a0, "b": b0, "dc": dc0}
     if n_states == 2:
@@ -171,6 +200,12 @@ def _initial(
 
 #: the fewest samples a fit takes (in the record, or in its window)
 MIN_SAMPLES = 10
+#: a fit's default bound on wall time (s); the fits of the tests and tutorials take 1 to 40 s
+MAX_FIT_SECONDS = 300.0
+
+
+class _OutOfTime(Exception):
+    """The fit's wall-time bound passed (raised through least_squares)."""
 
 
 def fit_rate_state(
@@ -185,6 +220,7 @@ def fit_rate_state(
     detrend: str = "linear",
     window: tuple[Any, Any] | None = None,
     initial: dict[str, float] | None = None,
+    max_seconds: float = MAX_FIT_SECONDS,
 ) -> RateStateFit:
     """Fit ``a``, ``b``, ``Dc`` (``b_2``, ``Dc_2``; ``k/W``) to a velocity-step or slide-hold-slide record.
 
@@ -208,6 +244,10 @@ def fit_rate_state(
         Starting values (SI) of some or all fitted parameters (``a``, ``b``,
         ``dc``; ``b_2``, ``dc_2``; ``stiffness_per_load`` with
         ``fit_stiffness``), instead of the estimates read from the steps.
+    max_seconds : float, optional
+        Give up, with an error that says what to check, after this many seconds of
+        wall time (default :data:`MAX_FIT_SECONDS`): a record whose units are off
+        (a velocity in um/s under a header in mm/s) may take hours to fail.
 
     Returns
     -------
@@ -243,6 +283,8 @@ def fit_rate_state(
         )
     if n_states not in (1, 2):
         raise DataError(f"n_states={n_states!r}: expected 1 or 2")
+    max_seconds = check_number(max_seconds, "max_seconds", what="a positive time bound in seconds")
+    deadline = time.monotonic() + max_seconds
     if detrend not in DETRENDS:
         raise DataError(f"detrend={detrend!r}: expected one of {', '.join(DETRENDS)}")
     t_all = record.time - record.time[0]
@@ -332,7 +374,8 @@ def fit_rate_state(
         )
 
     def model(theta: FloatArray) -> FloatArray:
-        ds = simulate_rate_state(build(theta), hist, sample=t, rtol=1e-12, atol=1e-14, max_seconds=30.0)
+        left = min(30.0, max(deadline - time.monotonic(), 1.0))  # one run within the fit's bound
+        ds = simulate_rate_state(build(theta), hist, sample=t, rtol=1e-12, atol=1e-14, max_seconds=left)
         out = ds.friction.values
         if out.size != t.size:
             raise RuntimeError("incomplete")
@@ -368,6 +411,8 @@ def fit_rate_state(
     first = [True]  # the first call is at the starting values (least_squares begins there)
 
     def residuals(theta: FloatArray) -> FloatArray:
+        if time.monotonic() > deadline:
+            raise _OutOfTime
         at_start, first[0] = first[0], False
         try:
             m = model(theta)
@@ -389,7 +434,16 @@ def fit_rate_state(
         x_try[names.index("dc")] += math.log(scale)
         if n_states == 2:
             x_try[names.index("dc_2")] += math.log(scale)
-        sol = least_squares(residuals, x_try, method="trf", diff_step=1e-6, x_scale=1.0, max_nfev=400)
+        try:
+            sol = least_squares(residuals, x_try, method="trf", diff_step=1e-6, x_scale=1.0, max_nfev=400)
+        except _OutOfTime:
+            raise DataError(
+                f"{record.name}: the fit did not finish in max_seconds={max_seconds:g} s. Check the units "
+                f"of the columns: the load point moves {x[-1]:.3g} m in {t[-1]:.3g} s, at up to "
+                f"{np.max(np.abs(v)):.3g} m/s (a velocity in um/s under a header in mm/s is 1000 times "
+                "faster); or give a longer bound "
+                "(max_seconds=, --max-seconds) or starting values (initial=)"
+            ) from None
         if best is None or sol.cost < best.cost:
             best = sol
         if best is not None and 2 * best.cost / max(t.size - len(names), 1) < 2.0:

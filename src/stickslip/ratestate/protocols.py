@@ -699,6 +699,11 @@ def velocity_steps(
     )
 
 
+#: a slide before a hold counts as unsettled when its end is this far from steady sliding,
+#: relative to the healing measured from it
+UNSETTLED = 0.01
+
+
 def slide_hold_slide(
     params: RateStateParameters,
     v_slide: Any,
@@ -715,9 +720,12 @@ def slide_hold_slide(
 
     Returns the time series and, over a ``hold`` dimension, ``hold_time`` (s) and
     ``peak_friction_change`` (the peak of the spring force / W on reloading minus its
-    steady value before the hold: the healing; quasi-statically, without damping, the
-    friction's). ``n_points``, ``sample``, ``at_changes``,
-    ``rtol`` and ``atol`` are those of :func:`simulate_rate_state`.
+    value at the end of the slide before the hold: the healing; quasi-statically, without
+    damping, the friction's). That value is steady sliding's once the slide has settled; a
+    warning says when it is more than :data:`UNSETTLED` of the healing away (near the
+    critical stiffness the slider rings for many ``Dc``: lengthen the slides).
+    ``n_points``, ``sample``, ``at_changes``, ``rtol`` and ``atol`` are those of
+    :func:`simulate_rate_state`.
     """
     v = parse_quantity(v_slide, "v_slide", "[length] / [time]", "1 um/s")
     d = (
@@ -747,6 +755,9 @@ def slide_hold_slide(
     t_peak = ds.spring_peak_time.values
     mu_peak = ds.spring_peak_friction.values
     peaks = []
+    eta = 0.0 if params.radiation_damping is None else float(params.radiation_damping.to("s/m").magnitude)
+    v_si = float(v.to("m/s").magnitude)
+    steady = float(params.steady_state_friction(v)) + eta * v_si  # the spring's, with damping's eta v
     for j in range(len(hold_s)):
         # steady sliding just before the hold: the segment's last sample, at its very end
         before = spring[np.searchsorted(t, bounds[2 * j + 1], side="right") - 1]
@@ -764,6 +775,15 @@ def slide_hold_slide(
             peaks.append(math.nan)
             continue
         peaks.append(float(mu_peak[np.flatnonzero(sel)[0]] - before))
+        off = before - steady
+        if abs(off) > UNSETTLED * abs(peaks[-1]):  # k near k_c rings for many Dc (the audit)
+            warn(
+                f"hold {j} ({hold_s[j]:g} s): the slide before it has not settled: the spring force / W "
+                f"is {before:.6g} at its end, {off:+.2g} from steady sliding's {steady:.6g}, so the "
+                f"healing {peaks[-1]:.4g} is measured from an unsettled level; lengthen the slides "
+                f"(displacement=, --displacement; now {float(d.to('m').magnitude):.3g} m)",
+                UserWarning,
+            )
     ds["hold_time"] = ("hold", np.array(hold_s), {"units": "s", "long_name": "hold time"})
     ds["peak_friction_change"] = (
         "hold",
