@@ -191,7 +191,7 @@ def test_b_value_of_a_gutenberg_richter_sample() -> None:
 
 def test_b_value_and_its_errors_at_b_other_than_one() -> None:
     """At b = 1 a b-power in an error formula is invisible: b = 1.5 against Aki's estimate
-    log10(e)/(mean - Mc) and Shi and Bolt's error 2.3 b^2 sigma/sqrt(n), computed here; the
+    log10(e)/(mean - Mc) and Shi and Bolt's error ln(10) b^2 sigma/sqrt(n) (their 2.30), computed here; the
     truncated estimate against the root of the truncated exponential's mean, by Brent."""
     from scipy.optimize import brentq
 
@@ -201,7 +201,7 @@ def test_b_value_and_its_errors_at_b_other_than_one() -> None:
     fit = b_value(m, mc=2.0, n_boot=200)
     aki = math.log10(math.e) / (m.mean() - 2.0)
     assert fit.b == pytest.approx(aki, rel=1e-12)
-    assert fit.shi_bolt == pytest.approx(2.3 * aki**2 * m.std(ddof=1) / math.sqrt(n), rel=1e-12)
+    assert fit.shi_bolt == pytest.approx(math.log(10) * aki**2 * m.std(ddof=1) / math.sqrt(n), rel=1e-12)
     assert abs(fit.b - b_true) < 3 * fit.shi_bolt
     assert fit.error == pytest.approx(fit.shi_bolt, rel=0.2)  # the bootstrap agrees with the formula
     mt = m[m <= 2.5]
@@ -388,8 +388,15 @@ def test_catalogue_streams_to_netcdf_and_resumes(tmp_path: Path) -> None:
     b.close()
     more.catalog.close()
     other = ChainParameters(20, CarlsonLangerLaw(alpha=2.0, sigma=0.01), 0.01, 3.0)
-    with pytest.raises(ValueError, match="another set-up"):
+    # the values too (it said '(law_params differ)', naming neither alpha nor its values)
+    with pytest.raises(ValueError, match=r"another set-up \(alpha 2.5 in the file, 2 now\)"):
         chain(other, 130, out=tmp_path / "part.nc", resume=True, progress=False)
+    with pytest.raises(
+        ValueError, match=r"another set-up \(ell 3 in the file, 4 now; nu 0.01 in the file, 0.02"
+    ):
+        chain(
+            ChainParameters(20, p.law, 0.02, 4.0), 130, out=tmp_path / "part.nc", resume=True, progress=False
+        )
     reopened = open_catalog(tmp_path / "part.nc")
     assert reopened.sizes["event"] == 120 and reopened.attrs["complete"] == 1
     reopened.close()
@@ -633,7 +640,7 @@ def test_bad_run_arguments_are_named(tmp_path: Path) -> None:
     with pytest.raises(DataError, match="started with init='random'; resume it the same way"):
         chain(p, 8, out=tmp_path / "a.nc", resume=True, state=first.state)
     # another atol is another set-up (it was resumed, mixing two tolerances)
-    with pytest.raises(DataError, match=r"another set-up \(atol differ\)"):
+    with pytest.raises(DataError, match=r"another set-up \(atol 1e-\d+ in the file, 1e-06 now\)"):
         chain(p, 8, out=tmp_path / "a.nc", resume=True, atol=1e-6, progress=False)
     again = chain(p, 8, out=tmp_path / "a.nc", resume=True, progress=False)
     assert again.events == 8
@@ -757,7 +764,7 @@ def test_command_line_json(tmp_path: Path) -> None:
         ],
     )
     assert res.exit_code == 0, res.output
-    out = json.loads(res.output)
+    out = json.loads(res.stdout)
     for key in (
         "blocks",
         "events",
@@ -936,7 +943,7 @@ def test_command_line_reports_the_halves_of_the_fitted_range() -> None:
     assert res.exit_code == 0, res.output
     line = next(x for x in res.output.splitlines() if x.startswith("halves of the range"))
     js = CliRunner().invoke(main, [*args, "--json"])
-    s = json.loads(js.output)
+    s = json.loads(js.stdout)  # a warning goes to stderr
     assert f"below M = {s['b_value_split']:.2f}" in line and f"p = {s['b_value_slope_p']:.2g}" in line
     assert f"b = {s['b_value_lower']:.4g} below" in line and f"{s['b_value_upper']:.4g} above" in line
 
@@ -1032,7 +1039,7 @@ def test_an_ensemble_fits_every_member_over_the_range_given() -> None:
     base += ["--ell", "10", "--blocks", "30", "--events", "300", "--transient", "50", "--seeds", "1..2"]
     res = CliRunner().invoke(main, [*base, "--mc", "-2", "--m-max", "0", "--quiet", "--json"])
     assert res.exit_code == 0, res.output
-    out = json.loads(res.output)
+    out = json.loads(res.stdout)
     assert out["b_value_fit"] == "from -2 to 0"
     assert [m["completeness_magnitude"] for m in out["per_member"]] == [-2.0, -2.0]
     assert out["b_value_mean"] == pytest.approx(float(np.mean(fixed["b_value"].values)), rel=1e-12)
@@ -1441,3 +1448,62 @@ def test_every_block_that_starts_beyond_its_backward_threshold_slips_back(
     # at t = 0 every block beyond a threshold slips, and only those
     first = chain(p, 1, seed=5, amplitude=0.005, t_max=1e-9, progress=False)
     np.testing.assert_array_equal(first.state.mode, [0, -1, 0, 0, 1, -1, -1, 1, 1, -1])
+
+
+def test_events_in_pieces_are_counted_and_warned() -> None:
+    """The chain audit (HIGH, a method): an event runs until every block sticks, so on a long chain
+    slips far apart are one event, and their moments add; nothing said so. Counted exactly on
+    known rows, free and periodic (whose extent cannot tell a stretch across the ends), and on
+    Carlson and Langer's 100 blocks, where many are, a warning."""
+    from stickslip.chains.statistics import ruptures_in_pieces
+
+    # blocks 2-4 (one stretch), 1 and 5 (two pieces), 0-2 and 7 (two) on eight blocks
+    assert ruptures_in_pieces([3, 2, 4], [2, 1, 0], [4, 5, 7]) == (2, 3)
+    slips = np.array(
+        [
+            [1.0, 0, 0, 0, 0, 0, 0, 2.0],  # across the ends: one stretch on a ring, two on a line
+            [1.0, 0, 0, 3.0, 0, 0, 0, 0],  # two pieces on both
+            [np.nan] * 8,  # not recorded: not checked
+        ]
+    )
+    assert ruptures_in_pieces([2, 2, 3], [0, 0, 0], [7, 3, 7], slips, periodic=True) == (1, 2)
+    assert ruptures_in_pieces([2, 2], [0, 0], [7, 3]) == (2, 2)
+    p = ChainParameters(100, CarlsonLangerLaw(alpha=2.5, sigma=0.01), 0.01, 10.0)
+    with pytest.warns(UserWarning, match=r"of 300 events slipped in separate pieces of the chain"):
+        r = chain(p, 300, transient=100, seed=1, progress=False)
+    s = r.summary()
+    assert s["events_checked_for_pieces"] == 300 and 30 < s["events_in_pieces"] < 300
+    c = r.catalog
+    span = c["last_block"].values - c["first_block"].values + 1
+    assert s["events_in_pieces"] == int(np.count_nonzero(c["n_blocks"].values < span))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # three blocks moving as one: no pieces, no warning
+        one = chain(ChainParameters(3, WeakeningLaw(c=3.0), 0.1, 1.0), 30, init="uniform", progress=False)
+    assert one.in_pieces() == (0, 30)
+
+
+def test_a_damaged_or_foreign_catalogue_is_refused_in_one_line(tmp_path: Path) -> None:
+    """The chain audit (MEDIUM): resuming a foreign NetCDF ended in 'IndexError: state_x not found in
+    /', a truncated one in 'NetCDF: HDF error', an unreadable set-up in 'another set-up ( differ)';
+    open_catalog of a file without 'moment' raised xarray's KeyError without the file's name."""
+    import netCDF4
+    import xarray as xr
+
+    p = ChainParameters(3, WeakeningLaw(c=3.0), 0.1, 1.0)
+    xr.Dataset({"x": ("t", np.arange(3.0))}).to_netcdf(tmp_path / "foreign.nc")
+    with pytest.raises(DataError, match=r"foreign.nc: cannot be resumed: not a stickslip chain catalogue"):
+        chain(p, 5, out=tmp_path / "foreign.nc", resume=True, progress=False)
+    first = chain(p, 5, out=tmp_path / "a.nc", progress=False)
+    first.catalog.close()
+    data = (tmp_path / "a.nc").read_bytes()
+    (tmp_path / "cut.nc").write_bytes(data[: len(data) // 2])
+    with pytest.raises(DataError, match=r"cut.nc: cannot be resumed: .*damaged"):
+        chain(p, 8, out=tmp_path / "cut.nc", resume=True, progress=False)
+    with netCDF4.Dataset(tmp_path / "a.nc", "a") as ds:
+        ds.setncattr("setup", "{not json")
+    with pytest.raises(DataError, match=r"a.nc: its set-up record is unreadable"):
+        chain(p, 8, out=tmp_path / "a.nc", resume=True, progress=False)
+    with netCDF4.Dataset(tmp_path / "a.nc", "a") as ds:
+        ds.renameVariable("moment", "m0")
+    with pytest.raises(DataError, match=r"a.nc: a chain catalogue without its 'moment' variable"):
+        open_catalog(tmp_path / "a.nc")

@@ -199,10 +199,22 @@ def read_state(path: str) -> tuple[ChainState | None, int, dict[str, Any]]:
     The state is None where the run was stopped before it saved one (no event
     recorded then): a resumed run starts from the beginning.
     """
-    with netCDF4.Dataset(path, "r") as ds:
-        raw = [ds[f"state_{n}"][:] for n in _STATE]
-        n = _saved_count(ds, "events_saved", len(ds.dimensions["event"]))
-        attrs = {k: ds.getncattr(k) for k in ds.ncattrs()}
+    try:
+        with netCDF4.Dataset(path, "r") as ds:
+            if ds.__dict__.get("stickslip_output") != KIND:
+                raise DataError(f"no stickslip_output = {KIND!r}")
+            raw = [ds[f"state_{n}"][:] for n in _STATE]
+            n = _saved_count(ds, "events_saved", len(ds.dimensions["event"]))
+            attrs = {k: ds.getncattr(k) for k in ds.ncattrs()}
+    except PermissionError:
+        raise  # not damaged: not ours to read (said as a file error)
+    except (OSError, RuntimeError, KeyError, IndexError, ValueError, DataError) as exc:
+        # a foreign NetCDF ended in 'IndexError: state_x not found in /', a truncated one in
+        # 'NetCDF: HDF error' (the chain audit)
+        raise DataError(
+            f"{path}: cannot be resumed: not a stickslip chain catalogue, or a damaged one ({exc}); "
+            "run without resume to start again (with --overwrite), or remove the file"
+        ) from None
     # "state_saved" since 2026-11-24; before, a state never written reads as netCDF fill values.
     # Rows without a state (written by HDF5 before the first state was): computed again
     if not attrs.get("state_saved", 1) or any(np.ma.is_masked(a) for a in raw):
@@ -249,6 +261,11 @@ def open_catalog(path: str | os.PathLike[str]) -> xr.Dataset:
     recorded = int(ds.attrs.get("slip_saved", ds.attrs.get("slip_recorded", 0)))
     ds = ds.isel(recorded_event=slice(0, min(recorded, ds.sizes["recorded_event"])))
     ds.set_close(opened.close)  # closing the result closes the file
+    if "moment" not in ds:
+        ds.close()
+        raise DataError(f"{p}: a chain catalogue without its 'moment' variable: damaged, or not stickslip's")
     ds["magnitude"] = np.log10(ds["moment"].where(ds["moment"] > 0))
-    ds["magnitude"].attrs = {"units": "1", "long_name": "log10 of the moment (in its units)"}
+    unit = str(ds["moment"].attrs.get("units", "1"))
+    per = "its dimensionless unit" if unit in ("1", "") else f"1 {unit}"  # a physical chain's is in m
+    ds["magnitude"].attrs = {"units": "1", "long_name": f"log10 of the moment / ({per})"}
     return ds

@@ -28,8 +28,8 @@ from ..io.progress import progress_bar
 from ..units import check_count, check_seed, parse_quantity
 from ..userwarnings import warn
 from .catalog import COLUMNS, CatalogWriter, open_catalog, read_state
-from .model import ChainParameters, Init, initial_positions, sliding_after
-from .statistics import BValue, b_value, check_fit_range
+from .model import Boundary, ChainParameters, Init, initial_positions, sliding_after
+from .statistics import BValue, b_value, check_fit_range, ruptures_in_pieces
 
 __all__ = ["ChainResult", "chain"]
 
@@ -41,6 +41,10 @@ __all__ = ["ChainResult", "chain"]
 WORK_PER_CALL = 2e6
 #: events per call
 EVENTS_PER_CHUNK = 20_000
+#: a chain warns when more than this share of its events (of at least PIECES_CHECKED checked)
+#: are slips in separate places (:func:`~.statistics.ruptures_in_pieces`)
+PIECES_SHARE = 0.1
+PIECES_CHECKED = 20
 #: a catalogue on disk takes the calls' rows and the state after them at most this often (s):
 #: a write and its flush to disk took about 23 ms, 4 % of a run that wrote after every call
 FLUSH_SECONDS = 5.0
@@ -85,11 +89,28 @@ class ChainResult:
         """Number of events in the catalogue."""
         return int(self.catalog.sizes["event"])
 
+    def in_pieces(self) -> tuple[int, int]:
+        """Return (events whose slips are separate pieces of the chain, events checked).
+
+        See :func:`~.statistics.ruptures_in_pieces`: an event ends only when every block
+        sticks, so on a long chain slips far apart are one event.
+        """
+        c = self.catalog
+        slips = c["slip"].values if "slip" in c else None
+        return ruptures_in_pieces(
+            c["n_blocks"].values,
+            c["first_block"].values,
+            c["last_block"].values,
+            slips,
+            periodic=self.params.boundary == Boundary.PERIODIC,
+        )
+
     def summary(self) -> dict[str, Any]:
         """Return the numbers of ``stickslip chain --json``."""
         t0 = self.catalog["t_start"].values
         moment = self.catalog["moment"].values
         nb = self.catalog["n_blocks"].values
+        pieces, checked = self.in_pieces()
         return {
             "blocks": self.params.blocks,
             "events": self.events,
@@ -97,6 +118,9 @@ class ChainResult:
             "mean_recurrence": float(np.mean(np.diff(t0))) if t0.size > 1 else math.nan,
             "mean_moment": float(np.mean(moment)) if moment.size else math.nan,
             "largest_event_blocks": int(np.max(nb)) if nb.size else 0,
+            # events whose slips are not one connected stretch (of those that could be checked)
+            "events_in_pieces": pieces,
+            "events_checked_for_pieces": checked,
             # with backward slip a moment (the blocks' slips, signed) can be <= 0: no magnitude
             "events_without_magnitude": int(np.count_nonzero(~(moment > 0))),
             "b_value": self.b.b,
@@ -165,7 +189,12 @@ def _check_same_setup(path: str, saved: str, setup: str) -> None:
     try:
         old, new = json.loads(saved), json.loads(setup)
     except ValueError:
-        old, new = {}, {None: None}
+        old = None
+    if not isinstance(old, dict):  # a damaged set-up attribute said '( differ)' (the chain audit)
+        raise DataError(
+            f"{path}: its set-up record is unreadable ({saved[:60]!r}): not a stickslip chain "
+            "catalogue, or a damaged one; start again without resume, or remove the file"
+        )
     differ = sorted(str(k) for k in old.keys() | new.keys() if old.get(k) != new.get(k))
     if differ == ["atol"] and "atol" not in old:
         # written before the set-up kept atol: at the default, or, a member of an ensemble, at the
@@ -180,8 +209,23 @@ def _check_same_setup(path: str, saved: str, setup: str) -> None:
         )
         raise DataError(f"{path}: the run was started {how}; resume it the same way")
     raise DataError(
-        f"{path}: made with another set-up ({', '.join(differ)} differ); resume needs the same set-up"
+        f"{path}: made with another set-up ({'; '.join(_difference(k, old, new) for k in differ)}); "
+        "resume needs the same set-up"
     )
+
+
+def _difference(key: str, old: dict[str, Any], new: dict[str, Any]) -> str:
+    """One differing setting, with both values: 'ell 10 in the file, 11 now' (it named 'ell' alone)."""
+    was, now = old.get(key), new.get(key)
+    if isinstance(was, dict) and isinstance(now, dict):  # the law's parameters: the ones that differ
+        return "; ".join(
+            _difference(k, was, now) for k in sorted(was.keys() | now.keys()) if was.get(k) != now.get(k)
+        )
+
+    def shown(x: Any) -> str:
+        return "not set" if x is None else (f"{x:g}" if isinstance(x, float) else str(x))
+
+    return f"{key} {shown(was)} in the file, {shown(now)} now"
 
 
 def check_events(events: Any, transient: Any) -> tuple[int, int]:
@@ -430,7 +474,17 @@ def chain(
     note = params.law.motion_warning(peaks, failed)
     if note:
         warn(f"chain: {note}", UserWarning)
-    return ChainResult(params, ds, path, status, float(t_end), state, fit, units)
+    result = ChainResult(params, ds, path, status, float(t_end), state, fit, units)
+    pieces, checked = result.in_pieces()
+    if checked >= PIECES_CHECKED and pieces > PIECES_SHARE * checked:
+        warn(
+            f"chain: {pieces} of {checked} events slipped in separate pieces of the chain (blocks "
+            "that never slipped between blocks that did), one event because the chain was never all "
+            "stuck between them: where the pieces are unrelated ruptures their moments add, and the "
+            "magnitudes and the b-value are not those of single ruptures (Carlson and Langer count "
+            "connected clusters); events_in_pieces in the summary"
+        )
+    return result
 
 
 #: coupling force over static threshold at the start above which :func:`chain` warns

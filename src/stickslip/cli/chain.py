@@ -33,7 +33,10 @@ def register(main: click.Group) -> None:
     @click.option("--blocks", type=int, required=True, help="Number of blocks N.")
     @click.option("--events", type=int, default=1000, show_default=True, help="Events to record.")
     @click.option(
-        "--ell", type=float, default=None, help="Coupling ell = sqrt(k_c/k_p) (dimensionless input)."
+        "--ell",
+        type=float,
+        default=None,
+        help="Coupling ell = sqrt(k_c/k_p) (dimensionless input; 1 when not given).",
     )
     @click.option(
         "--coupling", default=None, help="Coupling stiffness k_c with units, e.g. '100 N/m' (physical input)."
@@ -297,6 +300,8 @@ def _report(res: Any, as_json: bool, out_dir: str | None = None, *, figures: boo
         click.echo(f"mean recurrence      {_shown(s['mean_recurrence'])} [{u['time']}]")
         click.echo(f"mean moment          {_shown(s['mean_moment'])} [{u['length']}]")
         click.echo(f"largest event        {s['largest_event_blocks']} blocks")
+        if u["length"] != "1":  # a magnitude is log10 of the moment in its unit: say which
+            click.echo(f"magnitude            M = log10(moment / 1 {u['length']})")
         if s["events_without_magnitude"]:
             click.echo(
                 f"no magnitude         {s['events_without_magnitude']} events (a net backward or zero "
