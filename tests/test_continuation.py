@@ -510,7 +510,11 @@ def test_a_hopf_point_on_a_table_row_starts_its_branch() -> None:
     assert b.end == "grazing"
     (onset,) = [p for p in d.points if p.kind == "stick-slip-onset"]
     (grazing,) = [p for p in d.points if p.kind == "grazing"]
-    assert abs(grazing.nu - onset.nu) < 1e-7 and onset.nu == d.intervals[1].nu_max
+    # one point computed two ways, each to 1e-9 of nu (the grazing's secant stopped at a minimum
+    # velocity of 1e-10 alone, 1.2e-7 from the onset, which is a tangency's slope away: seen with
+    # numpy 2.4.6 and scipy 1.17.1); the interval ends at the first of the two
+    assert abs(grazing.nu - onset.nu) < 1e-8
+    assert d.intervals[1].nu_max == min(onset.nu, grazing.nu)
     assert grazing.amplitude == pytest.approx(onset.amplitude, rel=1e-6)
     assert b.log_multiplier is not None and b.log_multiplier.max() > 5000.0
     assert np.all(np.isinf(b.multiplier[b.log_multiplier > 710.0]))
