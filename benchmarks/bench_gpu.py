@@ -17,8 +17,9 @@ spring force at the stop against the engine's.
 
 Then, on fewer sets (``--n-extra``), the GPU's cycles per second for F2, the cubic law, a
 law typed as a formula and a measured table (600 rows), for F1 at other block sizes and
-register limits, and for F1 with the rows in the caller's order (not sorted for the load
-balance), random or sorted beforehand (as a grid's rows come).
+register limits, with one or three CUDA streams and other launch sizes, and for F1 with
+the rows in the caller's order (not sorted for the load balance), random or sorted
+beforehand (as a grid's rows come).
 
 Run: python benchmarks/bench_gpu.py [--n 10000000] [--n-cpu 200000] [--n-diffrax 1000000] [--n-extra 2000000]
 """
@@ -108,7 +109,10 @@ def main() -> None:
     t_compile = time.perf_counter() - t0
     t0 = time.perf_counter()
     gpu = run_attractors(kernel, lp, nu, backend="cuda", **kw)
-    t_gpu = time.perf_counter() - t0
+    t_cold = time.perf_counter() - t0  # the stream buffers made for launches of this size
+    t0 = time.perf_counter()
+    gpu = run_attractors(kernel, lp, nu, backend="cuda", **kw)
+    t_gpu = time.perf_counter() - t0  # ... and reused
     times = dict(core_cuda.TIMES)
 
     m = min(args.n_cpu, args.n)
@@ -129,16 +133,20 @@ def main() -> None:
     print(f"work: F1 steady stick-slip cycles, nu log-uniform [1e-5, 1e-1], c in [0.5, 50], rtol {RTOL:g}")
     print(
         f"GPU  : {args.n:10d} cycles in {t_gpu:8.3f} s = {args.n / t_gpu:14.0f} cycles/s"
-        f"  (first call incl. compile {t_compile:.1f} s)"
+        f"  (first call incl. compile {t_compile:.1f} s; the call before, making the stream "
+        f"buffers, {t_cold:.3f} s)"
     )
     back = times["total"] - times["order"] - times["gpu"]
     print(
         f"       of which ordering the rows {times['order']:.3f} s, the GPU with the copies "
-        f"{times['gpu']:.3f} s, putting the results back {back:.3f} s;"
+        f"{times['gpu']:.3f} s (the host copying results out of pinned memory {times['copy_out']:.3f} s "
+        f"of it), putting the results back {back:.3f} s;"
     )
     print(
         f"       the kernels alone (CUDA events) {times['kernel']:.3f} s = "
-        f"{args.n / times['kernel']:14.0f} cycles/s"
+        f"{args.n / times['kernel']:14.0f} cycles/s; from the first launch's start to the last's "
+        f"end {times['span']:.3f} s = {args.n / times['span']:14.0f} cycles/s "
+        f"({core_cuda.STREAMS} streams, launches of {core_cuda.MAX_BATCH} rows at most)"
     )
     print(f"CPU  : {m:10d} cycles in {t_cpu:8.3f} s = {m / t_cpu:14.0f} cycles/s ({threads()} threads)")
     print(f"       {m1:10d} cycles in {t_one:8.3f} s = {m1 / t_one:14.0f} cycles/s (one thread)")
@@ -184,7 +192,7 @@ def _other_laws_and_launches(n: int, nu: np.ndarray, c: np.ndarray, kw: dict) ->
         "table (600 rows)": (table.kernel, np.tile(table.core_params(), (n, 1))),
     }
     for name, (kernel, lp) in laws.items():
-        run_attractors(kernel, lp[:256], nu[:256], backend="cuda", **kw)
+        run_attractors(kernel, lp, nu, backend="cuda", **kw)  # compiled, its stream buffers made
         t0 = time.perf_counter()
         run_attractors(kernel, lp, nu, backend="cuda", **kw)
         dt = time.perf_counter() - t0
@@ -192,12 +200,20 @@ def _other_laws_and_launches(n: int, nu: np.ndarray, c: np.ndarray, kw: dict) ->
     kernel, lp = WeakeningLaw(c=1.0).kernel, c[:, None]
 
     def f1(label: str, lp_: np.ndarray = lp, nu_: np.ndarray = nu) -> None:
-        run_attractors(kernel, lp_[:256], nu_[:256], backend="cuda", **kw)  # compiled, if a knob changed
+        run_attractors(kernel, lp_, nu_, backend="cuda", **kw)  # compiled if a knob changed, buffers made
         t0 = time.perf_counter()
         run_attractors(kernel, lp_, nu_, backend="cuda", **kw)
         dt = time.perf_counter() - t0
         print(f"  F1, {label:22s}: {n:9d} cycles in {dt:7.3f} s = {n / dt:14.0f} cycles/s")
 
+    streams, max_batch = core_cuda.STREAMS, core_cuda.MAX_BATCH
+    core_cuda.STREAMS, core_cuda.MAX_BATCH = 1, 1 << 22
+    f1("one stream, 2^22 a launch")  # no overlap of the copies with the kernels: as before
+    core_cuda.STREAMS = 3
+    f1("three streams, 2^22")
+    core_cuda.MAX_BATCH = 1 << 18
+    f1("three streams, 2^18")
+    core_cuda.STREAMS, core_cuda.MAX_BATCH = streams, max_batch
     default = core_cuda.THREADS_PER_BLOCK
     for threads_ in (64, 256):
         core_cuda.THREADS_PER_BLOCK = threads_

@@ -87,9 +87,56 @@ def test_sweep_on_cuda_equals_the_cpu_sweep(law: str, target: str, tmp_path: Pat
     b.close()
 
 
+# numba's simulator runs every copy and launch at once, whatever the stream. A GPU does not:
+# a copy or a launch on a stream runs later, in the stream's order, and the host sees its
+# work only once it has waited for the stream. These streams keep their copies and
+# launches until they are waited for, so a result read, or a buffer reused, before its
+# stream has finished reads stale numbers here too.
+_DEFERRED_STREAMS = """
+from numba import cuda
+from numba.cuda.simulator import kernel as sim_kernel
+from numba.cuda.simulator.cudadrv import devicearray as sim_array
+
+class DeferredStream:
+    def __init__(self):
+        self.queue = []
+    def synchronize(self):
+        while self.queue:
+            self.queue.pop(0)()
+
+def deferred(copy):
+    def on_stream(self, ary=None, stream=0):
+        if isinstance(stream, DeferredStream):
+            stream.queue.append(lambda: copy(self, ary))
+            return ary
+        return copy(self, ary)
+    return on_stream
+
+sim_array.FakeCUDAArray.copy_to_host = deferred(sim_array.FakeCUDAArray.copy_to_host)
+sim_array.FakeCUDAArray.copy_to_device = deferred(sim_array.FakeCUDAArray.copy_to_device)
+run_now = sim_kernel.FakeCUDAKernel.__call__
+
+def configure(self, config):
+    stream = config[2] if len(config) > 2 else 0
+    def launch(*args):
+        def run():
+            self.grid_dim, self.block_dim = sim_kernel.normalize_kernel_dimensions(*config[:2])
+            run_now(self, *args)
+        if isinstance(stream, DeferredStream):
+            stream.queue.append(run)
+        else:
+            run()
+    return launch
+
+sim_kernel.FakeCUDAKernel.__getitem__ = configure
+cuda.stream = DeferredStream
+"""
+
 _ROWS = """
 import json, sys
 import numpy as np
+if sys.argv[5] == "deferred":
+    exec(DEFERRED)
 from stickslip.core import cuda
 from stickslip.core.api import run_attractors
 cuda.SIMULATOR_BATCH = 16  # three launches of four blocks for 40 rows: every index path
@@ -106,7 +153,7 @@ out = run_attractors(WeakeningLaw(c=1.0).kernel, c[:, None], nu, s0=s0 if start 
                      max_slip_time=float(sys.argv[1]), conv_tol=1e-8, max_steps=int(sys.argv[2]),
                      backend=sys.argv[3])
 print(json.dumps(out.raw.tolist()))
-"""
+""".replace("DEFERRED", repr(_DEFERRED_STREAMS))
 
 
 def _cycle_columns() -> list[int]:
@@ -117,17 +164,26 @@ def _cycle_columns() -> list[int]:
 
 @needs_numba_cuda
 @pytest.mark.parametrize(
-    ("max_slip_time", "max_steps", "start"),
-    [(1e4, 2_000_000, "breakaway"), (100.0, 40, "breakaway"), (1e4, 2_000_000, "start")],
+    ("max_slip_time", "max_steps", "start", "streams"),
+    [
+        (1e4, 2_000_000, "breakaway", "at-once"),
+        (100.0, 40, "breakaway", "at-once"),
+        (1e4, 2_000_000, "start", "at-once"),
+        (1e4, 2_000_000, "start", "deferred"),
+    ],
 )
-def test_rows_and_statuses_equal_the_cpu_engine(max_slip_time: float, max_steps: int, start: str) -> None:
-    """Random rows (their order shuffled on the GPU and put back), with failures in the second set.
+def test_rows_and_statuses_equal_the_cpu_engine(
+    max_slip_time: float, max_steps: int, start: str, streams: str
+) -> None:
+    """Random rows in three launches, with failures in the second set.
 
-    The third starts each row at its own ``(s0, w0)``, which then go to the GPU row by row.
+    The third starts each row at its own ``(s0, w0)``, which then go to the GPU row by row;
+    the fourth does so on streams that run their copies and launches only when waited for,
+    as a GPU's run behind the host (:data:`_DEFERRED_STREAMS`).
     """
     run = subprocess.run(
-        [sys.executable, "-c", _ROWS, str(max_slip_time), str(max_steps), "cuda", start], env=SIM,
-        capture_output=True, text=True, timeout=600,
+        [sys.executable, "-c", _ROWS, str(max_slip_time), str(max_steps), "cuda", start, streams],
+        env=SIM, capture_output=True, text=True, timeout=600,
     )  # fmt: skip
     assert run.returncode == 0, run.stderr
     gpu = np.array(json.loads(run.stdout), dtype=float)
@@ -165,6 +221,49 @@ def test_rows_and_statuses_equal_the_cpu_engine(max_slip_time: float, max_steps:
         assert codes == {0} and regimes == {0, 1}  # stick-slip and pure slip, all ok
     else:
         assert len(codes) == 3 and len(regimes) == 3  # two ways to fail beside ok
+
+
+_STOPPED = """
+import json
+import numpy as np
+exec(DEFERRED)
+from stickslip.core import cuda
+from stickslip.core.api import run_attractors
+from stickslip.laws import WeakeningLaw
+cuda.SIMULATOR_BATCH = 4
+cuda.THREADS_PER_BLOCK = 2
+law = WeakeningLaw(c=1.0).kernel
+kw = dict(from_breakaway=True, rtol=1e-10, atol=1e-12, max_slip_time=1e4, conv_tol=1e-8, backend="cuda")
+c = np.linspace(1.0, 6.0, 12)[:, None]
+
+def stop(rows):
+    raise KeyboardInterrupt  # Ctrl-C in the progress bar, after the first launch's results
+
+try:
+    run_attractors(law, c, np.full(12, 0.002), on_rows=stop, **kw)
+except KeyboardInterrupt:
+    pass
+counted = []
+out = run_attractors(law, c, np.full(12, 0.02), on_rows=counted.append, **kw)
+print(json.dumps({"amplitude": out.amplitude.tolist(), "counted": counted}))
+""".replace("DEFERRED", repr(_DEFERRED_STREAMS))
+
+
+@needs_numba_cuda
+def test_a_gpu_call_stopped_half_way_leaves_nothing_to_the_next() -> None:
+    """The launches a stopped call left on its streams are not taken for the next call's results."""
+    run = subprocess.run(
+        [sys.executable, "-c", _STOPPED], env=SIM, capture_output=True, text=True, timeout=600
+    )
+    assert run.returncode == 0, run.stderr
+    got = json.loads(run.stdout)
+    assert got["counted"] == [4, 4, 4]  # in launch order
+    c = np.linspace(1.0, 6.0, 12)[:, None]
+    kw = {"from_breakaway": True, "rtol": 1e-10, "atol": 1e-12, "max_slip_time": 1e4, "conv_tol": 1e-8}
+    want = run_attractors(WeakeningLaw(c=1.0).kernel, c, np.full(12, 0.02), **kw).amplitude
+    stopped = run_attractors(WeakeningLaw(c=1.0).kernel, c, np.full(12, 0.002), **kw).amplitude
+    assert np.abs(stopped / want - 1).min() > 1e-3  # the stopped call's numbers would show
+    np.testing.assert_allclose(got["amplitude"], want, rtol=1e-9)
 
 
 def test_backends_are_named_and_checked() -> None:
@@ -219,10 +318,13 @@ def test_rows_are_balanced_by_law_parameters_then_nu(monkeypatch: pytest.MonkeyP
     assert np.all(np.diff(bins_nu.astype(int))[same] >= 0)
 
 
-def test_on_a_real_gpu_the_cycles_equal_the_cpu_engine() -> None:
+@pytest.mark.parametrize("launch", [1 << 20, 3000])
+def test_on_a_real_gpu_the_cycles_equal_the_cpu_engine(launch: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    """In one launch, and in seven on the two streams in turn (the pipeline on a real GPU)."""
     ok, why = core_cuda.cuda_status()
     if not ok or core_cuda.simulator():
         pytest.skip(f"no CUDA device here: {why}")
+    monkeypatch.setattr(core_cuda, "MAX_BATCH", launch)
     rng = np.random.default_rng(1)
     n = 20_000
     nu = 10 ** rng.uniform(-5, -1, n)
@@ -235,7 +337,9 @@ def test_on_a_real_gpu_the_cycles_equal_the_cpu_engine() -> None:
     for law, lp in laws:
         kw = dict(from_breakaway=True, rtol=1e-9, atol=1e-12, max_slip_time=1e4, conv_tol=1e-8)
         cpu = run_attractors(law.kernel, lp, nu, **kw)
-        gpu = run_attractors(law.kernel, lp, nu, backend="cuda", **kw)
+        counted: list[int] = []
+        gpu = run_attractors(law.kernel, lp, nu, backend="cuda", on_rows=counted.append, **kw)
+        assert counted == [min(launch, n - lo) for lo in range(0, n, launch)]
         np.testing.assert_array_equal(gpu.status, cpu.status)
         np.testing.assert_array_equal(gpu.regime, cpu.regime)
         cols = _cycle_columns()  # a GPU fuses multiply-adds: the last bits differ

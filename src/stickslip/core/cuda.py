@@ -9,9 +9,12 @@ work arrays (the per-row workspace of the CPU engine, one slice per thread);
 the kernel allocates nothing.
 
 Threads of a warp run in lockstep and wait for the slowest, and the cost of a
-cycle grows with the steepness of the law: the rows are sorted by their law
-parameters and ``nu`` before they go to the GPU (neighbouring threads then
-integrate similar cycles), and the results are put back in the caller's order.
+cycle grows with the steepness of the law: the rows can be sorted by their law
+parameters and ``nu`` before they go to the GPU (:data:`SORT_ROWS`; off, since on
+an H100 it cost the host more than it saved the GPU), the results put back in the
+caller's order. The rows go in launches on :data:`STREAMS` CUDA streams in turn,
+their inputs and results copied through pinned host buffers, so that the copies
+and the host's work overlap the kernels.
 
 numba-cuda is optional (``pip install "stickslip[cuda]"``) and imported only
 here, when a CUDA backend is asked for. With ``NUMBA_ENABLE_CUDASIM=1`` and
@@ -25,6 +28,7 @@ from __future__ import annotations
 import importlib.util
 import os
 import sys
+import threading
 import time
 import warnings
 from collections.abc import Callable
@@ -49,8 +53,12 @@ SORT_ROWS = False
 TIMES: dict[str, float] = {}
 #: options of the kernel's ``cuda.jit`` on a GPU (``max_registers``, ``shared_memory_carveout``)
 JIT_OPTIONS: dict[str, Any] = {}
-#: rows per launch at most on a GPU (a launch also sizes itself to the free memory)
-MAX_BATCH = 1 << 22
+#: rows per launch at most on a GPU (a launch also sizes itself to the free memory): 2^20 rows
+#: are some 30 waves of an H100's resident threads, and 170 MB of results a launch
+MAX_BATCH = 1 << 20
+#: launches in flight at once, each on its own CUDA stream with its own buffers: while the GPU
+#: runs one, the host copies the results of the one before out of its pinned buffer
+STREAMS = 2
 #: host memory of one row beyond the CPU path's (:data:`stickslip.core.api.BYTES_PER_ROW`): the
 #: rows' order, their sorted copies (law id, law parameters, nu, s0, w0) and the sorted result
 HOST_BYTES_PER_ROW = 8 * (1 + 1 + N_LAW_PARAMS + 3 + engine.NOUT)
@@ -199,15 +207,17 @@ def balance_order(lp: np.ndarray, nu: np.ndarray) -> np.ndarray | None:
     return np.argsort(key, kind="stable")
 
 
-def _batch_rows(n: int) -> int:
-    """Rows per launch: what a quarter of the free device memory holds (bounded)."""
+def _batch_rows(n: int, per_row: int) -> int:
+    """Rows per launch: what a quarter of the free device memory holds over the streams (bounded).
+
+    ``per_row`` is the bytes of one row on the device (its inputs and its result).
+    """
     if simulator():
         return SIMULATOR_BATCH
     from numba import cuda
 
     free, _total = cuda.current_context().get_memory_info()
-    per_row = 8 * (1 + N_LAW_PARAMS + 3 + engine.NOUT)  # the row's inputs and its result
-    return int(max(THREADS_PER_BLOCK, min(MAX_BATCH, free // 4 // per_row, n)))
+    return int(max(THREADS_PER_BLOCK, min(MAX_BATCH, free // 4 // (STREAMS * per_row), n)))
 
 
 #: rows of a measured table a GPU kernel holds: the table goes to the GPU's constant
@@ -234,6 +244,69 @@ def check_kernel(one: Any) -> None:
         )
 
 
+class _Slot:
+    """One stream's buffers: the rows' inputs and results on the device, and their pinned host copies.
+
+    Page-locked (pinned) host memory is what the GPU's copy engines read and write
+    while the host and the GPU go on with other work; a copy from or to ordinary
+    (pageable) memory goes through a staging buffer of the driver and holds the host
+    (on the H100, 1.7 GB of results came back at 2.9 GB/s so). The buffers are kept
+    for the process's next call of the same shape (a sweep's blocks).
+    """
+
+    def __init__(self, rows: int, k: int, own_start: bool) -> None:
+        from numba import cuda
+
+        self.rows, self.k, self.own_start = rows, k, own_start
+        self.stream = cuda.stream()
+        m = rows if own_start else 1
+        self.d_lp = cuda.device_array((rows, k))
+        self.d_nu = cuda.device_array(rows)
+        self.d_s0 = cuda.device_array(m)
+        self.d_w0 = cuda.device_array(m)
+        self.d_out = cuda.device_array((rows, engine.NOUT))
+        self.h_lp = cuda.pinned_array((rows, k))
+        self.h_nu = cuda.pinned_array(rows)
+        self.h_s0 = cuda.pinned_array(m)
+        self.h_w0 = cuda.pinned_array(m)
+        self.h_out = cuda.pinned_array((rows, engine.NOUT))
+        self.pending: tuple[int, int] | None = None  # the rows whose results this slot's stream brings back
+        self.events: tuple[Any, Any] | None = None  # the kernel's start and end (CUDA events)
+
+
+#: the last call's slots, reused by a call of the same shape
+_SLOTS: list[_Slot] = []
+#: held by a call while it uses the slots (threads of a Dask worker share the process's GPU)
+_LOCK = threading.Lock()
+
+
+def _drop_slots() -> None:
+    """Let the slots go after a failure (each stream waited for first, where the GPU still answers)."""
+    global _SLOTS
+    for x in _SLOTS:
+        try:
+            x.stream.synchronize()
+        except Exception:  # a context that failed: its memory goes with it
+            pass
+    _SLOTS = []
+
+
+def _slots(rows: int, k: int, own_start: bool) -> list[_Slot]:
+    """Return :data:`STREAMS` slots for launches of at most ``rows`` rows (the last call's, if they fit)."""
+    global _SLOTS
+    if not (
+        len(_SLOTS) == STREAMS
+        and all(x.rows >= rows and x.k == k and x.own_start == own_start for x in _SLOTS)
+        and _SLOTS[0].rows <= 4 * rows  # a small call does not hold on to a large call's buffers
+    ):
+        _drop_slots()  # the old buffers go before the new ones are made
+        _SLOTS = [_Slot(rows, k, own_start) for _ in range(STREAMS)]
+    for x in _SLOTS:  # a call stopped half-way (Ctrl-C in a progress bar) left launches behind
+        x.stream.synchronize()
+        x.pending = None
+    return _SLOTS
+
+
 def run_attractors_cuda(
     one: Any,
     law_a: np.ndarray,
@@ -258,7 +331,11 @@ def run_attractors_cuda(
     parameters ``lp_a`` of shape ``(n, k)``, ``1 <= k <= N_LAW_PARAMS`` (the
     kernel takes the missing ones as zeros), and no start where the rows start
     at breakaway. The bytes that cross to the GPU and back bound the speed
-    (docs/gpu.md).
+    (docs/gpu.md): the rows go in launches of at most :data:`MAX_BATCH`, on
+    :data:`STREAMS` CUDA streams in turn, each launch's inputs and results
+    copied through pinned host buffers while the other streams' launches run;
+    the host copies a launch's results into ``out`` (and calls ``on_rows``) once
+    its stream has finished it.
     """
     from numba import cuda
     from numba.core.errors import NumbaPerformanceWarning
@@ -278,50 +355,95 @@ def run_attractors_cuda(
     order = balance_order(lp_a, nu_a)
     one_start = s0_a.shape[0] == 1
     if order is None:  # the caller's order: no copies
-        lp_s, nu_s, s0_s, w0_s = np.ascontiguousarray(lp_a), nu_a, s0_a, w0_a
+        lp_s, nu_s, s0_s, w0_s = lp_a, nu_a, s0_a, w0_a
         res = out
     else:
-        lp_s, nu_s = np.ascontiguousarray(lp_a[order]), nu_a[order]
+        lp_s, nu_s = lp_a[order], nu_a[order]
         s0_s, w0_s = (s0_a, w0_a) if one_start else (s0_a[order], w0_a[order])
         res = np.empty_like(out)
     TIMES["order"] = time.perf_counter() - t0
-    batch = _batch_rows(n)
-    empty = (np.empty(0), np.empty((0, 2)), np.empty(0, dtype=np.int64), np.empty((0, 3)))
-    shared = tuple(cuda.to_device(a) for a in empty)
+    k = lp_s.shape[1]
     timed = not simulator()
     TIMES["kernel"] = 0.0
-    for lo in range(0, n, batch):
-        hi = min(n, lo + batch)
-        b = hi - lo
-        blocks = -(-b // THREADS_PER_BLOCK)
+    TIMES["copy_out"] = 0.0
+    first: Any = None  # the first launch's start event: the GPU's span from there to the last's end
+    last: Any = None
+    with _LOCK:  # one call at a time in a process: they share the GPU and the slots
         try:
-            d_out = cuda.device_array((b, engine.NOUT))
-            start = slice(None) if one_start else slice(lo, hi)
-            args = (
-                law, cuda.to_device(lp_s[lo:hi]), cuda.to_device(nu_s[lo:hi]), cuda.to_device(s0_s[start]),
-                cuda.to_device(w0_s[start]), bool(from_breakaway), float(rtol), float(atol), float(t_max),
-                float(conv_tol), int(max_steps), d_out, *shared,
-            )  # fmt: skip
-            if timed:
-                ev0, ev1 = cuda.event(), cuda.event()
-                ev0.record()
-            with warnings.catch_warnings():
-                # a small grid under-uses the GPU: known (a small sweep, a store's last block)
-                warnings.simplefilter("ignore", NumbaPerformanceWarning)
-                kern[blocks, THREADS_PER_BLOCK](*args)
-            if timed:
-                ev1.record()
-                ev1.synchronize()
-                TIMES["kernel"] += cuda.event_elapsed_time(ev0, ev1) / 1e3
-            d_out.copy_to_host(res[lo:hi])  # into the result: no temporary of the batch's size
+            per_row = 8 * (k + 1 + (0 if one_start else 2) + engine.NOUT)
+            batch = _batch_rows(n, per_row)
+            slots = _slots(min(batch, n), k, not one_start)
+            shared = tuple(
+                cuda.to_device(a)
+                for a in (np.empty(0), np.empty((0, 2)), np.empty(0, dtype=np.int64), np.empty((0, 3)))
+            )
+            if one_start:  # one start for every row: copied once to each slot
+                for x in slots:
+                    x.d_s0.copy_to_device(np.ascontiguousarray(s0_s, dtype=np.float64))
+                    x.d_w0.copy_to_device(np.ascontiguousarray(w0_s, dtype=np.float64))
+
+            def finish(x: _Slot) -> None:
+                """Wait for the slot's launch and copy its results into ``res``."""
+                nonlocal last
+                x.stream.synchronize()
+                if x.pending is None:
+                    return
+                lo, hi = x.pending
+                x.pending = None
+                if x.events is not None:
+                    ev0, ev1 = x.events
+                    TIMES["kernel"] += cuda.event_elapsed_time(ev0, ev1) / 1e3
+                    last = ev1
+                tc = time.perf_counter()
+                res[lo:hi] = x.h_out[: hi - lo]
+                TIMES["copy_out"] += time.perf_counter() - tc
+                if on_rows is not None:
+                    on_rows(hi - lo)
+
+            for j, lo in enumerate(range(0, n, batch)):
+                x = slots[j % STREAMS]
+                finish(x)  # the launch before on this stream: its buffers are free again
+                hi = min(n, lo + batch)
+                b = hi - lo
+                st = x.stream
+                x.h_lp[:b] = lp_s[lo:hi]
+                x.h_nu[:b] = nu_s[lo:hi]
+                x.d_lp[:b].copy_to_device(x.h_lp[:b], stream=st)
+                x.d_nu[:b].copy_to_device(x.h_nu[:b], stream=st)
+                if not one_start:
+                    x.h_s0[:b] = s0_s[lo:hi]
+                    x.h_w0[:b] = w0_s[lo:hi]
+                    x.d_s0[:b].copy_to_device(x.h_s0[:b], stream=st)
+                    x.d_w0[:b].copy_to_device(x.h_w0[:b], stream=st)
+                d_s0, d_w0 = (x.d_s0, x.d_w0) if one_start else (x.d_s0[:b], x.d_w0[:b])
+                d_out = x.d_out[:b]
+                args = (
+                    law, x.d_lp[:b], x.d_nu[:b], d_s0, d_w0, bool(from_breakaway), float(rtol), float(atol),
+                    float(t_max), float(conv_tol), int(max_steps), d_out, *shared,
+                )  # fmt: skip
+                x.events = (cuda.event(), cuda.event()) if timed else None
+                if x.events is not None:
+                    x.events[0].record(stream=st)
+                    if first is None:
+                        first = x.events[0]
+                with warnings.catch_warnings():
+                    # a small grid under-uses the GPU: known (a small sweep, a store's last block)
+                    warnings.simplefilter("ignore", NumbaPerformanceWarning)
+                    kern[-(-b // THREADS_PER_BLOCK), THREADS_PER_BLOCK, st](*args)
+                if x.events is not None:
+                    x.events[1].record(stream=st)
+                d_out.copy_to_host(x.h_out[:b], stream=st)
+                x.pending = (lo, hi)
+            for j in range(STREAMS):  # the last launches, in the order they were made
+                finish(slots[(-(-n // batch) + j) % STREAMS])
         except (ValueError, CudaUnavailableError):
             raise
         except Exception as exc:  # the toolkit, the driver, the GPU's memory: one line, not numba's trace
+            _drop_slots()
             raise CudaUnavailableError(
                 f"backend='cuda': the GPU kernel failed ({type(exc).__name__}: {_first_line(exc)})"
             ) from exc
-        if on_rows is not None:
-            on_rows(b)
+    TIMES["span"] = cuda.event_elapsed_time(first, last) / 1e3 if first is not None else 0.0
     TIMES["gpu"] = time.perf_counter() - t0 - TIMES["order"]
     if order is not None:
         out[order] = res
