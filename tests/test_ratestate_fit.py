@@ -202,6 +202,29 @@ def test_round_trip_of_a_simulated_record(tmp_path, steps: list[str]) -> None:
     assert not any(w.startswith("reduced chi-squared") for w in d["warnings"]), d["warnings"]
 
 
+def test_a_record_sampled_coarsely_says_its_errors_are_too_large(tmp_path) -> None:
+    """Regression (docs audit): the README's own record, sampled every second, fits to 1e-10, but
+    the noise read off its second differences is its curvature (1.3e-5): reduced chi-squared
+    3.8e-14 and errors some 5e6 times too large were printed without a word."""
+    args = ["ratestate", "--a", "0.012", "--b", "0.0185", "--dc", "5 um", "--b", "0.0088", "--dc", "50 um"]
+    args += ["--v-ref", "1 um/s", "--mu0", "0.6", "--stiffness-per-load", "3e-3 1/um"]
+    args += ["--steps", "1 um/s,10 um/s", "--durations", "10 s,30 s", "--sample", "1 s"]
+    res = CliRunner().invoke(main, [*args, "--out", str(tmp_path / "rs2")])
+    assert res.exit_code == 0, res.output
+    res = CliRunner().invoke(
+        main, ["ratestate-fit", str(tmp_path / "rs2" / "ratestate.csv"), "--states", "2", "--detrend", "none",
+               "--json"],
+    )  # fmt: skip
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.output)
+    assert d["parameters"]["a"]["value"] == pytest.approx(0.012, rel=1e-8)
+    assert d["reduced_chi2"] < 1e-10
+    (low,) = [w for w in d["warnings"] if w.startswith("reduced chi-squared")]
+    factor = float(low.split("by about ")[1].split(" times")[0])
+    assert factor == pytest.approx(d["reduced_chi2"] ** -0.5, rel=0.01) and factor > 1e6
+    assert "read off it (1.3e-05" in low
+
+
 def test_a_damped_run_is_written_as_a_load_cell_would_measure_it(tmp_path) -> None:
     """Regression (rate-and-state audit, helper-34): a run with radiation damping was written as
     a record with no word of the damping, and its friction column was the rate-and-state part,

@@ -13,7 +13,7 @@ __all__ = ["register"]
 def register(main: click.Group) -> None:
     """Add the commands to ``main``."""
 
-    @main.command()
+    @main.command(short_help="Reproduce the paper, figures and report.")
     @out_dir_option("Output folder.")
     @click.option("--quick", is_flag=True, help="A reduced version (fewer points per curve), for tests.")
     @click.option(

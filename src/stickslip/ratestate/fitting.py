@@ -477,6 +477,15 @@ def fit_rate_state(
             f"the record has no noise above the model's own accuracy (estimated {noise_level(mu):.2g}): "
             f"it is weighted by a noise floor of {sigma:.2g}, and the errors are that small"
         )
+    elif chi2 < CHI2_LOW:
+        # the README's own 1 s record: noise 1.3e-5 read off its curvature, chi-square 3.8e-14,
+        # errors 5e6 times too large without a word (the docs audit)
+        warnings.append(
+            f"reduced chi-squared {chi2:.2g} < {CHI2_LOW:g}: the record fits far better than the noise "
+            f"read off it ({sigma:.2g}, from its second differences, which on a record sampled coarsely "
+            "against its own changes read their curvature as noise), so that estimate is too large and "
+            f"the errors with it, by about {1.0 / math.sqrt(max(chi2, 1e-300)):.2g} times"
+        )
     unmodelled = [f"{k} = {meta[k]}" for k in ("radiation_damping", "mass") if meta.get(k)]
     if unmodelled:  # a run of `stickslip ratestate` with them, written as a record
         warnings.insert(
@@ -518,6 +527,8 @@ def fit_rate_state(
     )
 
 
+#: reduced chi-squared below which the noise read off the record (and so the errors) is too large
+CHI2_LOW = 0.25
 #: the smallest noise a record is weighted by, relative to its friction: the model's accuracy
 NOISE_FLOOR = 1e-10
 
