@@ -177,6 +177,21 @@ def test_event_map_is_shift_invariant() -> None:
     np.testing.assert_allclose(a, b, atol=1e-9)
 
 
+def test_twins_breaking_away_a_moment_apart_do_not_stall_the_engine() -> None:
+    """Regression (docs audit): blocks 0 and 2 of three, at their threshold 4e-16 apart (a
+    companion orbit of the Krakow chain, c = 0.05, rtol 1e-11). Block 0's first step was cut
+    to 6.7e-14 by block 2's breakaway; its speed, pushed forward but within the rounding of
+    its increments, came out -7e-30, so it stopped at once, broke away again at the same
+    time, and the engine stalled ('stopped making progress') after 10000 such steps. The
+    event is now that of the twins started exactly together, to the last digits."""
+    p = ChainParameters(3, WeakeningLaw(c=0.05), 0.01, 1.0)
+    u = np.array([-0.9939844744254636, -0.9939844607191958, -0.9939844744254632])
+    got = event_map(p, u, rtol=1e-11, atol=1e-13)
+    twins = event_map(p, np.array([u[0], u[1], u[0]]), rtol=1e-11, atol=1e-13)
+    np.testing.assert_allclose(got, twins, rtol=0.0, atol=1e-13)
+    assert abs(got[0] - got[2]) < 1e-13 and np.all(got > u)  # the event moved every block on
+
+
 def test_b_value_of_a_gutenberg_richter_sample() -> None:
     rng = np.random.default_rng(1)
     b_true = 1.0
