@@ -17,7 +17,7 @@ spring force at the stop against the engine's.
 
 Then, on fewer sets (``--n-extra``), the GPU's cycles per second for F2, the cubic law, a
 law typed as a formula and a measured table (600 rows), for F1 at other block sizes and
-register limits, with one or three CUDA streams and other launch sizes, and for F1 with
+register limits, with one, two or three CUDA streams at launches of 2^18 rows, and for F1 with
 the rows in the caller's order (not sorted for the load balance), random or sorted
 beforehand (as a grid's rows come).
 
@@ -140,10 +140,12 @@ def main() -> None:
     print(
         f"       of which ordering the rows {times['order']:.3f} s, the GPU with the copies "
         f"{times['gpu']:.3f} s (the host copying results out of pinned memory {times['copy_out']:.3f} s "
-        f"of it), putting the results back {back:.3f} s;"
+        f"of it), waiting for another call {times['lock_wait']:.3f} s, putting the results back "
+        f"{back - times['lock_wait']:.3f} s;"
     )
     print(
-        f"       the kernels alone (CUDA events) {times['kernel']:.3f} s = "
+        f"       the GPU busy with kernels (CUDA events, their union over the streams) "
+        f"{times['kernel']:.3f} s = "
         f"{args.n / times['kernel']:14.0f} cycles/s; from the first launch's start to the last's "
         f"end {times['span']:.3f} s = {args.n / times['span']:14.0f} cycles/s "
         f"({core_cuda.STREAMS} streams, launches of {core_cuda.MAX_BATCH} rows at most)"
@@ -207,12 +209,10 @@ def _other_laws_and_launches(n: int, nu: np.ndarray, c: np.ndarray, kw: dict) ->
         print(f"  F1, {label:22s}: {n:9d} cycles in {dt:7.3f} s = {n / dt:14.0f} cycles/s")
 
     streams, max_batch = core_cuda.STREAMS, core_cuda.MAX_BATCH
-    core_cuda.STREAMS, core_cuda.MAX_BATCH = 1, 1 << 22
-    f1("one stream, 2^22 a launch")  # no overlap of the copies with the kernels: as before
-    core_cuda.STREAMS = 3
-    f1("three streams, 2^22")
-    core_cuda.MAX_BATCH = 1 << 18
-    f1("three streams, 2^18")
+    core_cuda.MAX_BATCH = 1 << 18  # eight launches of 2e6 rows or more: the streams take turns
+    for count in (1, 2, 3):  # one: no copy overlaps a kernel (the order of work before the streams)
+        core_cuda.STREAMS = count
+        f1(f"{count} stream{'s' if count > 1 else ''}, 2^18 a launch")
     core_cuda.STREAMS, core_cuda.MAX_BATCH = streams, max_batch
     default = core_cuda.THREADS_PER_BLOCK
     for threads_ in (64, 256):

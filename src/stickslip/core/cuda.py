@@ -26,6 +26,7 @@ checks it without a GPU; ``tools/cuda_ptx.py`` compiles it for a GPU without one
 from __future__ import annotations
 
 import importlib.util
+import math
 import os
 import sys
 import threading
@@ -251,12 +252,14 @@ class _Slot:
     while the host and the GPU go on with other work; a copy from or to ordinary
     (pageable) memory goes through a staging buffer of the driver and holds the host
     (on the H100, 1.7 GB of results came back at 2.9 GB/s so). The buffers are kept
-    for the process's next call of the same shape (a sweep's blocks).
+    for the process's next call that fits them (a sweep's blocks), in the CUDA context
+    they were made in, until :func:`release_buffers`.
     """
 
     def __init__(self, rows: int, k: int, own_start: bool) -> None:
         from numba import cuda
 
+        self.context = None if simulator() else cuda.current_context()
         self.rows, self.k, self.own_start = rows, k, own_start
         self.stream = cuda.stream()
         m = rows if own_start else 1
@@ -274,30 +277,58 @@ class _Slot:
         self.events: tuple[Any, Any] | None = None  # the kernel's start and end (CUDA events)
 
 
-#: the last call's slots, reused by a call of the same shape
+#: the slots of the last call, reused by a later call that fits them
 _SLOTS: list[_Slot] = []
 #: held by a call while it uses the slots (threads of a Dask worker share the process's GPU)
 _LOCK = threading.Lock()
 
 
+def release_buffers() -> None:
+    """Free the GPU backend's buffers: on the GPU and in pinned host memory (some 400 MB each).
+
+    A call with ``backend="cuda"`` keeps them for the next (a sweep's blocks reuse them);
+    a sweep frees them when it ends. Safe to call at any time, without a GPU too.
+    """
+    with _LOCK:
+        _drop_slots()
+
+
 def _drop_slots() -> None:
-    """Let the slots go after a failure (each stream waited for first, where the GPU still answers)."""
+    """Let the slots go (each stream waited for first, where the GPU still answers), and free them now.
+
+    numba-cuda frees device and pinned memory lazily, once ten frees are pending: the
+    pending ones are carried out here, so that the memory is back when this returns.
+    """
     global _SLOTS
+    if not _SLOTS:
+        return
     for x in _SLOTS:
         try:
             x.stream.synchronize()
-        except Exception:  # a context that failed: its memory goes with it
+        except Exception:  # a context that failed or was reset: its memory went with it
             pass
+    contexts = {id(x.context): x.context for x in _SLOTS if x.context is not None}
     _SLOTS = []
+    for ctx in contexts.values():
+        try:
+            ctx.deallocations.clear()
+        except Exception:  # a context that failed or was reset
+            pass
 
 
 def _slots(rows: int, k: int, own_start: bool) -> list[_Slot]:
     """Return :data:`STREAMS` slots for launches of at most ``rows`` rows (the last call's, if they fit)."""
     global _SLOTS
+    current = None
+    if not simulator():
+        from numba import cuda
+
+        current = cuda.current_context()
     if not (
         len(_SLOTS) == STREAMS
         and all(x.rows >= rows and x.k == k and x.own_start == own_start for x in _SLOTS)
-        and _SLOTS[0].rows <= 4 * rows  # a small call does not hold on to a large call's buffers
+        # a context reset since (numba.cuda.close(), a device reset) freed their memory
+        and all(x.context is current for x in _SLOTS)
     ):
         _drop_slots()  # the old buffers go before the new ones are made
         _SLOTS = [_Slot(rows, k, own_start) for _ in range(STREAMS)]
@@ -305,6 +336,16 @@ def _slots(rows: int, k: int, own_start: bool) -> list[_Slot]:
         x.stream.synchronize()
         x.pending = None
     return _SLOTS
+
+
+def _busy(intervals: list[tuple[float, float]]) -> float:
+    """Return the length of the union of ``intervals`` (the kernels of several streams overlap)."""
+    total, end = 0.0, -math.inf
+    for a, b in sorted(intervals):
+        if b > end:
+            total += b - max(a, end)
+            end = b
+    return total
 
 
 def run_attractors_cuda(
@@ -361,14 +402,15 @@ def run_attractors_cuda(
         lp_s, nu_s = lp_a[order], nu_a[order]
         s0_s, w0_s = (s0_a, w0_a) if one_start else (s0_a[order], w0_a[order])
         res = np.empty_like(out)
-    TIMES["order"] = time.perf_counter() - t0
+    t_order = time.perf_counter() - t0
     k = lp_s.shape[1]
     timed = not simulator()
-    TIMES["kernel"] = 0.0
-    TIMES["copy_out"] = 0.0
-    first: Any = None  # the first launch's start event: the GPU's span from there to the last's end
-    last: Any = None
-    with _LOCK:  # one call at a time in a process: they share the GPU and the slots
+    with _LOCK:  # one call at a time in a process: they share the GPU, the slots and TIMES
+        t_locked = time.perf_counter()
+        TIMES.update(order=t_order, kernel=0.0, copy_out=0.0, span=0.0, lock_wait=t_locked - t0 - t_order)
+        first: Any = None  # the first launch's start: the launches' times are taken from it
+        busy: list[tuple[float, float]] = []  # each launch's kernel, from its start to its end
+        in_callback = False
         try:
             per_row = 8 * (k + 1 + (0 if one_start else 2) + engine.NOUT)
             batch = _batch_rows(n, per_row)
@@ -377,28 +419,35 @@ def run_attractors_cuda(
                 cuda.to_device(a)
                 for a in (np.empty(0), np.empty((0, 2)), np.empty(0, dtype=np.int64), np.empty((0, 3)))
             )
-            if one_start:  # one start for every row: copied once to each slot
+            if one_start:  # one start for every row: copied once to each slot, on its stream
                 for x in slots:
-                    x.d_s0.copy_to_device(np.ascontiguousarray(s0_s, dtype=np.float64))
-                    x.d_w0.copy_to_device(np.ascontiguousarray(w0_s, dtype=np.float64))
+                    x.h_s0[:] = s0_s[:1]
+                    x.h_w0[:] = w0_s[:1]
+                    x.d_s0.copy_to_device(x.h_s0, stream=x.stream)
+                    x.d_w0.copy_to_device(x.h_w0, stream=x.stream)
 
             def finish(x: _Slot) -> None:
                 """Wait for the slot's launch and copy its results into ``res``."""
-                nonlocal last
+                nonlocal in_callback
                 x.stream.synchronize()
                 if x.pending is None:
                     return
                 lo, hi = x.pending
                 x.pending = None
                 if x.events is not None:
+                    # from the first launch's start: a launch's own start event fires when its
+                    # stream reaches it, while another stream's kernel may still fill the GPU
                     ev0, ev1 = x.events
-                    TIMES["kernel"] += cuda.event_elapsed_time(ev0, ev1) / 1e3
-                    last = ev1
+                    busy.append(
+                        (cuda.event_elapsed_time(first, ev0) / 1e3, cuda.event_elapsed_time(first, ev1) / 1e3)
+                    )
                 tc = time.perf_counter()
                 res[lo:hi] = x.h_out[: hi - lo]
                 TIMES["copy_out"] += time.perf_counter() - tc
                 if on_rows is not None:
+                    in_callback = True  # the caller's own exception (Ctrl-C in its bar) is its own
                     on_rows(hi - lo)
+                    in_callback = False
 
             for j, lo in enumerate(range(0, n, batch)):
                 x = slots[j % STREAMS]
@@ -439,12 +488,18 @@ def run_attractors_cuda(
         except (ValueError, CudaUnavailableError):
             raise
         except Exception as exc:  # the toolkit, the driver, the GPU's memory: one line, not numba's trace
+            if in_callback:
+                raise
             _drop_slots()
             raise CudaUnavailableError(
                 f"backend='cuda': the GPU kernel failed ({type(exc).__name__}: {_first_line(exc)})"
             ) from exc
-    TIMES["span"] = cuda.event_elapsed_time(first, last) / 1e3 if first is not None else 0.0
-    TIMES["gpu"] = time.perf_counter() - t0 - TIMES["order"]
+        finally:
+            slots = x = None  # type: ignore[assignment]  # no reference to the buffers in a traceback
+        # the GPU busy with kernels (their union over the streams) and from the first start to the last end
+        TIMES["kernel"] = _busy(busy)
+        TIMES["span"] = max((b for _, b in busy), default=0.0)
+        TIMES["gpu"] = time.perf_counter() - t_locked
     if order is not None:
         out[order] = res
     TIMES["total"] = time.perf_counter() - t0

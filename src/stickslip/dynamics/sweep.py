@@ -33,7 +33,7 @@ import xarray as xr
 from .. import defaults
 from ..bifurcation.attractors import polish_rows
 from ..core.api import Kernel, run_attractors
-from ..core.cuda import resolve_backend
+from ..core.cuda import release_buffers, resolve_backend
 from ..core.laws import N_LAW_PARAMS
 from ..core.memory import check_memory
 from ..core.results import AttractorRows, Regime, Status
@@ -288,6 +288,24 @@ def sweep(
         isinstance(block_points, bool) or not isinstance(block_points, int | np.integer) or block_points < 1
     ):
         raise ValueError(f"block_points={block_points!r}: expected a whole number of points >= 1")
+    try:
+        return _run(plan, si_axes, store, scheduler, workers, block_points, progress)
+    finally:
+        if backend == "cuda":  # the GPU's buffers kept between the sweep's calls (in this process)
+            release_buffers()
+
+
+def _run(
+    plan: SweepPlan,
+    si_axes: dict[str, np.ndarray],
+    store: str | os.PathLike[str] | None,
+    scheduler: Any,
+    workers: int | None,
+    block_points: int | None,
+    progress: ProgressLike,
+) -> xr.Dataset:
+    """Run a checked sweep: in memory, or block by block to a store or a cluster."""
+    backend = plan.backend
     if store is None and scheduler is None and workers is None:
         # in process, the grid in memory (no Dask imported)
         check_sweep_size(plan.points)
