@@ -974,3 +974,43 @@ def test_slips_grow_the_same_from_any_start_through_gaps_and_over_an_offset() ->
     assert np.isnan(rest[[5, 6, 30]]).all() and float(np.nanmean(rest)) == pytest.approx(
         float(np.nanmean(_at_rest(v, 0.2)[np.isfinite(gaps)])), abs=0.01
     )
+
+
+def test_the_velocity_shows_the_regime_of_each_record(tmp_path: Path) -> None:
+    """Each record's observed regime: at rest in every cycle (stick-slip, down to a stick of 1 %
+    of the cycle), in none (pure slip), unknown without a velocity; analyze sets it against the
+    criterion's verdict, which infers the regime from the amplitudes alone."""
+    from types import SimpleNamespace
+
+    from stickslip.data.records import observed_line, observed_regime
+
+    cases = {"zv": S.zv_parameters("100 um/s"), "c45": cubic_params(45.0), "c48": cubic_params(48.5)}
+    folder = tmp_path / "v"
+    folder.mkdir()
+    recs = {}
+    for i, (name, p) in enumerate(cases.items()):
+        true, rec = steady_record(p, 12, "500 Hz", noise="0.5 mN", seed=i, with_velocity=True)
+        assert true.regime == ("pure-slip" if name == "c48" else "stick-slip")
+        v0 = p.v0.to("um/s").magnitude
+        meta = f"# v0 = {v0} um/s\n# load = {p.load.to('N').magnitude} N\n"
+        write_record(folder / f"{name}.csv", rec, "time [s],force [mN],velocity [um/s]", meta)
+        recs[name] = rec
+    assert 0.005 < S.cycle(cases["c45"], probe=False).stick_fraction < 0.02  # a short stick
+    got = {k: measure_record(r)[1].observed_regime for k, r in recs.items()}
+    assert got == {"zv": "stick-slip", "c45": "stick-slip", "c48": "pure-slip"}
+    no_velocity = records_io.Record("f", recs["zv"].time, recs["zv"].force, None, None, None, None, {})
+    assert measure_record(no_velocity)[1].observed_regime == "unknown"
+    assert observed_regime([1.0, 0.0, np.nan]) == "mixed" and observed_regime([np.nan]) == "unknown"
+    table, _ = analyze_records(read_records(folder))
+    named = dict(zip(table["name"], table["observed_regime"], strict=True))
+    assert named == {f"{k}.csv": v for k, v in got.items()}
+    line = observed_line(table, SimpleNamespace(verdict="stick-slip"))  # over the verdict's: at 1 N
+    assert line is not None
+    assert line.startswith("observed: the velocity of 2 of 2 records shows 1 stick-slip, 1 pure-slip")
+    assert "1 of them not stick-slip, as the criterion says (c48.csv)" in line
+    res = CliRunner().invoke(
+        main, ["analyze", str(folder / "c48.csv"), "--no-plot", "--out", str(tmp_path / "o")]
+    )
+    assert res.exit_code == 0, res.output
+    assert "observed: the velocity of 1 of 1 records shows 1 pure-slip" in res.output
+    assert "pure-slip" in res.output.split("observed:", 1)[0]  # the table's column

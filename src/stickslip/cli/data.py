@@ -34,7 +34,7 @@ def register(main: click.Group) -> None:
         'record' column. Writes summary.csv (one row per record) and amplitude and
         period against driving velocity and load.
         """
-        from ..data.records import analyze_records
+        from ..data.records import analyze_records, observed_line
         from ..io.output import OutputFolder
         from ..io.records import UnreadableRecord, read_records
         from ..plots.figures import plot_records, save_figure
@@ -66,6 +66,7 @@ def register(main: click.Group) -> None:
                 dumps_json(
                     {
                         "verdict": None if verdict is None else verdict.as_dict(),
+                        "observed": observed_line(table, verdict),
                         "records": json.loads(table.to_json(orient="records")),
                     },
                     indent=2,
@@ -87,6 +88,7 @@ def register(main: click.Group) -> None:
             unit, size = readable_unit(table[col], units)
             shown[f"{col.split(' [')[0]} [{unit}]"] = table[col] / size
         shown["stick_fraction"] = table["stick_fraction"]
+        shown["observed"] = table["observed_regime"]
         click.echo(shown.to_string(index=False, float_format=lambda x: f"{x:.4g}"))
         click.echo("(summary.csv holds these in SI units)")
         if verdict is None:
@@ -115,6 +117,9 @@ def register(main: click.Group) -> None:
             click.echo(
                 f"criterion: {verdict.verdict} ({verdict.reason}); from {len(used)} records{at}{other}"
             )
+        seen = observed_line(table, verdict)
+        if seen is not None:
+            click.echo(seen)
 
     @main.command()
     @click.argument("record_file", type=click.Path(exists=False, dir_okay=False))

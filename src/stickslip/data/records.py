@@ -54,6 +54,7 @@ class CycleTable:
     drop_time: FloatArray
     stick_fraction: FloatArray
     rise_slope: FloatArray
+    rests: FloatArray  # 1 where the slider comes to rest in the cycle (REST_RUN samples), 0 not, NaN unknown
 
 
 @dataclass(frozen=True)
@@ -71,6 +72,7 @@ class RecordSummary:
     rise_time: float
     drop_time: float
     stick_fraction: float
+    observed_regime: str
     rise_slope: float
     drift: float
     v0: float
@@ -338,8 +340,11 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
         lo, hi = q + (nxt - q) // 5, nxt - (nxt - q) // 5
         slope = float(np.polyfit(t[lo:hi], fd[lo:hi], 1)[0]) if hi - lo >= 3 else math.nan
         cycles.append(
-            (t[p], peak_v, trough_v, period_c, period_c - drop, drop, _stick(at_rest, p, nxt), slope)
-        )
+            (
+                t[p], peak_v, trough_v, period_c, period_c - drop, drop, _stick(at_rest, p, nxt), slope,
+                _rests(at_rest, p, nxt),
+            )
+        )  # fmt: skip
     if len(cycles) < min_cycles:
         raise DataError(
             f"{record.name}: found {len(cycles)} complete cycles, need at least "
@@ -364,6 +369,7 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
         arr[:, 5],
         arr[:, 6],
         arr[:, 7],
+        arr[:, 8],
     )
     if w < 8:
         notes.append(f"only {per_n} samples per period: extrema values are rough; sample faster")
@@ -382,6 +388,7 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
         rise_time=_median(table.rise_time),
         drop_time=_median(table.drop_time),
         stick_fraction=_median(table.stick_fraction),
+        observed_regime=observed_regime(table.rests),
         rise_slope=_median(table.rise_slope),
         drift=drift,
         v0=float(record.v0.to("m/s").magnitude) if record.v0 is not None else math.nan,
@@ -505,6 +512,73 @@ def _stick(at_rest: FloatArray | None, i0: int, i1: int) -> float:
     return float(np.nanmean(part)) if np.any(np.isfinite(part)) else math.nan
 
 
+#: consecutive samples at rest that make a rest of the slider (a stick), not a velocity that
+#: passes through the noise band about zero
+REST_RUN = 3
+
+
+def _rests(at_rest: FloatArray | None, i0: int, i1: int) -> float:
+    """1 where the samples in [i0, i1) hold :data:`REST_RUN` at rest in a row, else 0 (NaN unknown)."""
+    if at_rest is None:
+        return math.nan
+    part = at_rest[i0:i1]
+    if not np.any(np.isfinite(part)):
+        return math.nan
+    rest = np.r_[False, part == 1.0, False]
+    edges = np.flatnonzero(np.diff(rest.astype(np.int8)))
+    runs = edges[1::2] - edges[::2]
+    return 1.0 if runs.size and int(runs.max()) >= REST_RUN else 0.0
+
+
+def observed_regime(rests: npt.ArrayLike) -> str:
+    """Return the regime a record's velocity shows, from its cycles' rests (``CycleTable.rests``).
+
+    ``stick-slip`` where the slider comes to rest in every cycle, ``pure-slip`` where it
+    does in none, ``mixed`` where in some, ``unknown`` without a velocity or a
+    displacement to tell rest from slip. At rest means a velocity within four
+    deviations of its noise of zero for :data:`REST_RUN` samples in a row or more: a
+    pure-slip oscillation whose slowest speed is within the noise reads as stick-slip,
+    as the slider is then at rest as far as the record can tell.
+    """
+    r = np.asarray(rests, dtype=float)
+    r = r[np.isfinite(r)]
+    if r.size == 0:
+        return "unknown"
+    if np.all(r == 1.0):
+        return "stick-slip"
+    if np.all(r == 0.0):
+        return "pure-slip"
+    return "mixed"
+
+
+def observed_line(table: Any, verdict: Any) -> str | None:
+    """Say what the records' velocities show, set against the criterion's verdict (None: no velocity).
+
+    ``table`` and ``verdict`` are :func:`analyze_records`' results. The records counted are
+    those in the verdict (all measured ones where there is none); the paper's criterion
+    infers the regime from the amplitudes, the velocity shows it, so a record whose
+    velocity shows the other regime is named.
+    """
+    used = table[table["in_verdict"]] if verdict is not None else table[table["n_cycles"] > 0]
+    seen = used[used["observed_regime"].isin(["stick-slip", "pure-slip", "mixed"])]
+    if seen.empty:
+        return None
+    counts = seen["observed_regime"].value_counts()
+    parts = [f"{int(counts[r])} {r}" for r in ("stick-slip", "pure-slip", "mixed") if r in counts]
+    line = f"observed: the velocity of {len(seen)} of {len(used)} records shows " + ", ".join(parts)
+    if verdict is not None and verdict.verdict in ("stick-slip", "pure-slip"):
+        other = seen[seen["observed_regime"] != verdict.verdict]
+        if other.empty:
+            line += f"; the criterion's {verdict.verdict} agrees"
+        else:
+            names = ", ".join(map(str, other["name"].head(3))) + (" ..." if len(other) > 3 else "")
+            line += (
+                f"; {len(other)} of them not {verdict.verdict}, as the criterion says ({names}): "
+                "the velocity is the direct observation"
+            )
+    return line
+
+
 def synthetic_record(
     params: Any,
     *,
@@ -588,6 +662,7 @@ def _failed_row(rec: Record | str, reason: str) -> dict[str, Any]:
     NaN values and the reason: ``not measured: ...`` or ``not read: ...``.
     """
     row: dict[str, Any] = dict.fromkeys((f.name for f in fields(RecordSummary)), math.nan)  # its columns
+    row["observed_regime"] = "unknown"
     if isinstance(rec, str):
         return row | {"name": rec, "n_cycles": 0, "warning": "not read: " + reason}
     return row | {
