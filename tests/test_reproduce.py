@@ -272,3 +272,24 @@ def test_serial_run_gives_the_same_data(quick_run: Path, tmp_path: Path) -> None
     for name in pngs:
         assert (tmp_path / "serial" / name).read_bytes() == (quick_run / name).read_bytes(), name
     assert (tmp_path / "serial" / "report.md").read_text() == (quick_run / "report.md").read_text()
+
+
+def test_the_trial_maps_mark_the_papers_experiment() -> None:
+    """The reproduction audit (LOW): the regime maps did not show where the paper's experiment
+    lies. F1's map marks c = a / beta = 160/42 over nu = beta v0 for 5-1000 um/s; F2's marks
+    p = b / beta = 100/42; the cubic law's, which the paper does not use, marks nothing."""
+    from stickslip.paper.trial import TRIAL_MAPS, _paper_point, run_trials
+    from stickslip.plots.regimes import MARK_LABEL, plot_regime_map
+
+    marks = {m.key: _paper_point(m) for m in TRIAL_MAPS}
+    assert marks["cubic_alpha"] == {}
+    assert marks["f1_c"]["mark_value"] == pytest.approx(160 / 42, rel=1e-12)
+    assert marks["f2_p"]["mark_value"] == pytest.approx(100 / 42, rel=1e-12)
+    for m in ("f1_c", "f2_p"):
+        assert (marks[m]["mark_nu_min"], marks[m]["mark_nu_max"]) == pytest.approx((42 * 5e-6, 42 * 1e-3))
+    (trial,) = run_trials(quick=True, keys=("f1_c",)).values()
+    fig = plot_regime_map(trial)
+    (line,) = [ln for ln in fig.axes[0].get_lines() if ln.get_label() == trial.attrs[MARK_LABEL]]
+    np.testing.assert_allclose(line.get_xdata(), [1e-3, 0.042])  # clipped to the map's nu >= 1e-3
+    np.testing.assert_allclose(line.get_ydata(), [160 / 42, 160 / 42])
+    assert "mark" not in fig.axes[0].get_title()

@@ -8,12 +8,15 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from ..bifurcation.regime_map import criterion_table, criterion_trial, regime_map
 from ..laws import CubicLaw, DimensionlessLaw, WeakeningLaw
+from ..models.parameters import zv_parameters
+from ..plots.regimes import MARK_LABEL, MARK_NU_MAX, MARK_NU_MIN, MARK_VALUE
 
 __all__ = ["TRIAL_MAPS", "TrialMap", "run_trials"]
 
@@ -69,7 +72,27 @@ def _trial(m: TrialMap, quick: bool, progress: bool | None) -> xr.Dataset:
     ds = regime_map(m.law, m.param, values, m.nu_min, m.nu_max, n_nu=41 if quick else 161, progress=progress)
     tr = criterion_trial(ds)
     tr.attrs["title"] = m.title
+    tr.attrs.update(_paper_point(m))
     return tr
+
+
+def _paper_point(m: TrialMap) -> dict[str, Any]:
+    """Where the paper's zv experiment lies on the map ``m`` (attributes the figures mark; none off it).
+
+    The zv set-up at 5 to 1000 um/s (the range of its Figs. 2 and 3): ``c = a / beta`` for
+    F1's map, ``p = b / beta`` with ``b = 100 s/m`` (its F2) on F2's, over ``nu = beta v0``.
+    """
+    key = {"f1_c": ("c", "0 s/m"), "f2_p": ("p", "100 s/m")}.get(m.key)
+    if key is None:
+        return {}
+    name, b = key
+    lo, hi = (zv_parameters(v, b=b).dimensionless() for v in ("5 um/s", "1000 um/s"))
+    return {
+        MARK_VALUE: float(getattr(lo.law, name)),
+        MARK_NU_MIN: float(lo.nu),
+        MARK_NU_MAX: float(hi.nu),
+        MARK_LABEL: f"the paper's zv experiment, 5-1000 um/s (b = {b})",
+    }
 
 
 def trial_rows(trials: dict[str, xr.Dataset]) -> list[tuple[str, ...]]:

@@ -25,6 +25,10 @@ __all__ = ["REGIME_COLORS", "plot_bifurcation", "plot_criterion_map", "plot_regi
 
 #: a map's attribute holding a physical set-up's beta (s/m): its figures show v0 too
 BETA_ATTR = "beta_s_per_m"
+#: a map's attributes for a stretch of ``nu`` to mark at one value of its parameter (the
+#: paper's experiment on the reproduction's maps), with its legend label
+MARK_VALUE, MARK_NU_MIN, MARK_NU_MAX, MARK_LABEL = "mark_value", "mark_nu_min", "mark_nu_max", "mark_label"
+_NOT_IN_TITLE = (BETA_ATTR, MARK_VALUE, MARK_NU_MIN, MARK_NU_MAX)
 
 #: background colour of each regime (colour-blind safe, light)
 REGIME_COLORS = {
@@ -240,6 +244,13 @@ def _map_axes(ds: Any, variable: str, codes: dict[str, int], colors: dict[str, s
             label = key.replace("stick_slip", "stick-slip").replace("_", "-")
             ax.plot(ds[key].values, ds[param].values, ls, color=c, lw=1.4, label=label)
     nu = ds.nu.values
+    if MARK_VALUE in ds.attrs:  # where the paper's experiment lies (clipped to the map)
+        lo, hi = max(float(ds.attrs[MARK_NU_MIN]), nu[0]), min(float(ds.attrs[MARK_NU_MAX]), nu[-1])
+        if lo < hi:
+            y = float(ds.attrs[MARK_VALUE])
+            ax.plot([lo, hi], [y, y], "-", color="w", lw=5.0, solid_capstyle="butt")
+            ax.plot([lo, hi], [y, y], "-", color="k", lw=2.5, solid_capstyle="butt",
+                    label=str(ds.attrs.get(MARK_LABEL, "marked")))  # fmt: skip
     if nu[-1] / nu[0] > 20:
         ax.set_xscale("log")
     ax.set_xlim(nu[0], nu[-1])
@@ -263,7 +274,9 @@ def plot_regime_map(ds: Any) -> Figure:
     """
     from ..bifurcation.regime_map import REGIME_CODES
 
-    fixed = ", ".join(f"{k} = {v:g}" for k, v in ds.attrs.items() if isinstance(v, float) and k != BETA_ATTR)
+    fixed = ", ".join(
+        f"{k} = {v:g}" for k, v in ds.attrs.items() if isinstance(v, float) and k not in _NOT_IN_TITLE
+    )
     return _map_axes(ds, "regime", {**REGIME_CODES}, REGIME_COLORS, f"regimes ({fixed})")
 
 
@@ -275,6 +288,6 @@ def plot_criterion_map(trial: Any) -> Figure:
     codes = {"not judged": -1, "wrong": 0, "right": 1}
     colors = {"not judged": "#f0f0f0", "wrong": "#d7301f", "right": "#74c476"}
     fixed = ", ".join(
-        f"{k} = {v:g}" for k, v in trial.attrs.items() if isinstance(v, float) and k != BETA_ATTR
+        f"{k} = {v:g}" for k, v in trial.attrs.items() if isinstance(v, float) and k not in _NOT_IN_TITLE
     )
     return _map_axes(trial, "right", codes, colors, f"sign of dA/dv0 against the regime reached ({fixed})")
