@@ -652,26 +652,29 @@ def _grazing(
     if res is None:
         return None
     w_hi = sh.measure(res[0])["min_velocity"]
-    best = res[0]
+    best, w_best = res[0], w_hi  # the orbit of the smallest minimum velocity found
+    near = 1e-10 * max(1.0, float(x[2]))
     for _ in range(60):
         sig = hi - w_hi * (hi - lo) / (w_hi - w_lo) if w_hi != w_lo else 0.5 * (lo + hi)
         if not (min(lo, hi) < sig < max(lo, hi)):
             sig = 0.5 * (lo + hi)
         r = corrector(x + sig * tangent, tangent)
-        if r is None:
-            return None
+        if r is None:  # the best so far, where it grazes to 1e-10 (found before the refinement below)
+            return best if abs(w_best) < near else None
         wv = sh.measure(r[0])["min_velocity"]
-        best = r[0]
+        if abs(wv) <= abs(w_best):
+            best, w_best = r[0], wv
         if wv == 0.0:
             return best
         if wv > 0:
             lo, w_lo = sig, wv
         else:
             hi, w_hi = sig, wv
-        # done where the minimum velocity is zero to 1e-10 and the orbit's nu is known to 1e-9 of
-        # itself, as the stick-slip onset's bisection: at a grazing (a tangency) the minimum
-        # velocity changes slowly with nu, and 1e-10 of velocity alone left nu 2.3e-6 off (seen)
-        if abs(wv) < 1e-10 * max(1.0, float(x[2])):
+        # done where the minimum velocity is zero to 1e-10 and the secant's next move in nu is
+        # below 1e-9 of nu: at a grazing (a tangency) the minimum velocity changes slowly with nu,
+        # and 1e-10 of velocity alone left nu 2.3e-6 off the stick-slip onset (numpy 2.4.6); the
+        # corrector's own precision leaves a few 1e-9 (2.7e-10 from the onset at nu = 0.0505)
+        if abs(wv) < near:
             moves = abs(wv) * abs(hi - lo) / abs(w_hi - w_lo) * abs(float(tangent[2]))
             if moves <= 1e-9 * abs(float(x[2])):
                 return best

@@ -781,16 +781,18 @@ def chain_run(  # type: ignore[no-untyped-def]
                         xb = 1.0
                         gb_ = g1
                         gs = d * dense_eval(F, y, xs, 2 * k + 1)
+                        g_low = min(g1, gs)  # the slowest the block went, at the probes
                         while gs <= 0.0 and xs > PROBE_MIN:
                             xb = xs
                             gb_ = gs
                             xs *= 0.5
                             gs = d * dense_eval(F, y, xs, 2 * k + 1)
+                            g_low = min(g_low, gs)
                         if gs > 0.0:
                             xe = _root(
                                 G_VEL, F, y, k, d, 0.0, x, j, nu, ell2, periodic, pos, t, h, xs, gs, xb, gb_
                             )
-                        elif a1 > 0.0 and -g1 <= ROUND_SPEED * h * (1.0 + ell2 + abs(nu * t)):
+                        elif a1 > 0.0 and -g_low <= ROUND_SPEED * h * (1.0 + ell2 + abs(nu * t)):
                             # pushed forward at the end of the step, with a speed that never left
                             # the rounding of its increments: no stop. Three blocks at threshold
                             # together (c = 0.05, rtol 1e-11): one's step was cut to 6.7e-14 by its

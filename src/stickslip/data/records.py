@@ -515,10 +515,18 @@ def _stick(at_rest: FloatArray | None, i0: int, i1: int) -> float:
 #: consecutive samples at rest that make a rest of the slider (a stick), not a velocity that
 #: passes through the noise band about zero
 REST_RUN = 3
+#: ``CycleTable.rests`` of a cycle whose only samples at rest are runs shorter than REST_RUN
+UNRESOLVED = 0.5
 
 
 def _rests(at_rest: FloatArray | None, i0: int, i1: int) -> float:
-    """1 where the samples in [i0, i1) hold :data:`REST_RUN` at rest in a row, else 0 (NaN unknown)."""
+    """Whether the slider rests in the samples [i0, i1): 1, 0, :data:`UNRESOLVED`, or NaN (unknown).
+
+    1 where :data:`REST_RUN` samples in a row are at rest; 0 where none is; unresolved
+    where only shorter runs are (a stick of a sample or two, as a stick of 1 % of the
+    cycle sampled 300 times a cycle gives, or a slip's slowest speed dipping into the
+    noise band: the record cannot tell them apart).
+    """
     if at_rest is None:
         return math.nan
     part = at_rest[i0:i1]
@@ -527,28 +535,40 @@ def _rests(at_rest: FloatArray | None, i0: int, i1: int) -> float:
     rest = np.r_[False, part == 1.0, False]
     edges = np.flatnonzero(np.diff(rest.astype(np.int8)))
     runs = edges[1::2] - edges[::2]
-    return 1.0 if runs.size and int(runs.max()) >= REST_RUN else 0.0
+    if not runs.size:
+        return 0.0
+    return 1.0 if int(runs.max()) >= REST_RUN else UNRESOLVED
 
 
 def observed_regime(rests: npt.ArrayLike) -> str:
     """Return the regime a record's velocity shows, from its cycles' rests (``CycleTable.rests``).
 
-    ``stick-slip`` where the slider comes to rest in every cycle, ``pure-slip`` where it
-    does in none, ``mixed`` where in some, ``unknown`` without a velocity or a
-    displacement to tell rest from slip. At rest means a velocity within four
-    deviations of its noise of zero for :data:`REST_RUN` samples in a row or more: a
-    pure-slip oscillation whose slowest speed is within the noise reads as stick-slip,
-    as the slider is then at rest as far as the record can tell.
+    ``stick-slip`` where the slider comes to rest in every cycle (in some cycles for
+    fewer than :data:`REST_RUN` samples at most); ``pure-slip`` where it does in none;
+    ``mixed`` where it clearly does in some cycles and clearly not in others;
+    ``unresolved`` where its only rests are a sample or two (sample faster to tell a
+    short stick from a slip that slows into the noise); ``unknown`` without a velocity
+    or a displacement, or where rest cannot be told from slip. At rest means a
+    velocity within four deviations of its noise of zero: a pure-slip oscillation whose
+    slowest speed stays that close to zero for :data:`REST_RUN` samples or more reads as
+    stick-slip, as the slider is then at rest as far as the record can tell.
     """
     r = np.asarray(rests, dtype=float)
     r = r[np.isfinite(r)]
     if r.size == 0:
         return "unknown"
-    if np.all(r == 1.0):
+    rest, none = bool(np.any(r == 1.0)), bool(np.any(r == 0.0))
+    if rest and none:
+        return "mixed"
+    if rest:
         return "stick-slip"
-    if np.all(r == 0.0):
+    if none and not np.any(r == UNRESOLVED):
         return "pure-slip"
-    return "mixed"
+    return "unresolved"
+
+
+#: what the velocity can show of a record, in the order said
+OBSERVED = ("stick-slip", "pure-slip", "mixed", "unresolved")
 
 
 def observed_line(table: Any, verdict: Any) -> str | None:
@@ -556,26 +576,30 @@ def observed_line(table: Any, verdict: Any) -> str | None:
 
     ``table`` and ``verdict`` are :func:`analyze_records`' results. The records counted are
     those in the verdict (all measured ones where there is none); the paper's criterion
-    infers the regime from the amplitudes, the velocity shows it, so a record whose
-    velocity shows the other regime is named.
+    infers the regime from the amplitudes, the velocity shows it where it resolves it,
+    so a record whose velocity clearly shows the other regime is named.
     """
     used = table[table["in_verdict"]] if verdict is not None else table[table["n_cycles"] > 0]
-    seen = used[used["observed_regime"].isin(["stick-slip", "pure-slip", "mixed"])]
+    seen = used[used["observed_regime"].isin(OBSERVED)]
     if seen.empty:
         return None
     counts = seen["observed_regime"].value_counts()
-    parts = [f"{int(counts[r])} {r}" for r in ("stick-slip", "pure-slip", "mixed") if r in counts]
-    line = f"observed: the velocity of {len(seen)} of {len(used)} records shows " + ", ".join(parts)
+    parts = [f"{int(counts[r])} {r}" for r in OBSERVED if r in counts]
+    where = "in the verdict" if verdict is not None else "measured"
+    noun = "record" if len(used) == 1 else "records"
+    line = f"observed: of the {len(used)} {noun} {where}, the velocity of {len(seen)} shows " + ", ".join(
+        parts
+    )
+    if "unresolved" in counts:
+        line += " (unresolved: rests of a sample or two only; sample faster)"
     if verdict is not None and verdict.verdict in ("stick-slip", "pure-slip"):
-        other = seen[seen["observed_regime"] != verdict.verdict]
+        other_regime = "pure-slip" if verdict.verdict == "stick-slip" else "stick-slip"
+        other = seen[seen["observed_regime"] == other_regime]
         if other.empty:
-            line += f"; the criterion's {verdict.verdict} agrees"
+            line += f"; none shows {other_regime}, as the criterion's {verdict.verdict} has it"
         else:
             names = ", ".join(map(str, other["name"].head(3))) + (" ..." if len(other) > 3 else "")
-            line += (
-                f"; {len(other)} of them not {verdict.verdict}, as the criterion says ({names}): "
-                "the velocity is the direct observation"
-            )
+            line += f"; {len(other)} {other_regime} where the criterion says {verdict.verdict} ({names})"
     return line
 
 

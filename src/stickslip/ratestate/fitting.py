@@ -349,7 +349,8 @@ def fit_rate_state(
         start[key] = check_number(value, f"initial[{key!r}]", what="a positive starting value (SI)")
     x0 = np.log([start[n] for n in names])
     sigma = noise_level(mu)
-    if not math.isfinite(sigma) or sigma <= 0:
+    read = math.isfinite(sigma) and sigma > 0  # the noise was read off the record
+    if not read:
         sigma = 1e-6
     # a record without noise (the package's own, written to 17 digits) has residuals at the
     # model's integration accuracy: weighted by a noise of 7.5e-13 they read as a misfit
@@ -477,7 +478,7 @@ def fit_rate_state(
             f"the record has no noise above the model's own accuracy (estimated {noise_level(mu):.2g}): "
             f"it is weighted by a noise floor of {sigma:.2g}, and the errors are that small"
         )
-    elif chi2 < CHI2_LOW:
+    elif chi2 < CHI2_LOW and read and dof >= 10:  # (with fewer, chance gives 0.25 often: 22 % at 2)
         # the README's own 1 s record: noise 1.3e-5 read off its curvature, chi-square 3.8e-14,
         # errors 5e6 times too large without a word (the docs audit)
         warnings.append(
