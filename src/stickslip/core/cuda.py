@@ -259,7 +259,7 @@ class _Slot:
     def __init__(self, rows: int, k: int, own_start: bool) -> None:
         from numba import cuda
 
-        self.context = None if simulator() else cuda.current_context()
+        self.context = _context()
         self.rows, self.k, self.own_start = rows, k, own_start
         self.stream = cuda.stream()
         m = rows if own_start else 1
@@ -307,23 +307,28 @@ def _drop_slots() -> None:
             x.stream.synchronize()
         except Exception:  # a context that failed or was reset: its memory went with it
             pass
-    contexts = {id(x.context): x.context for x in _SLOTS if x.context is not None}
+    ctx = _SLOTS[0].context  # the slots are made together, in one context
     _SLOTS = []
-    for ctx in contexts.values():
+    if ctx is not None:
         try:
             ctx.deallocations.clear()
         except Exception:  # a context that failed or was reset
             pass
 
 
+def _context() -> Any:
+    """Return the current CUDA context (None in the simulator, which has none to reset)."""
+    if simulator():
+        return None
+    from numba import cuda
+
+    return cuda.current_context()
+
+
 def _slots(rows: int, k: int, own_start: bool) -> list[_Slot]:
     """Return :data:`STREAMS` slots for launches of at most ``rows`` rows (the last call's, if they fit)."""
     global _SLOTS
-    current = None
-    if not simulator():
-        from numba import cuda
-
-        current = cuda.current_context()
+    current = _context()
     if not (
         len(_SLOTS) == STREAMS
         and all(x.rows >= rows and x.k == k and x.own_start == own_start for x in _SLOTS)

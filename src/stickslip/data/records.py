@@ -54,7 +54,7 @@ class CycleTable:
     drop_time: FloatArray
     stick_fraction: FloatArray
     rise_slope: FloatArray
-    rests: FloatArray  # 1 where the slider comes to rest in the cycle (REST_RUN samples), 0 not, NaN unknown
+    rests: FloatArray  # 1 the slider rests (REST_RUN samples), 0 not, UNRESOLVED shorter rests, NaN unknown
 
 
 @dataclass(frozen=True)

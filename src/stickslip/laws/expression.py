@@ -118,8 +118,9 @@ def _check_values(spec: LawSpec, values: Mapping[str, npt.ArrayLike], text: str)
     f = spec.evaluate(w, arrays)
     f = np.broadcast_to(f, (w.shape[0], *shape)).reshape(w.shape[0], -1)
     bad = ~np.isfinite(f)
-    pole = None
-    if bad.any():
+    if not bad.any():
+        pole = _pole(spec, arrays, shape)
+    else:
         i, j = np.argwhere(bad)[0]
         # a pole that a probe velocity hits exactly (numpy 2.4's geomspace gives 1e-5 itself) is
         # named as a pole, as one between the probes is
@@ -142,8 +143,6 @@ def _check_values(spec: LawSpec, values: Mapping[str, npt.ArrayLike], text: str)
             f"f(w) = {text} is not finite at w = {_PROBE[i]:.3g}{at}: friction must be finite for every "
             "velocity the block can reach"
         )
-    if pole is None:
-        pole = _pole(spec, arrays, shape)
     if pole is not None:
         at_w, part, j, of = pole
         at = f" at point {j}" if f.shape[1] > 1 else ""
