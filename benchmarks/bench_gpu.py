@@ -19,7 +19,8 @@ Then, on fewer sets (``--n-extra``), the GPU's cycles per second for F2, the cub
 law typed as a formula and a measured table (600 rows), for F1 at other block sizes and
 register limits, with one, two or three CUDA streams at launches of 2^18 rows, and for F1 with
 the rows in the caller's order (not sorted for the load balance), random or sorted
-beforehand (as a grid's rows come).
+beforehand (as a grid's rows come): each end to end and its kernels alone (the launch
+options change the kernels; end to end, the host's copies may hide it).
 
 Run: python benchmarks/bench_gpu.py [--n 10000000] [--n-cpu 200000] [--n-diffrax 1000000] [--n-extra 2000000]
 """
@@ -198,7 +199,7 @@ def _other_laws_and_launches(n: int, nu: np.ndarray, c: np.ndarray, kw: dict) ->
         t0 = time.perf_counter()
         run_attractors(kernel, lp, nu, backend="cuda", **kw)
         dt = time.perf_counter() - t0
-        print(f"  {name:26s}: {n:9d} cycles in {dt:7.3f} s = {n / dt:14.0f} cycles/s")
+        print(f"  {name:26s}: {n:9d} cycles in {dt:7.3f} s = {n / dt:14.0f} cycles/s{_kernels(n)}")
     kernel, lp = WeakeningLaw(c=1.0).kernel, c[:, None]
 
     def f1(label: str, lp_: np.ndarray = lp, nu_: np.ndarray = nu) -> None:
@@ -206,7 +207,7 @@ def _other_laws_and_launches(n: int, nu: np.ndarray, c: np.ndarray, kw: dict) ->
         t0 = time.perf_counter()
         run_attractors(kernel, lp_, nu_, backend="cuda", **kw)
         dt = time.perf_counter() - t0
-        print(f"  F1, {label:22s}: {n:9d} cycles in {dt:7.3f} s = {n / dt:14.0f} cycles/s")
+        print(f"  F1, {label:22s}: {n:9d} cycles in {dt:7.3f} s = {n / dt:14.0f} cycles/s{_kernels(n)}")
 
     streams, max_batch = core_cuda.STREAMS, core_cuda.MAX_BATCH
     core_cuda.MAX_BATCH = 1 << 18  # eight launches of 2e6 rows or more: the streams take turns
@@ -221,7 +222,9 @@ def _other_laws_and_launches(n: int, nu: np.ndarray, c: np.ndarray, kw: dict) ->
     core_cuda.THREADS_PER_BLOCK = default
     default_options = core_cuda.JIT_OPTIONS
     for label, options in {
+        "<= 168 registers": {"max_registers": 168},
         "<= 128 registers": {"max_registers": 128},
+        "<= 96 registers": {"max_registers": 96},
         "L1 cache at its largest": {"shared_memory_carveout": "MaxL1"},
         "both": {"max_registers": 128, "shared_memory_carveout": "MaxL1"},
     }.items():
@@ -235,6 +238,12 @@ def _other_laws_and_launches(n: int, nu: np.ndarray, c: np.ndarray, kw: dict) ->
     core_cuda.SORT_ROWS = False
     f1("rows sorted beforehand", lp[order], nu[order])  # as a grid's rows come, in order
     core_cuda.SORT_ROWS = sort
+
+
+def _kernels(n: int) -> str:
+    """The last call's kernels alone (their busy time on the GPU): what the launch options change."""
+    busy = core_cuda.TIMES.get("kernel", 0.0)
+    return f"; kernels {busy:.3f} s = {n / busy:12.0f} cycles/s" if busy > 0 else ""
 
 
 def _diffrax_against_engine(args: argparse.Namespace) -> None:

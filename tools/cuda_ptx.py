@@ -9,7 +9,12 @@ refuses tables over ``MAX_TABLE_ROWS`` in one line.) Needs numba-cuda with the C
 compute capability when it compiles a device function, even for PTX alone; with no
 device that question is answered here with the target's.
 
-Run: python tools/cuda_ptx.py [--cc 9.0]
+With ``--max-registers 168,128,96`` F1's kernel is linked again under each cap
+(``-maxrregcount``, what ``cuda.jit(max_registers=...)`` asks): the registers it
+then uses and the bytes it spills to local memory, the static side of
+``bench_gpu.py``'s register-limit rows.
+
+Run: python tools/cuda_ptx.py [--cc 9.0] [--max-registers 168,128,96]
 """
 
 from __future__ import annotations
@@ -31,8 +36,14 @@ from stickslip.laws import CubicLaw, ExpressionLaw, TabulatedLaw, WeakeningLaw
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--cc", default="9.0", help="compute capability of the target (default 9.0, H100)")
+    ap.add_argument(
+        "--max-registers",
+        default="",
+        help="caps to link F1's kernel under (e.g. 168,128,96)",
+    )
     args = ap.parse_args()
     cc = tuple(int(v) for v in args.cc.split("."))
+    caps = [int(v) for v in args.max_registers.split(",") if v.strip()]
 
     class _Target:
         compute_capability = cc
@@ -62,15 +73,25 @@ def main() -> None:
             f"{name:34s} PTX for sm_{cc[0]}{cc[1]}: {len(lines):6d} lines, {fma} fma.rn.f64, "
             f"{div} div.rn.f64, compiled in {time.perf_counter() - t0:.1f} s; {_link(ptx, cc)}"
         )
+        if name.startswith("F1"):
+            for cap in caps:
+                print(f"{'':34s} linked with at most {cap} registers: {_link(ptx, cc, cap)}")
 
 
-def _link(ptx: str, cc: tuple[int, ...]) -> str:
-    """Assemble and link the PTX for the target with nvJitLink (ptxas): what a launch would do."""
+def _link(ptx: str, cc: tuple[int, ...], max_registers: int = 0) -> str:
+    """Assemble and link the PTX for the target with nvJitLink (ptxas): what a launch would do.
+
+    Returns what ptxas reports: the registers a thread uses and, where it spills
+    registers to local memory (under a cap), the bytes of spill stores and loads.
+    """
     try:
         from cuda.bindings import nvjitlink
     except ImportError:
         return "not linked (no nvJitLink here)"
-    handle = nvjitlink.create(2, [f"-arch=sm_{cc[0]}{cc[1]}", "-verbose"])
+    options = [f"-arch=sm_{cc[0]}{cc[1]}", "-verbose"]
+    if max_registers:
+        options.append(f"-maxrregcount={max_registers}")
+    handle = nvjitlink.create(len(options), options)
     data = ptx.encode()
     try:
         nvjitlink.add_data(handle, nvjitlink.InputType.PTX, data, len(data), "kernel")
@@ -85,8 +106,16 @@ def _link(ptx: str, cc: tuple[int, ...]) -> str:
     size = nvjitlink.get_info_log_size(handle)
     log = bytearray(size)
     nvjitlink.get_info_log(handle, log)
-    used = re.findall(r"Used (\d+) registers", log.decode(errors="replace"))
-    return f"links, {max(map(int, used))} registers a thread" if used else "links"
+    text = log.decode(errors="replace")
+    used = re.findall(r"Used (\d+) registers", text)
+    spills = [
+        (int(a), int(b)) for a, b in re.findall(r"(\d+) bytes spill stores, (\d+) bytes spill loads", text)
+    ]
+    stores, loads = max((a for a, _ in spills), default=0), max((b for _, b in spills), default=0)
+    spilled = (
+        f", {stores} bytes spill stores, {loads} bytes spill loads" if stores or loads else ", no spills"
+    )
+    return f"links, {max(map(int, used))} registers a thread{spilled}" if used else "links"
 
 
 if __name__ == "__main__":
