@@ -394,6 +394,59 @@ def test_a_sweep_on_cuda_streams_to_a_store(tmp_path: Path) -> None:
     assert [[str(v) for v in row] for row in got["regime"]] == regimes
 
 
+_CLUSTER = """
+import json
+import numpy as np
+from distributed import Client, LocalCluster
+from stickslip import DimensionlessParameters
+from stickslip.core import cuda
+from stickslip.dynamics.sweep import sweep
+from stickslip.laws import WeakeningLaw
+
+
+def slots():
+    return len(cuda._SLOTS)
+
+
+def one_call():
+    from stickslip.core.api import run_attractors
+    run_attractors(1, [3.8], [0.01], from_breakaway=True, rtol=1e-9, atol=1e-12, max_slip_time=1e4,
+                   conv_tol=1e-8, backend="cuda")
+    return len(cuda._SLOTS)
+
+
+with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    with Client(cluster) as client:
+        kept = client.submit(one_call, pure=False).result()  # a worker keeps its buffers between calls
+        p = DimensionlessParameters(0.01, WeakeningLaw(c=3.8))
+        ds = sweep(p, {"nu": np.geomspace(1e-3, 20, 4)}, backend="cuda", scheduler=client, progress=False)
+        after = list(client.run(slots).values())
+        print(json.dumps({"kept": kept, "after": after, "amplitude": ds.amplitude.values.tolist()}))
+"""
+
+
+@needs_numba_cuda
+def test_a_sweep_on_a_cluster_frees_its_workers_gpu_buffers() -> None:
+    """A worker of a user's cluster keeps the buffers between a sweep's blocks, not after the sweep."""
+    run = subprocess.run(
+        [sys.executable, "-c", _CLUSTER], env=SIM, capture_output=True, text=True, timeout=600
+    )
+    assert run.returncode == 0, run.stderr
+    got = json.loads(run.stdout.strip().splitlines()[-1])
+    assert got["kept"] == core_cuda.STREAMS  # made on the worker, and kept after its call
+    assert got["after"] == [0]  # ... until the sweep on its cluster ended
+    p = DimensionlessParameters(0.01, WeakeningLaw(c=3.8))
+    want = sweep(p, {"nu": np.geomspace(1e-3, 20, 4)}, progress=False)
+    np.testing.assert_allclose(got["amplitude"], want.amplitude.values, rtol=1e-9)
+
+
+def test_cleaning_up_skips_buffers_in_use() -> None:
+    """The workers' clean-up does not wait for a GPU call running there (their event loop must not)."""
+    with core_cuda._LOCK:
+        assert core_cuda.release_idle_buffers() is False
+    assert core_cuda.release_idle_buffers() is True
+
+
 @needs_numba_cuda
 def test_a_table_too_long_for_the_gpu_is_refused_in_one_line(tmp_path: Path) -> None:
     v = np.linspace(0.0, 50.0, core_cuda.MAX_TABLE_ROWS + 100)  # mm/s

@@ -287,10 +287,27 @@ def release_buffers() -> None:
     """Free the GPU backend's buffers: on the GPU and in pinned host memory (some 400 MB each).
 
     A call with ``backend="cuda"`` keeps them for the next (a sweep's blocks reuse them);
-    a sweep frees them when it ends. Safe to call at any time, without a GPU too.
+    a sweep frees them when it ends, in its own process and on the workers of the
+    cluster it ran on (:func:`release_idle_buffers`). Safe to call at any time, without
+    a GPU too.
     """
     with _LOCK:
         _drop_slots()
+
+
+def release_idle_buffers() -> bool:
+    """Free the buffers as :func:`release_buffers` does, unless a call is using them now.
+
+    What a Dask worker runs once a sweep is done (its event loop must not wait for a
+    GPU call of another job). Returns whether they were freed (or there were none).
+    """
+    if not _LOCK.acquire(blocking=False):
+        return False
+    try:
+        _drop_slots()
+    finally:
+        _LOCK.release()
+    return True
 
 
 def _drop_slots() -> None:

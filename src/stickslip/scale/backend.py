@@ -16,6 +16,11 @@ own blocks: the store must be on a file system they all see) and only the
 blocks not yet in the store run. Without one, the arrays come back to the
 caller. At most a few blocks per worker are in flight, so memory stays bounded
 however many blocks there are.
+
+A job may also have ``worker_cleanup()``, returning a picklable callable (or None)
+that an existing cluster's workers run once the job's blocks are done: what a
+worker keeps between a job's blocks (a GPU's buffers) is not kept after it. A
+``LocalCluster`` started for the run ends with it, and its processes' memory with them.
 """
 
 from __future__ import annotations
@@ -374,11 +379,27 @@ def _run_dask(
                     "run the same command again (with --store, only the missing blocks are computed)"
                 ) from None
         finally:
+            if cluster is None:
+                _clean_workers(job, client)
             if own_client:
                 client.close()
             if cluster is not None:
                 cluster.close()
     return backend
+
+
+def _clean_workers(job: Any, client: Any) -> None:
+    """Run the job's ``worker_cleanup()`` on every worker of an existing cluster (best effort).
+
+    A worker busy elsewhere or a cluster lost mid-job is not waited for: what is
+    released is a worker's memory, not the job's result.
+    """
+    cleanup = getattr(job, "worker_cleanup", None)
+    fn = cleanup() if cleanup is not None else None
+    if fn is None:
+        return
+    with contextlib.suppress(Exception):  # a lost cluster, a worker gone: nothing to release there
+        client.run(fn, wait=True)
 
 
 def run_job(
