@@ -461,6 +461,35 @@ def test_a_table_too_long_for_the_gpu_is_refused_in_one_line(tmp_path: Path) -> 
     assert "Traceback" not in run.stderr
 
 
+def test_a_table_is_held_once_so_1600_rows_fit_on_the_gpu() -> None:
+    """One array of 40 bytes a piece, read by one function (ptxas: 1600 rows link, 1700 do not).
+
+    Five arrays read by two functions held 88 bytes a row in a GPU's constant memory and
+    stopped at 700 rows (``tools/cuda_ptx.py`` links the kernel for an H100 to check it).
+    """
+    import sys
+
+    from stickslip import Q_
+    from stickslip.laws import TabulatedLaw
+
+    for rows, fits in ((core_cuda.MAX_TABLE_ROWS, True), (core_cuda.MAX_TABLE_ROWS + 1, False)):
+        v = np.linspace(0.0, 0.05, rows)  # m/s
+        kernel = TabulatedLaw(Q_(v, "m/s"), 0.46 / (1 + 160 * v)).spec.kernel()
+        laws = sys.modules[kernel.engine.__name__.rsplit(".", 1)[0] + ".laws"]
+        assert laws._TABLE.shape == (5 * (rows - 1),)  # the breaks and coefficients, interleaved
+        assert [k for k in vars(laws) if k.startswith("_") and isinstance(getattr(laws, k), np.ndarray)] == [
+            "_TABLE"
+        ]
+        if fits:
+            core_cuda.check_kernel(kernel.engine.attractor_ws)
+        else:
+            with pytest.raises(
+                ValueError, match=f"a table of {rows} rows: the GPU kernel holds at most 1600"
+            ):
+                core_cuda.check_kernel(kernel.engine.attractor_ws)
+    assert core_cuda.MAX_TABLE_ROWS == 1600
+
+
 def test_the_gpu_path_counts_its_host_copies_before_allocating(monkeypatch: pytest.MonkeyPatch) -> None:
     """The rows' sorted copies and the sorted result: 272 bytes a row beyond the CPU path's."""
     from stickslip.core import api, memory

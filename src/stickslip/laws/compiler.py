@@ -182,35 +182,41 @@ def piecewise_module_source(breaks: np.ndarray, coefs: np.ndarray, name: str, fo
     ``mu`` is the cubic ``coefs[:, i]`` (highest power first, local variable ``v - breaks[i]``)
     on ``[breaks[i], breaks[i+1]]``, the first piece below ``breaks[0]`` (a polynomial: the
     continuation to ``w < 0``) and a straight line with the end slope above the last.
+
+    The pieces are one array, a row of five numbers (the break and the four coefficients)
+    each, read by one function (``_piece``): compiled for a GPU, a module's array goes to
+    its constant memory (64 KB), once for each function that reads it, and each name read
+    (five arrays read by ``f_plus`` and ``df_plus`` each held eleven copies of its rows:
+    88 bytes a row, so 700 rows at most; one array read in one place holds 40).
     """
     n = coefs.shape[1]
     last = breaks[-1] - breaks[-2]
     c = coefs[:, -1]
     mu_end = ((c[0] * last + c[1]) * last + c[2]) * last + c[3]
     slope_end = (3.0 * c[0] * last + 2.0 * c[1]) * last + c[2]
+    table = np.column_stack([np.asarray(breaks, dtype=float)[:n], *np.asarray(coefs, dtype=float)])
     body = f"""
-_X = {_array(breaks)}
-_C3 = {_array(coefs[0])}
-_C2 = {_array(coefs[1])}
-_C1 = {_array(coefs[2])}
-_C0 = {_array(coefs[3])}
+# each row: the piece's break and its coefficients of (v - break)**3, **2, **1, **0
+_TABLE = {_array(table)}
 _N = {n}
 _V_END = {float(breaks[-1])!r}
 _MU_END = {float(mu_end)!r}
 _SLOPE_END = {float(slope_end)!r}
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _piece(v):
+    t = _TABLE
     lo = 0
     hi = _N - 1
     while lo < hi:
         mid = (lo + hi + 1) // 2
-        if _X[mid] <= v:
+        if t[5 * mid] <= v:
             lo = mid
         else:
             hi = mid - 1
-    return lo
+    j = 5 * lo
+    return v - t[j], t[j + 1], t[j + 2], t[j + 3], t[j + 4]
 
 
 @njit(cache=True)
@@ -218,9 +224,8 @@ def f_plus(law, P, w):
     v = w / P[0]
     if v >= _V_END:
         return (_MU_END + _SLOPE_END * (v - _V_END)) / P[1]
-    i = _piece(v)
-    x = v - _X[i]
-    return (((_C3[i] * x + _C2[i]) * x + _C1[i]) * x + _C0[i]) / P[1]
+    x, c3, c2, c1, c0 = _piece(v)
+    return (((c3 * x + c2) * x + c1) * x + c0) / P[1]
 
 
 @njit(cache=True)
@@ -228,9 +233,8 @@ def df_plus(law, P, w):
     v = w / P[0]
     if v >= _V_END:
         return _SLOPE_END / (P[0] * P[1])
-    i = _piece(v)
-    x = v - _X[i]
-    return ((3.0 * _C3[i] * x + 2.0 * _C2[i]) * x + _C1[i]) / (P[0] * P[1])
+    x, c3, c2, c1, _c0 = _piece(v)
+    return ((3.0 * c3 * x + 2.0 * c2) * x + c1) / (P[0] * P[1])
 """
     return _HEADER.format(name=name, formula=formula) + _COMMON + body
 
