@@ -231,8 +231,10 @@ def check_number(
     x = float(value)
     _check_finite_sign(name, value, x, allow_zero, what)
     if upper is not None and (x > upper or (x == upper and not upper_inclusive)):
+        if "at most" in what or "below" in what:  # the bound is in the words already
+            raise ValueError(f"{name}={value!r}: expected {what}")
         rel = "<=" if upper_inclusive else "<"
-        raise ValueError(f"{name}={value!r}: expected {what} {rel} {upper}")
+        raise ValueError(f"{name}={value!r}: expected {what} {rel} {upper:g}")
     return x
 
 

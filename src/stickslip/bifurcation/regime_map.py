@@ -26,6 +26,7 @@ import numpy as np
 import numpy.typing as npt
 import xarray as xr
 
+from ..core.checks import NU_MAX, NU_MIN
 from ..core.results import AttractorRows, Regime
 from ..io.progress import show_progress
 from ..laws import DimensionlessLaw, require_dimensionless_law
@@ -120,6 +121,10 @@ def regime_map(
     check_distinct(param, vals, [f"{v:g}" for v in vals])
     if not (0 < nu_min < nu_max) or not math.isfinite(nu_max):
         raise ValueError(f"nu_min={nu_min!r}, nu_max={nu_max!r}: expected 0 < nu_min < nu_max")
+    if nu_min < NU_MIN or nu_max > NU_MAX:  # before any row runs (not row by row, in the store)
+        raise ValueError(
+            f"nu_min={nu_min!r}, nu_max={nu_max!r}: expected driving velocities from {NU_MIN:g} to {NU_MAX:g}"
+        )
     if isinstance(n_nu, bool) or not isinstance(n_nu, int | np.integer) or n_nu < 5:
         raise ValueError(f"n_nu={n_nu!r}: expected a whole number of nu points >= 5")
     job = RegimeMapJob(law, param, vals, float(nu_min), float(nu_max), int(n_nu))

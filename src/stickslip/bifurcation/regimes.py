@@ -46,7 +46,7 @@ import numpy as np
 
 from .. import defaults
 from ..core.api import run_attractors, run_flow
-from ..core.checks import NU_MIN
+from ..core.checks import NU_MAX, NU_MIN
 from ..core.results import AttractorRows, Regime
 from ..io.jsonable import json_clean
 from ..laws import DimensionlessLaw, require_dimensionless_law
@@ -71,6 +71,9 @@ __all__ = [
     "stable_pure_slip_at",
     "stick_slip_branch",
 ]
+
+#: the most points of the ``nu`` grid of one diagram (each one a run from rest)
+MAX_GRID = 100_000
 
 REGIME_NAMES = ("stick-slip", "pure-slip", "bistable", "multistable", "steady-sliding", "none", "unknown")
 
@@ -907,8 +910,11 @@ def regimes(
         raise ValueError(f"nu_min={nu_min!r}: expected a driving velocity of at least {NU_MIN:g}")
     if hi <= lo:
         raise ValueError(f"nu_max={nu_max!r}: expected a value above nu_min={nu_min!r}")
-    if isinstance(n_grid, bool) or not (isinstance(n_grid, int | np.integer) and n_grid >= 5):
-        raise ValueError(f"n_grid={n_grid!r}: expected an integer of at least 5")
+    if hi > NU_MAX:
+        raise ValueError(f"nu_max={nu_max!r}: expected a driving velocity of at most {NU_MAX:g}")
+    if isinstance(n_grid, bool) or not (isinstance(n_grid, int | np.integer) and 5 <= n_grid <= MAX_GRID):
+        # 1e8 points ran for hours: each point is a run from rest
+        raise ValueError(f"n_grid={n_grid!r}: expected an integer from 5 to {MAX_GRID}")
     n_grid = int(n_grid)
     # as pure_slip_orbit's: a nan or negative tol once lost the pure-slip branch without a word
     if isinstance(tol, bool) or not (isinstance(tol, float | int) and 1e-13 <= tol <= 1e-3):

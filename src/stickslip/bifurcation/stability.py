@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.checks import NU_MIN
+from ..core.checks import NU_MAX, NU_MIN
 from ..laws import DimensionlessLaw, require_dimensionless_law
 from ..units import check_number
 
@@ -106,6 +106,8 @@ def hopf_points(
         raise ValueError(f"nu_min={nu_min!r}: expected a driving velocity of at least {NU_MIN:g}")
     if hi <= lo:
         raise ValueError(f"nu_max={nu_max!r} must exceed nu_min={nu_min!r}")
+    if hi > NU_MAX:
+        raise ValueError(f"nu_max={nu_max!r}: expected a driving velocity of at most {NU_MAX:g}")
     if n_grid is None:
         n_grid = max(4000, math.ceil(HOPF_GRID_PER_DECADE * math.log10(hi / lo)))
     knots = np.asarray(law.breakpoints(), dtype=float)

@@ -37,6 +37,11 @@ from .statistics import STATISTICS_VERSION, check_fit_range
 
 __all__ = ["EnsembleJob", "chain_ensemble"]
 
+#: the largest seed of a member (the store's seed coordinate is int64)
+_SEED_MAX = 2**63 - 1
+#: members of one ensemble at most (a block of its store each)
+_MEMBERS_MAX = 1_000_000
+
 #: each member's numbers: name -> (dtype, long name); "status" as ChainStatus codes
 _FIELDS: dict[str, tuple[str, str]] = {
     "events": ("int64", "events recorded"),
@@ -113,10 +118,14 @@ def chain_ensemble(
     if isinstance(seeds, str) or not isinstance(seeds, Sequence | np.ndarray | range):
         raise ValueError(f"seeds={seeds!r}: expected a sequence of whole numbers")
     # whole numbers, checked: seeds=[1.7, 2.2] once ran the members of seeds 1 and 2
-    seed_arr = np.array(
-        [check_count(s, f"seeds[{i}]", minimum=0, what="a whole-number seed") for i, s in enumerate(seeds)],
-        dtype=np.int64,
-    )
+    if len(seeds) > _MEMBERS_MAX:  # range(10**12) was checked seed by seed, for minutes
+        raise ValueError(f"seeds: {len(seeds)} members; expected at most {_MEMBERS_MAX} in one ensemble")
+    what = "a whole-number seed"
+    checked = [check_count(s, f"seeds[{i}]", minimum=0, what=what) for i, s in enumerate(seeds)]
+    too_big = next((i for i, s in enumerate(checked) if s > _SEED_MAX), None)
+    if too_big is not None:  # the store's coordinate is int64
+        raise ValueError(f"seeds[{too_big}]={checked[too_big]!r}: expected a whole-number seed <= 2**63 - 1")
+    seed_arr = np.array(checked, dtype=np.int64)
     # before the store is made: events=2.7 once ran 2 events, and events=0 failed in a member
     events, transient = check_events(events, transient)
     rtol, atol = validate_tolerances(rtol, atol)

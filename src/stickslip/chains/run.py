@@ -21,13 +21,15 @@ import xarray as xr
 from .. import defaults
 from ..core import chain as ce
 from ..core.api import ChainState, chain_advance, check_state
+from ..core.memory import check_memory
 from ..core.results import ChainStatus
 from ..dynamics.cycle import validate_tolerances
 from ..io.errors import DataError
+from ..io.output import check_target
 from ..io.progress import progress_bar
 from ..units import check_count, check_seed, parse_quantity
 from ..userwarnings import warn
-from .catalog import COLUMNS, CatalogWriter, open_catalog, read_state
+from .catalog import COLUMNS, KIND, CatalogWriter, open_catalog, read_state
 from .model import Boundary, ChainParameters, Init, initial_positions, sliding_after
 from .statistics import BValue, b_value, check_fit_range, ruptures_in_pieces
 
@@ -264,6 +266,7 @@ def chain(
     transient: int = 0,
     out: str | os.PathLike[str] | None = None,
     resume: bool = False,
+    overwrite: bool = False,
     record_slip: int = 2000,
     t_max: float = math.inf,
     rtol: float = defaults.RTOL,
@@ -300,6 +303,9 @@ def chain(
         Continue the catalogue ``out`` of an interrupted run of the same set-up
         (tolerances included, and ``state`` where it was started from one), from
         the state saved in it; where ``out`` does not exist, start it.
+    overwrite : bool
+        Replace ``out`` where it exists and is not a chain catalogue stickslip wrote
+        (default: refuse, with a :class:`~stickslip.io.errors.ForeignFileError`).
     record_slip : int
         Keep each block's slip for this many first events (space-time diagram).
     t_max : float or time
@@ -344,6 +350,12 @@ def chain(
     record_slip = check_count(record_slip, "record_slip", minimum=0)
     if resume and out is None:
         raise ValueError("resume=True needs out (the catalogue of the interrupted run to continue)")
+    if out is None:  # the catalogue in memory: its rows, and their copy into the result's Dataset
+        check_memory(
+            3.0 * 8 * len(COLUMNS) * events,
+            f"events={events} held in memory",
+            "stream them to a file (out=, --out)",
+        )
     t_max = _duration("t_max", t_max, params)
     if not (t_max > 0):
         raise ValueError(f"t_max={t_max!r}: expected a positive time")
@@ -394,6 +406,7 @@ def chain(
             folder = os.path.dirname(os.path.abspath(path))
             if not os.path.isdir(folder):
                 raise ValueError(f"out={path!r}: the folder {folder} does not exist")
+            check_target(path, KIND, overwrite=bool(overwrite))  # a measured record was replaced once
             writer = CatalogWriter(path, n, attrs, units, slip_rows=record_slip)
     phi = params.phi
     args = (

@@ -230,7 +230,10 @@ def register(main: click.Group) -> None:
             names |= {f"{f}.{ext}": "figure" for f in _FIGURES for ext in ("png", "svg")}
         with OutputFolder(out_dir, "chain", overwrite=overwrite) as out:
             out.expect(names)
-            res = run_chain(params, events, out=partial, resume=resume and os.path.exists(partial), **kw)
+            # the folder's own working file (its outputs were checked above)
+            res = run_chain(
+                params, events, out=partial, resume=resume and os.path.exists(partial), overwrite=True, **kw
+            )
             summary = res.summary()
             cat = res.catalog
             figs: list[Any] = []
@@ -359,12 +362,21 @@ def _mc(text: str) -> float | str | None:
     return value
 
 
+#: members of one ensemble from the command line (a store of a block each)
+MAX_SEEDS = 1_000_000
+
+
 def _seeds(text: str) -> list[int]:
     try:
         if ".." in text:
             a, b = (int(x) for x in text.split(".."))
             if b < a:
                 raise ValueError
+            if b - a + 1 > MAX_SEEDS:  # 0..100000000000 was a MemoryError
+                raise click.UsageError(
+                    f"--seeds={text!r}: {b - a + 1} members; expected at most {MAX_SEEDS} in one ensemble "
+                    "(run more as ensembles of their own)"
+                )
             seeds = list(range(a, b + 1))
         else:
             seeds = [int(x) for x in text.split(",")]

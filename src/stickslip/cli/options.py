@@ -693,8 +693,9 @@ def parse_axis(p: Parameter, name: str, text: str, num: int, log: bool) -> Any:
     example = p.example or f"1 {p.unit}"
     if ".." in text:
         parts = [t.strip() for t in text.split("..")]
-        if len(parts) != 2 or not all(parts):
-            raise ValueError(f"{name}={text!r}: expected a range 'A..B'")
+        # 'A...B' split as 'A', '.B': read as A..0.1B once, silently
+        if len(parts) != 2 or not all(parts) or "..." in text:
+            raise ValueError(f"{name}={text!r}: expected a range 'A..B' (two dots)")
         if num < 2:
             raise ValueError(f"--num={num}: a range needs at least 2 points")
         if not p.unit:

@@ -334,7 +334,7 @@ def _in_blocks(call: Callable[[int, int], None], n: int, done: Callable[[int], N
 
 
 def _nu(nu: npt.ArrayLike) -> FloatArray:
-    a = checks.finite_array("nu", nu, bound=1e12, positive=True)
+    a = checks.finite_array("nu", nu, bound=checks.NU_MAX, positive=True)
     if a.ndim > 1:
         raise ValueError(f"nu: expected a 1-d array of driving velocities, got shape {a.shape}")
     if a.size and float(a.min()) < checks.NU_MIN:

@@ -17,6 +17,7 @@ import numpy.typing as npt
 
 __all__ = [
     "MAX_STATE",
+    "NU_MAX",
     "NU_MIN",
     "finite_array",
     "integer",
@@ -33,6 +34,8 @@ MAX_STATE = 1e13
 #: slip velocity passes nu) is no longer located in double precision (at nu = 1e-20 an
 #: amplitude came out 3e-4 off with status ok; subnormal values hung the compiled loop)
 NU_MIN = 1e-15
+#: the largest dimensionless driving velocity a parameter set may have
+NU_MAX = 1e12
 
 
 def _real(name: str, value: Any) -> float:
@@ -49,7 +52,8 @@ def positive(name: str, value: Any, *, upper: float | None = None, what: str = "
     if not math.isfinite(x) or x <= 0.0:
         raise ValueError(f"{name}={value!r}: expected {what}")
     if upper is not None and x > upper:
-        raise ValueError(f"{name}={value!r}: expected {what} of at most {upper:g}")
+        bound = "" if "at most" in what or "below" in what else f" of at most {upper:g}"  # not said twice
+        raise ValueError(f"{name}={value!r}: expected {what}{bound}")
     return x
 
 

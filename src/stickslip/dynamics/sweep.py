@@ -146,6 +146,9 @@ def _grid_values(p: Parameter, name: str, values: Any) -> tuple[FloatArray, Floa
             return shown, si, f"{values.units:~}"
         items: list[Any] = [values[i] for i in range(len(values.magnitude))]
     else:
+        size = len(values) if hasattr(values, "__len__") else None
+        if size is not None:  # range(10**12) was a MemoryError making its list
+            check_memory(64.0 * size, f"{name}: {size} values", "a coarser grid, or blocks of it")
         try:
             items = list(values)
         except TypeError:

@@ -449,6 +449,10 @@ def read_records(path: str | os.PathLike[str], *, on_error: str = "raise") -> li
                 f = os.path.join(p, str(row["file"]).strip())
                 if not os.path.isfile(f):
                     raise DataError(f"{index}: names {row['file']!r}, which is not in {p}")
+                if os.path.basename(f) in named:  # read twice, and counted twice in the criterion
+                    raise DataError(
+                        f"{index}: {_lines(df, i)} names {row['file']!r} again: list each record once"
+                    )
                 named.add(os.path.basename(f))
                 here = f"{index}: {_lines(df, i)} ({str(row['file']).strip()})"
                 v0 = _quantity(

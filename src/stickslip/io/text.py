@@ -183,7 +183,13 @@ def inspect(path: str | os.PathLike[str], where: str | None = None) -> TextLayou
         if line.lstrip().startswith("#"):
             m = _META.match(line)
             if m:
-                meta[meta_key(m.group(1))] = m.group(2)
+                key, value = meta_key(m.group(1)), m.group(2)
+                if key in meta and meta[key].strip() != value.strip():  # the last line won, silently
+                    raise DataError(
+                        f"{shown}: line {i + 1} gives {m.group(1).strip()} = {value.strip()!r}, an earlier "
+                        f"line {meta[key].strip()!r}: give it once"
+                    )
+                meta[key] = value
             continue
         sep = (
             "\t"

@@ -433,7 +433,11 @@ class ExpressionLaw(DimensionlessLaw):
         values = {n: _number(n, params[n]) for n in names}
         continuous = static is None
         if static is not None:
-            s = check_number(static, "static", what="a positive static threshold")
+            s = check_number(
+                static, "static", upper=1e12, upper_inclusive=True, what="a positive static threshold"
+            )
+            if s < 1e-12:  # 1e308 (or 1e-320) rescaled w past double precision: 'numba cannot compile'
+                raise ValueError(f"static={static!r}: expected a static threshold between 1e-12 and 1e12")
             if s != 1.0:  # f in other units than the static friction: rescale to them
                 expr = expr.subs(W, s * W) / s
         shown = f if static in (None, 1.0) else f"({f}) rescaled by static={static}"

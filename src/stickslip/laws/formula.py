@@ -118,7 +118,10 @@ def parse_formula(text: str, name: str, variables: Iterable[str]) -> sp.Expr:
                 )
             return sp.Symbol(node.id, real=True)
         if isinstance(node, ast.BinOp) and type(node.op) in _BINARY:
-            return _BINARY[type(node.op)](build(node.left), build(node.right))
+            left, right = build(node.left), build(node.right)
+            if isinstance(node.op, ast.Pow | ast.BitXor):
+                _check_power(left, right, name, text)
+            return _BINARY[type(node.op)](left, right)
         if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub | ast.UAdd):
             x = build(node.operand)
             return -x if isinstance(node.op, ast.USub) else x
@@ -139,12 +142,44 @@ def parse_formula(text: str, name: str, variables: Iterable[str]) -> sp.Expr:
             f"allowed: {_allowed(variables)}"
         )
 
-    expr = build(tree)
+    try:
+        expr = build(tree)
+    except RecursionError:  # '------...w' or 'w**w**...**w', hundreds deep
+        raise FormulaError(f"{name}: the formula is nested too deeply to be read") from None
     if not isinstance(expr, sp.Expr):
         raise FormulaError(f"{name}={text!r}: not a formula")
+    big = next((x for x in expr.atoms(sp.Number) if not math.isfinite(_float(x))), None)
+    if big is not None:  # 1e200*1e200: a bare inf in the compiled law
+        raise FormulaError(
+            f"{name}={text!r}: the number {sp.sstr(sp.Float(big, 3))} is beyond double precision (1.8e308)"
+        )
     if expr.has(sp.I, sp.zoo, sp.nan):  # sqrt(-1), (-1)**0.5, 1/0: a traceback deep in the engine
         raise FormulaError(
             f"{name}={text!r}: the formula is not a real number ({sp.sstr(expr)}): "
             "expected a real function (no square root or fractional power of a negative constant, no 1/0)"
         )
     return expr
+
+
+def _float(x: sp.Number) -> float:
+    """Return a sympy number in double precision (inf where beyond it)."""
+    try:
+        return float(x)
+    except (OverflowError, TypeError):
+        return math.inf
+
+
+def _check_power(base: sp.Expr, exponent: sp.Expr, name: str, text: str) -> None:
+    """Refuse a constant power beyond double precision before sympy works it out exactly.
+
+    ``10**10**10`` is an integer of ten billion digits: sympy computed it, and hung.
+    """
+    if not (isinstance(base, sp.Number) and isinstance(exponent, sp.Number)):
+        return
+    b, e = abs(_float(base)), _float(exponent)
+    if math.isfinite(b) and math.isfinite(e) and (b in (0.0, 1.0) or abs(e * math.log10(b)) <= 400):
+        return  # within 1e-400 .. 1e400: sympy's exact value is small, a later check says the rest
+    raise FormulaError(
+        f"{name}={text!r}: the power {sp.sstr(base)}**{sp.sstr(exponent)} is beyond double precision "
+        "(numbers up to 1.8e308)"
+    )

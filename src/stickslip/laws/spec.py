@@ -403,7 +403,10 @@ class LawSpec:
                 c = sp.limit(d, W, 0, "+")
             if c.has(*bad, sp.Limit):  # infinite, or a limit sympy cannot take (sign(w - 0.5) inside)
                 break
-            terms.append(c / sp.factorial(k) * W**k)
+            term = c / sp.factorial(k)
+            if term.is_Number and not math.isfinite(abs(float(term))):  # 1/(1 + 1e200*w): 1e400 w**2
+                break
+            terms.append(term * W**k)
         if not terms:
             raise ValueError(
                 f"law {self.name!r}: f_+(0+) is not finite; friction at the onset of slip must be"

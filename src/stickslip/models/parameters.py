@@ -21,7 +21,7 @@ import numpy as np
 import numpy.typing as npt
 import pint
 
-from ..core.checks import NU_MIN
+from ..core.checks import NU_MAX, NU_MIN
 from ..laws import DimensionlessLaw, PhysicalLaw, PhysicalWeakeningLaw, require_physical_law
 from ..laws.spec import STATIC, LawSpec
 from ..units import Q_, check_number, parse_quantity
@@ -78,9 +78,9 @@ class DimensionlessParameters:
             check_number(
                 self.nu,
                 "nu",
-                upper=1e12,
+                upper=NU_MAX,
                 upper_inclusive=True,
-                what="a positive driving velocity (at most 1e12)",
+                what=f"a positive driving velocity (at most {NU_MAX:g})",
             ),
         )
         if self.nu < NU_MIN:

@@ -40,6 +40,8 @@ __all__ = ["BP1", "CycleRun", "SpringSliderFault", "earthquake_cycles", "recurre
 FloatArray = npt.NDArray[np.float64]
 YEAR = 365.25 * 24 * 3600.0
 CHUNK = 1e7  # s: the integrations restart their clocks this often (the step stays resolved)
+#: the longest simulated time (s): a billion years, far beyond the events one run locates
+MAX_DURATION = 1e9 * YEAR
 
 
 @dataclass(frozen=True)
@@ -270,6 +272,8 @@ def earthquake_cycles(
 
     """
     t_end = float(parse_quantity(duration, "duration", "[time]", "3000 yr").to("s").magnitude)
+    if not t_end <= MAX_DURATION:  # 1e308 yr is infinite in seconds
+        raise ValueError(f"duration={duration!r}: expected a simulated time of at most 1e9 yr")
     # checked here: a nan tolerance once made the compiled loop spin without end
     if isinstance(rtol, bool) or not (isinstance(rtol, float | int) and 1e-13 <= rtol <= 1e-3):
         raise ValueError(f"rtol={rtol!r}: expected a relative tolerance between 1e-13 and 1e-3")
