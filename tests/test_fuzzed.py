@@ -130,3 +130,94 @@ def test_huge_requests_are_refused_before_they_run() -> None:
         regime_map(WeakeningLaw(c=3.8), "c", [1.0, 2.0], 1e-20, 1.0)
     assert time.perf_counter() - t0 < 10.0
     assert np.isfinite(ExpressionLaw("1/(1+w)", static=1e12).static)
+
+
+# --------------------------------------------------------------------------- MEDIUM findings
+
+
+def test_errors_of_a_physical_set_up_name_what_was_typed() -> None:
+    from stickslip import zv_parameters
+
+    with pytest.raises(
+        ValueError, match=r"nu=inf is infinite: .* \(made from mass=.*v0=1×10³⁰⁸ m/s: check their"
+    ):
+        zv_parameters("1e308 m/s").dimensionless()
+
+
+def test_a_subnormal_atol_and_a_string_start_are_refused() -> None:
+    import stickslip as S
+
+    p = DimensionlessParameters(0.1, WeakeningLaw(c=3.8))
+    for call in (lambda: S.cycle(p, atol=1e-320), lambda: S.simulate(p, atol=1e-300)):
+        with pytest.raises(
+            ValueError, match=r"atol=1e-3[02]0: expected an absolute tolerance between 1e-30 and 1"
+        ):
+            call()
+    with pytest.raises(ValueError, match="initial='59': expected a pair"):
+        S.simulate(p, initial="59")  # read as the pair (5, 9) once
+
+
+def test_table_errors_say_what_is_wrong(tmp_path: Path) -> None:
+    from stickslip import Q_
+    from stickslip.laws import TabulatedLaw
+
+    v = np.array([0.1, 0.01, 0.0, 0.05])
+    with pytest.raises(ValueError, match="the row at v = 0 is row 3, not the first: sort the table"):
+        TabulatedLaw(Q_(v, "m/s"), 0.46 / (1 + 160 * v))
+    with pytest.raises(ValueError, match="row 4: velocity 1e\\+300 m/s is above 10000 m/s"):
+        TabulatedLaw(Q_(np.array([0.0, 1.0, 2.0, 1e300]), "m/s"), np.array([0.5, 0.4, 0.3, 0.2]))
+
+
+def test_a_record_sampled_beyond_reason_and_tiny_errors_are_refused(tmp_path: Path) -> None:
+    from stickslip.data.criterion import classify
+
+    path = tmp_path / "r.csv"
+    t = np.arange(50) * 2.6e-302
+    path.write_text(
+        "# v0 = 100 um/s\n# load = 196 mN\ntime [s],force [N]\n" + "".join(f"{float(x)!r},1\n" for x in t)
+    )
+    with pytest.raises(DataError, match=r"median sample interval is 2\.6e-302 s, below 1e-12 s"):
+        read_record(path)
+    with pytest.raises(ValueError, match=r"amplitude_err\[0\]=1e-320: below 1e-12 of its amplitude"):
+        classify(np.geomspace(1, 100, 10), np.geomspace(1, 2, 10), np.full(10, 1e-320))
+
+
+def test_a_history_whose_columns_disagree_is_said(tmp_path: Path) -> None:
+    from stickslip.io.lab import read_lab_record
+
+    path = tmp_path / "h.csv"
+    head = "time [s],load-point velocity [um/s],load-point displacement [um]\n"
+    path.write_text(head + "0,1,0\n10,10,500\n40,1,510\n50,1,520\n")
+    with pytest.warns(UserWarning, match="disagrees with the velocity column by 490 um at line 3"):
+        read_lab_record(path, need_friction=False)
+    path.write_text(head + "0,1,0\n10,10,10\n40,1,310\n50,1,320\n")
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        read_lab_record(path, need_friction=False)  # they agree: nothing said
+
+
+def test_a_fits_wild_trial_step_fails_the_model_not_the_fit(tmp_path: Path) -> None:
+    """fit --fit-b --method features ended in 'lp[0]=1.99e+23: expected a finite value ...'."""
+    from stickslip.data import fitting
+
+    theta = np.log([0.46, 1e60, 62.0, 0.23, 1.0])  # mu_s, d = a - b (s/m), k, m, b: c = a/beta ~ 1e58
+    got = fitting._model_features(theta, ("mu_s", "d", "k", "m", "b"), {}, 1e-4, 0.196)
+    assert got.shape == (len(fitting.FEATURES),) and np.all(np.isnan(got))
+
+
+def test_an_absurd_noise_level_is_refused() -> None:
+    """--noise '1e-320 N' overflowed the weights (chi-square 1e6), '1e308 N' gave a chi-square of 0."""
+    from stickslip.data.fitting import fit_record
+    from stickslip.data.records import synthetic_record
+    from stickslip.models import zv_parameters
+
+    rec = synthetic_record(zv_parameters("100 um/s"), duration="2 s", rate="200 Hz", noise="0.5 mN")
+    for noise in ("1e-320 N", "1e308 N"):
+        with pytest.raises(
+            ValueError, match="expected a noise level between 1e-9 and 1 times the record's force"
+        ):
+            fit_record(rec, noise=noise)
+    with pytest.raises(ValueError, match="fit_b='no': expected True or False"):
+        fit_record(rec, fit_b="no")

@@ -16,6 +16,7 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = [
+    "ATOL_MIN",
     "MAX_STATE",
     "NU_MAX",
     "NU_MIN",
@@ -36,6 +37,9 @@ MAX_STATE = 1e13
 NU_MIN = 1e-15
 #: the largest dimensionless driving velocity a parameter set may have
 NU_MAX = 1e12
+#: the smallest absolute tolerance: a subnormal one (1e-320) ended in step-size-too-small, blaming
+#: the friction law, and below about 1e-30 a cycle's steps run out (the default is 1e-12)
+ATOL_MIN = 1e-30
 
 
 def _real(name: str, value: Any) -> float:
@@ -58,11 +62,13 @@ def positive(name: str, value: Any, *, upper: float | None = None, what: str = "
 
 
 def tolerances(rtol: Any, atol: Any) -> tuple[float, float]:
-    """Return integration tolerances after checking them: ``1e-14 <= rtol <= 1e-3`` and ``0 < atol <= 1``."""
+    """Return integration tolerances, checked: ``1e-14 <= rtol <= 1e-3``, ``ATOL_MIN <= atol <= 1``."""
     r = positive("rtol", rtol, what="a relative tolerance between 1e-14 and 1e-3")
     if not 1e-14 <= r <= 1e-3:
         raise ValueError(f"rtol={rtol!r}: expected a relative tolerance between 1e-14 and 1e-3")
     a = positive("atol", atol, upper=1.0, what="a positive absolute tolerance")
+    if a < ATOL_MIN:
+        raise ValueError(f"atol={atol!r}: expected an absolute tolerance between {ATOL_MIN:g} and 1")
     return r, a
 
 

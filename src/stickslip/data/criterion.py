@@ -155,6 +155,13 @@ def classify(
         if np.any(e < 0):
             i = int(np.argmax(e < 0))
             raise ValueError(f"amplitude_err[{i}]={float(e[i])!r}: errors must be non-negative")
+        tiny = (e > 0) & (e < 1e-12 * a)  # 1e-320 overflowed the weights: 'SVD did not converge'
+        if np.any(tiny):
+            i = int(np.argmax(tiny))
+            raise ValueError(
+                f"amplitude_err[{i}]={float(e[i])!r}: below 1e-12 of its amplitude, beyond double "
+                "precision: give 0 for an amplitude known exactly"
+            )
         if np.any(e > 0):
             sigma = np.where(e > 0, e / a, np.min(e[e > 0] / a[e > 0]))
 

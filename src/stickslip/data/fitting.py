@@ -242,7 +242,10 @@ def _model_features(
     beta = math.sqrt(k * m) / force
     nu = beta * v0
     c, p = a / beta, b / beta
-    out = _cycle(c, p, nu, rtol=1e-9)
+    try:
+        out = _cycle(c, p, nu, rtol=1e-9)
+    except ValueError:  # a trial step beyond the engine's range (lp[0]=2e23 ended the fit once)
+        return np.full(len(FEATURES), np.nan)
     if not out.is_regime(Regime.STICK_SLIP)[0]:
         return np.full(len(FEATURES), np.nan)
     ts = math.sqrt(m / k)
@@ -338,6 +341,15 @@ def fit_record(
             f"{record.name}: fitting needs the driving velocity and the normal load "
             "(give '# v0 = ...' and '# load = ...' header lines or --v0/--load)"
         )
+    if not isinstance(fit_b, bool | np.bool_):
+        raise ValueError(f"fit_b={fit_b!r}: expected True or False")
+    if given_noise is not None:  # 1e-320 N weighed the fit into overflow, 1e308 N into a chi-square of 0
+        span = float(np.ptp(record.force))
+        if not 1e-9 * span <= given_noise <= span:
+            raise ValueError(
+                f"noise={noise!r}: expected a noise level between 1e-9 and 1 times the record's force "
+                f"range ({span:.3g} N)"
+            )
     table, summary = measure_record(record)
     # the force as measured (outliers out, the right way up), once for every waveform fit below,
     # and what was done to it, for the warnings

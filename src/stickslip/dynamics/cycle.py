@@ -25,6 +25,7 @@ from .. import defaults
 from ..bifurcation.attractors import OrbitKey, orbit_key, polish_rows, same_orbit
 from ..bifurcation.orbits import law_arrays
 from ..core.api import run_attractors
+from ..core.checks import ATOL_MIN
 from ..core.results import AttractorRows, Regime, Status
 from ..io.jsonable import json_clean
 from ..models.parameters import (
@@ -69,13 +70,15 @@ def validate_tolerances(rtol: float, atol: float) -> tuple[float, float]:
     Raises
     ------
     ValueError
-        If ``rtol`` is not in ``[1e-14, 1e-3]`` or ``atol`` is not positive and finite.
+        If ``rtol`` is not in ``[1e-14, 1e-3]`` or ``atol`` is not finite and at least ``ATOL_MIN`` (1e-30).
 
     """
     r = check_number(rtol, "rtol", what="a relative tolerance between 1e-14 and 1e-3")
     if not 1e-14 <= r <= 1e-3:
         raise ValueError(f"rtol={rtol!r}: expected a relative tolerance between 1e-14 and 1e-3")
     a = check_number(atol, "atol", what="a positive absolute tolerance")
+    if a < ATOL_MIN:  # a subnormal one ended in step-size-too-small, blaming the friction law
+        raise ValueError(f"atol={atol!r}: expected an absolute tolerance between {ATOL_MIN:g} and 1")
     return r, a
 
 

@@ -239,6 +239,8 @@ def simulate(
     )
     initial = _initial_state(initial, scales)
     try:
+        if isinstance(initial, str | bytes):  # '59' was read as the pair (5, 9)
+            raise TypeError
         s0, w0 = (float(v) for v in initial)  # exactly two: a third value was dropped
     except (TypeError, ValueError):
         raise ValueError(

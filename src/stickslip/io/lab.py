@@ -22,6 +22,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..units import Q_, ureg
+from ..userwarnings import warn
 from . import text
 from .errors import DataError
 from .tables import MAX_BYTES, check_file, parse_header
@@ -157,6 +158,17 @@ def read_lab_record(path: str | os.PathLike[str], *, need_friction: bool = False
     if vcol is not None:
         v = _si(frame[vcol].to_numpy(float), units[vcol], vcol, "[length] / [time]", "um/s", p)
         x = np.concatenate([[0.0], np.cumsum(v[:-1] * dt)])
+        if xcol is not None:  # both given: the velocity is used, and the displacement said if it differs
+            xd = _si(frame[xcol].to_numpy(float), units[xcol], xcol, "[length]", "um", p)
+            off = np.abs((xd - xd[0]) - x)
+            i = int(np.argmax(off))
+            if off[i] > 0.01 * max(float(np.ptp(x)), float(np.ptp(xd))):
+                (line,) = text.data_lines(layout, [i])
+                warn(
+                    f"{p}: the load-point displacement disagrees with the velocity column by "
+                    f"{off[i] * 1e6:.3g} um at line {line} (the velocity, held until the next row, is "
+                    f"used): give one of the two columns"
+                )
     else:
         assert xcol is not None
         x = _si(frame[xcol].to_numpy(float), units[xcol], xcol, "[length]", "um", p)

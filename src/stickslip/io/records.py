@@ -106,6 +106,8 @@ class Record:
                 f"{self.name}: time is not strictly increasing at samples {i} and {i + 1} "
                 f"({float(self.time[i])!r} s then {float(self.time[i + 1])!r} s)"
             )
+        if step.size and float(np.median(step)) < MIN_SAMPLE_INTERVAL:
+            raise ValueError(f"{self.name}: {_too_fast(step)}")
         # v0=1e-5 (no unit) failed later with an AttributeError on .to
         for key, dim, example in (("v0", "[length] / [time]", "10 um/s"), ("load", "[force]", "196 mN")):
             value = getattr(self, key)
@@ -122,6 +124,17 @@ def _si(
     if not q.check(dimension):
         raise DataError(f"{where}: column {name!r} has unit [{unit:~}], expected {dimension} (e.g. [{si}])")
     return values * float(q.to(si).magnitude)
+
+
+#: the shortest median sample interval of a record (s): a terahertz, far beyond any force sensor
+MIN_SAMPLE_INTERVAL = 1e-12
+
+
+def _too_fast(dt: FloatArray) -> str:
+    return (
+        f"the median sample interval is {float(np.median(dt)):.3g} s, below {MIN_SAMPLE_INTERVAL:g} s: "
+        "is the time column in the unit its header says?"
+    )
 
 
 def _lines(df: pd.DataFrame, first: int, last: int | None = None) -> str:
@@ -314,6 +327,8 @@ def _record_from_frame(
             f"{where}: time is not strictly increasing at {_lines(df, i, i + 1)} "
             f"({float(t[i])!r} s then {float(t[i + 1])!r} s)"
         )
+    if float(np.median(dt)) < MIN_SAMPLE_INTERVAL:  # 1e-302 s ended in 'SVD did not converge'
+        raise DataError(f"{where}: {_too_fast(dt)}")
 
     def optional(col: str, dimension: str, si: str) -> FloatArray | None:
         if col not in df.columns:

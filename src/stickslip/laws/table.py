@@ -112,6 +112,10 @@ def _mu(pp: PPoly, v: npt.ArrayLike, order: int = 0) -> FloatArray:
     return np.where(v > end, 0.0, inside)
 
 
+#: the largest velocity of a friction table (m/s): 10 km/s, beyond any sliding experiment
+MAX_TABLE_VELOCITY = 1e4
+
+
 def _pp(v: FloatArray, mu: FloatArray, interpolation: str) -> PPoly:
     """Return the interpolant as a piecewise cubic in ``v`` (m/s), pieces of positive length only.
 
@@ -205,8 +209,20 @@ class TabulatedLaw(PhysicalLaw):
                 f"{name}: row {i + 1}: friction coefficient {float(mu_a[i])!r} is not a positive number"
             )
         if v_si.size == 0 or v_si[0] != 0.0:
+            at_zero = np.flatnonzero(v_si == 0.0)
+            if at_zero.size:  # there is one, further down: say that the order is the fault
+                raise ValueError(
+                    f"{name}: the row at v = 0 is row {int(at_zero[0]) + 1}, not the first: sort the "
+                    "table by velocity (the first row is the static coefficient, v = 0)"
+                )
             raise ValueError(
                 f"{name}: the table has no row at v = 0: its first row must be the static coefficient (v = 0)"
+            )
+        if float(np.max(v_si)) > MAX_TABLE_VELOCITY:  # 1e300 m/s ended in scipy's 'dydx ... finite'
+            i = int(np.argmax(v_si))
+            raise ValueError(
+                f"{name}: row {i + 1}: velocity {float(v_si[i]):.3g} m/s is above "
+                f"{MAX_TABLE_VELOCITY:g} m/s: is the velocity column in the unit its header says?"
             )
         zero = int(np.sum(v_si == 0.0))
         if zero > 2:

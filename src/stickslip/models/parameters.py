@@ -12,8 +12,9 @@ the paper's law).
 
 from __future__ import annotations
 
+import contextlib
 import functools
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -191,7 +192,20 @@ class PhysicalParameters:
             velocity=Q_(1.0 / beta, "m/s"),
         )
         nu = beta * float(self.v0.to("m/s").magnitude)
-        return nu, self.law.nondimensionalize(Q_(beta, "s/m")), scales
+        with self._named():
+            return nu, self.law.nondimensionalize(Q_(beta, "s/m")), scales
+
+    @contextlib.contextmanager
+    def _named(self) -> Iterator[None]:
+        """Name the physical inputs in an error of the dimensionless numbers made from them.
+
+        ``--mass "1e-320 kg"`` was 'c=1.8e+160: ...', a number the user never typed.
+        """
+        try:
+            yield
+        except ValueError as exc:
+            given = ", ".join(f"{k}={getattr(self, k):~P}" for k in ("mass", "stiffness", "load", "v0"))
+            raise type(exc)(f"{exc} (made from {given}: check their units and magnitudes)") from None
 
     @property
     def scales(self) -> Scales:
@@ -211,7 +225,8 @@ class PhysicalParameters:
     def dimensionless(self) -> DimensionlessParameters:
         """Return the dimensionless parameter set (``nu`` and the dimensionless law)."""
         nu, law, _ = self._form
-        return DimensionlessParameters(nu=nu, law=law)
+        with self._named():
+            return DimensionlessParameters(nu=nu, law=law)
 
     def with_v0(self, v0: Any) -> PhysicalParameters:
         """Return a copy with another driving velocity."""
