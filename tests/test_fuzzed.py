@@ -178,7 +178,7 @@ def test_a_record_sampled_beyond_reason_and_tiny_errors_are_refused(tmp_path: Pa
     )
     with pytest.raises(DataError, match=r"median sample interval is 2\.6e-302 s, below 1e-12 s"):
         read_record(path)
-    with pytest.raises(ValueError, match=r"amplitude_err\[0\]=1e-320: below 1e-12 of its amplitude"):
+    with pytest.raises(ValueError, match=r"amplitude_err\[0\]=1e-320: below 1e-100 of its amplitude"):
         classify(np.geomspace(1, 100, 10), np.geomspace(1, 2, 10), np.full(10, 1e-320))
 
 
@@ -221,3 +221,43 @@ def test_an_absurd_noise_level_is_refused() -> None:
             fit_record(rec, noise=noise)
     with pytest.raises(ValueError, match="fit_b='no': expected True or False"):
         fit_record(rec, fit_b="no")
+
+
+# --------------------------------------------------------------------------- LOW findings
+
+
+def test_wrong_kinds_of_argument_are_type_errors_that_say_what_is_expected(tmp_path: Path) -> None:
+    from stickslip.bifurcation.regimes import confirm
+    from stickslip.data.fitting import fit_record
+    from stickslip.data.records import analyze_records
+
+    params = ChainParameters(blocks=5, law=WeakeningLaw(c=3.8), nu=0.01, ell=3)
+    for call, message in (
+        (lambda: analyze_records("x"), "expected a list of Record"),
+        (lambda: fit_record("x"), "expected a Record"),
+        (lambda: confirm("x"), "expected the RegimeDiagram"),
+        (lambda: chain(params, 5, state="x"), "expected a ChainState"),
+    ):
+        with pytest.raises(TypeError, match=message):  # AttributeError from deep inside, before
+            call()
+
+
+def test_outputs_and_inputs_of_the_wrong_kind_are_refused(tmp_path: Path) -> None:
+    res = CliRunner().invoke(
+        main, ["sweep", "--nu", "0.1,0.2", "--c", "3.8", "--out", str(tmp_path / "p.xyz")]
+    )
+    assert res.exit_code == 2 and "expected a .nc (NetCDF) or .csv file name" in res.output
+    assert not (tmp_path / "p.xyz").exists()  # NetCDF under another name, before
+    with pytest.raises(DataError, match="/dev/zero: not a regular file"):
+        read_record("/dev/zero")
+    with pytest.raises(ValueError, match="workers=100000: expected at most"):
+        sweep(DimensionlessParameters(0.1, WeakeningLaw(c=3.8)), {"nu": [0.1, 0.2]}, workers=100000)
+
+
+def test_a_protocol_stage_of_absurd_length_is_refused() -> None:
+    from stickslip.ratestate.model import RateStateParameters
+    from stickslip.ratestate.protocols import velocity_steps
+
+    p = RateStateParameters(a=0.01, b=0.015, dc="10 um", v_ref="1 um/s", mu0=0.6, stiffness_per_load="5 1/mm")
+    with pytest.raises(ValueError, match=r"history\[1\] duration=.* s: expected at most 1e9 s"):
+        velocity_steps(p, ["1 um/s", "10 um/s"], durations=["5 s", "1e308 s"])

@@ -88,8 +88,9 @@ def test_sigkill_of_a_sweep_never_leaves_a_partial_file(tmp_path: Path, delay: f
 
 
 def test_foreign_file_is_not_overwritten(tmp_path: Path) -> None:
-    """Regression: `sweep --out afile.txt` silently turned a text file into NetCDF."""
-    target = tmp_path / "afile.txt"
+    """Regression: `sweep --out afile.txt` silently turned a text file into NetCDF (a user's CSV now:
+    a name other than .nc or .csv is refused as such)."""
+    target = tmp_path / "afile.csv"
     target.write_text("my notes\n")
     res = CliRunner().invoke(main, [*SWEEP, "--out", str(target), "--no-plot"])
     assert res.exit_code == 2
@@ -324,7 +325,7 @@ def test_the_same_figure_is_the_same_svg_and_errors_speak_the_callers_language(t
 
     first = svg()
     assert first == svg() and b"<dc:date>" not in first
-    target = tmp_path / "notes.txt"
+    target = tmp_path / "notes.csv"
     target.write_text("a colleague's notes\n")
     with pytest.raises(ForeignFileError, match=r"give overwrite=True to replace it"):
         check_target(str(target), "sweep")

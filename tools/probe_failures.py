@@ -119,7 +119,7 @@ def prepare(d: Path) -> None:
     (d / "longfield.csv").write_text("velocity [um/s],amplitude [mN]\n1," + "9" * 200_000 + "\n")
     (d / "negamp.csv").write_text("velocity [um/s],amplitude [mN]\n1,-2\n2,3\n3,4\n4,5\n")
     (d / "badunit.csv").write_text("time [s],force [furlong]\n0,1\n1,2\n2,3\n")
-    (d / "notes.txt").write_text("my notes\n")
+    (d / "notes.csv").write_text("my notes\n")
     (d / "afolder").mkdir()
     (d / "afolder" / "trajectory.csv").write_text("a colleague's table\n")
     (d / "blocker").write_text("x")
@@ -297,7 +297,7 @@ CASES = [
     # paths
     Case(
         "paths",
-        "sweep onto a text file",
+        "sweep onto a user's CSV file",
         [
             "sweep",
             "--nu",
@@ -308,12 +308,12 @@ CASES = [
             "4",
             "--quiet",
             "--out",
-            "notes.txt",
+            "notes.csv",
             "--no-plot",
         ],
         "error",
         "--overwrite",
-        unchanged("notes.txt", "my notes\n"),
+        unchanged("notes.csv", "my notes\n"),
     ),
     Case(
         "paths",

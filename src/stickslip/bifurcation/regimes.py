@@ -1287,6 +1287,8 @@ def confirm(diagram: RegimeDiagram) -> list[Confirmation]:
     to an oscillation or settles on steady sliding; each oscillation reached is
     polished into its periodic orbit, and the distinct orbits are counted.
     """
+    if not isinstance(diagram, RegimeDiagram):
+        raise TypeError(f"diagram={diagram!r}: expected the RegimeDiagram of regimes(...)")
     law = diagram.law
     out = []
     for iv in diagram.intervals:

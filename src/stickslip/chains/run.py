@@ -395,6 +395,8 @@ def chain(
         if state is None:
             state = ChainState.at_rest(initial_positions(n, init, seed, amplitude))
             _warn_stiff_start(params, state)
+        elif not isinstance(state, ChainState):
+            raise TypeError(f"state={state!r}: expected a ChainState (a result's .state)")
         else:
             state = state.copy()
         if state.x.shape != (n,):

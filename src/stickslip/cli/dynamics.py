@@ -265,7 +265,11 @@ def register(main: click.Group) -> None:
             return
         out_path = out_path or "results/sweep.nc"
         folder, name = os.path.split(out_path)
-        stem = os.path.splitext(name)[0]
+        stem, ext = os.path.splitext(name)
+        if ext.lower() not in (".nc", ".csv"):  # p.xyz was written as NetCDF, unsaid
+            raise click.BadParameter(
+                f"{out_path!r}: expected a .nc (NetCDF) or .csv file name", param_hint="--out"
+            )
         with OutputFolder(folder or ".", f"sweep {stem}", overwrite=overwrite) as out:
             # the outputs are checked before the (possibly long) sweep starts
             out.expect({name: "sweep"} | ({} if no_plot else figure_names(stem)))

@@ -155,12 +155,14 @@ def classify(
         if np.any(e < 0):
             i = int(np.argmax(e < 0))
             raise ValueError(f"amplitude_err[{i}]={float(e[i])!r}: errors must be non-negative")
-        tiny = (e > 0) & (e < 1e-12 * a)  # 1e-320 overflowed the weights: 'SVD did not converge'
+        # 1e-320 overflowed the weights (a / err)**2: 'SVD did not converge' (a noise-free
+        # record's 1e-15 of its amplitude is fine)
+        tiny = (e > 0) & (e < 1e-100 * a)
         if np.any(tiny):
             i = int(np.argmax(tiny))
             raise ValueError(
-                f"amplitude_err[{i}]={float(e[i])!r}: below 1e-12 of its amplitude, beyond double "
-                "precision: give 0 for an amplitude known exactly"
+                f"amplitude_err[{i}]={float(e[i])!r}: below 1e-100 of its amplitude, where the fit's "
+                "weights overflow: give 0 for an amplitude known exactly"
             )
         if np.any(e > 0):
             sigma = np.where(e > 0, e / a, np.min(e[e > 0] / a[e > 0]))

@@ -333,6 +333,8 @@ def fit_record(
         When the fit does not converge.
 
     """
+    if not isinstance(record, Record):
+        raise TypeError(f"record={record!r}: expected a Record (read_record(path) reads one)")
     if method not in METHODS:
         raise ValueError(f"method={method!r}: expected one of {METHODS}")
     given_noise = None if noise is None else _noise(noise)
@@ -419,6 +421,11 @@ def fit_record(
     d = np.sqrt(np.clip(np.diag(cov_log), 1e-300, None))
     corr = cov_log / np.outer(d, d)
     warnings = []
+    if method == "features" and given_noise is not None:  # it was dropped without a word
+        warnings.append(
+            "the noise given weights the waveform fit only: the features are weighted by their "
+            "cycle-to-cycle spread"
+        )
     if chi2 > CHI2_WARN and method == "features":
         # on records the model itself made this is the features' own bias, not a misfit
         warnings.append(

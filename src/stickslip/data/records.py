@@ -22,6 +22,7 @@ The method, robust to noise, drift and sampling rate:
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, fields
 from typing import Any
@@ -725,6 +726,10 @@ def analyze_records(
 
     from .criterion import classify
 
+    if isinstance(records, str | bytes | os.PathLike) or not all(isinstance(r, Record) for r in records):
+        raise TypeError(
+            f"records={records!r}: expected a list of Record (read_records(folder) reads a folder of them)"
+        )
     if not records:
         raise ValueError("no records to analyze")
     if isinstance(confidence, bool) or not (isinstance(confidence, float | int) and 0.5 <= confidence < 1):

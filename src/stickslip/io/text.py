@@ -68,6 +68,8 @@ def check_file(path: str | os.PathLike[str]) -> str:
     if os.path.isdir(p):
         raise DataError(f"{p}: is a folder, expected a file")
     if not os.path.isfile(p):
+        if os.path.exists(p):  # /dev/zero, a pipe: there, but no file to read twice
+            raise DataError(f"{p}: not a regular file (a device or a pipe): expected a file")
         raise DataError(f"{p}: no such file")
     if os.path.getsize(p) == 0:
         raise DataError(f"{p}: the file is empty")

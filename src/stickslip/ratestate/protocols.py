@@ -44,6 +44,10 @@ __all__ = [
 FloatArray = npt.NDArray[np.float64]
 
 
+#: the longest stage of a laboratory protocol (s): some 30 years
+MAX_STAGE = 1e9
+
+
 def _history(history: Any) -> list[tuple[float, float]]:
     """Parse ``[(duration, velocity), ...]`` into SI pairs."""
     if isinstance(history, str) or not hasattr(history, "__iter__"):
@@ -56,7 +60,10 @@ def _history(history: Any) -> list[tuple[float, float]]:
             raise ValueError(f"history[{i}]={item!r}: expected a (duration, velocity) pair") from None
         d = parse_quantity(dur, f"history[{i}] duration", "[time]", "10 s")
         v = parse_quantity(vel, f"history[{i}] velocity", "[length] / [time]", "1 um/s", allow_zero=True)
-        out.append((float(d.to("s").magnitude), float(v.to("m/s").magnitude)))
+        seconds = float(d.to("s").magnitude)
+        if not seconds <= MAX_STAGE:  # '1e308 s' ran out of steps, 'too stiff'
+            raise ValueError(f"history[{i}] duration={d:~P}: expected at most 1e9 s (some 30 years) a stage")
+        out.append((seconds, float(v.to("m/s").magnitude)))
     if not out:
         raise ValueError("history is empty: give at least one (duration, velocity) pair")
     return out

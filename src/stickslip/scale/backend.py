@@ -183,6 +183,12 @@ def run_blocks(
     t0 = time.perf_counter()
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ValueError(f"workers={workers!r}: expected a whole number of worker processes >= 1")
+    most = 4 * (os.cpu_count() or 1)
+    if workers is not None and workers > most:  # a process each, started on this machine
+        raise ValueError(
+            f"workers={workers}: expected at most {most} local worker processes (4 per core of this "
+            "machine); a larger cluster is a Dask scheduler's (scheduler=)"
+        )
     if scheduler is not None and workers is not None:
         raise ValueError("give either scheduler (an existing cluster) or workers (a local one), not both")
     check_scheduler(scheduler)
