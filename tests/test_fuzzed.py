@@ -246,7 +246,7 @@ def test_outputs_and_inputs_of_the_wrong_kind_are_refused(tmp_path: Path) -> Non
     res = CliRunner().invoke(
         main, ["sweep", "--nu", "0.1,0.2", "--c", "3.8", "--out", str(tmp_path / "p.xyz")]
     )
-    assert res.exit_code == 2 and "expected a .nc (NetCDF) or .csv file name" in res.output
+    assert res.exit_code == 2 and "expected a .nc (NetCDF; or .nc4, .cdf, .netcdf) or .csv file name" in res.output
     assert not (tmp_path / "p.xyz").exists()  # NetCDF under another name, before
     with pytest.raises(DataError, match="/dev/zero: not a regular file"):
         read_record("/dev/zero")

@@ -266,9 +266,10 @@ def register(main: click.Group) -> None:
         out_path = out_path or "results/sweep.nc"
         folder, name = os.path.split(out_path)
         stem, ext = os.path.splitext(name)
-        if ext.lower() not in (".nc", ".csv"):  # p.xyz was written as NetCDF, unsaid
+        if ext.lower() not in (".nc", ".nc4", ".cdf", ".netcdf", ".csv"):  # p.xyz was NetCDF, unsaid
             raise click.BadParameter(
-                f"{out_path!r}: expected a .nc (NetCDF) or .csv file name", param_hint="--out"
+                f"{out_path!r}: expected a .nc (NetCDF; or .nc4, .cdf, .netcdf) or .csv file name",
+                param_hint="--out",
             )
         with OutputFolder(folder or ".", f"sweep {stem}", overwrite=overwrite) as out:
             # the outputs are checked before the (possibly long) sweep starts
