@@ -246,7 +246,10 @@ def test_outputs_and_inputs_of_the_wrong_kind_are_refused(tmp_path: Path) -> Non
     res = CliRunner().invoke(
         main, ["sweep", "--nu", "0.1,0.2", "--c", "3.8", "--out", str(tmp_path / "p.xyz")]
     )
-    assert res.exit_code == 2 and "expected a .nc (NetCDF; or .nc4, .cdf, .netcdf) or .csv file name" in res.output
+    assert (
+        res.exit_code == 2
+        and "expected a .nc (NetCDF; or .nc4, .cdf, .netcdf) or .csv file name" in res.output
+    )
     assert not (tmp_path / "p.xyz").exists()  # NetCDF under another name, before
     with pytest.raises(DataError, match="/dev/zero: not a regular file"):
         read_record("/dev/zero")
@@ -261,3 +264,22 @@ def test_a_protocol_stage_of_absurd_length_is_refused() -> None:
     p = RateStateParameters(a=0.01, b=0.015, dc="10 um", v_ref="1 um/s", mu0=0.6, stiffness_per_load="5 1/mm")
     with pytest.raises(ValueError, match=r"history\[1\] duration=.* s: expected at most 1e9 s"):
         velocity_steps(p, ["1 um/s", "10 um/s"], durations=["5 s", "1e308 s"])
+
+
+def test_numbers_derived_from_the_typed_ones_are_named_by_what_was_typed(tmp_path: Path) -> None:
+    from stickslip import Q_, zv_parameters
+    from stickslip.ratestate.cycles import SpringSliderFault
+    from stickslip.ratestate.model import RateStateParameters
+
+    with pytest.raises(ValueError, match="beta='1e-300 s/m' makes the mass 0 kg"):
+        zv_parameters(beta="1e-300 s/m")  # was 'mass=0 kg must be positive'
+    with pytest.raises(
+        ValueError, match=r"at the grid point stiffness=1e\+308 N/m \(SI\), nu = beta v0 = 5\.3"
+    ):
+        sweep(zv_parameters("10 um/s"), {"stiffness": Q_([1e308, 62.0], "N/m")})  # was 'nu[0]=5.3e+149'
+    for make in (
+        lambda: SpringSliderFault(dc="1e-320 m"),  # was 'stiffness inf >= critical inf'
+        lambda: RateStateParameters(a=0.01, b=0.015, dc="1e-320 m", v_ref="1 um/s", mu0=0.6),
+    ):
+        with pytest.raises(ValueError, match="dc=1×10⁻³²⁰ m: expected a slip distance between 1 pm and 1 km"):
+            make()

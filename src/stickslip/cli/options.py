@@ -576,8 +576,14 @@ def _setup_mass(o: dict[str, Any], mu_s: Any) -> None:
     beta = parse_quantity(o["beta"], "beta", "[time] / [length]", "42 s/m")
     k = parse_quantity(o["stiffness"], "stiffness", "[mass] / [time] ** 2", "62 N/m")
     w = parse_quantity(o["load"], "load", "[force]", "196 mN")
-    m = mass_for_beta(beta.to("s/m").magnitude, k.to("N/m").magnitude, w.to("N").magnitude, float(mu_s))
-    o["mass"] = Q_(float(m), "kg")
+    m = float(
+        mass_for_beta(beta.to("s/m").magnitude, k.to("N/m").magnitude, w.to("N").magnitude, float(mu_s))
+    )
+    if not 0.0 < m < float("inf"):  # 'mass=0 kg must be positive', a mass never typed
+        raise ValueError(
+            f"beta={o['beta']!r} makes the mass {m:g} kg: expected a beta whose mass is positive"
+        )
+    o["mass"] = Q_(m, "kg")
 
 
 def _physical_setup(opts: dict[str, Any], what: str) -> dict[str, Any]:

@@ -33,6 +33,7 @@ import xarray as xr
 from .. import defaults
 from ..bifurcation.attractors import polish_rows
 from ..core.api import Kernel, run_attractors
+from ..core.checks import NU_MAX, NU_MIN
 from ..core.cuda import release_buffers, release_idle_buffers, resolve_backend
 from ..core.laws import N_LAW_PARAMS
 from ..core.memory import check_memory
@@ -394,6 +395,14 @@ class SweepPlan:
         base = self.base
         if isinstance(base, PhysicalParameters):
             nu, law_nd, scales = _physical_to_dimensionless(base, flat, n)
+            bad = ~((nu >= NU_MIN) & (nu <= NU_MAX))  # NaN too
+            if bad.any():  # 'nu[0]=5.3e+149', a number never typed: name the point's settings
+                i = int(np.argmax(bad))
+                point = ", ".join(f"{k}={float(flat[k][i]):.4g} {_unit_of(base, k)}".rstrip() for k in flat)
+                raise ValueError(
+                    f"at the grid point {point} (SI), nu = beta v0 = {float(nu[i]):.4g}: expected "
+                    f"{NU_MIN:g} to {NU_MAX:g}; check the swept values' units and magnitudes"
+                )
         else:
             nu, law_nd = _dimensionless_arrays(base, flat, n)
             scales = None
@@ -550,6 +559,12 @@ def _physical_to_dimensionless(
         spec, stiffness=k, mass=m, load=w, v0=arr("v0", base.v0.to("m/s").magnitude), mu_s=mu, law_si=law_si
     )
     return nu, nd, scales
+
+
+def _unit_of(base: PhysicalParameters, name: str) -> str:
+    """Return the SI unit of a swept parameter of a physical set-up ('' where dimensionless)."""
+    allowed = axes(base)
+    return allowed[name].parameter.unit if name in allowed else ""
 
 
 def _dimensionless_arrays(

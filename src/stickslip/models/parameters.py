@@ -298,6 +298,10 @@ def zv_parameters(v0: Any = "10 um/s", *, b: Any = "0 s/m", beta: Any = ZV_BETA)
     mass = mass_for_beta(
         beta_q.to("s/m").magnitude, ZV_STIFFNESS.to("N/m").magnitude, ZV_LOAD.to("N").magnitude, ZV_MU0
     )
+    if not 0.0 < float(mass) < np.inf:  # 'mass=0 kg must be positive', a mass never typed
+        raise ValueError(
+            f"beta={beta!r} makes the mass {float(mass):g} kg: expected a beta whose mass is positive"
+        )
     return PhysicalParameters(
         mass=Q_(float(mass), "kg"),
         stiffness=ZV_STIFFNESS,

@@ -92,6 +92,8 @@ class SpringSliderFault:
         set_(self, "b", check_number(self.b, "b", what="a positive evolution effect b"))
         set_(self, "f0", check_number(self.f0, "f0", what="a positive reference friction f0"))
         set_(self, "dc", parse_quantity(self.dc, "dc", "[length]", "8 mm"))
+        if not 1e-12 <= float(self.dc.to("m").magnitude) <= 1e3:  # 1e-320 m: 'stiffness inf >= critical inf'
+            raise ValueError(f"dc={self.dc:~P}: expected a slip distance between 1 pm and 1 km")
         set_(
             self, "normal_stress", parse_quantity(self.normal_stress, "normal_stress", "[pressure]", "50 MPa")
         )

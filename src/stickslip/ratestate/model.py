@@ -125,6 +125,10 @@ class RateStateParameters:
             for i, v in enumerate(dcs)
         ]
         set_(self, "b", bs[0] if len(bs) == 1 else tuple(bs))
+        for i, q in enumerate(dcs):  # 1e-320 m ran out of steps, 'too stiff'
+            if not 1e-12 <= float(q.to("m").magnitude) <= 1e3:
+                name = f"dc[{i}]" if len(dcs) > 1 else "dc"
+                raise ValueError(f"{name}={q:~P}: expected a slip distance between 1 pm and 1 km")
         set_(self, "dc", dcs[0] if len(dcs) == 1 else tuple(dcs))
         n = len(bs)
         laws = list(self.state_law) if _many(self.state_law) else [self.state_law]
