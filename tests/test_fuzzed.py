@@ -73,6 +73,16 @@ def test_bad_command_lines_are_one_line_errors_at_once(tmp_path: Path, args: lis
     assert time.perf_counter() - t0 < 30.0  # no run started
 
 
+def test_the_caret_is_the_power_with_the_powers_precedence() -> None:
+    """'1 + w^2' was read as (1 + w)**2 and '2*w^3' as 8*w**3: Python's XOR binds looser than + and *."""
+    for caret, power in (
+        ("1/(1+3*w) + 0.1*w^2", "1/(1+3*w) + 0.1*w**2"),
+        ("2*w^3 + 1", "2*w**3 + 1"),
+        ("1/(1 + w^2^0.5)", "1/(1 + w**2**0.5)"),
+    ):
+        assert ExpressionLaw(caret).spec.expr == ExpressionLaw(power).spec.expr, caret
+
+
 def test_a_formula_beyond_double_precision_is_refused() -> None:
     for text, message in (
         ("1e200*1e200*w + 1", "1.00e\\+400 is beyond double precision"),
@@ -90,8 +100,12 @@ def test_a_header_key_given_twice_is_refused(tmp_path: Path) -> None:
     path.write_text("# v0 = 100 um/s\n# v0 = 200 um/s\n# load = 196 mN\ntime [s],force [N]\n0,1\n1,2\n")
     with pytest.raises(DataError, match=r"line 2 gives v0 = '200 um/s', an earlier line '100 um/s'"):
         read_record(path)
-    path.write_text("# v0 = 100 um/s\n# v0 = 100 um/s\n# load = 196 mN\ntime [s],force [N]\n0,1\n1,2\n2,1\n")
-    assert read_record(path).v0 is not None  # the same value twice is no contradiction
+    # the same value written twice, or another way; notes, channels and comments that repeat (not read)
+    path.write_text(
+        "# v0 = 100 um/s\n# v0 = 0.1 mm/s\n# Note: cleaned with ethanol\n# Note: humidity 40%\n"
+        "# Channel: Fx\n# Channel: Fz\n# load = 196 mN\ntime [s],force [N]\n0,1\n1,2\n2,1\n"
+    )
+    assert read_record(path).v0.to("um/s").magnitude == pytest.approx(100.0)
 
 
 def test_an_index_naming_a_record_twice_is_refused(tmp_path: Path) -> None:
@@ -102,6 +116,14 @@ def test_an_index_naming_a_record_twice_is_refused(tmp_path: Path) -> None:
     )
     with pytest.raises(DataError, match=r"line 3 names 'r1\.csv' again"):
         read_records(tmp_path)
+    for day in ("day1", "day2"):  # two records of one name in two folders are two records
+        (tmp_path / day).mkdir()
+        (tmp_path / day / "run.csv").write_text("time [s],force [N]\n0,1\n1,2\n2,1\n")
+    (tmp_path / "index.csv").write_text(
+        "file,v0 [um/s],load [mN]\nday1/run.csv,100,196\nday2/run.csv,200,196\n"
+    )
+    with pytest.warns(UserWarning, match="not in the index"):
+        assert len(read_records(tmp_path)) == 2
 
 
 def test_chain_does_not_replace_a_file_it_did_not_write(tmp_path: Path) -> None:
@@ -128,6 +150,10 @@ def test_huge_requests_are_refused_before_they_run() -> None:
         sweep(DimensionlessParameters(0.1, WeakeningLaw(c=3.8)), {"nu": range(1, 10**12)})
     with pytest.raises(ValueError, match="expected driving velocities from 1e-15 to 1e\\+12"):
         regime_map(WeakeningLaw(c=3.8), "c", [1.0, 2.0], 1e-20, 1.0)
+    with pytest.raises(
+        ValueError, match="n_nu=200000: expected a whole number of nu points from 5 to 100000"
+    ):
+        regime_map(WeakeningLaw(c=3.8), "c", [1.0, 2.0], 0.1, 1.0, n_nu=200_000)
     assert time.perf_counter() - t0 < 10.0
     assert np.isfinite(ExpressionLaw("1/(1+w)", static=1e12).static)
 
@@ -172,11 +198,15 @@ def test_a_record_sampled_beyond_reason_and_tiny_errors_are_refused(tmp_path: Pa
     from stickslip.data.criterion import classify
 
     path = tmp_path / "r.csv"
+    femto = tmp_path / "md.csv"  # a molecular-dynamics trace, sampled every femtosecond: a record
+    rows = "".join(f"{i},{float(np.sin(i / 5.0))!r}\n" for i in range(50))
+    femto.write_text("time [fs],force [nN]\n" + rows)
+    assert read_record(femto).time[1] == pytest.approx(1e-15)
     t = np.arange(50) * 2.6e-302
     path.write_text(
         "# v0 = 100 um/s\n# load = 196 mN\ntime [s],force [N]\n" + "".join(f"{float(x)!r},1\n" for x in t)
     )
-    with pytest.raises(DataError, match=r"median sample interval is 2\.6e-302 s, below 1e-12 s"):
+    with pytest.raises(DataError, match=r"median sample interval is 2\.6e-302 s, below 1e-200 s"):
         read_record(path)
     with pytest.raises(ValueError, match=r"amplitude_err\[0\]=1e-320: below 1e-100 of its amplitude"):
         classify(np.geomspace(1, 100, 10), np.geomspace(1, 2, 10), np.full(10, 1e-320))
@@ -191,11 +221,17 @@ def test_a_history_whose_columns_disagree_is_said(tmp_path: Path) -> None:
     with pytest.warns(UserWarning, match="disagrees with the velocity column by 490 um at line 3"):
         read_lab_record(path, need_friction=False)
     path.write_text(head + "0,1,0\n10,10,10\n40,1,310\n50,1,320\n")
+    # a hold whose displacement is measured: its noise (0.02 um) is no disagreement
+    x = np.random.default_rng(0).normal(0.0, 0.02, 200)
+    rows = "".join(f"{5.0 * i},0,{float(x[i])!r}\n" for i in range(200))
+    hold = tmp_path / "hold.csv"
+    hold.write_text(head + rows)
     import warnings
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         read_lab_record(path, need_friction=False)  # they agree: nothing said
+        read_lab_record(hold, need_friction=False)
 
 
 def test_a_fits_wild_trial_step_fails_the_model_not_the_fit(tmp_path: Path) -> None:
@@ -262,8 +298,13 @@ def test_a_protocol_stage_of_absurd_length_is_refused() -> None:
     from stickslip.ratestate.protocols import velocity_steps
 
     p = RateStateParameters(a=0.01, b=0.015, dc="10 um", v_ref="1 um/s", mu0=0.6, stiffness_per_load="5 1/mm")
-    with pytest.raises(ValueError, match=r"history\[1\] duration=.* s: expected at most 1e9 s"):
+    with pytest.raises(ValueError, match=r"history\[1\] duration=1e\+308 s: expected at most 1e9 yr"):
         velocity_steps(p, ["1 um/s", "10 um/s"], durations=["5 s", "1e308 s"])
+    from stickslip.ratestate.protocols import _history
+
+    assert _history([("100 s", "1 um/s"), ("100 yr", "0 m/s")])[1][0] == pytest.approx(
+        3.15576e9
+    )  # a long hold
 
 
 def test_numbers_derived_from_the_typed_ones_are_named_by_what_was_typed(tmp_path: Path) -> None:

@@ -33,7 +33,7 @@ from ..laws import DimensionlessLaw, require_dimensionless_law
 from ..laws.spec import check_distinct
 from ..scale.progress import ProgressLike
 from ..scale.store import Block, Layout, Variable
-from .regimes import RegimeDiagram, _grid, pure_slip_orbits_at, regimes
+from .regimes import MAX_GRID, RegimeDiagram, _grid, pure_slip_orbits_at, regimes
 
 __all__ = ["REGIME_CODES", "RegimeMapJob", "criterion_table", "criterion_trial", "regime_map"]
 
@@ -125,8 +125,8 @@ def regime_map(
         raise ValueError(
             f"nu_min={nu_min!r}, nu_max={nu_max!r}: expected driving velocities from {NU_MIN:g} to {NU_MAX:g}"
         )
-    if isinstance(n_nu, bool) or not isinstance(n_nu, int | np.integer) or n_nu < 5:
-        raise ValueError(f"n_nu={n_nu!r}: expected a whole number of nu points >= 5")
+    if isinstance(n_nu, bool) or not isinstance(n_nu, int | np.integer) or not 5 <= n_nu <= MAX_GRID:
+        raise ValueError(f"n_nu={n_nu!r}: expected a whole number of nu points from 5 to {MAX_GRID}")
     job = RegimeMapJob(law, param, vals, float(nu_min), float(nu_max), int(n_nu))
     from ..scale import run_job
 

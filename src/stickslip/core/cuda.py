@@ -25,6 +25,7 @@ checks it without a GPU; ``tools/cuda_ptx.py`` compiles it for a GPU without one
 
 from __future__ import annotations
 
+import contextlib
 import importlib.util
 import math
 import os
@@ -320,18 +321,30 @@ def _drop_slots() -> None:
     global _SLOTS
     if not _SLOTS:
         return
-    for x in _SLOTS:
+    ctx = _SLOTS[0].context  # the slots are made together, in one context
+    pushed = False
+    if ctx is not None:  # current in this thread (a Dask worker's event loop has none of its own)
         try:
-            x.stream.synchronize()
+            ctx.push()
+            pushed = True
         except Exception:  # a context that failed or was reset: its memory went with it
             pass
-    ctx = _SLOTS[0].context  # the slots are made together, in one context
-    _SLOTS = []
-    if ctx is not None:
-        try:
-            ctx.deallocations.clear()
-        except Exception:  # a context that failed or was reset
-            pass
+    try:
+        for x in _SLOTS:
+            try:
+                x.stream.synchronize()
+            except Exception:  # a context that failed or was reset: its memory went with it
+                pass
+        _SLOTS = []
+        if ctx is not None:
+            try:
+                ctx.deallocations.clear()
+            except Exception:  # a context that failed or was reset
+                pass
+    finally:
+        if pushed:
+            with contextlib.suppress(Exception):
+                ctx.pop()
 
 
 def _context() -> Any:

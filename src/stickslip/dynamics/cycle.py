@@ -77,7 +77,7 @@ def validate_tolerances(rtol: float, atol: float) -> tuple[float, float]:
     if not 1e-14 <= r <= 1e-3:
         raise ValueError(f"rtol={rtol!r}: expected a relative tolerance between 1e-14 and 1e-3")
     a = check_number(atol, "atol", what="a positive absolute tolerance")
-    if a < ATOL_MIN:  # a subnormal one ended in step-size-too-small, blaming the friction law
+    if not ATOL_MIN <= a <= 1.0:  # a subnormal one ended in step-size-too-small, blaming the friction law
         raise ValueError(f"atol={atol!r}: expected an absolute tolerance between {ATOL_MIN:g} and 1")
     return r, a
 

@@ -126,8 +126,9 @@ def _si(
     return values * float(q.to(si).magnitude)
 
 
-#: the shortest median sample interval of a record (s): a terahertz, far beyond any force sensor
-MIN_SAMPLE_INTERVAL = 1e-12
+#: the shortest median sample interval of a record (s): a molecular-dynamics trace samples in
+#: femtoseconds (1e-15 s) and is measured as any record; 1e-302 s ended in 'SVD did not converge'
+MIN_SAMPLE_INTERVAL = 1e-200
 
 
 def _too_fast(dt: FloatArray) -> str:
@@ -460,14 +461,16 @@ def read_records(path: str | os.PathLike[str], *, on_error: str = "raise") -> li
                 raise DataError(f"{index}: missing column 'file'")
             out = []
             named = set()
+            listed: set[str] = set()  # real paths: day1/run.csv and day2/run.csv are two records
             for i, (_, row) in enumerate(df.iterrows()):
                 f = os.path.join(p, str(row["file"]).strip())
                 if not os.path.isfile(f):
                     raise DataError(f"{index}: names {row['file']!r}, which is not in {p}")
-                if os.path.basename(f) in named:  # read twice, and counted twice in the criterion
+                if os.path.realpath(f) in listed:  # read twice, and counted twice in the criterion
                     raise DataError(
                         f"{index}: {_lines(df, i)} names {row['file']!r} again: list each record once"
                     )
+                listed.add(os.path.realpath(f))
                 named.add(os.path.basename(f))
                 here = f"{index}: {_lines(df, i)} ({str(row['file']).strip()})"
                 v0 = _quantity(

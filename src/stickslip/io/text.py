@@ -186,7 +186,8 @@ def inspect(path: str | os.PathLike[str], where: str | None = None) -> TextLayou
             m = _META.match(line)
             if m:
                 key, value = meta_key(m.group(1)), m.group(2)
-                if key in meta and meta[key].strip() != value.strip():  # the last line won, silently
+                if key in READ_KEYS and key in meta and not _same_value(meta[key], value):
+                    # the last line won, silently (notes, channels, comments may repeat: not read)
                     raise DataError(
                         f"{shown}: line {i + 1} gives {m.group(1).strip()} = {value.strip()!r}, an earlier "
                         f"line {meta[key].strip()!r}: give it once"
@@ -337,6 +338,29 @@ def _check_widths(layout: TextLayout, names: Sequence[str], shown: str) -> None:
             line0 += newlines.size
             if not block:
                 return
+
+
+#: header keys that stickslip reads (a record's v0 and load under their other names, a
+#: rate-and-state record's set-up): one given twice with different values is refused; other
+#: keys (notes, channels, comments) may repeat, and the last line is kept
+READ_KEYS = frozenset(
+    {"v0", "load", "mu0", "v_ref", "stiffness_per_load", "law", "radiation_damping", "mass", "nagata_c"}
+    | {"driving_velocity", "drive_velocity", "velocity", "v_0", "driving_speed", "sliding_velocity"}
+    | {"sliding_speed", "speed", "normal_load", "normal_force", "fn", "f_n"}
+)
+
+
+def _same_value(a: str, b: str) -> bool:
+    """Return whether two header values agree: as quantities ('100 um/s', '0.1 mm/s'), else as text."""
+    from ..units import ureg
+
+    try:
+        qa: Any = ureg.Quantity(a.strip())
+        qb: Any = ureg.Quantity(b.strip())
+        ratio = float((qb / qa).to("").magnitude)
+        return bool(abs(ratio - 1.0) <= 1e-12)
+    except Exception:  # not quantities, or of different dimensions: the texts
+        return a.strip().lower() == b.strip().lower()
 
 
 def meta_key(key: str) -> str:

@@ -47,7 +47,6 @@ _BINARY = {
     ast.Mult: lambda a, b: a * b,
     ast.Div: lambda a, b: a / b,
     ast.Pow: lambda a, b: a**b,
-    ast.BitXor: lambda a, b: a**b,  # w^3 as written on paper
 }
 
 
@@ -89,7 +88,9 @@ def parse_formula(text: str, name: str, variables: Iterable[str]) -> sp.Expr:
     if len(text) > 2000:
         raise FormulaError(f"{name}: a formula of {len(text)} characters is too long (at most 2000)")
     try:
-        tree = ast.parse(text.strip(), mode="eval")
+        # '^' is the power as written on paper, with the power's precedence: parsed as Python's
+        # XOR it bound looser than + and *, and '1 + w^2' was (1 + w)**2
+        tree = ast.parse(text.strip().replace("^", "**"), mode="eval")
     except SyntaxError as exc:
         raise FormulaError(
             f"{name}={text!r} is not a formula ({exc.msg} at column {exc.offset}); "
@@ -119,7 +120,7 @@ def parse_formula(text: str, name: str, variables: Iterable[str]) -> sp.Expr:
             return sp.Symbol(node.id, real=True)
         if isinstance(node, ast.BinOp) and type(node.op) in _BINARY:
             left, right = build(node.left), build(node.right)
-            if isinstance(node.op, ast.Pow | ast.BitXor):
+            if isinstance(node.op, ast.Pow):
                 _check_power(left, right, name, text)
             return _BINARY[type(node.op)](left, right)
         if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub | ast.UAdd):
@@ -181,5 +182,5 @@ def _check_power(base: sp.Expr, exponent: sp.Expr, name: str, text: str) -> None
         return  # within 1e-400 .. 1e400: sympy's exact value is small, a later check says the rest
     raise FormulaError(
         f"{name}={text!r}: the power {sp.sstr(base)}**{sp.sstr(exponent)} is beyond double precision "
-        "(numbers up to 1.8e308)"
+        "(magnitudes from 1e-308 to 1.8e308)"
     )

@@ -395,17 +395,25 @@ def _run_dask(
 
 
 def _clean_workers(job: Any, client: Any) -> None:
-    """Run the job's ``worker_cleanup()`` on every worker of an existing cluster (best effort).
+    """Send the job's ``worker_cleanup()`` to every worker of an existing cluster (best effort).
 
-    A worker busy elsewhere or a cluster lost mid-job is not waited for: what is
-    released is a worker's memory, not the job's result.
+    Sent, not waited for (a worker whose event loop is held by another job's task runs
+    it later), and not sent to a cluster lost mid-job: what is released is a worker's
+    memory, not the job's result.
     """
     cleanup = getattr(job, "worker_cleanup", None)
     fn = cleanup() if cleanup is not None else None
-    if fn is None:
+    if fn is None or getattr(client, "status", None) != "running":  # a lost one: its reconnect waits 30 s
         return
-    with contextlib.suppress(Exception):  # a lost cluster, a worker gone: nothing to release there
-        client.run(fn, wait=True)
+    with contextlib.suppress(Exception):  # a worker gone: nothing to release there
+        # sent, not waited for: a worker busy elsewhere runs it when it can (distributed runs a
+        # function without waiting only as a coroutine)
+        client.run(_cleanup_coroutine, fn, wait=False)
+
+
+async def _cleanup_coroutine(fn: Callable[[], Any]) -> None:
+    """Run a job's clean-up on a worker (the coroutine that ``client.run(..., wait=False)`` needs)."""
+    fn()
 
 
 def run_job(
