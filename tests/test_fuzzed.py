@@ -26,19 +26,7 @@ from stickslip.io.records import read_record, read_records
 from stickslip.laws import ExpressionLaw, WeakeningLaw
 from stickslip.laws.formula import FormulaError
 
-CHAIN = [
-    "chain",
-    "--blocks",
-    "10",
-    "--law",
-    "carlson-langer",
-    "--alpha",
-    "2.5",
-    "--sigma",
-    "0.01",
-    "--nu",
-    "0.01",
-]
+CHAIN = "chain --blocks 10 --law carlson-langer --alpha 2.5 --sigma 0.01 --nu 0.01".split()
 
 
 @pytest.mark.parametrize(
