@@ -16,6 +16,8 @@ from typing import Any
 import numpy as np
 import pint
 
+from .core.checks import bound_words
+
 ureg: pint.UnitRegistry = pint.UnitRegistry()
 Q_ = ureg.Quantity
 
@@ -231,10 +233,8 @@ def check_number(
     x = float(value)
     _check_finite_sign(name, value, x, allow_zero, what)
     if upper is not None and (x > upper or (x == upper and not upper_inclusive)):
-        if "at most" in what or "below" in what:  # the bound is in the words already
-            raise ValueError(f"{name}={value!r}: expected {what}")
         rel = "<=" if upper_inclusive else "<"
-        raise ValueError(f"{name}={value!r}: expected {what} {rel} {upper:g}")
+        raise ValueError(f"{name}={value!r}: expected {what}{bound_words(what, f' {rel} {upper:g}')}")
     return x
 
 

@@ -40,7 +40,7 @@ __all__ = ["EnsembleJob", "chain_ensemble"]
 #: the largest seed of a member (the store's seed coordinate is int64)
 _SEED_MAX = 2**63 - 1
 #: members of one ensemble at most (a block of its store each)
-_MEMBERS_MAX = 1_000_000
+MAX_MEMBERS = 1_000_000
 
 #: each member's numbers: name -> (dtype, long name); "status" as ChainStatus codes
 _FIELDS: dict[str, tuple[str, str]] = {
@@ -118,8 +118,8 @@ def chain_ensemble(
     if isinstance(seeds, str) or not isinstance(seeds, Sequence | np.ndarray | range):
         raise ValueError(f"seeds={seeds!r}: expected a sequence of whole numbers")
     # whole numbers, checked: seeds=[1.7, 2.2] once ran the members of seeds 1 and 2
-    if len(seeds) > _MEMBERS_MAX:  # range(10**12) was checked seed by seed, for minutes
-        raise ValueError(f"seeds: {len(seeds)} members; expected at most {_MEMBERS_MAX} in one ensemble")
+    if len(seeds) > MAX_MEMBERS:  # range(10**12) was checked seed by seed, for minutes
+        raise ValueError(f"seeds: {len(seeds)} members; expected at most {MAX_MEMBERS} in one ensemble")
     what = "a whole-number seed"
     checked = [check_count(s, f"seeds[{i}]", minimum=0, what=what) for i, s in enumerate(seeds)]
     too_big = next((i for i, s in enumerate(checked) if s > _SEED_MAX), None)

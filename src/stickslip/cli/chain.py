@@ -362,19 +362,17 @@ def _mc(text: str) -> float | str | None:
     return value
 
 
-#: members of one ensemble from the command line (a store of a block each)
-MAX_SEEDS = 1_000_000
-
-
 def _seeds(text: str) -> list[int]:
     try:
         if ".." in text:
             a, b = (int(x) for x in text.split(".."))
             if b < a:
                 raise ValueError
-            if b - a + 1 > MAX_SEEDS:  # 0..100000000000 was a MemoryError
+            from ..chains.ensemble import MAX_MEMBERS  # the API's own bound, before the list is made
+
+            if b - a + 1 > MAX_MEMBERS:  # 0..100000000000 was a MemoryError
                 raise click.UsageError(
-                    f"--seeds={text!r}: {b - a + 1} members; expected at most {MAX_SEEDS} in one ensemble "
+                    f"--seeds={text!r}: {b - a + 1} members; expected at most {MAX_MEMBERS} in one ensemble "
                     "(run more as ensembles of their own)"
                 )
             seeds = list(range(a, b + 1))

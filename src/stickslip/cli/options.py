@@ -34,7 +34,7 @@ from ..models.parameters import (
     ZV_STIFFNESS,
     DimensionlessParameters,
     PhysicalParameters,
-    mass_for_beta,
+    mass_of_beta,
     zv_parameters,
 )
 from ..units import Q_, parse_quantity, ureg
@@ -576,14 +576,7 @@ def _setup_mass(o: dict[str, Any], mu_s: Any) -> None:
     beta = parse_quantity(o["beta"], "beta", "[time] / [length]", "42 s/m")
     k = parse_quantity(o["stiffness"], "stiffness", "[mass] / [time] ** 2", "62 N/m")
     w = parse_quantity(o["load"], "load", "[force]", "196 mN")
-    m = float(
-        mass_for_beta(beta.to("s/m").magnitude, k.to("N/m").magnitude, w.to("N").magnitude, float(mu_s))
-    )
-    if not 0.0 < m < float("inf"):  # 'mass=0 kg must be positive', a mass never typed
-        raise ValueError(
-            f"beta={o['beta']!r} makes the mass {m:g} kg: expected a beta whose mass is positive"
-        )
-    o["mass"] = Q_(m, "kg")
+    o["mass"] = Q_(mass_of_beta(o["beta"], beta, k, w, float(mu_s)), "kg")
 
 
 def _physical_setup(opts: dict[str, Any], what: str) -> dict[str, Any]:

@@ -20,6 +20,7 @@ __all__ = [
     "MAX_STATE",
     "NU_MAX",
     "NU_MIN",
+    "bound_words",
     "finite_array",
     "integer",
     "positive",
@@ -56,9 +57,13 @@ def positive(name: str, value: Any, *, upper: float | None = None, what: str = "
     if not math.isfinite(x) or x <= 0.0:
         raise ValueError(f"{name}={value!r}: expected {what}")
     if upper is not None and x > upper:
-        bound = "" if "at most" in what or "below" in what else f" of at most {upper:g}"  # not said twice
-        raise ValueError(f"{name}={value!r}: expected {what}{bound}")
+        raise ValueError(f"{name}={value!r}: expected {what}{bound_words(what, f' of at most {upper:g}')}")
     return x
+
+
+def bound_words(what: str, words: str) -> str:
+    """Return ``words`` naming a bound, or nothing where ``what`` says it already ('at most 1e12')."""
+    return "" if "at most" in what or "below" in what else words
 
 
 def tolerances(rtol: Any, atol: Any) -> tuple[float, float]:

@@ -238,9 +238,9 @@ def check_kernel(one: Any) -> None:
 
     """
     package = sys.modules.get(getattr(one, "__module__", "").rsplit(".", 1)[0] + ".laws")
-    pieces = getattr(package, "_N", None) if hasattr(package, "_TABLE") else None
-    rows = None if pieces is None else pieces + 1  # the table's rows: its pieces' ends
-    if rows is not None and rows > MAX_TABLE_ROWS:
+    table = getattr(package, "_TABLE", None)  # five numbers a piece, the table's rows its pieces' ends
+    rows = 0 if table is None else table.size // 5 + 1
+    if rows > MAX_TABLE_ROWS:
         raise ValueError(
             f"a table of {rows} rows: the GPU kernel holds at most {MAX_TABLE_ROWS} "
             "(its constant memory); thin the table, or use backend='cpu'"

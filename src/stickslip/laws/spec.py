@@ -33,7 +33,7 @@ import pint
 import sympy as sp
 
 from ..units import Q_, check_number, parse_quantity, ureg
-from .formula import parse_formula
+from .formula import _float, parse_formula
 
 __all__ = ["STATIC", "LawSpec", "Parameter"]
 
@@ -404,7 +404,7 @@ class LawSpec:
             if c.has(*bad, sp.Limit):  # infinite, or a limit sympy cannot take (sign(w - 0.5) inside)
                 break
             term = c / sp.factorial(k)
-            if term.is_Number and not math.isfinite(abs(float(term))):  # 1/(1 + 1e200*w): 1e400 w**2
+            if term.is_Number and not math.isfinite(_float(term)):  # 1/(1 + 1e200*w): 1e400 w**2
                 break
             terms.append(term * W**k)
         if not terms:

@@ -54,6 +54,20 @@ def mass_for_beta(
     return (b * force) ** 2 / np.asarray(stiffness, dtype=float)
 
 
+def mass_of_beta(given: Any, beta: pint.Quantity, stiffness: Any, load: Any, mu_s: float) -> float:
+    """Return the mass (kg) that gives one ``beta``, refusing one that is zero or infinite.
+
+    ``given`` is ``beta`` as the user gave it, for the message: 'mass=0 kg must be
+    positive' named a mass never typed.
+    """
+    mass = float(
+        mass_for_beta(beta.to("s/m").magnitude, stiffness.to("N/m").magnitude, load.to("N").magnitude, mu_s)
+    )
+    if not 0.0 < mass < np.inf:
+        raise ValueError(f"beta={given!r} makes the mass {mass:g} kg: expected a beta whose mass is positive")
+    return mass
+
+
 @dataclass(frozen=True)
 class DimensionlessParameters:
     """The dimensionless model: driving velocity ``nu`` and a dimensionless law.
@@ -295,13 +309,7 @@ def zv_parameters(v0: Any = "10 um/s", *, b: Any = "0 s/m", beta: Any = ZV_BETA)
 
     """
     beta_q = parse_quantity(beta, "beta", "[time] / [length]", "42 s/m")
-    mass = mass_for_beta(
-        beta_q.to("s/m").magnitude, ZV_STIFFNESS.to("N/m").magnitude, ZV_LOAD.to("N").magnitude, ZV_MU0
-    )
-    if not 0.0 < float(mass) < np.inf:  # 'mass=0 kg must be positive', a mass never typed
-        raise ValueError(
-            f"beta={beta!r} makes the mass {float(mass):g} kg: expected a beta whose mass is positive"
-        )
+    mass = mass_of_beta(beta, beta_q, ZV_STIFFNESS, ZV_LOAD, ZV_MU0)
     return PhysicalParameters(
         mass=Q_(float(mass), "kg"),
         stiffness=ZV_STIFFNESS,

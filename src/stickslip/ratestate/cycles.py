@@ -34,14 +34,12 @@ from scipy.integrate import solve_ivp
 
 from ..core import ratestate as core
 from ..units import check_number, parse_quantity
+from .model import MAX_DURATION, YEAR, check_dc
 
 __all__ = ["BP1", "CycleRun", "SpringSliderFault", "earthquake_cycles", "recurrence_estimate"]
 
 FloatArray = npt.NDArray[np.float64]
-YEAR = 365.25 * 24 * 3600.0
 CHUNK = 1e7  # s: the integrations restart their clocks this often (the step stays resolved)
-#: the longest simulated time (s): a billion years, far beyond the events one run locates
-MAX_DURATION = 1e9 * YEAR
 
 
 @dataclass(frozen=True)
@@ -92,8 +90,7 @@ class SpringSliderFault:
         set_(self, "b", check_number(self.b, "b", what="a positive evolution effect b"))
         set_(self, "f0", check_number(self.f0, "f0", what="a positive reference friction f0"))
         set_(self, "dc", parse_quantity(self.dc, "dc", "[length]", "8 mm"))
-        if not 1e-12 <= float(self.dc.to("m").magnitude) <= 1e3:  # 1e-320 m: 'stiffness inf >= critical inf'
-            raise ValueError(f"dc={self.dc:~P}: expected a slip distance between 1 pm and 1 km")
+        check_dc(self.dc, "dc")
         set_(
             self, "normal_stress", parse_quantity(self.normal_stress, "normal_stress", "[pressure]", "50 MPa")
         )

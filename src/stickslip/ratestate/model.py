@@ -31,6 +31,16 @@ __all__ = ["STATE_LAWS", "RateStateParameters"]
 
 STATE_LAWS = ("aging", "slip", "prz", "nagata")
 FORMS = ("log", "regularized")
+YEAR = 365.25 * 24 * 3600.0
+#: the longest simulated time (s) of a run or of one stage of a protocol: a billion years (a
+#: hold of 100 yr, healing over an interseismic interval, is a standard exercise)
+MAX_DURATION = 1e9 * YEAR
+
+
+def check_dc(dc: pint.Quantity, name: str) -> None:
+    """Refuse a slip distance outside 1 pm .. 1 km (1e-320 m: 'stiffness inf' or 'too stiff')."""
+    if not 1e-12 <= float(dc.to("m").magnitude) <= 1e3:
+        raise ValueError(f"{name}={dc:~P}: expected a slip distance between 1 pm and 1 km")
 
 
 def _many(value: Any) -> bool:
@@ -125,10 +135,8 @@ class RateStateParameters:
             for i, v in enumerate(dcs)
         ]
         set_(self, "b", bs[0] if len(bs) == 1 else tuple(bs))
-        for i, q in enumerate(dcs):  # 1e-320 m ran out of steps, 'too stiff'
-            if not 1e-12 <= float(q.to("m").magnitude) <= 1e3:
-                name = f"dc[{i}]" if len(dcs) > 1 else "dc"
-                raise ValueError(f"{name}={q:~P}: expected a slip distance between 1 pm and 1 km")
+        for i, q in enumerate(dcs):
+            check_dc(q, f"dc[{i}]" if len(dcs) > 1 else "dc")
         set_(self, "dc", dcs[0] if len(dcs) == 1 else tuple(dcs))
         n = len(bs)
         laws = list(self.state_law) if _many(self.state_law) else [self.state_law]

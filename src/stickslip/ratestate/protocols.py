@@ -30,7 +30,7 @@ from ..core import radau
 from ..core import ratestate as core
 from ..units import Q_, parse_quantity
 from ..userwarnings import warn
-from .model import RateStateParameters, jacobian, steady_state
+from .model import MAX_DURATION, RateStateParameters, jacobian, steady_state
 
 __all__ = [
     "RateStateStopped",
@@ -42,11 +42,6 @@ __all__ = [
 ]
 
 FloatArray = npt.NDArray[np.float64]
-
-
-#: the longest stage of a protocol (s): a billion years, as earthquake cycles' longest run (a
-#: hold of 100 yr, healing over an interseismic interval, is a standard exercise)
-MAX_STAGE = 1e9 * 365.25 * 24 * 3600.0
 
 
 def _history(history: Any) -> list[tuple[float, float]]:
@@ -62,9 +57,10 @@ def _history(history: Any) -> list[tuple[float, float]]:
         d = parse_quantity(dur, f"history[{i}] duration", "[time]", "10 s")
         v = parse_quantity(vel, f"history[{i}] velocity", "[length] / [time]", "1 um/s", allow_zero=True)
         seconds = float(d.to("s").magnitude)
-        if not seconds <= MAX_STAGE:  # '1e308 s' ran out of steps, 'too stiff'
+        if not seconds <= MAX_DURATION:  # '1e308 s' ran out of steps, 'too stiff'
             raise ValueError(
-                f"history[{i}] duration={seconds:.4g} s: expected at most 1e9 yr ({MAX_STAGE:.3g} s) a stage"
+                f"history[{i}] duration={seconds:.4g} s: expected at most 1e9 yr "
+                f"({MAX_DURATION:.3g} s) a stage"
             )
         out.append((seconds, float(v.to("m/s").magnitude)))
     if not out:
