@@ -15,6 +15,9 @@ the same tolerances, a terminal event at ``w = 0`` located by Newton's method, `
 over the sets, double precision) on JAX's default device: phases per second and the
 spring force at the stop against the engine's.
 
+The same F1 call then keeps only a sweep's 12 fields, and only status, regime and
+amplitude (``fields=``: the rest stay on the GPU), end to end.
+
 Then, on fewer sets (``--n-extra``), the GPU's cycles per second for F2, the cubic law, a
 law typed as a formula and a measured table (600 rows), for F1 at other block sizes and
 register limits, with one, two or three CUDA streams at launches of 2^18 rows, and for F1 with
@@ -37,6 +40,7 @@ from unittest import mock
 import numpy as np
 from bench_cycles import ATOL, RTOL, workload
 
+from stickslip.bifurcation.attractors import POLISH_FIELDS
 from stickslip.core import api
 from stickslip.core import cuda as core_cuda
 from stickslip.core.api import run_attractors, threads
@@ -151,6 +155,7 @@ def main() -> None:
         f"end {times['span']:.3f} s = {args.n / times['span']:14.0f} cycles/s "
         f"({core_cuda.STREAMS} streams, launches of {core_cuda.MAX_BATCH} rows at most)"
     )
+    _kept_fields(kernel, lp, nu, kw, gpu)
     print(f"CPU  : {m:10d} cycles in {t_cpu:8.3f} s = {m / t_cpu:14.0f} cycles/s ({threads()} threads)")
     print(f"       {m1:10d} cycles in {t_one:8.3f} s = {m1 / t_one:14.0f} cycles/s (one thread)")
     print(f"ratio: {(args.n / t_gpu) / (m / t_cpu):.1f} x the CPU engine")
@@ -177,6 +182,24 @@ def main() -> None:
         f"(compile {t_dc:.1f} s); the GPU engine's cycles/s are {(args.n / t_gpu) / (k / t_d):.1f} x"
     )
     print(f"  spring force at the stop against the engine's: largest relative difference {drel.max():.3e}")
+
+
+def _kept_fields(kernel: object, lp: np.ndarray, nu: np.ndarray, kw: dict, full: object) -> None:
+    """End to end where only some fields cross back (``fields=``): a sweep's 12, a verdict's 3."""
+    for label, fields in {
+        "a sweep's 12 fields": POLISH_FIELDS,
+        "status, regime, amplitude": ("status", "regime", "amplitude"),
+    }.items():
+        run_attractors(kernel, lp, nu, backend="cuda", fields=fields, **kw)  # its stream buffers made
+        t0 = time.perf_counter()
+        got = run_attractors(kernel, lp, nu, backend="cuda", fields=fields, **kw)
+        dt = time.perf_counter() - t0
+        same = all(np.array_equal(getattr(got, x), getattr(full, x), equal_nan=True) for x in fields)
+        print(
+            f"       keeping {label:26s}: {nu.size:10d} cycles in {dt:7.3f} s = {nu.size / dt:14.0f} "
+            f"cycles/s{_kernels(nu.size)}; the host copying out {core_cuda.TIMES['copy_out']:.3f} s; "
+            f"the same numbers as all 21 kept: {same}"
+        )
 
 
 def _other_laws_and_launches(n: int, nu: np.ndarray, c: np.ndarray, kw: dict) -> None:

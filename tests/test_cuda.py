@@ -151,8 +151,8 @@ s0, w0 = rng.uniform(-0.5, 0.9, n), rng.uniform(0.0, 2.0, n)
 out = run_attractors(WeakeningLaw(c=1.0).kernel, c[:, None], nu, s0=s0 if start else None,
                      w0=w0 if start else None, from_breakaway=not start, rtol=1e-10, atol=1e-12,
                      max_slip_time=float(sys.argv[1]), conv_tol=1e-8, max_steps=int(sys.argv[2]),
-                     backend=sys.argv[3])
-print(json.dumps(out.raw.tolist()))
+                     backend=sys.argv[3], fields=sys.argv[6].split(",") if len(sys.argv) > 6 else None)
+print(json.dumps({"raw": out.raw.tolist(), "fields": out.fields}))
 """.replace("DEFERRED", repr(_DEFERRED_STREAMS))
 
 
@@ -186,7 +186,7 @@ def test_rows_and_statuses_equal_the_cpu_engine(
         env=SIM, capture_output=True, text=True, timeout=600,
     )  # fmt: skip
     assert run.returncode == 0, run.stderr
-    gpu = np.array(json.loads(run.stdout), dtype=float)
+    gpu = np.array(json.loads(run.stdout)["raw"], dtype=float)
     rng = np.random.default_rng(7)
     nu = 10 ** rng.uniform(-4, 1.3, 40)
     c = rng.uniform(0.5, 30.0, 40)
@@ -221,6 +221,35 @@ def test_rows_and_statuses_equal_the_cpu_engine(
         assert codes == {0} and regimes == {0, 1}  # stick-slip and pure slip, all ok
     else:
         assert len(codes) == 3 and len(regimes) == 3  # two ways to fail beside ok
+
+
+@needs_numba_cuda
+@pytest.mark.parametrize("streams", ["at-once", "deferred"])
+def test_only_the_fields_kept_cross_back_from_the_gpu(streams: str) -> None:
+    """``fields=``: a kernel on the GPU gathers the kept columns side by side, on the launch's
+    stream, before they are copied back; they equal the CPU engine's columns (three launches).
+    On deferred streams a gather or a copy out of order would read zeros or stale rows."""
+    fields = ["status", "regime", "amplitude", "s_stop", "fnu"]
+    run = subprocess.run(
+        [sys.executable, "-c", _ROWS, "1e4", "2000000", "cuda", "breakaway", streams, ",".join(fields)],
+        env=SIM, capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    got = json.loads(run.stdout)
+    assert got["fields"] == fields  # the layout's order
+    gpu = np.array(got["raw"], dtype=float)
+    assert gpu.shape == (40, len(fields))
+    rng = np.random.default_rng(7)
+    nu = 10 ** rng.uniform(-4, 1.3, 40)
+    c = rng.uniform(0.5, 30.0, 40)
+    cpu = run_attractors(
+        WeakeningLaw(c=1.0).kernel, c[:, None], nu, from_breakaway=True, rtol=1e-10, atol=1e-12,
+        max_slip_time=1e4, conv_tol=1e-8,
+    )  # fmt: skip
+    want = np.column_stack([getattr(cpu, x) for x in fields])
+    np.testing.assert_array_equal(gpu[:, :2], want[:, :2])
+    np.testing.assert_allclose(gpu[:, 2:], want[:, 2:], rtol=1e-9)
+    assert set(cpu.regime.tolist()) == {0, 1}
 
 
 _STOPPED = """

@@ -2,10 +2,11 @@
 
 Checks that the engine's source compiles for CUDA as it is (numba-cuda's typing and
 NVVM) and that the PTX assembles and links for the target (nvJitLink, ptxas), law by
-law, where no GPU can run it: the simulator of the test suite runs the engine as Python
-and cannot tell. (A table of 1700 rows does not link: its constant memory; the backend
-refuses tables over ``MAX_TABLE_ROWS``, 1600, in one line.) Needs numba-cuda with the CUDA toolkit's NVVM
-(``pip install "stickslip[cuda]"``). numba-cuda asks the current device for its
+law (and the small kernel that gathers the columns a caller keeps), where no GPU can
+run it: the simulator of the test suite runs the engine as Python and cannot tell.
+(A table of 1700 rows does not link: its constant memory; the backend refuses tables
+over ``MAX_TABLE_ROWS``, 1600, in one line.) Needs numba-cuda with the CUDA toolkit's
+NVVM (``pip install "stickslip[cuda]"``). numba-cuda asks the current device for its
 compute capability when it compiles a device function, even for PTX alone; with no
 device that question is answered here with the target's.
 
@@ -63,6 +64,12 @@ def main() -> None:
     for rows in (1600, 1700):  # MAX_TABLE_ROWS, and beyond
         v = np.linspace(0.0, 0.05, rows)
         kernels[f"table ({rows} velocities)"] = TabulatedLaw(Q_(v, "m/s"), 0.46 / (1 + 160 * v)).spec.kernel()
+    t0 = time.perf_counter()
+    ptx, _ = compile_ptx(_cuda_kernel._gather, (f2, i1, f2), cc=cc)
+    print(
+        f"{'gather (the kept columns)':34s} PTX for sm_{cc[0]}{cc[1]}: {len(ptx.splitlines()):6d} lines, "
+        f"compiled in {time.perf_counter() - t0:.1f} s; {_link(ptx, cc)}"
+    )
     for name, kernel in kernels.items():
         kern = _cuda_kernel.make(kernel.engine.attractor_ws)
         t0 = time.perf_counter()

@@ -41,6 +41,7 @@ from ..userwarnings import warn
 from .orbits import law_arrays, return_map_orbit_core
 
 __all__ = [
+    "POLISH_FIELDS",
     "SAME_ORBIT_RTOL",
     "SHOOTING_TOL",
     "NoisyOrbitWarning",
@@ -116,7 +117,10 @@ def _steady(rows: AttractorRows, i: int, nu: float) -> None:
     r = rows[i]
     r.status = Status.OK.code
     r.regime = Regime.STEADY_SLIDING.code
-    r.amplitude = r.stick_time = r.drive_work = r.friction_work = 0.0
+    r.amplitude = r.stick_time = 0.0
+    for name in ("drive_work", "friction_work"):  # rows of a sweep do not keep them
+        if r.keeps(name):
+            setattr(r, name, 0.0)
     r.period = math.nan
     r.s_max = r.s_min = r.fnu
     r.w_max = r.w_min = nu
@@ -157,6 +161,13 @@ def _say_noisy(error: np.ndarray) -> None:
     )
 
 
+#: the fields of the engine's rows that :func:`polish_rows` reads or writes (a sweep keeps these)
+POLISH_FIELDS = (
+    "status", "regime", "amplitude", "period", "stick_time", "s_max", "s_min", "w_max", "w_min",
+    "n_backward", "dfnu", "fnu",
+)  # fmt: skip
+
+
 def polish_rows(
     law: DimensionlessLaw | tuple[Kernel, np.ndarray],
     nu: np.ndarray,
@@ -176,7 +187,8 @@ def polish_rows(
     nu : ndarray, shape (n,)
         Driving velocity of each row.
     rows : AttractorRows
-        Output of :func:`~stickslip.core.api.run_attractors` (not modified).
+        Output of :func:`~stickslip.core.api.run_attractors` (not modified), keeping
+        at least :data:`POLISH_FIELDS` (and the work integrals with ``rerun``).
     rerun : bool, optional
         Restart the engine on each polished orbit to measure the work of the
         drive and of friction over one cycle on it (the engine's own cycle was a
@@ -204,6 +216,10 @@ def polish_rows(
         where unknown.
 
     """
+    need = POLISH_FIELDS + (("drive_work", "friction_work") if rerun else ())
+    missing = [x for x in need if not rows.keeps(x)]
+    if missing:
+        raise ValueError(f"polish_rows: the rows do not keep {', '.join(missing)} (run_attractors' fields)")
     rows = rows.copy()
     nu = np.asarray(nu, dtype=float)
     n = len(rows)

@@ -10,7 +10,7 @@ model layer does that before calling them.
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
 from types import ModuleType
@@ -136,6 +136,7 @@ def run_attractors(
     max_steps: int = 2_000_000,
     on_rows: Callable[[int], None] | None = None,
     backend: str = "cpu",
+    fields: Sequence[str] | None = None,
 ) -> AttractorRows:
     """Run the attractor kernel for each row, in parallel.
 
@@ -168,6 +169,11 @@ def run_attractors(
         Where the rows run: this machine's cores (default), a CUDA GPU (the same
         kernel compiled by numba-cuda, :mod:`stickslip.core.cuda`), or the GPU
         where one is usable.
+    fields : sequence of str, optional
+        The fields of :class:`AttractorRows` to keep (default: all). The rows
+        returned keep only these; on a GPU only these cross back to the host
+        (a sweep keeps 12 of the 21: the copies of the results bound the GPU's
+        speed, docs/gpu.md).
 
     Returns
     -------
@@ -186,6 +192,7 @@ def run_attractors(
     max_slip_time = checks.positive("max_slip_time", max_slip_time, upper=1e12)
     conv_tol = checks.positive("conv_tol", conv_tol, upper=0.1, what="a relative tolerance below 0.1")
     max_steps = checks.integer("max_steps", max_steps, lo=10, hi=10**9)
+    kept = None if fields is None else AttractorRows.check_fields(fields)
     nu_a = np.array(np.atleast_1d(_nu(nu)), order="C")
     n = nu_a.shape[0]
     kernel = _kernel(law)
@@ -194,14 +201,16 @@ def run_attractors(
     z = np.zeros(n)
     s0_a = z if s0 is None else _broadcast("s0", checks.finite_array("s0", s0), (n,))
     w0_a = z if w0 is None else _broadcast("w0", checks.finite_array("w0", w0), (n,))
-    out = np.empty((n, engine.NOUT))
     if on_gpu:
         check_memory(n * (BYTES_PER_ROW + cuda.HOST_BYTES_PER_ROW), f"{n} parameter sets on the GPU")
+        columns = np.arange(engine.NOUT) if kept is None else np.array([_LAYOUT[x] for x in kept])
+        out = np.empty((n, columns.size))
         cuda.run_attractors_cuda(
             kernel.engine.attractor_ws, law_a, lp_a, nu_a, s0_a, w0_a, bool(from_breakaway), rtol, atol,
-            max_slip_time, conv_tol, bool(diag), max_steps, out, on_rows,
+            max_slip_time, conv_tol, bool(diag), max_steps, out, on_rows, columns,
         )  # fmt: skip
-        return AttractorRows(out)
+        return AttractorRows(out, kept)
+    out = np.empty((n, engine.NOUT))
     if n <= SERIAL_ROWS:
         # a few rows (one command's cycle): the per-row kernel that attractor_rows calls,
         # straight from here, so that a command that never runs a batch does not compile
@@ -227,7 +236,7 @@ def run_attractors(
                 )
         if on_rows is not None:
             on_rows(n)
-        return AttractorRows(out)
+        return _keep(out, kept)
     rows = kernel.engine.attractor_rows
 
     def call(lo: int, hi: int) -> None:
@@ -248,7 +257,18 @@ def run_attractors(
         )
 
     in_blocks(call, n, on_rows)
-    return AttractorRows(out)
+    return _keep(out, kept)
+
+
+#: the column of each field of AttractorRows in the engine's rows
+_LAYOUT = AttractorRows.layout()
+
+
+def _keep(out: np.ndarray, fields: tuple[str, ...] | None) -> AttractorRows:
+    """Return the engine's rows ``out`` as AttractorRows keeping ``fields`` (None: all)."""
+    if fields is None:
+        return AttractorRows(out)
+    return AttractorRows(out[:, [_LAYOUT[x] for x in fields]], fields)
 
 
 def _workspace(n: int) -> tuple[np.ndarray, ...]:

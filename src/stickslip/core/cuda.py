@@ -258,11 +258,11 @@ class _Slot:
     they were made in, until :func:`release_buffers`.
     """
 
-    def __init__(self, rows: int, k: int, own_start: bool) -> None:
+    def __init__(self, rows: int, k: int, own_start: bool, columns: tuple[int, ...]) -> None:
         from numba import cuda
 
         self.context = _context()
-        self.rows, self.k, self.own_start = rows, k, own_start
+        self.rows, self.k, self.own_start, self.columns = rows, k, own_start, columns
         self.stream = cuda.stream()
         m = rows if own_start else 1
         self.d_lp = cuda.device_array((rows, k))
@@ -270,11 +270,15 @@ class _Slot:
         self.d_s0 = cuda.device_array(m)
         self.d_w0 = cuda.device_array(m)
         self.d_out = cuda.device_array((rows, engine.NOUT))
+        # the columns the caller keeps, gathered on the GPU: only they cross back
+        self.gathered = len(columns) < engine.NOUT
+        self.d_cols = cuda.to_device(np.array(columns, dtype=np.int64)) if self.gathered else None
+        self.d_kept = cuda.device_array((rows, len(columns))) if self.gathered else self.d_out
         self.h_lp = cuda.pinned_array((rows, k))
         self.h_nu = cuda.pinned_array(rows)
         self.h_s0 = cuda.pinned_array(m)
         self.h_w0 = cuda.pinned_array(m)
-        self.h_out = cuda.pinned_array((rows, engine.NOUT))
+        self.h_out = cuda.pinned_array((rows, len(columns)))
         self.pending: tuple[int, int] | None = None  # the rows whose results this slot's stream brings back
         self.events: tuple[Any, Any] | None = None  # the kernel's start and end (CUDA events)
 
@@ -356,18 +360,20 @@ def _context() -> Any:
     return cuda.current_context()
 
 
-def _slots(rows: int, k: int, own_start: bool) -> list[_Slot]:
+def _slots(rows: int, k: int, own_start: bool, columns: tuple[int, ...]) -> list[_Slot]:
     """Return :data:`STREAMS` slots for launches of at most ``rows`` rows (the last call's, if they fit)."""
     global _SLOTS
     current = _context()
     if not (
         len(_SLOTS) == STREAMS
-        and all(x.rows >= rows and x.k == k and x.own_start == own_start for x in _SLOTS)
+        and all(
+            x.rows >= rows and x.k == k and x.own_start == own_start and x.columns == columns for x in _SLOTS
+        )
         # a context reset since (numba.cuda.close(), a device reset) freed their memory
         and all(x.context is current for x in _SLOTS)
     ):
         _drop_slots()  # the old buffers go before the new ones are made
-        _SLOTS = [_Slot(rows, k, own_start) for _ in range(STREAMS)]
+        _SLOTS = [_Slot(rows, k, own_start, columns) for _ in range(STREAMS)]
     for x in _SLOTS:  # a call stopped half-way (Ctrl-C in a progress bar) left launches behind
         x.stream.synchronize()
         x.pending = None
@@ -400,8 +406,13 @@ def run_attractors_cuda(
     max_steps: int,
     out: np.ndarray,
     on_rows: Callable[[int], None] | None = None,
+    columns: np.ndarray | None = None,
 ) -> None:
-    """Fill ``out`` (rows x ``engine.NOUT``) as the CPU engine's ``attractor_ws`` row by row, on the GPU.
+    """Fill ``out`` as the CPU engine's ``attractor_ws`` row by row, on the GPU.
+
+    ``out`` has a row for each parameter set and a column for each of the engine's
+    columns ``columns`` (default: all ``engine.NOUT``, in order): the rest stay on the
+    GPU, and what crosses back is only these (docs/gpu.md).
 
     The arguments are those of the CPU kernels, already validated (see
     :func:`stickslip.core.api.run_attractors`); one law for all rows, its
@@ -417,7 +428,12 @@ def run_attractors_cuda(
     from numba import cuda
     from numba.core.errors import NumbaPerformanceWarning
 
+    from . import _cuda_kernel
+
     check_kernel(one)
+    cols = tuple(range(engine.NOUT)) if columns is None else tuple(int(j) for j in columns)
+    if out.shape[1:] != (len(cols),) or not cols or not all(0 <= j < engine.NOUT for j in cols):
+        raise ValueError(f"out of shape {out.shape} for the engine's columns {cols}")
     n = nu_a.shape[0]
     if n == 0:
         return
@@ -448,9 +464,10 @@ def run_attractors_cuda(
         busy: list[tuple[float, float]] = []  # each launch's kernel, from its start to its end
         in_callback = False
         try:
-            per_row = 8 * (k + 1 + (0 if one_start else 2) + engine.NOUT)
+            per_row = 8 * (k + 1 + (0 if one_start else 2) + engine.NOUT + len(cols))
             batch = _batch_rows(n, per_row)
-            slots = _slots(min(batch, n), k, not one_start)
+            slots = _slots(min(batch, n), k, not one_start, cols)
+            gather = _cuda_kernel.gather()
             shared = tuple(
                 cuda.to_device(a)
                 for a in (np.empty(0), np.empty((0, 2)), np.empty(0, dtype=np.int64), np.empty((0, 3)))
@@ -515,9 +532,12 @@ def run_attractors_cuda(
                     # a small grid under-uses the GPU: known (a small sweep, a store's last block)
                     warnings.simplefilter("ignore", NumbaPerformanceWarning)
                     kern[-(-b // THREADS_PER_BLOCK), THREADS_PER_BLOCK, st](*args)
+                    if x.gathered:  # the kept columns, side by side: only they cross back
+                        blocks = -(-b // THREADS_PER_BLOCK)
+                        gather[blocks, THREADS_PER_BLOCK, st](d_out, x.d_cols, x.d_kept[:b])
                 if x.events is not None:
                     x.events[1].record(stream=st)
-                d_out.copy_to_host(x.h_out[:b], stream=st)
+                x.d_kept[:b].copy_to_host(x.h_out[:b], stream=st)
                 x.pending = (lo, hi)
             for j in range(STREAMS):  # the last launches, in the order they were made
                 finish(slots[(-(-n // batch) + j) % STREAMS])

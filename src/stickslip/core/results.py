@@ -164,18 +164,85 @@ class EventKind(_Labelled):
     STICK = "stick", engine.EV_STICK, "the block stays at rest after a stop"
 
 
+#: the fields of each kind of rows, by name, with their columns (:meth:`_Rows.layout`)
+_LAYOUTS: dict[type, dict[str, int]] = {}
+
+
 class _Rows:
-    """Rows of a kernel's output with a named field per column (views: writable)."""
+    """Rows of a kernel's output with a named field per column (views: writable).
+
+    ``fields``: the names of the fields these rows keep, in the layout's order, where
+    they keep only some (``raw`` then has a column for each, in that order); None
+    where they keep every column of the layout. Reading or writing a field they do
+    not keep raises an AttributeError that says so (``hasattr`` is then False).
+    """
 
     _width: int = 0
 
-    def __init__(self, raw: npt.ArrayLike) -> None:
+    def __init__(self, raw: npt.ArrayLike, fields: tuple[str, ...] | None = None) -> None:
         a = np.asarray(raw, dtype=np.float64)
         if a.ndim == 1:
             a = a[None, :]
-        if a.ndim != 2 or a.shape[1] != self._width:
-            raise ValueError(f"{type(self).__name__}: expected rows of {self._width} values, got {a.shape}")
+        width = self._width if fields is None else len(fields)
+        if a.ndim != 2 or a.shape[1] != width:
+            raise ValueError(f"{type(self).__name__}: expected rows of {width} values, got {a.shape}")
         self.raw = a
+        self.fields = None if fields is None else tuple(fields)
+        self._where: dict[int, int] | None = None
+        if fields is not None:
+            fields = tuple(fields)
+            if fields != type(self).check_fields(fields):
+                raise ValueError(
+                    f"{type(self).__name__}: fields {fields} not each once in the layout's order"
+                )
+            layout = _LAYOUTS.get(type(self)) or type(self).layout()
+            self._where = {layout[name]: j for j, name in enumerate(fields)}
+
+    @classmethod
+    def layout(cls) -> dict[str, int]:
+        """Return every field's name and its column in the kernel's rows, in the columns' order."""
+        if cls not in _LAYOUTS:
+            found = {
+                name: f.column
+                for k in reversed(cls.__mro__)
+                for name, f in vars(k).items()
+                if isinstance(f, _Field)
+            }
+            _LAYOUTS[cls] = dict(sorted(found.items(), key=lambda item: item[1]))
+        return dict(_LAYOUTS[cls])
+
+    @classmethod
+    def check_fields(cls, fields: Any) -> tuple[str, ...]:
+        """Return ``fields`` (names of this kind's fields) once each, in the layout's order.
+
+        Raises
+        ------
+        ValueError
+            For a name that is not a field, or no name at all.
+
+        """
+        names = [fields] if isinstance(fields, str) else list(fields)
+        layout = cls.layout()
+        unknown = [x for x in names if x not in layout]
+        if unknown or not names:
+            raise ValueError(
+                f"fields={unknown[0] if unknown else names!r}: expected names of {cls.__name__}'s "
+                f"fields ({', '.join(layout)})"
+            )
+        return tuple(x for x in layout if x in names)
+
+    def keeps(self, name: str) -> bool:
+        """Whether these rows keep the field ``name``."""
+        return name in type(self).layout() and (self.fields is None or name in self.fields)
+
+    def _column(self, f: _Field) -> int:
+        if self._where is None:
+            return f.column
+        j = self._where.get(f.column)
+        if j is None:
+            kept = ", ".join(self.fields or ())
+            raise AttributeError(f"{type(self).__name__}.{f.name}: not kept by these rows (they keep {kept})")
+        return j
 
     def __len__(self) -> int:
         return int(self.raw.shape[0])
@@ -183,29 +250,51 @@ class _Rows:
     def __getitem__(self, index: Any) -> Any:
         """Return the rows selected by ``index`` (an integer keeps a row of its own)."""
         sub = self.raw[index]
-        return type(self)(sub if sub.ndim == 2 else sub[None, :])
+        return type(self)(sub if sub.ndim == 2 else sub[None, :], self.fields)
 
     def copy(self) -> Any:
         """Return a copy that shares nothing with these rows."""
-        return type(self)(self.raw.copy())
+        return type(self)(self.raw.copy(), self.fields)
 
     def __setitem__(self, index: Any, other: _Rows) -> None:
+        if other.fields != self.fields:
+            raise ValueError(
+                f"{type(self).__name__}: rows of other fields ({other.fields}) put into rows of {self.fields}"
+            )
         self.raw[index] = other.raw
 
     @classmethod
     def concat(cls, parts: Any) -> Any:
-        """Return the rows of ``parts`` (a sequence of rows of this kind) one after the other."""
-        return cls(np.vstack([p.raw for p in parts]))
+        """Return the rows of ``parts`` (rows of this kind, keeping the same fields) one after the other."""
+        parts = list(parts)
+        kept = {p.fields for p in parts}
+        if len(kept) > 1:
+            raise ValueError(f"{cls.__name__}.concat: rows of different fields ({sorted(map(str, kept))})")
+        return cls(np.vstack([p.raw for p in parts]), kept.pop() if kept else None)
+
+
+class _Field:
+    """A named column of a kernel's rows (a view of it: writing it writes the rows)."""
+
+    def __init__(self, column: int, doc: str) -> None:
+        self.column = column
+        self.__doc__ = doc
+        self.name = ""
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name = name
+
+    def __get__(self, obj: _Rows | None, owner: type | None = None) -> Any:
+        if obj is None:
+            return self
+        return obj.raw[:, obj._column(self)]
+
+    def __set__(self, obj: _Rows, value: Any) -> None:
+        obj.raw[:, obj._column(self)] = value
 
 
 def _field(column: int, doc: str) -> Any:
-    def get(self: _Rows) -> FloatArray:
-        return self.raw[:, column]
-
-    def set_(self: _Rows, value: Any) -> None:
-        self.raw[:, column] = value
-
-    return property(get, set_, doc=doc)
+    return _Field(column, doc)
 
 
 class AttractorRows(_Rows):
@@ -214,7 +303,8 @@ class AttractorRows(_Rows):
     Every field is an array over the rows (dimensionless units; NaN where it does
     not apply). ``status`` and ``regime`` hold the integer codes of
     :class:`Status` and :class:`Regime`; :meth:`statuses` and :meth:`regimes`
-    return the members.
+    return the members. Rows of ``run_attractors(..., fields=...)`` keep only the
+    fields asked for (:attr:`fields`; on a GPU only those cross back to the host).
     """
 
     _width = engine.NOUT
@@ -261,9 +351,9 @@ class AttractorRows(_Rows):
         ]
 
     @classmethod
-    def empty(cls, n: int) -> AttractorRows:
-        """Return ``n`` rows of NaN."""
-        return cls(np.full((n, engine.NOUT), np.nan))
+    def empty(cls, n: int, fields: tuple[str, ...] | None = None) -> AttractorRows:
+        """Return ``n`` rows of NaN (keeping only ``fields``, where given)."""
+        return cls(np.full((n, engine.NOUT if fields is None else len(fields)), np.nan), fields)
 
 
 class ShootingRows(_Rows):
@@ -285,6 +375,8 @@ class ShootingRows(_Rows):
     @property
     def monodromy(self) -> FloatArray:
         """Monodromy matrices, shape (n, 2, 2)."""
+        if self.fields is not None:
+            raise AttributeError("ShootingRows.monodromy: not kept by rows that keep some fields only")
         return self.raw[:, va.SH_PHI : va.SH_PHI + 4].reshape(-1, 2, 2)
 
     def statuses(self) -> list[ShootStatus]:

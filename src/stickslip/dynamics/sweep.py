@@ -31,7 +31,7 @@ import pint
 import xarray as xr
 
 from .. import defaults
-from ..bifurcation.attractors import polish_rows
+from ..bifurcation.attractors import POLISH_FIELDS, polish_rows
 from ..core.api import Kernel, run_attractors
 from ..core.checks import NU_MAX, NU_MIN
 from ..core.cuda import release_buffers, release_idle_buffers, resolve_backend
@@ -587,7 +587,9 @@ def _run_chunks(
     backend: str = "cpu",
 ) -> tuple[AttractorRows, FloatArray]:
     n = nu.shape[0]
-    out = AttractorRows.empty(n)
+    # the rows keep what the result and the polish read (12 of the engine's 21 numbers a
+    # row): on a GPU only these cross back to the host, whose copies bound its speed
+    out = AttractorRows.empty(n, POLISH_FIELDS)
     mult = np.empty(n)
     # calls as large as the bound on one call's work, with a progress bar or without one (a
     # block of a job: the job's bar counts blocks): each call into run_attractors starts its
@@ -609,6 +611,7 @@ def _run_chunks(
             conv_tol=conv_tol,
             on_rows=None if bar is None else bar.advance,
             backend=backend,
+            fields=POLISH_FIELDS,
         )
         # the slip-reversal orbits are measured again on the polished orbit: at the sweep's
         # tolerances, as cycle() does (they once ran at the defaults)
