@@ -82,3 +82,28 @@ def test_bad_input() -> None:
             pure_slip_orbit(DimensionlessParameters(nu=0.97, law=LAW), guess=bad)  # type: ignore[arg-type]
     guessed = pure_slip_orbit(DimensionlessParameters(nu=0.97, law=LAW), guess=(1.1, 6.3))
     assert guessed.period == pytest.approx(cubic_orbit_reference(0.97, LAW.alpha, LAW.gamma).period, rel=1e-9)
+
+
+def test_trajectories_checked_once_give_run_trajectorys_events() -> None:
+    """A return map's runs (law, nu and tolerances checked once, buffers reused) are run_trajectory's."""
+    from stickslip.core.api import Trajectories, run_trajectory
+    from stickslip.core.memory import UNCHECKED_BYTES, check_memory
+
+    law = WeakeningLaw(c=3.8)
+    kernel, lp = law.kernel, np.array(list(law.params.values()))
+    runs = Trajectories(kernel, lp, 0.5, rtol=1e-10, atol=1e-12)
+    for s0, t_end in ((1.3, 5.0), (0.2, 400.0)):  # a few events; more than the first buffer's 64
+        ev, status = runs.events(s0, 0.5, t_end)
+        want = run_trajectory(kernel, lp, 0.5, s0, 0.5, [t_end], rtol=1e-10, atol=1e-12)
+        np.testing.assert_array_equal(ev, want.events)
+        assert status == want.status == "ok"
+    assert len(ev) > 64
+    with pytest.raises(ValueError, match=r"t_end=nan: expected a time between 0 and 1e\+15"):
+        runs.events(1.0, 0.5, float("nan"))
+    with pytest.raises(ValueError, match="s0"):
+        runs.events(float("inf"), 0.5, 1.0)
+    with pytest.raises(ValueError, match="rtol"):
+        Trajectories(kernel, lp, 0.5, rtol=0.0, atol=1e-12)
+    check_memory(UNCHECKED_BYTES - 1, "a small request")  # not read: small requests pass unchecked
+    with pytest.raises(ValueError, match="needs about"):
+        check_memory(1e18, "an exabyte")

@@ -28,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from ..core.api import Kernel, run_attractors, run_flow, run_shooting, run_trajectory
+from ..core.api import Kernel, Trajectories, run_attractors, run_flow, run_shooting
 from ..core.laws import N_LAW_PARAMS
 from ..core.results import EventKind, Regime, ShootingRows, ShootStatus, Status
 from ..laws import DimensionlessLaw
@@ -190,16 +190,27 @@ def orbit_from_shot(sh: ShootingRows) -> PeriodicOrbit:
 
 
 def next_force_maximum(
-    kernel: Kernel, lp: np.ndarray, nu: float, s0: float, t_guess: float, *, rtol: float, atol: float
+    kernel: Kernel,
+    lp: np.ndarray,
+    nu: float,
+    s0: float,
+    t_guess: float,
+    *,
+    rtol: float,
+    atol: float,
+    runs: Trajectories | None = None,
 ) -> tuple[float, float]:
     """Return ``(s, t)`` at the next spring-force maximum after leaving ``(s0, w = nu)`` (exact engine).
 
     This is the Poincaré return map on the section ``w = nu`` (crossed upward, where
     ``s`` is largest); the non-smooth engine handles stops and slip reversals on the way.
+    ``runs``: the law, ``lp``, ``nu`` and tolerances checked once, for many calls.
     """
+    if runs is None:
+        runs = Trajectories(kernel, lp, nu, rtol=rtol, atol=atol)
     t_end = 2.5 * t_guess
     for _ in range(8):
-        _, _, ev, status = run_trajectory(kernel, lp, nu, s0, nu, [t_end], rtol=rtol, atol=atol)
+        ev, status = runs.events(s0, nu, t_end)
         if status != Status.OK:
             raise RuntimeError(f"return map from s = {s0:.6g}: the integration failed ({status.message})")
         if np.any(ev[:, 1] == EventKind.STICK.code):
@@ -270,9 +281,10 @@ def return_map_orbit_core(
 ) -> ReturnMapOrbit:
     """:func:`return_map_orbit` for a law given by its compiled kernel and parameter vector."""
     rtol, atol = tol * 1e-2, tol * 1e-4
+    runs = Trajectories(kernel, lp, nu, rtol=rtol, atol=atol)
 
     def g(s: float) -> tuple[float, float]:
-        s1, t1 = next_force_maximum(kernel, lp, nu, s, guess[1], rtol=rtol, atol=atol)
+        s1, t1 = next_force_maximum(kernel, lp, nu, s, guess[1], rtol=rtol, atol=atol, runs=runs)
         return s1 - s, t1
 
     scale = max(1.0, abs(guess[0]))

@@ -107,6 +107,7 @@ __all__ = [
     "MAX_TIME",
     "ChainState",
     "Kernel",
+    "Trajectories",
     "TrajectoryResult",
     "builtin_kernel",
     "chain_advance",
@@ -400,6 +401,67 @@ def _broadcast(name: str, a: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
 #: the latest sample time of a trajectory (units of sqrt(m/k)): past it, a slip step is below
 #: the resolution of a double
 MAX_TIME = 1e15
+
+
+class Trajectories:
+    """Trajectories of one law, its parameters and ``nu``, checked once: the runs of a return map.
+
+    :func:`run_trajectory` checks each of its arguments, which takes a few times
+    longer than a short run itself; a return map's secant iterations run thousands of
+    them from the same law and ``nu``. These are checked here once, and each call
+    checks only its start and end time, reusing one set of buffers.
+
+    Parameters
+    ----------
+    law, lp, nu, rtol, atol, max_steps
+        As in :func:`run_trajectory` (one row of law parameters).
+
+    """
+
+    def __init__(
+        self,
+        law: Kernel | int,
+        lp: npt.ArrayLike,
+        nu: float,
+        *,
+        rtol: float,
+        atol: float,
+        max_steps: int = 2_000_000,
+    ) -> None:
+        self.kernel = _kernel(law)
+        law_a, lp_2d = _laws(self.kernel, lp, 1)
+        self.law_id = int(law_a[0])
+        self.lp = np.array(lp_2d[0], order="C")
+        self.nu = float(_nu(nu))
+        self.rtol, self.atol = checks.tolerances(rtol, atol)
+        self.max_steps = checks.integer("max_steps", max_steps, lo=10, hi=10**9)
+        self._t = np.empty(1)
+        self._y = np.empty((1, 2))
+        self._mode = np.empty(1, dtype=np.int64)
+        self._ev = np.empty((64, 3))
+        self._evn = np.zeros(1, dtype=np.int64)
+
+    def events(self, s0: float, w0: float, t_end: float) -> tuple[FloatArray, Status]:
+        """Integrate from ``(s0, w0)`` to ``t_end``; return the events ``(time, kind, s)`` and the status.
+
+        The same events and status as ``run_trajectory(..., [t_end])`` with the
+        arguments given to the constructor.
+        """
+        s0 = checks.state("s0", s0)
+        w0 = checks.state("w0", w0)
+        if not 0.0 <= t_end <= MAX_TIME:  # NaN too
+            raise ValueError(f"t_end={t_end!r}: expected a time between 0 and {MAX_TIME:g}")
+        self._t[0] = t_end
+        while True:
+            self._evn[0] = 0
+            with pole_is_an_error():
+                status = self.kernel.engine.trajectory(
+                    self.law_id, self.lp, self.nu, float(s0), float(w0), self._t, self.rtol, self.atol,
+                    self.max_steps, self._y, self._mode, self._ev, self._evn,
+                )  # fmt: skip
+            if self._evn[0] <= self._ev.shape[0]:
+                return self._ev[: self._evn[0]].copy(), Status.from_code(status)
+            self._ev = np.empty((int(self._evn[0]), 3))
 
 
 def run_trajectory(

@@ -13,6 +13,9 @@ __all__ = ["MemoryRequestError", "available_memory", "check_memory", "format_byt
 
 #: a request may use at most this fraction of the memory available
 FRACTION = 0.6
+#: requests below this many bytes are not checked (reading the memory available costs
+#: some 60 us; a return map's thousands of one-sample trajectories read it each time)
+UNCHECKED_BYTES = 1 << 20
 
 
 class MemoryRequestError(ValueError):
@@ -46,6 +49,8 @@ def format_bytes(n: float) -> str:
 def check_memory(nbytes: float, what: str, hint: str = "") -> None:
     """Refuse (before allocating) a request of ``nbytes`` above :data:`FRACTION` of the available memory.
 
+    Requests below :data:`UNCHECKED_BYTES` (1 MiB) are let through unread.
+
     Parameters
     ----------
     nbytes : float
@@ -61,6 +66,8 @@ def check_memory(nbytes: float, what: str, hint: str = "") -> None:
         With the estimate and the memory available.
 
     """
+    if nbytes < UNCHECKED_BYTES:
+        return
     avail = available_memory()
     if nbytes > FRACTION * avail:
         raise MemoryRequestError(
