@@ -11,6 +11,7 @@ stickslip reproduce --out "$out/warmup" > /dev/null 2>&1
 time stickslip reproduce --out "$out/results"
 python benchmarks/bench_records.py
 python benchmarks/bench_orbits.py
+python benchmarks/bench_return_maps.py
 python -c "import time; from stickslip import CubicLaw, WeakeningLaw; from stickslip.bifurcation.regimes import regimes
 for law, lo, hi in [(CubicLaw(alpha=0.5, gamma=1/6), 0.5, 1.5), (WeakeningLaw(c=3.8, p=0.5), 0.1, 1.5)]:
     t = time.perf_counter(); regimes(law, lo, hi); print(f'{time.perf_counter() - t:.3f} s')"

@@ -107,3 +107,59 @@ def test_trajectories_checked_once_give_run_trajectorys_events() -> None:
     check_memory(UNCHECKED_BYTES - 1, "a small request")  # not read: small requests pass unchecked
     with pytest.raises(ValueError, match="needs about"):
         check_memory(1e18, "an exabyte")
+
+
+def test_compiled_return_maps_equal_the_python_secant_bit_for_bit() -> None:
+    """Slip-reversal orbits of F1: compiled, many at once (a sweep's polish from 16 rows on), against
+    the secant in Python around the engine's trajectories (a cycle's, which compiles nothing more)."""
+    from stickslip.bifurcation.orbits import return_map_orbit_core
+    from stickslip.core.api import run_attractors, run_return_maps
+    from stickslip.core.results import ReturnMapStatus
+
+    kernel = WeakeningLaw(c=1.0).kernel
+    rng = np.random.default_rng(3)
+    c, nu = rng.uniform(2.0, 10.0, 400), 10 ** rng.uniform(0.0, 1.3, 400)
+    att = run_attractors(kernel, c[:, None], nu, from_breakaway=True, rtol=1e-9, atol=1e-12,
+                         max_slip_time=1e4, conv_tol=1e-8)  # fmt: skip
+    rev = np.flatnonzero((att.regime == 1) & (att.n_backward > 0))[:12]
+    assert rev.size == 12
+    got = run_return_maps(kernel, c[rev, None], nu[rev], att.s_max[rev], att.period[rev])
+    for j, i in enumerate(rev):
+        want = return_map_orbit_core(kernel, np.array([c[i]]), float(nu[i]), (att.s_max[i], att.period[i]))
+        assert (got.s0[j], got.period[j], got.multiplier[j], got.residual[j]) == (
+            want.s0, want.period, want.multiplier, want.residual,
+        )  # fmt: skip
+        assert got.status[j] == ReturnMapStatus.OK.code and abs(want.multiplier) < 1.0
+
+
+def test_a_return_map_that_sticks_says_so() -> None:
+    from stickslip.bifurcation.orbits import return_map_orbit
+    from stickslip.core.api import run_return_maps
+
+    law = WeakeningLaw(c=3.8)  # the Python secant and the compiled one say the same
+    said = r"return map from s = 1: the motion sticks \(not a non-sticking orbit\)"
+    with pytest.raises(RuntimeError, match=said):
+        return_map_orbit(law, 0.01, (1.0, 10.0))  # stick-slip at nu = 0.01
+    got = run_return_maps(law.kernel, [3.8], [0.01, 0.01], [1.0, 1.0], [10.0, 10.0], max_iter=3)
+    assert got.message(1).startswith("return map from s = 1: the motion sticks")
+    with pytest.raises(ValueError, match="period"):
+        run_return_maps(law.kernel, [3.8], [0.5], [1.0], [-1.0])
+
+
+def test_a_sweeps_polish_is_the_same_with_its_return_maps_compiled_or_in_python(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from stickslip.bifurcation import attractors
+    from stickslip.core.api import run_attractors
+
+    kernel = WeakeningLaw(c=1.0).kernel
+    c, nu = np.linspace(2.0, 10.0, 40), np.geomspace(1.0, 20.0, 40)
+    rows = run_attractors(kernel, c[:, None], nu, from_breakaway=True, rtol=1e-9, atol=1e-12,
+                          max_slip_time=1e4, conv_tol=1e-8, fields=attractors.POLISH_FIELDS)  # fmt: skip
+    assert ((rows.regime == 1) & (rows.n_backward > 0)).sum() >= attractors.COMPILED_RETURN_MAPS
+    compiled, m_compiled = attractors.polish_rows((kernel, c[:, None]), nu, rows)
+    monkeypatch.setattr(attractors, "COMPILED_RETURN_MAPS", 10**9)
+    python, m_python = attractors.polish_rows((kernel, c[:, None]), nu, rows)
+    np.testing.assert_array_equal(compiled.raw, python.raw)
+    np.testing.assert_array_equal(m_compiled, m_python)
+    assert np.isfinite(m_python).all()

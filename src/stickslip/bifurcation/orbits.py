@@ -279,7 +279,12 @@ def return_map_orbit_core(
     tol: float = 1e-10,
     max_iter: int = 40,
 ) -> ReturnMapOrbit:
-    """:func:`return_map_orbit` for a law given by its compiled kernel and parameter vector."""
+    """:func:`return_map_orbit` for a law given by its compiled kernel and parameter vector.
+
+    In Python, around the compiled engine's trajectories: a few orbits need no
+    compilation of their own (a cycle's). Many at once run compiled, bit for bit the
+    same (:func:`~stickslip.core.api.run_return_maps`, as a sweep's slip-reversal rows do).
+    """
     rtol, atol = tol * 1e-2, tol * 1e-4
     runs = Trajectories(kernel, lp, nu, rtol=rtol, atol=atol)
 

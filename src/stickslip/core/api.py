@@ -23,7 +23,7 @@ import numpy.typing as npt
 from . import chain, checks, cuda, engine, variational
 from .laws import BUILTIN_LAWS, N_LAW_PARAMS
 from .memory import check_memory
-from .results import AttractorRows, FlowResult, ShootingRows, Status
+from .results import AttractorRows, FlowResult, ReturnMapRows, ShootingRows, Status
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -115,6 +115,7 @@ __all__ = [
     "in_blocks",
     "run_attractors",
     "run_flow",
+    "run_return_maps",
     "run_shooting",
     "run_trajectory",
     "threads",
@@ -584,6 +585,66 @@ def run_shooting(
 
     in_blocks(call, n)
     return ShootingRows(out)
+
+
+def run_return_maps(
+    law: Kernel | int,
+    lp: npt.ArrayLike,
+    nu: npt.ArrayLike,
+    s0: npt.ArrayLike,
+    period: npt.ArrayLike,
+    *,
+    tol: float = 1e-10,
+    max_iter: int = 40,
+) -> ReturnMapRows:
+    """Find non-sticking periodic orbits as fixed points of the return map on ``w = nu``, in parallel.
+
+    The return map takes the spring force at one upward crossing of ``w = nu`` to
+    the next, by the exact non-smooth engine (stops, backward slips and velocity
+    reversals on the way): what covers slip reversal, which shooting in the slip
+    phase cannot. Each row runs compiled from its guess to its orbit (secant
+    iterations, then the map's derivative), the rows side by side on the threads.
+
+    Parameters
+    ----------
+    law, lp, nu : array_like
+        As in :func:`run_attractors`.
+    s0, period : array_like, shape (n,)
+        Guesses: the spring-force maximum and the period (dimensionless).
+    tol : float, optional
+        Tolerance on ``|P(s) - s|`` relative to ``max(1, |s0|)``; the flow runs at
+        ``tol / 100``.
+    max_iter : int, optional
+        Secant iterations allowed.
+
+    Returns
+    -------
+    ReturnMapRows
+        One orbit (or why there is none) per row.
+
+    """
+    nu_a = np.array(np.atleast_1d(_nu(nu)), order="C")
+    n = nu_a.shape[0]
+    kernel = _kernel(law)
+    law_a, lp_a = _laws(kernel, lp, n)
+    s0_a = _broadcast("s0", checks.finite_array("s0", s0), (n,))
+    t_a = _broadcast("period", checks.finite_array("period", period, bound=1e12, positive=True), (n,))
+    tol = checks.positive("tol", tol, upper=1e-3, what="a tolerance of at most 1e-3")
+    if tol < 1e-14:
+        raise ValueError(f"tol={tol!r}: expected a tolerance of at least 1e-14")
+    max_iter = checks.integer("max_iter", max_iter, lo=1, hi=1000)
+    check_memory(n * 8.0 * (engine.NRM + 12), f"{n} return maps")
+    out = np.empty((n, engine.NRM))
+    rows = kernel.engine.return_map_rows
+
+    def call(lo: int, hi: int) -> None:
+        rows(
+            law_a[lo:hi], lp_a[lo:hi], nu_a[lo:hi], s0_a[lo:hi], t_a[lo:hi], float(tol), max_iter,
+            out[lo:hi],
+        )  # fmt: skip
+
+    in_blocks(call, n)
+    return ReturnMapRows(out)
 
 
 def run_flow(

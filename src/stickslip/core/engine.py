@@ -137,6 +137,24 @@ O_DFNU = 19  # f'(nu): steady sliding is linearly stable where it is positive
 O_FNU = 20  # f(nu): the spring force of steady sliding
 NOUT = 21
 
+# a return map's orbit (return_map_rows): how it ended, and its output columns
+RM_OK = 0
+RM_FAILED = 1  # an integration failed: RM_AT the start's s, RM_DETAIL its status (ST_*)
+RM_STICKS = 2  # the motion sticks: RM_AT the start's s
+RM_NO_MAXIMUM = 3  # no force maximum: RM_AT the start's s, RM_DETAIL the time integrated
+RM_STALLED = 4  # the secant iteration stalled
+RM_NOT_CONVERGED = 5  # no fixed point in the iterations allowed: RM_DETAIL |P(s) - s|
+RM_STATUS = 0
+RM_S0 = 1
+RM_PERIOD = 2
+RM_MULT = 3
+RM_RESIDUAL = 4
+RM_AT = 5
+RM_DETAIL = 6
+NRM = 7
+#: the steps allowed a return map's slip phase (run_trajectory's default)
+RM_MAX_STEPS = 2_000_000
+
 _ZERO7 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 # a decaying oscillation below this amplitude (units of static friction) about
@@ -261,8 +279,28 @@ def _on_s_extremum(trk, is_max, te, sv, q2, q3, track, conv_tol):  # type: ignor
 
 @njit(cache=True)
 def _slip_phase(  # type: ignore[no-untyped-def]
-    law, lp, nu, d, t, y, t_end, rtol, atol, conv_tol,
-    K, F, y_new, ytmp, trk, t_eval, out_y, out_mode, ie, evbuf, evn, max_steps,
+    law,
+    lp,
+    nu,
+    d,
+    t,
+    y,
+    t_end,
+    rtol,
+    atol,
+    conv_tol,
+    K,
+    F,
+    y_new,
+    ytmp,
+    trk,
+    t_eval,
+    out_y,
+    out_mode,
+    ie,
+    evbuf,
+    evn,
+    max_steps,
 ):
     """Integrate one slip phase in direction ``d`` from ``(t, y)``.
 
@@ -410,9 +448,7 @@ def _slip_phase(  # type: ignore[no-untyped-def]
                     x_hi = x_end
                     g_hi = -nu if x_stop <= 1.0 else g1
                 if g_lo * g_hi < 0.0 or (g_hi == 0.0 and g_lo != 0.0):
-                    xr = illinois_sw(
-                        law, P, d, cs, s, cw, w, LEVEL + 0 * law, nu, x_lo, g_lo, x_hi, g_hi
-                    )
+                    xr = illinois_sw(law, P, d, cs, s, cw, w, LEVEL + 0 * law, nu, x_lo, g_lo, x_hi, g_hi)
                     kr = 1 if g_lo < 0.0 else -1
                     if nev == 0:
                         ex0 = xr
@@ -535,8 +571,29 @@ def new_workspace(n):  # type: ignore[no-untyped-def]
 
 @njit(cache=True)
 def attractor_ws(  # type: ignore[no-untyped-def]
-    law, lp, nu, s0, w0, from_breakaway, rtol, atol, t_max, conv_tol, max_steps, out,
-    K, F, y_new, ytmp, y, trk, t_eval, out_y, out_mode, evbuf, evn,
+    law,
+    lp,
+    nu,
+    s0,
+    w0,
+    from_breakaway,
+    rtol,
+    atol,
+    t_max,
+    conv_tol,
+    max_steps,
+    out,
+    K,
+    F,
+    y_new,
+    ytmp,
+    y,
+    trk,
+    t_eval,
+    out_y,
+    out_mode,
+    evbuf,
+    evn,
 ):
     """Follow the motion from ``(s0, w0)`` to its attractor and measure one steady cycle.
 
@@ -613,9 +670,28 @@ def attractor_ws(  # type: ignore[no-untyped-def]
             continue
         t_start = t
         t, ph, _ie = _slip_phase(
-            law, lp, nu, d, t, y, t + (t_max - slip_used), rtol, atol, conv_tol,
-            K, F, y_new, ytmp, trk, t_eval, out_y, out_mode, ie0,
-            evbuf, evn, max_steps,
+            law,
+            lp,
+            nu,
+            d,
+            t,
+            y,
+            t + (t_max - slip_used),
+            rtol,
+            atol,
+            conv_tol,
+            K,
+            F,
+            y_new,
+            ytmp,
+            trk,
+            t_eval,
+            out_y,
+            out_mode,
+            ie0,
+            evbuf,
+            evn,
+            max_steps,
         )
         slip_used += t - t_start
         if ph == PH_STOPPED:
@@ -689,9 +765,29 @@ def attractor_rows(  # type: ignore[no-untyped-def]
     ws = new_workspace(4 if diag else 2)
     for i in range(nu.shape[0]):
         attractor_ws(
-            law[i], lp[i], nu[i], s0[i], w0[i], from_breakaway, rtol, atol, t_max,
-            conv_tol, max_steps, out[i], ws[0], ws[1], ws[2], ws[3], ws[4], ws[5],
-            ws[6], ws[7], ws[8], ws[9], ws[10],
+            law[i],
+            lp[i],
+            nu[i],
+            s0[i],
+            w0[i],
+            from_breakaway,
+            rtol,
+            atol,
+            t_max,
+            conv_tol,
+            max_steps,
+            out[i],
+            ws[0],
+            ws[1],
+            ws[2],
+            ws[3],
+            ws[4],
+            ws[5],
+            ws[6],
+            ws[7],
+            ws[8],
+            ws[9],
+            ws[10],
         )
 
 
@@ -747,8 +843,28 @@ def trajectory(  # type: ignore[no-untyped-def]
             _log(evbuf, evn, t, EV_FORWARD, FS)
             continue
         t, ph, ie = _slip_phase(
-            law, lp, nu, d, t, y, t_end, rtol, atol, -1.0, K, F, y_new, ytmp,
-            trk, t_eval, out_y, out_mode, ie, evbuf, evn, max_steps,
+            law,
+            lp,
+            nu,
+            d,
+            t,
+            y,
+            t_end,
+            rtol,
+            atol,
+            -1.0,
+            K,
+            F,
+            y_new,
+            ytmp,
+            trk,
+            t_eval,
+            out_y,
+            out_mode,
+            ie,
+            evbuf,
+            evn,
+            max_steps,
         )
         if ph == PH_STOPPED:
             if trk[T_NSTEP] > MAX_TOTAL_STEPS:
@@ -776,3 +892,124 @@ def trajectory(  # type: ignore[no-untyped-def]
             return ST_STEP_TOO_SMALL
         return ST_TOO_MANY_STEPS
     return ST_TOO_MANY_PHASES
+
+
+@njit(cache=True)
+def _next_force_maximum(law, lp, nu, s0, t_guess, rtol, atol, t_eval, y, mode, res):  # type: ignore[no-untyped-def]
+    """Put in ``res`` the return map on ``w = nu``: ``(s, t)`` at the next force maximum from ``(s0, nu)``.
+
+    Returns ``RM_OK``, or why there is none (``res[0]`` then the start's ``s``,
+    ``res[1]`` the integration's status or the time integrated). The trajectory
+    runs to ``2.5 t_guess``, doubled up to seven times until a maximum is passed;
+    a stop into a stick phase on the way is not a non-sticking orbit.
+    """
+    t_end = 2.5 * t_guess
+    for _ in range(8):
+        t_eval[0] = t_end
+        cap = 64
+        while True:
+            ev = np.empty((cap, 3))
+            evn = np.zeros(1, dtype=np.int64)
+            status = trajectory(law, lp, nu, s0, nu, t_eval, rtol, atol, RM_MAX_STEPS, y, mode, ev, evn)
+            if evn[0] <= cap:
+                break
+            cap = evn[0]
+        if status != ST_OK:
+            res[0] = s0
+            res[1] = status
+            return RM_FAILED
+        for k in range(evn[0]):
+            if ev[k, 1] == EV_STICK:
+                res[0] = s0
+                return RM_STICKS
+        for k in range(evn[0]):
+            if ev[k, 1] == EV_SMAX and ev[k, 0] > 0.0:
+                res[0] = ev[k, 2]
+                res[1] = ev[k, 0]
+                return RM_OK
+        t_end *= 2.0
+    res[0] = s0
+    res[1] = t_end
+    return RM_NO_MAXIMUM
+
+
+@njit(cache=True)
+def return_map_orbit(law, lp, nu, s_guess, t_guess, tol, max_iter, out):  # type: ignore[no-untyped-def]
+    """Find a non-sticking periodic orbit as a fixed point of the return map on ``w = nu`` (into ``out``).
+
+    Secant iterations on ``P(s) - s`` from ``s_guess`` and ``s_guess + 1e-6``
+    (relative), the flow at ``tol / 100``; the multiplier ``P'`` by central
+    differences at ``h`` and ``h / 2`` extrapolated (Richardson), ``h = 1e-5``
+    (relative). ``out`` (``NRM`` numbers): status ``RM_*``, ``s0``, period,
+    multiplier, residual ``|P(s0) - s0|``, and what a failure was.
+    """
+    for j in range(NRM):
+        out[j] = np.nan
+    rtol = tol * 1e-2
+    atol = tol * 1e-4
+    t_eval = np.empty(1)
+    y = np.empty((1, 2))
+    mode = np.empty(1, dtype=np.int64)
+    res = np.empty(2)
+    scale = max(1.0, abs(s_guess))
+    x0 = s_guess
+    x1 = x0 + 1e-6 * scale
+    code = _next_force_maximum(law, lp, nu, x0, t_guess, rtol, atol, t_eval, y, mode, res)
+    if code != RM_OK:
+        out[RM_STATUS], out[RM_AT], out[RM_DETAIL] = code, res[0], res[1]
+        return
+    g0 = res[0] - x0
+    code = _next_force_maximum(law, lp, nu, x1, t_guess, rtol, atol, t_eval, y, mode, res)
+    if code != RM_OK:
+        out[RM_STATUS], out[RM_AT], out[RM_DETAIL] = code, res[0], res[1]
+        return
+    g1 = res[0] - x1
+    t1 = res[1]
+    converged = False
+    for _ in range(max_iter):
+        if abs(g1) < tol * scale:
+            converged = True
+            break
+        if g1 == g0:
+            out[RM_STATUS] = RM_STALLED
+            return
+        x0, x1, g0 = x1, x1 - g1 * (x1 - x0) / (g1 - g0), g1
+        code = _next_force_maximum(law, lp, nu, x1, t_guess, rtol, atol, t_eval, y, mode, res)
+        if code != RM_OK:
+            out[RM_STATUS], out[RM_AT], out[RM_DETAIL] = code, res[0], res[1]
+            return
+        g1 = res[0] - x1
+        t1 = res[1]
+    if not converged:
+        out[RM_STATUS] = RM_NOT_CONVERGED
+        out[RM_DETAIL] = abs(g1)
+        return
+    # the map is strongly curved near sticking: at h = 1e-5 alone its derivative was off by
+    # 1e-7 to 3e-7; extrapolated from h and h / 2, by 7.5e-12 and 6.9e-9 at two orbits
+    h = 1e-5 * scale
+    central = np.empty(2)
+    for m in range(2):
+        step = 0.5 * h if m == 0 else h
+        code = _next_force_maximum(law, lp, nu, x1 + step, t_guess, rtol, atol, t_eval, y, mode, res)
+        if code != RM_OK:
+            out[RM_STATUS], out[RM_AT], out[RM_DETAIL] = code, res[0], res[1]
+            return
+        up = res[0] - (x1 + step)
+        code = _next_force_maximum(law, lp, nu, x1 - step, t_guess, rtol, atol, t_eval, y, mode, res)
+        if code != RM_OK:
+            out[RM_STATUS], out[RM_AT], out[RM_DETAIL] = code, res[0], res[1]
+            return
+        down = res[0] - (x1 - step)
+        central[m] = (up - down) / (2.0 * step)
+    out[RM_STATUS] = RM_OK
+    out[RM_S0] = x1
+    out[RM_PERIOD] = t1
+    out[RM_MULT] = 1.0 + (4.0 * central[0] - central[1]) / 3.0
+    out[RM_RESIDUAL] = abs(g1)
+
+
+@njit(cache=True, nogil=True)
+def return_map_rows(law, lp, nu, s_guess, t_guess, tol, max_iter, out):  # type: ignore[no-untyped-def]
+    """Run :func:`return_map_orbit` for every row in this thread (it releases the GIL)."""
+    for i in range(nu.shape[0]):
+        return_map_orbit(law[i], lp[i], nu[i], s_guess[i], t_guess[i], tol, max_iter, out[i])

@@ -29,6 +29,8 @@ __all__ = [
     "EventKind",
     "FlowResult",
     "Regime",
+    "ReturnMapRows",
+    "ReturnMapStatus",
     "ShootStatus",
     "ShootingRows",
     "Status",
@@ -354,6 +356,48 @@ class AttractorRows(_Rows):
     def empty(cls, n: int, fields: tuple[str, ...] | None = None) -> AttractorRows:
         """Return ``n`` rows of NaN (keeping only ``fields``, where given)."""
         return cls(np.full((n, engine.NOUT if fields is None else len(fields)), np.nan), fields)
+
+
+class ReturnMapStatus(_Labelled):
+    """How the search for a fixed point of the return map on ``w = nu`` ended."""
+
+    OK = "ok", engine.RM_OK, "converged"
+    FAILED = "integration-failed", engine.RM_FAILED, "the integration failed"
+    STICKS = "sticks", engine.RM_STICKS, "the motion sticks (not a non-sticking orbit)"
+    NO_MAXIMUM = "no-maximum", engine.RM_NO_MAXIMUM, "no spring-force maximum within the time integrated"
+    STALLED = "stalled", engine.RM_STALLED, "the secant iteration stalled"
+    NOT_CONVERGED = "not-converged", engine.RM_NOT_CONVERGED, "no fixed point within the iterations allowed"
+
+
+class ReturnMapRows(_Rows):
+    """Output of :func:`~stickslip.core.api.run_return_maps`: a non-sticking orbit per row."""
+
+    _width = engine.NRM
+    status = _field(engine.RM_STATUS, "ReturnMapStatus code.")
+    s0 = _field(engine.RM_S0, "Spring-force maximum of the orbit (where w crosses nu upward).")
+    period = _field(engine.RM_PERIOD, "Return time.")
+    multiplier = _field(engine.RM_MULT, "Derivative of the return map at the fixed point.")
+    residual = _field(engine.RM_RESIDUAL, "|P(s0) - s0|.")
+    at = _field(engine.RM_AT, "Where an integration failed: the spring force it started from.")
+    detail = _field(
+        engine.RM_DETAIL,
+        "What a failure was: the integration's status code, the time integrated, or |P(s) - s|.",
+    )
+
+    def message(self, i: int) -> str:
+        """Return why row ``i`` has no orbit (or that it converged), in one line."""
+        st = ReturnMapStatus.from_code(self.status[i])
+        at, detail = float(self.at[i]), float(self.detail[i])
+        if st == ReturnMapStatus.FAILED:
+            why = Status.from_code(detail).message
+            return f"return map from s = {at:.6g}: the integration failed ({why})"
+        if st == ReturnMapStatus.STICKS:
+            return f"return map from s = {at:.6g}: the motion sticks (not a non-sticking orbit)"
+        if st == ReturnMapStatus.NO_MAXIMUM:
+            return f"return map from s = {at:.6g}: no spring-force maximum within tau = {detail:.3g}"
+        if st == ReturnMapStatus.NOT_CONVERGED:
+            return f"return map: no fixed point within the iterations allowed (|P(s) - s| = {detail:.3g})"
+        return f"return map: {st.message}"
 
 
 class ShootingRows(_Rows):
