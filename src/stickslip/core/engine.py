@@ -279,28 +279,8 @@ def _on_s_extremum(trk, is_max, te, sv, q2, q3, track, conv_tol):  # type: ignor
 
 @njit(cache=True)
 def _slip_phase(  # type: ignore[no-untyped-def]
-    law,
-    lp,
-    nu,
-    d,
-    t,
-    y,
-    t_end,
-    rtol,
-    atol,
-    conv_tol,
-    K,
-    F,
-    y_new,
-    ytmp,
-    trk,
-    t_eval,
-    out_y,
-    out_mode,
-    ie,
-    evbuf,
-    evn,
-    max_steps,
+    law, lp, nu, d, t, y, t_end, rtol, atol, conv_tol,
+    K, F, y_new, ytmp, trk, t_eval, out_y, out_mode, ie, evbuf, evn, max_steps,
 ):
     """Integrate one slip phase in direction ``d`` from ``(t, y)``.
 
@@ -448,7 +428,9 @@ def _slip_phase(  # type: ignore[no-untyped-def]
                     x_hi = x_end
                     g_hi = -nu if x_stop <= 1.0 else g1
                 if g_lo * g_hi < 0.0 or (g_hi == 0.0 and g_lo != 0.0):
-                    xr = illinois_sw(law, P, d, cs, s, cw, w, LEVEL + 0 * law, nu, x_lo, g_lo, x_hi, g_hi)
+                    xr = illinois_sw(
+                        law, P, d, cs, s, cw, w, LEVEL + 0 * law, nu, x_lo, g_lo, x_hi, g_hi
+                    )
                     kr = 1 if g_lo < 0.0 else -1
                     if nev == 0:
                         ex0 = xr
@@ -571,29 +553,8 @@ def new_workspace(n):  # type: ignore[no-untyped-def]
 
 @njit(cache=True)
 def attractor_ws(  # type: ignore[no-untyped-def]
-    law,
-    lp,
-    nu,
-    s0,
-    w0,
-    from_breakaway,
-    rtol,
-    atol,
-    t_max,
-    conv_tol,
-    max_steps,
-    out,
-    K,
-    F,
-    y_new,
-    ytmp,
-    y,
-    trk,
-    t_eval,
-    out_y,
-    out_mode,
-    evbuf,
-    evn,
+    law, lp, nu, s0, w0, from_breakaway, rtol, atol, t_max, conv_tol, max_steps, out,
+    K, F, y_new, ytmp, y, trk, t_eval, out_y, out_mode, evbuf, evn,
 ):
     """Follow the motion from ``(s0, w0)`` to its attractor and measure one steady cycle.
 
@@ -670,28 +631,9 @@ def attractor_ws(  # type: ignore[no-untyped-def]
             continue
         t_start = t
         t, ph, _ie = _slip_phase(
-            law,
-            lp,
-            nu,
-            d,
-            t,
-            y,
-            t + (t_max - slip_used),
-            rtol,
-            atol,
-            conv_tol,
-            K,
-            F,
-            y_new,
-            ytmp,
-            trk,
-            t_eval,
-            out_y,
-            out_mode,
-            ie0,
-            evbuf,
-            evn,
-            max_steps,
+            law, lp, nu, d, t, y, t + (t_max - slip_used), rtol, atol, conv_tol,
+            K, F, y_new, ytmp, trk, t_eval, out_y, out_mode, ie0,
+            evbuf, evn, max_steps,
         )
         slip_used += t - t_start
         if ph == PH_STOPPED:
@@ -765,29 +707,9 @@ def attractor_rows(  # type: ignore[no-untyped-def]
     ws = new_workspace(4 if diag else 2)
     for i in range(nu.shape[0]):
         attractor_ws(
-            law[i],
-            lp[i],
-            nu[i],
-            s0[i],
-            w0[i],
-            from_breakaway,
-            rtol,
-            atol,
-            t_max,
-            conv_tol,
-            max_steps,
-            out[i],
-            ws[0],
-            ws[1],
-            ws[2],
-            ws[3],
-            ws[4],
-            ws[5],
-            ws[6],
-            ws[7],
-            ws[8],
-            ws[9],
-            ws[10],
+            law[i], lp[i], nu[i], s0[i], w0[i], from_breakaway, rtol, atol, t_max,
+            conv_tol, max_steps, out[i], ws[0], ws[1], ws[2], ws[3], ws[4], ws[5],
+            ws[6], ws[7], ws[8], ws[9], ws[10],
         )
 
 
@@ -843,28 +765,8 @@ def trajectory(  # type: ignore[no-untyped-def]
             _log(evbuf, evn, t, EV_FORWARD, FS)
             continue
         t, ph, ie = _slip_phase(
-            law,
-            lp,
-            nu,
-            d,
-            t,
-            y,
-            t_end,
-            rtol,
-            atol,
-            -1.0,
-            K,
-            F,
-            y_new,
-            ytmp,
-            trk,
-            t_eval,
-            out_y,
-            out_mode,
-            ie,
-            evbuf,
-            evn,
-            max_steps,
+            law, lp, nu, d, t, y, t_end, rtol, atol, -1.0, K, F, y_new, ytmp,
+            trk, t_eval, out_y, out_mode, ie, evbuf, evn, max_steps,
         )
         if ph == PH_STOPPED:
             if trk[T_NSTEP] > MAX_TOTAL_STEPS:
