@@ -563,16 +563,9 @@ def run_shooting(
         One orbit (or the reason there is none) per row.
 
     """
-    nu_a = np.array(np.atleast_1d(_nu(nu)), order="C")
+    checked = _orbit_guesses(law, lp, nu, s0, period, tol, max_iter)
+    kernel, law_a, lp_a, nu_a, s0_a, t_a, tol, max_iter = checked
     n = nu_a.shape[0]
-    kernel = _kernel(law)
-    law_a, lp_a = _laws(kernel, lp, n)
-    s0_a = _broadcast("s0", checks.finite_array("s0", s0), (n,))
-    t_a = _broadcast("period", checks.finite_array("period", period, bound=1e12, positive=True), (n,))
-    tol = checks.positive("tol", tol, upper=1e-3, what="a tolerance of at most 1e-3")
-    if tol < 1e-14:
-        raise ValueError(f"tol={tol!r}: expected a tolerance of at least 1e-14")
-    max_iter = checks.integer("max_iter", max_iter, lo=1, hi=1000)
     max_steps = checks.integer("max_steps", max_steps, lo=10, hi=10**9)
     out = np.empty((n, variational.NSH))
     shoot = kernel.variational.shoot_rows
@@ -585,6 +578,29 @@ def run_shooting(
 
     in_blocks(call, n)
     return ShootingRows(out)
+
+
+def _orbit_guesses(
+    law: Kernel | int,
+    lp: npt.ArrayLike,
+    nu: npt.ArrayLike,
+    s0: npt.ArrayLike,
+    period: npt.ArrayLike,
+    tol: float,
+    max_iter: int,
+) -> tuple[Kernel, npt.NDArray[np.int64], FloatArray, FloatArray, FloatArray, FloatArray, float, int]:
+    """Check the rows of a search for periodic orbits from guesses (shooting, return maps)."""
+    nu_a = np.array(np.atleast_1d(_nu(nu)), order="C")
+    n = nu_a.shape[0]
+    kernel = _kernel(law)
+    law_a, lp_a = _laws(kernel, lp, n)
+    s0_a = _broadcast("s0", checks.finite_array("s0", s0), (n,))
+    t_a = _broadcast("period", checks.finite_array("period", period, bound=1e12, positive=True), (n,))
+    tol = checks.positive("tol", tol, upper=1e-3, what="a tolerance of at most 1e-3")
+    if tol < 1e-14:
+        raise ValueError(f"tol={tol!r}: expected a tolerance of at least 1e-14")
+    max_iter = checks.integer("max_iter", max_iter, lo=1, hi=1000)
+    return kernel, law_a, lp_a, nu_a, s0_a, t_a, tol, max_iter
 
 
 def run_return_maps(
@@ -623,16 +639,9 @@ def run_return_maps(
         One orbit (or why there is none) per row.
 
     """
-    nu_a = np.array(np.atleast_1d(_nu(nu)), order="C")
+    checked = _orbit_guesses(law, lp, nu, s0, period, tol, max_iter)
+    kernel, law_a, lp_a, nu_a, s0_a, t_a, tol, max_iter = checked
     n = nu_a.shape[0]
-    kernel = _kernel(law)
-    law_a, lp_a = _laws(kernel, lp, n)
-    s0_a = _broadcast("s0", checks.finite_array("s0", s0), (n,))
-    t_a = _broadcast("period", checks.finite_array("period", period, bound=1e12, positive=True), (n,))
-    tol = checks.positive("tol", tol, upper=1e-3, what="a tolerance of at most 1e-3")
-    if tol < 1e-14:
-        raise ValueError(f"tol={tol!r}: expected a tolerance of at least 1e-14")
-    max_iter = checks.integer("max_iter", max_iter, lo=1, hi=1000)
     check_memory(n * 8.0 * (engine.NRM + 12), f"{n} return maps")
     out = np.empty((n, engine.NRM))
     rows = kernel.engine.return_map_rows

@@ -853,20 +853,16 @@ def return_map_orbit(law, lp, nu, s_guess, t_guess, tol, max_iter, out):  # type
     y = np.empty((1, 2))
     mode = np.empty(1, dtype=np.int64)
     res = np.empty(2)
+    ws = (t_eval, y, mode, res)
     scale = max(1.0, abs(s_guess))
     x0 = s_guess
     x1 = x0 + 1e-6 * scale
-    code = _next_force_maximum(law, lp, nu, x0, t_guess, rtol, atol, t_eval, y, mode, res)
-    if code != RM_OK:
-        out[RM_STATUS], out[RM_AT], out[RM_DETAIL] = code, res[0], res[1]
+    if not _map_step(law, lp, nu, x0, t_guess, rtol, atol, ws, out):
         return
-    g0 = res[0] - x0
-    code = _next_force_maximum(law, lp, nu, x1, t_guess, rtol, atol, t_eval, y, mode, res)
-    if code != RM_OK:
-        out[RM_STATUS], out[RM_AT], out[RM_DETAIL] = code, res[0], res[1]
+    g0 = res[0]
+    if not _map_step(law, lp, nu, x1, t_guess, rtol, atol, ws, out):
         return
-    g1 = res[0] - x1
-    t1 = res[1]
+    g1, t1 = res[0], res[1]
     converged = False
     for _ in range(max_iter):
         if abs(g1) < tol * scale:
@@ -876,12 +872,9 @@ def return_map_orbit(law, lp, nu, s_guess, t_guess, tol, max_iter, out):  # type
             out[RM_STATUS] = RM_STALLED
             return
         x0, x1, g0 = x1, x1 - g1 * (x1 - x0) / (g1 - g0), g1
-        code = _next_force_maximum(law, lp, nu, x1, t_guess, rtol, atol, t_eval, y, mode, res)
-        if code != RM_OK:
-            out[RM_STATUS], out[RM_AT], out[RM_DETAIL] = code, res[0], res[1]
+        if not _map_step(law, lp, nu, x1, t_guess, rtol, atol, ws, out):
             return
-        g1 = res[0] - x1
-        t1 = res[1]
+        g1, t1 = res[0], res[1]
     if not converged:
         out[RM_STATUS] = RM_NOT_CONVERGED
         out[RM_DETAIL] = abs(g1)
@@ -892,23 +885,29 @@ def return_map_orbit(law, lp, nu, s_guess, t_guess, tol, max_iter, out):  # type
     central = np.empty(2)
     for m in range(2):
         step = 0.5 * h if m == 0 else h
-        code = _next_force_maximum(law, lp, nu, x1 + step, t_guess, rtol, atol, t_eval, y, mode, res)
-        if code != RM_OK:
-            out[RM_STATUS], out[RM_AT], out[RM_DETAIL] = code, res[0], res[1]
+        if not _map_step(law, lp, nu, x1 + step, t_guess, rtol, atol, ws, out):
             return
-        up = res[0] - (x1 + step)
-        code = _next_force_maximum(law, lp, nu, x1 - step, t_guess, rtol, atol, t_eval, y, mode, res)
-        if code != RM_OK:
-            out[RM_STATUS], out[RM_AT], out[RM_DETAIL] = code, res[0], res[1]
+        up = res[0]
+        if not _map_step(law, lp, nu, x1 - step, t_guess, rtol, atol, ws, out):
             return
-        down = res[0] - (x1 - step)
-        central[m] = (up - down) / (2.0 * step)
+        central[m] = (up - res[0]) / (2.0 * step)
     out[RM_STATUS] = RM_OK
     out[RM_S0] = x1
     out[RM_PERIOD] = t1
     out[RM_MULT] = 1.0 + (4.0 * central[0] - central[1]) / 3.0
     out[RM_RESIDUAL] = abs(g1)
 
+
+@njit(cache=True)
+def _map_step(law, lp, nu, s, t_guess, rtol, atol, ws, out):  # type: ignore[no-untyped-def]
+    """Put ``(P(s) - s, t)`` in ``ws[3]`` and return True; or say in ``out`` why there is no ``P(s)``."""
+    t_eval, y, mode, res = ws
+    code = _next_force_maximum(law, lp, nu, s, t_guess, rtol, atol, t_eval, y, mode, res)
+    if code != RM_OK:
+        out[RM_STATUS], out[RM_AT], out[RM_DETAIL] = code, res[0], res[1]
+        return False
+    res[0] = res[0] - s
+    return True
 
 @njit(cache=True, nogil=True)
 def return_map_rows(law, lp, nu, s_guess, t_guess, tol, max_iter, out):  # type: ignore[no-untyped-def]
