@@ -25,6 +25,10 @@ the rows in the caller's order (not sorted for the load balance), random or sort
 beforehand (as a grid's rows come): each end to end and its kernels alone (the launch
 options change the kernels; end to end, the host's copies may hide it).
 
+Without a GPU, ``--host-only N`` times the host's part of a sweep of N points on the GPU
+(its kernels and copies replaced by a copy of one row): what bounds a sweep end to end
+once the kernels are fast.
+
 Run: python benchmarks/bench_gpu.py [--n 10000000] [--n-cpu 200000] [--n-diffrax 1000000] [--n-extra 2000000]
 """
 
@@ -96,9 +100,19 @@ def main() -> None:
     )
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--diffrax-only", action="store_true", help="diffrax against the CPU engine (no GPU)")
+    ap.add_argument(
+        "--host-only",
+        type=int,
+        default=0,
+        metavar="N",
+        help="a sweep of N points with the GPU's work replaced by a copy of one row (no GPU)",
+    )
     args = ap.parse_args()
     if args.diffrax_only:
         _diffrax_against_engine(args)
+        return
+    if args.host_only:
+        _host_only_sweep(args.host_only)
         return
     ok, device = core_cuda.cuda_status()
     if not ok or core_cuda.simulator():
@@ -267,6 +281,44 @@ def _kernels(n: int) -> str:
     """The last call's kernels alone (their busy time on the GPU): what the launch options change."""
     busy = core_cuda.TIMES.get("kernel", 0.0)
     return f"; kernels {busy:.3f} s = {n / busy:12.0f} cycles/s" if busy > 0 else ""
+
+
+def _host_only_sweep(n: int) -> None:
+    """A sweep's work on the host with a GPU: everything but the kernels and the copies.
+
+    ``run_attractors_cuda`` is replaced by a copy of one real stick-slip row into every
+    row (the rows the GPU would bring back), so that the host's part of
+    ``sweep(..., backend="cuda")`` is timed on a machine without a GPU: checking the
+    grid, making the rows, the polish, the result's variables and its labels.
+    """
+    from stickslip import DimensionlessParameters
+    from stickslip.dynamics import sweep as sweep_module
+    from stickslip.dynamics.sweep import sweep
+
+    kernel = WeakeningLaw(c=1.0).kernel
+    kw = dict(from_breakaway=True, rtol=RTOL, atol=ATOL, max_slip_time=1e4, conv_tol=1e-8)
+    row = run_attractors(kernel, [[3.8]], [0.01], **kw).raw[0]
+
+    def rows_as_the_gpu_would(*args: object, **kwargs: object) -> None:
+        out, on_rows = args[13], args[14] if len(args) > 14 else None
+        cols = args[15] if len(args) > 15 else None
+        out[:] = row if cols is None else row[cols]  # type: ignore[index]
+        if callable(on_rows):
+            on_rows(len(out))  # type: ignore[arg-type]
+
+    core_cuda.run_attractors_cuda = rows_as_the_gpu_would  # type: ignore[assignment]
+    core_cuda.resolve_backend = lambda backend: "cuda" if backend == "cuda" else "cpu"  # type: ignore[assignment]
+    sweep_module.resolve_backend = core_cuda.resolve_backend  # type: ignore[attr-defined]
+    base = DimensionlessParameters(0.01, WeakeningLaw(c=3.8))
+    grid = {"nu": np.geomspace(1e-4, 0.05, max(1, n // 1000)), "c": np.linspace(2.0, 10.0, 1000)}
+    sweep(base, {"nu": [0.01, 0.02], "c": [3.8]}, backend="cuda", progress=False)  # imports, compiles
+    t0 = time.perf_counter()
+    ds = sweep(base, grid, backend="cuda", progress=False)
+    dt = time.perf_counter() - t0
+    m = ds.sizes["nu"] * ds.sizes["c"]
+    machine = platform.processor() or platform.machine()
+    print(f"machine: {machine}, {os.cpu_count()} cores; no GPU: its work stubbed")
+    print(f"sweep(..., backend='cuda'), the host's part: {m} points in {dt:.3f} s = {m / dt:.3g} points/s")
 
 
 def _diffrax_against_engine(args: argparse.Namespace) -> None:

@@ -188,3 +188,31 @@ def test_results_can_be_keys_and_trajectories_compare_by_identity() -> None:
     again = simulate(params, duration=20.0)
     assert traj == traj and traj != again and len({traj, again}) == 2
     np.testing.assert_allclose(traj.spring_force, again.spring_force)
+
+
+@pytest.mark.parametrize(
+    ("value", "positive", "message"),
+    [
+        ([1.0, math.nan], False, r"x\[1\]=nan: expected a finite value of magnitude at most 1e\+13"),
+        ([[0.0, 1.0], [math.inf, 2.0]], False, r"x\[1, 0\]=inf: expected a finite value"),
+        ([-1e14, 0.0], False, r"x\[0\]=-100000000000000.0: expected a finite value"),
+        ([1e14], False, r"x\[0\]=100000000000000.0: expected a finite value"),
+        ([0.5, 0.0], True, r"x\[1\]=0.0: expected a positive finite value"),
+        ([0.5, -3.0], True, r"x\[1\]=-3.0: expected a positive finite value"),
+    ],
+)
+def test_arrays_are_checked_entry_by_entry(value: list, positive: bool, message: str) -> None:
+    """The two-reduction fast path of finite_array lets nothing through that the entry-wise check refuses."""
+    from stickslip.core.checks import finite_array
+
+    with pytest.raises(ValueError, match=message):
+        finite_array("x", value, positive=positive)
+
+
+def test_good_arrays_pass_the_check_unchanged() -> None:
+    from stickslip.core.checks import finite_array
+
+    a = np.array([-1e13, 0.0, 1e13])
+    np.testing.assert_array_equal(finite_array("x", a), a)
+    assert finite_array("x", []).size == 0
+    assert finite_array("x", [1e-300], positive=True)[0] == 1e-300

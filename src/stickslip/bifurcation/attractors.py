@@ -217,6 +217,7 @@ def polish_rows(
     rerun: bool = False,
     rtol: float = defaults.RTOL,
     atol: float = defaults.ATOL,
+    inplace: bool = False,
 ) -> tuple[AttractorRows, np.ndarray]:
     """Polish the non-sticking attractors in engine rows; return the new rows and the multipliers.
 
@@ -228,7 +229,8 @@ def polish_rows(
     nu : ndarray, shape (n,)
         Driving velocity of each row.
     rows : AttractorRows
-        Output of :func:`~stickslip.core.api.run_attractors` (not modified), keeping
+        Output of :func:`~stickslip.core.api.run_attractors` (not modified unless
+        ``inplace``), keeping
         at least :data:`POLISH_FIELDS` (and the work integrals with ``rerun``).
     rerun : bool, optional
         Restart the engine on each polished orbit to measure the work of the
@@ -236,6 +238,10 @@ def polish_rows(
         transient's). Default False.
     rtol, atol : float, optional
         Tolerances of that run.
+    inplace : bool, optional
+        Polish ``rows`` themselves and return them (a caller that owns them: a
+        sweep's block, whose copy took as long as the rest of the polish). Default
+        False: ``rows`` are not modified.
 
     Returns
     -------
@@ -261,7 +267,8 @@ def polish_rows(
     missing = [x for x in need if not rows.keeps(x)]
     if missing:
         raise ValueError(f"polish_rows: the rows do not keep {', '.join(missing)} (run_attractors' fields)")
-    rows = rows.copy()
+    if not inplace:
+        rows = rows.copy()
     nu = np.asarray(nu, dtype=float)
     n = len(rows)
     mult = np.full(n, math.nan)
