@@ -217,3 +217,18 @@ def test_the_estimate_sits_in_the_stress_panel_above_its_curve() -> None:
     y = np.concatenate([ln.get_ydata() for ln in ax.get_lines()])
     lo, hi = ax.get_ylim()
     assert (hi - float(np.max(y))) / (hi - lo) > 0.15  # the text's headroom
+
+
+def test_a_run_with_more_events_than_it_locates_is_refused_from_its_first_thousand() -> None:
+    """The rate of the later half of the events so far sets the refusal (5 % beyond the capacity)."""
+    from stickslip.ratestate.cycles import _say_too_many_events
+
+    ev = np.zeros((200_000, 4))
+    ev[:1000, 1] = np.arange(1000) * 5.0 * YEAR  # an event every 5 yr, after a transient below
+    ev[:10, 1] = np.arange(10) * 0.1 * YEAR
+    done = 5000.0 * YEAR
+    _say_too_many_events(ev, 999, done, 1e7 * YEAR)  # too few events yet to say
+    _say_too_many_events(ev, 1000, done, 1.0e6 * YEAR)  # 2e5 expected: it runs
+    said = r"about 2.2e\+05 events \(1000 in the first 5000 yr, one every 5 yr\).*at most about 1e\+06 yr"
+    with pytest.raises(RuntimeError, match=said):
+        _say_too_many_events(ev, 1000, done, 1.1e6 * YEAR)
