@@ -377,11 +377,11 @@ class ReturnMapRows(_Rows):
     s0 = _field(engine.RM_S0, "Spring-force maximum of the orbit (where w crosses nu upward).")
     period = _field(engine.RM_PERIOD, "Return time.")
     multiplier = _field(engine.RM_MULT, "Derivative of the return map at the fixed point.")
-    residual = _field(engine.RM_RESIDUAL, "|P(s0) - s0|.")
+    residual = _field(engine.RM_RESIDUAL, "The residual ``|P(s0) - s0|``.")
     at = _field(engine.RM_AT, "Where an integration failed: the spring force it started from.")
     detail = _field(
         engine.RM_DETAIL,
-        "What a failure was: the integration's status code, the time integrated, or |P(s) - s|.",
+        "What a failure was: the integration's status code, the time integrated, or ``|P(s) - s|``.",
     )
 
     def message(self, i: int) -> str:
