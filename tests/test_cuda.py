@@ -252,6 +252,42 @@ def test_only_the_fields_kept_cross_back_from_the_gpu(streams: str) -> None:
     assert set(cpu.regime.tolist()) == {0, 1}
 
 
+_PERMUTED = """
+import json
+import numpy as np
+from stickslip.core import cuda, engine
+from stickslip.laws import WeakeningLaw
+one = WeakeningLaw(c=1.0).kernel.engine.attractor_ws
+c = np.array([[1.0], [3.0], [6.0]])
+nu = np.array([0.01, 0.5, 2.0])
+got = {}
+for name, cols in {"reversed": list(range(engine.NOUT))[::-1], "twice": [2, 0, 2]}.items():
+    out = np.empty((3, len(cols)))
+    cuda.run_attractors_cuda(one, np.zeros(3, np.int64), c, nu, np.zeros(1), np.zeros(1), True, 1e-10, 1e-12,
+                             1e4, 1e-8, False, 2_000_000, out, None, np.array(cols))
+    got[name] = out.tolist()
+print(json.dumps(got))
+"""
+
+
+@needs_numba_cuda
+def test_columns_in_any_order_come_back_in_that_order() -> None:
+    """The GPU path takes the engine's columns in the caller's order (all 21 reversed, one twice)."""
+    run = subprocess.run(
+        [sys.executable, "-c", _PERMUTED], env=SIM, capture_output=True, text=True, timeout=600
+    )
+    assert run.returncode == 0, run.stderr
+    got = json.loads(run.stdout)
+    cpu = run_attractors(
+        WeakeningLaw(c=1.0).kernel, np.array([[1.0], [3.0], [6.0]]), np.array([0.01, 0.5, 2.0]),
+        from_breakaway=True, rtol=1e-10, atol=1e-12, max_slip_time=1e4, conv_tol=1e-8,
+    ).raw  # fmt: skip
+    cycle = _cycle_columns()
+    rev = np.array(got["reversed"])[:, ::-1]
+    np.testing.assert_allclose(rev[:, cycle], cpu[:, cycle], rtol=1e-9, equal_nan=True)
+    np.testing.assert_allclose(np.array(got["twice"]), cpu[:, [2, 0, 2]], rtol=1e-9)
+
+
 _STOPPED = """
 import json
 import numpy as np

@@ -163,3 +163,30 @@ def test_a_sweeps_polish_is_the_same_with_its_return_maps_compiled_or_in_python(
     np.testing.assert_array_equal(compiled.raw, python.raw)
     np.testing.assert_array_equal(m_compiled, m_python)
     assert np.isfinite(m_python).all()
+
+
+def test_return_maps_refuse_what_the_python_secant_refuses() -> None:
+    """The flow's tolerances (tol / 100) and an iterate beyond the states: the same on both paths."""
+    from stickslip.bifurcation.orbits import return_map_orbit_core
+    from stickslip.core.api import run_return_maps
+    from stickslip.core.results import ReturnMapStatus
+
+    kernel = WeakeningLaw(c=1.0).kernel
+    with pytest.raises(ValueError, match=r"rtol=1e-15: expected a relative tolerance between 1e-14"):
+        run_return_maps(kernel, [5.9], [4.3], [3.0], [2.0], tol=1e-13)
+    with pytest.raises(ValueError, match=r"rtol=1e-15: expected a relative tolerance between 1e-14"):
+        return_map_orbit_core(kernel, np.array([5.9]), 4.3, (3.0, 2.0), tol=1e-13)
+    # an iterate beyond the states (the guesses are checked: the compiled secant, called directly)
+    from stickslip.core import engine
+    from stickslip.core.results import ReturnMapRows
+
+    out = np.empty((1, engine.NRM))
+    kernel.engine.return_map_orbit(kernel.law_id, np.array([5.9, 0, 0, 0, 0, 0, 0, 0]), 4.3, 2e13, 2.0, 1e-10,
+                                   40, out[0])  # fmt: skip
+    got = ReturnMapRows(out)
+    assert got.status[0] == ReturnMapStatus.LEFT.code
+    assert got.message(0) == "return map: the secant iteration left the states the engine takes (s = 2e+13)"
+    with pytest.raises(ValueError, match=r"s0\[0\]=20000000000000.0: expected a finite value"):
+        run_return_maps(kernel, [5.9], [4.3], [2e13], [2.0])
+    with pytest.raises(RuntimeError, match=r"left the states the engine takes \(s = 2e\+13\)"):
+        return_map_orbit_core(kernel, np.array([5.9]), 4.3, (2e13, 2.0))

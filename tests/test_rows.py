@@ -92,3 +92,13 @@ def test_a_polish_of_kept_rows_equals_the_full_rows_polish() -> None:
         polish_rows(law, nu, _rows(("status", "amplitude", "period")))
     with pytest.raises(ValueError, match="do not keep drive_work, friction_work"):
         polish_rows(law, nu, _rows(POLISH_FIELDS), rerun=True)
+
+
+def test_rows_keeping_every_field_are_the_full_rows() -> None:
+    every = _rows(list(AttractorRows.layout()))
+    assert every.fields is None  # they mix with full rows
+    both = AttractorRows.concat([every, _rows()])
+    np.testing.assert_array_equal(both.raw[:12], both.raw[12:])
+    one = AttractorRows.empty(3, "status")  # one name, a string
+    assert one.fields == ("status",) and one.raw.shape == (3, 1)
+    assert AttractorRows.empty(2, tuple(AttractorRows.layout())).fields is None

@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from ..core.api import Kernel, Trajectories, run_attractors, run_flow, run_shooting
+from ..core.checks import MAX_STATE
 from ..core.laws import N_LAW_PARAMS
 from ..core.results import EventKind, Regime, ShootingRows, ShootStatus, Status
 from ..laws import DimensionlessLaw
@@ -289,6 +290,10 @@ def return_map_orbit_core(
     runs = Trajectories(kernel, lp, nu, rtol=rtol, atol=atol)
 
     def g(s: float) -> tuple[float, float]:
+        if not abs(s) <= MAX_STATE:  # as the compiled secant says it
+            raise RuntimeError(
+                f"return map: the secant iteration left the states the engine takes (s = {s:.6g})"
+            )
         s1, t1 = next_force_maximum(kernel, lp, nu, s, guess[1], rtol=rtol, atol=atol, runs=runs)
         return s1 - s, t1
 

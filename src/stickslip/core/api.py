@@ -195,6 +195,8 @@ def run_attractors(
     conv_tol = checks.positive("conv_tol", conv_tol, upper=0.1, what="a relative tolerance below 0.1")
     max_steps = checks.integer("max_steps", max_steps, lo=10, hi=10**9)
     kept = None if fields is None else AttractorRows.check_fields(fields)
+    if kept is not None and len(kept) == engine.NOUT:
+        kept = None  # every field: the full rows
     nu_a = np.array(np.atleast_1d(_nu(nu)), order="C")
     n = nu_a.shape[0]
     kernel = _kernel(law)
@@ -642,6 +644,7 @@ def run_return_maps(
     checked = _orbit_guesses(law, lp, nu, s0, period, tol, max_iter)
     kernel, law_a, lp_a, nu_a, s0_a, t_a, tol, max_iter = checked
     n = nu_a.shape[0]
+    checks.tolerances(tol * 1e-2, tol * 1e-4)  # the flow's, as the Python secant checks them
     check_memory(n * 8.0 * (engine.NRM + 12), f"{n} return maps")
     out = np.empty((n, engine.NRM))
     rows = kernel.engine.return_map_rows

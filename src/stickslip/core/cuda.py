@@ -271,7 +271,7 @@ class _Slot:
         self.d_w0 = cuda.device_array(m)
         self.d_out = cuda.device_array((rows, engine.NOUT))
         # the columns the caller keeps, gathered on the GPU: only they cross back
-        self.gathered = len(columns) < engine.NOUT
+        self.gathered = columns != tuple(range(engine.NOUT))
         self.d_cols = cuda.to_device(np.array(columns, dtype=np.int64)) if self.gathered else None
         self.d_kept = cuda.device_array((rows, len(columns))) if self.gathered else self.d_out
         self.h_lp = cuda.pinned_array((rows, k))

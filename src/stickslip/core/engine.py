@@ -144,6 +144,9 @@ RM_STICKS = 2  # the motion sticks: RM_AT the start's s
 RM_NO_MAXIMUM = 3  # no force maximum: RM_AT the start's s, RM_DETAIL the time integrated
 RM_STALLED = 4  # the secant iteration stalled
 RM_NOT_CONVERGED = 5  # no fixed point in the iterations allowed: RM_DETAIL |P(s) - s|
+RM_LEFT = 6  # an iterate left the states the engine takes (|s| > RM_MAX_STATE): RM_AT it
+#: the largest spring force a return map starts from (core.checks.MAX_STATE)
+RM_MAX_STATE = 1e13
 RM_STATUS = 0
 RM_S0 = 1
 RM_PERIOD = 2
@@ -902,6 +905,9 @@ def return_map_orbit(law, lp, nu, s_guess, t_guess, tol, max_iter, out):  # type
 def _map_step(law, lp, nu, s, t_guess, rtol, atol, ws, out):  # type: ignore[no-untyped-def]
     """Put ``(P(s) - s, t)`` in ``ws[3]`` and return True; or say in ``out`` why there is no ``P(s)``."""
     t_eval, y, mode, res = ws
+    if not abs(s) <= RM_MAX_STATE:  # NaN too
+        out[RM_STATUS], out[RM_AT] = RM_LEFT, s
+        return False
     code = _next_force_maximum(law, lp, nu, s, t_guess, rtol, atol, t_eval, y, mode, res)
     if code != RM_OK:
         out[RM_STATUS], out[RM_AT], out[RM_DETAIL] = code, res[0], res[1]

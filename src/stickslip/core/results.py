@@ -181,7 +181,17 @@ class _Rows:
 
     _width: int = 0
 
-    def __init__(self, raw: npt.ArrayLike, fields: tuple[str, ...] | None = None) -> None:
+    def __init__(self, raw: npt.ArrayLike, fields: tuple[str, ...] | str | None = None) -> None:
+        if isinstance(fields, str):
+            fields = (fields,)
+        if fields is not None:
+            fields = tuple(fields)
+            if fields != type(self).check_fields(fields):
+                raise ValueError(
+                    f"{type(self).__name__}: fields {fields} not each once in the layout's order"
+                )
+            if len(fields) == len(type(self).layout()):
+                fields = None  # every field, in the layout's order: the full rows
         a = np.asarray(raw, dtype=np.float64)
         if a.ndim == 1:
             a = a[None, :]
@@ -189,14 +199,9 @@ class _Rows:
         if a.ndim != 2 or a.shape[1] != width:
             raise ValueError(f"{type(self).__name__}: expected rows of {width} values, got {a.shape}")
         self.raw = a
-        self.fields = None if fields is None else tuple(fields)
+        self.fields = fields
         self._where: dict[int, int] | None = None
         if fields is not None:
-            fields = tuple(fields)
-            if fields != type(self).check_fields(fields):
-                raise ValueError(
-                    f"{type(self).__name__}: fields {fields} not each once in the layout's order"
-                )
             layout = _LAYOUTS.get(type(self)) or type(self).layout()
             self._where = {layout[name]: j for j, name in enumerate(fields)}
 
@@ -353,9 +358,11 @@ class AttractorRows(_Rows):
         ]
 
     @classmethod
-    def empty(cls, n: int, fields: tuple[str, ...] | None = None) -> AttractorRows:
+    def empty(cls, n: int, fields: tuple[str, ...] | str | None = None) -> AttractorRows:
         """Return ``n`` rows of NaN (keeping only ``fields``, where given)."""
-        return cls(np.full((n, engine.NOUT if fields is None else len(fields)), np.nan), fields)
+        kept = None if fields is None else cls.check_fields(fields)
+        width = engine.NOUT if kept is None or len(kept) == engine.NOUT else len(kept)
+        return cls(np.full((n, width), np.nan), kept)
 
 
 class ReturnMapStatus(_Labelled):
@@ -367,6 +374,7 @@ class ReturnMapStatus(_Labelled):
     NO_MAXIMUM = "no-maximum", engine.RM_NO_MAXIMUM, "no spring-force maximum within the time integrated"
     STALLED = "stalled", engine.RM_STALLED, "the secant iteration stalled"
     NOT_CONVERGED = "not-converged", engine.RM_NOT_CONVERGED, "no fixed point within the iterations allowed"
+    LEFT = "left-the-states", engine.RM_LEFT, "the secant iteration left the states the engine takes"
 
 
 class ReturnMapRows(_Rows):
@@ -395,6 +403,8 @@ class ReturnMapRows(_Rows):
             return f"return map from s = {at:.6g}: the motion sticks (not a non-sticking orbit)"
         if st == ReturnMapStatus.NO_MAXIMUM:
             return f"return map from s = {at:.6g}: no spring-force maximum within tau = {detail:.3g}"
+        if st == ReturnMapStatus.LEFT:
+            return f"return map: the secant iteration left the states the engine takes (s = {at:.6g})"
         if st == ReturnMapStatus.NOT_CONVERGED:
             return f"return map: no fixed point within the iterations allowed (|P(s) - s| = {detail:.3g})"
         return f"return map: {st.message}"
