@@ -312,3 +312,13 @@ def test_numbers_derived_from_the_typed_ones_are_named_by_what_was_typed(tmp_pat
     ):
         with pytest.raises(ValueError, match="dc=1×10⁻³²⁰ m: expected a slip distance between 1 pm and 1 km"):
             make()
+
+
+def test_an_exponent_without_digits_is_not_an_elementary_charge() -> None:
+    """'5e um/s' read as 5 elementary charges um/s (a dimension error about [current]); now named."""
+    from stickslip.units import parse_quantity
+
+    with pytest.raises(ValueError, match=r"v0='5e um/s': 5e is a number's exponent without its digits"):
+        parse_quantity("5e um/s", "v0", "[length] / [time]", "1 mm/s")
+    assert parse_quantity("5e-6 m/s", "v0", "[length] / [time]", "1 mm/s").magnitude == 5e-6
+    assert str(parse_quantity("5 eV", "energy", "[energy]", "1 J").units) == "electron_volt"

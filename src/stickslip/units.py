@@ -172,6 +172,11 @@ def _parse_string(value: str, name: str, example: str) -> Any:
             f"a comma) followed by a unit, such as {example!r}"
         )
     number, unit = m.group(1), m.group(2)
+    if re.match(r"[eE](\s|$)", text[len(number) :]):  # '5e um/s': not 5 elementary charges um/s
+        raise ValueError(
+            f"{name}={value!r}: {number}{text[len(number)]!s} is a number's exponent without its digits; "
+            f"write the exponent (5e-6 m/s) or the unit's prefix (5 um/s), such as {example!r}"
+        )
     if unit.lstrip().startswith("/"):  # '1/mm': the number, then a reciprocal unit
         unit = "1" + unit.lstrip()
     try:
