@@ -9,7 +9,7 @@ iterations to ``|P(s) - s| < 1e-10``, the flow at 1e-12, and the map's derivativ
 
 * stickslip, compiled: ``run_return_maps`` (all rows at once, on all cores);
 * stickslip in Python: ``return_map_orbit_core``, the secant in Python around the
-  engine's trajectories (what a polish of fewer than 16 such rows runs);
+  engine's trajectories (what a polish of fewer than 1000 such rows runs);
 * SciPy: ``solve_ivp(method="DOP853")`` for the return map, with terminal events at
   ``w = 0`` (the velocity changes sign: the other direction's field from there; a
   stop with ``|s| <= 1`` sticks) and at ``w = nu`` upward, and

@@ -161,8 +161,11 @@ def _say_noisy(error: np.ndarray) -> None:
     )
 
 
-#: from this many slip-reversal rows on, their return maps run compiled (:func:`_return_maps`)
-COMPILED_RETURN_MAPS = 16
+#: from this many slip-reversal rows on, their return maps run compiled (:func:`_return_maps`):
+#: about a second of them in Python, where compiling the map costs some 10 s on a law's first
+#: use (at 16, the cold `stickslip reproduce` took 52 s against 42 s; its 201-point grids stay
+#: in Python, a sweep of many points goes compiled)
+COMPILED_RETURN_MAPS = 1000
 #: the fields of the engine's rows that :func:`polish_rows` reads or writes (a sweep keeps these)
 POLISH_FIELDS = (
     "status", "regime", "amplitude", "period", "stick_time", "s_max", "s_min", "w_max", "w_min",
@@ -175,10 +178,10 @@ def _return_maps(
 ) -> list[tuple[int, ReturnMapOrbit | None]]:
     """Return the return-map orbits of rows ``idx`` from their last oscillation (None: there is none).
 
-    From :data:`COMPILED_RETURN_MAPS` rows on, compiled and side by side on the threads
-    (20 000 F1 rows with 3041 slip reversals: 0.87 s, against 2.7 s in Python); fewer in
-    Python around the engine's trajectories, which costs no compilation of its own (the
-    compiled return map adds some 10 s to a law's first use). The same numbers either way.
+    From :data:`COMPILED_RETURN_MAPS` rows on (1000), compiled and side by side on the
+    threads (20 000 F1 rows with 3041 slip reversals: 0.87 s, against 2.7 s in Python);
+    fewer in Python around the engine's trajectories, which costs no compilation of its own
+    (the compiled return map adds some 10 s to a law's first use). The same numbers either way.
     """
     if idx.size >= COMPILED_RETURN_MAPS:
         maps = run_return_maps(kernel, lp[idx], nu[idx], rows.s_max[idx], rows.period[idx])
