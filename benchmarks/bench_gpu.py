@@ -16,7 +16,8 @@ over the sets, double precision) on JAX's default device: phases per second and 
 spring force at the stop against the engine's.
 
 The same F1 call then keeps only a sweep's 12 fields, and only status, regime and
-amplitude (``fields=``: the rest stay on the GPU), end to end.
+amplitude (``fields=``: the rest stay on the GPU), end to end; then a sweep of
+``--n-sweep`` points on the GPU, end to end (the host's share of a sweep included).
 
 Then, on fewer sets (``--n-extra``), the GPU's cycles per second for F2, the cubic law, a
 law typed as a formula and a measured table (600 rows), for F1 at other block sizes and
@@ -98,6 +99,9 @@ def main() -> None:
     ap.add_argument(
         "--n-extra", type=int, default=2_000_000, help="sets for other laws and launches (0: none)"
     )
+    ap.add_argument(
+        "--n-sweep", type=int, default=10_000_000, help="points of a sweep(..., backend='cuda') (0: none)"
+    )
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--diffrax-only", action="store_true", help="diffrax against the CPU engine (no GPU)")
     ap.add_argument(
@@ -170,6 +174,8 @@ def main() -> None:
         f"({core_cuda.STREAMS} streams, launches of {core_cuda.MAX_BATCH} rows at most)"
     )
     _kept_fields(kernel, lp, nu, kw, gpu)
+    if args.n_sweep:
+        _gpu_sweep(args.n_sweep)
     print(f"CPU  : {m:10d} cycles in {t_cpu:8.3f} s = {m / t_cpu:14.0f} cycles/s ({threads()} threads)")
     print(f"       {m1:10d} cycles in {t_one:8.3f} s = {m1 / t_one:14.0f} cycles/s (one thread)")
     print(f"ratio: {(args.n / t_gpu) / (m / t_cpu):.1f} x the CPU engine")
@@ -283,6 +289,31 @@ def _kernels(n: int) -> str:
     return f"; kernels {busy:.3f} s = {n / busy:12.0f} cycles/s" if busy > 0 else ""
 
 
+def _sweep_grid(n: int) -> tuple[object, dict[str, np.ndarray]]:
+    """F1 over ``nu`` (log) x ``c``, about ``n`` points: the sweep of --n-sweep and --host-only."""
+    from stickslip import DimensionlessParameters
+
+    base = DimensionlessParameters(0.01, WeakeningLaw(c=3.8))
+    return base, {"nu": np.geomspace(1e-4, 0.05, max(1, n // 1000)), "c": np.linspace(2.0, 10.0, 1000)}
+
+
+def _gpu_sweep(n: int) -> None:
+    """A sweep on the GPU end to end (the host's share included): what a user runs."""
+    from stickslip.dynamics.sweep import sweep
+
+    base, grid = _sweep_grid(n)
+    sweep(base, {"nu": [0.01, 0.02], "c": [3.8]}, backend="cuda", progress=False)  # imports, compiles
+    t0 = time.perf_counter()
+    ds = sweep(base, grid, backend="cuda", progress=False)
+    dt = time.perf_counter() - t0
+    m = ds.sizes["nu"] * ds.sizes["c"]
+    kernels = core_cuda.TIMES.get("kernel", 0.0)
+    print(
+        f"sweep(..., backend='cuda'), end to end: {m} points in {dt:.3f} s = {m / dt:.3g} points/s "
+        f"(the last launch call's kernels {kernels:.3f} s; nu log [1e-4, 0.05] x c [2, 10], F1)"
+    )
+
+
 def _host_only_sweep(n: int) -> None:
     """A sweep's work on the host with a GPU: everything but the kernels and the copies.
 
@@ -291,7 +322,6 @@ def _host_only_sweep(n: int) -> None:
     ``sweep(..., backend="cuda")`` is timed on a machine without a GPU: checking the
     grid, making the rows, the polish, the result's variables and its labels.
     """
-    from stickslip import DimensionlessParameters
     from stickslip.dynamics import sweep as sweep_module
     from stickslip.dynamics.sweep import sweep
 
@@ -309,8 +339,7 @@ def _host_only_sweep(n: int) -> None:
     core_cuda.run_attractors_cuda = rows_as_the_gpu_would  # type: ignore[assignment]
     core_cuda.resolve_backend = lambda backend: "cuda" if backend == "cuda" else "cpu"  # type: ignore[assignment]
     sweep_module.resolve_backend = core_cuda.resolve_backend  # type: ignore[attr-defined]
-    base = DimensionlessParameters(0.01, WeakeningLaw(c=3.8))
-    grid = {"nu": np.geomspace(1e-4, 0.05, max(1, n // 1000)), "c": np.linspace(2.0, 10.0, 1000)}
+    base, grid = _sweep_grid(n)
     sweep(base, {"nu": [0.01, 0.02], "c": [3.8]}, backend="cuda", progress=False)  # imports, compiles
     t0 = time.perf_counter()
     ds = sweep(base, grid, backend="cuda", progress=False)
