@@ -21,7 +21,8 @@ amplitude (``fields=``: the rest stay on the GPU), end to end; then a sweep of
 
 Then, on fewer sets (``--n-extra``), the GPU's cycles per second for F2, the cubic law, a
 law typed as a formula and a measured table (600 rows), for F1 at other block sizes and
-register limits, with one, two or three CUDA streams at launches of 2^18 rows, and for F1 with
+register limits, with the threads taking rows from a queue (``PERSISTENT``), with one,
+two or three CUDA streams at launches of 2^18 rows, and for F1 with
 the rows in the caller's order (not sorted for the load balance), random or sorted
 beforehand (as a grid's rows come): each end to end and its kernels alone (the launch
 options change the kernels; end to end, the host's copies may hide it).
@@ -274,6 +275,15 @@ def _other_laws_and_launches(n: int, nu: np.ndarray, c: np.ndarray, kw: dict) ->
         core_cuda.JIT_OPTIONS = options
         f1(label)
     core_cuda.JIT_OPTIONS = default_options
+    # the threads take rows from a queue, as many launched as stay resident (2 blocks a
+    # multiprocessor at 201-203 registers, 4 under a cap of 128)
+    per_sm = core_cuda.PERSISTENT_BLOCKS_PER_SM
+    core_cuda.PERSISTENT = True
+    f1("persistent (a row queue)")
+    core_cuda.JIT_OPTIONS, core_cuda.PERSISTENT_BLOCKS_PER_SM = {"max_registers": 128}, 4
+    f1("persistent, <= 128 regs")
+    core_cuda.JIT_OPTIONS, core_cuda.PERSISTENT_BLOCKS_PER_SM = default_options, per_sm
+    core_cuda.PERSISTENT = False
     sort = core_cuda.SORT_ROWS
     core_cuda.SORT_ROWS = True
     order = core_cuda.balance_order(lp, nu)

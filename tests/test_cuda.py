@@ -141,6 +141,8 @@ from stickslip.core import cuda
 from stickslip.core.api import run_attractors
 cuda.SIMULATOR_BATCH = 16  # three launches of four blocks for 40 rows: every index path
 cuda.THREADS_PER_BLOCK = 4
+# the threads take rows from a queue: two blocks of four (the simulator's one multiprocessor)
+cuda.PERSISTENT = len(sys.argv) > 7 and sys.argv[7] == "persistent"
 from stickslip.laws import WeakeningLaw
 rng = np.random.default_rng(7)
 n = 40
@@ -151,7 +153,8 @@ s0, w0 = rng.uniform(-0.5, 0.9, n), rng.uniform(0.0, 2.0, n)
 out = run_attractors(WeakeningLaw(c=1.0).kernel, c[:, None], nu, s0=s0 if start else None,
                      w0=w0 if start else None, from_breakaway=not start, rtol=1e-10, atol=1e-12,
                      max_slip_time=float(sys.argv[1]), conv_tol=1e-8, max_steps=int(sys.argv[2]),
-                     backend=sys.argv[3], fields=sys.argv[6].split(",") if len(sys.argv) > 6 else None)
+                     backend=sys.argv[3],
+                     fields=sys.argv[6].split(",") if len(sys.argv) > 6 and sys.argv[6] != "all" else None)
 print(json.dumps({"raw": out.raw.tolist(), "fields": out.fields}))
 """.replace("DEFERRED", repr(_DEFERRED_STREAMS))
 
@@ -250,6 +253,29 @@ def test_only_the_fields_kept_cross_back_from_the_gpu(streams: str) -> None:
     np.testing.assert_array_equal(gpu[:, :2], want[:, :2])
     np.testing.assert_allclose(gpu[:, 2:], want[:, 2:], rtol=1e-9)
     assert set(cpu.regime.tolist()) == {0, 1}
+
+
+@needs_numba_cuda
+def test_the_persistent_kernel_gives_the_cpu_engines_rows() -> None:
+    """Eight threads a launch take its 16 rows from a queue (an atomic counter), on deferred streams;
+    the rows equal the CPU engine's as the one-row-a-thread kernel's do."""
+    run = subprocess.run(
+        [sys.executable, "-c", _ROWS, "1e4", "2000000", "cuda", "breakaway", "deferred", "all", "persistent"],
+        env=SIM, capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    gpu = np.array(json.loads(run.stdout)["raw"], dtype=float)
+    rng = np.random.default_rng(7)
+    nu = 10 ** rng.uniform(-4, 1.3, 40)
+    c = rng.uniform(0.5, 30.0, 40)
+    cpu = run_attractors(
+        WeakeningLaw(c=1.0).kernel, c[:, None], nu, from_breakaway=True, rtol=1e-10, atol=1e-12,
+        max_slip_time=1e4, conv_tol=1e-8,
+    )  # fmt: skip
+    np.testing.assert_array_equal(gpu[:, 0], cpu.status)
+    np.testing.assert_array_equal(gpu[:, 1], cpu.regime)
+    cycle = _cycle_columns()
+    np.testing.assert_allclose(gpu[:, cycle], cpu.raw[:, cycle], rtol=1e-9, atol=1e-300, equal_nan=True)
 
 
 _PERMUTED = """

@@ -53,7 +53,7 @@ def main() -> None:
     # C-contiguous arrays, as a launch passes them
     f1, f2, i1 = types.float64[::1], types.float64[:, ::1], types.int64[::1]
     f, i, b = types.float64, types.int64, types.boolean
-    sig = (i, f2, f1, f1, f1, b, f, f, f, f, i, f2, f1, f2, i1, f2)
+    sig = (i, f2, f1, f1, f1, b, f, f, f, f, i, f2, f1, f2, i1, f2, i1)
     v = np.linspace(0.0, 0.05, 600)  # m/s
     kernels = {
         "F1/F2 (weakening)": WeakeningLaw(c=1.0).kernel,
@@ -82,6 +82,9 @@ def main() -> None:
             f"{div} div.rn.f64, compiled in {time.perf_counter() - t0:.1f} s; {_link(ptx, cc)}"
         )
         if name.startswith("F1"):
+            queue = _cuda_kernel.make(kernel.engine.attractor_ws, persistent=True)
+            qptx, _ = compile_ptx(queue.py_func, sig, cc=cc)
+            print(f"{'':34s} the persistent kernel (rows from a queue): {_link(qptx, cc)}")
             for cap in caps:
                 print(f"{'':34s} linked with at most {cap} registers: {_link(ptx, cc, cap)}")
 

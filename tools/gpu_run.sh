@@ -22,4 +22,4 @@ export PYTHONPATH=/tmp/site:$PWD/src:$PWD/benchmarks PYTHONUNBUFFERED=1 NUMBA_CA
   python3 -c "from stickslip.core import cuda; print('stickslip cuda_status', cuda.cuda_status())"
 } 2>&1 | tee "$OUT/env.txt"
 timeout 240 python3 benchmarks/bench_gpu.py "$@" 2>&1 | tee "$OUT/bench_gpu.txt"
-timeout 270 python3 -m pytest -p no:cacheprovider -q -rs tests/test_cuda.py -k "not simulator and not rows_and_statuses and not streams and not too_long and not stopped_half_way and not frees_its_workers and not held_once and not fields_kept and not any_order" 2>&1 | tee "$OUT/test_cuda.txt"
+timeout 270 python3 -m pytest -p no:cacheprovider -q -rs tests/test_cuda.py -k "not simulator and not rows_and_statuses and not streams and not too_long and not stopped_half_way and not frees_its_workers and not held_once and not fields_kept and not any_order and not persistent" 2>&1 | tee "$OUT/test_cuda.txt"

@@ -14,7 +14,7 @@ from . import engine
 from .laws import N_LAW_PARAMS
 
 
-def make(one: Any, width: int = 2, options: dict[str, Any] | None = None) -> Any:
+def make(one: Any, width: int = 2, options: dict[str, Any] | None = None, persistent: bool = False) -> Any:
     """Return the CUDA kernel running the per-row function ``one`` (a law's ``engine.attractor_ws``).
 
     Thread ``i`` runs row ``i``: the law's id ``law`` (one for all rows), the
@@ -30,13 +30,19 @@ def make(one: Any, width: int = 2, options: dict[str, Any] | None = None) -> Any
     copies included). The empty sample and event buffers are shared (an
     attractor records nothing). ``options`` go to ``cuda.jit``
     (``max_registers``, ``shared_memory_carveout``).
+
+    ``persistent``: the threads take rows from a queue (``next_row[0]``, an atomic
+    counter set to 0 before the launch) until none is left, instead of one row each;
+    launched as many as stay resident, a thread whose row ends early takes the next,
+    so that a warp's threads wait less for its slowest (a variant to measure:
+    ``bench_gpu.py``). The last argument, ``next_row``, is ignored otherwise.
     """
     ns, nt = engine.N_STAGES_EXTENDED, engine.NTRK
     npar = N_LAW_PARAMS
 
     def rows(  # type: ignore[no-untyped-def]
         law, lp_a, nu_a, s0_a, w0_a, from_breakaway, rtol, atol, t_max, conv_tol, max_steps, out,
-        t_eval, out_y, out_mode, evbuf,
+        t_eval, out_y, out_mode, evbuf, next_row,
     ):  # fmt: skip
         i = cuda.grid(1)
         if i < nu_a.shape[0]:
@@ -57,7 +63,31 @@ def make(one: Any, width: int = 2, options: dict[str, Any] | None = None) -> Any
                 max_steps, out[i], k, f, y_new, ytmp, y, trk, t_eval, out_y, out_mode, evbuf, evn,
             )  # fmt: skip
 
-    return cuda.jit(rows, **(options or {}))
+    def queue(  # type: ignore[no-untyped-def]
+        law, lp_a, nu_a, s0_a, w0_a, from_breakaway, rtol, atol, t_max, conv_tol, max_steps, out,
+        t_eval, out_y, out_mode, evbuf, next_row,
+    ):  # fmt: skip
+        k = cuda.local.array((ns, width), float64)
+        f = cuda.local.array((7, width), float64)
+        y_new = cuda.local.array(width, float64)
+        ytmp = cuda.local.array(width, float64)
+        y = cuda.local.array(width, float64)
+        trk = cuda.local.array(nt, float64)
+        evn = cuda.local.array(1, int64)
+        lp = cuda.local.array(npar, float64)
+        i = cuda.atomic.add(next_row, 0, 1)
+        while i < nu_a.shape[0]:
+            for j in range(npar):
+                lp[j] = lp_a[i, j] if j < lp_a.shape[1] else 0.0
+            evn[0] = 0
+            r0 = i if s0_a.shape[0] > 1 else 0
+            one(
+                law, lp, nu_a[i], s0_a[r0], w0_a[r0], from_breakaway, rtol, atol, t_max, conv_tol,
+                max_steps, out[i], k, f, y_new, ytmp, y, trk, t_eval, out_y, out_mode, evbuf, evn,
+            )  # fmt: skip
+            i = cuda.atomic.add(next_row, 0, 1)
+
+    return cuda.jit(queue if persistent else rows, **(options or {}))
 
 
 def _gather(src, cols, dst):  # type: ignore[no-untyped-def]

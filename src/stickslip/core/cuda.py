@@ -55,6 +55,12 @@ SORT_ROWS = False
 TIMES: dict[str, float] = {}
 #: options of the kernel's ``cuda.jit`` on a GPU (``max_registers``, ``shared_memory_carveout``)
 JIT_OPTIONS: dict[str, Any] = {}
+#: the threads take rows from a queue (an atomic counter) until none is left, launched as many
+#: as stay resident, instead of one row a thread: a variant to measure (``bench_gpu.py``), off
+PERSISTENT = False
+#: blocks a multiprocessor keeps resident with the persistent kernel (2 of 128 threads at its
+#: 201 registers a thread on an H100; more under a register cap)
+PERSISTENT_BLOCKS_PER_SM = 2
 #: rows per launch at most on a GPU (a launch also sizes itself to the free memory): 2^20 rows
 #: are some 30 waves of an H100's resident threads, and 170 MB of results a launch
 MAX_BATCH = 1 << 20
@@ -140,7 +146,7 @@ def resolve_backend(backend: str) -> str:
     return "cuda"
 
 
-_KERNELS: dict[tuple[int, int, str], Any] = {}
+_KERNELS: dict[tuple[int, int, str, bool], Any] = {}
 
 
 def _load_registries_without_row_stack() -> None:
@@ -164,18 +170,20 @@ def _load_registries_without_row_stack() -> None:
         delattr(np, alias)
 
 
-def attractor_kernel(one: Any, width: int = 2) -> Any:
+def attractor_kernel(one: Any, width: int = 2, persistent: bool | None = None) -> Any:
     """Return the CUDA kernel running the per-row function ``one`` (a law's ``engine.attractor_ws``).
 
-    ``width`` is the state's size: 2, or 4 with the variational equations.
+    ``width`` is the state's size: 2, or 4 with the variational equations;
+    ``persistent`` (default :data:`PERSISTENT`): the threads take rows from a queue.
     """
+    persistent = PERSISTENT if persistent is None else persistent
     options = {} if simulator() else dict(JIT_OPTIONS)
-    key = (id(one), width, repr(sorted(options.items())))
+    key = (id(one), width, repr(sorted(options.items())), persistent)
     if key not in _KERNELS:
         from . import _cuda_kernel
 
         _load_registries_without_row_stack()
-        kern = _cuda_kernel.make(one, width, options)
+        kern = _cuda_kernel.make(one, width, options, persistent=persistent)
         _KERNELS[key] = (one, kern)  # the function kept alive with it: ids stay unique
     return _KERNELS[key][1]
 
@@ -279,6 +287,9 @@ class _Slot:
         self.h_s0 = cuda.pinned_array(m)
         self.h_w0 = cuda.pinned_array(m)
         self.h_out = cuda.pinned_array((rows, len(columns)))
+        self.d_next = cuda.device_array(1, dtype=np.int64)  # the persistent kernel's queue
+        self.h_zero = cuda.pinned_array(1, dtype=np.int64)
+        self.h_zero[0] = 0
         self.pending: tuple[int, int] | None = None  # the rows whose results this slot's stream brings back
         self.events: tuple[Any, Any] | None = None  # the kernel's start and end (CUDA events)
 
@@ -349,6 +360,13 @@ def _drop_slots() -> None:
         if pushed:
             with contextlib.suppress(Exception):
                 ctx.pop()
+
+
+def _multiprocessors() -> int:
+    """Return the GPU's multiprocessors (1 in the simulator, which has none)."""
+    from numba import cuda
+
+    return int(getattr(cuda.get_current_device(), "MULTIPROCESSOR_COUNT", 1))
 
 
 def _context() -> Any:
@@ -443,7 +461,8 @@ def run_attractors_cuda(
     if from_breakaway:  # the start is ignored
         s0_a, w0_a = np.zeros(1), np.zeros(1)
     width = 4 if diag else 2
-    kern = attractor_kernel(one, width)
+    persistent = PERSISTENT
+    kern = attractor_kernel(one, width, persistent)
     t0 = time.perf_counter()
     order = balance_order(lp_a, nu_a)
     one_start = s0_a.shape[0] == 1
@@ -468,6 +487,7 @@ def run_attractors_cuda(
             batch = _batch_rows(n, per_row)
             slots = _slots(min(batch, n), k, not one_start, cols)
             gather = _cuda_kernel.gather()
+            resident = _multiprocessors() * PERSISTENT_BLOCKS_PER_SM
             shared = tuple(
                 cuda.to_device(a)
                 for a in (np.empty(0), np.empty((0, 2)), np.empty(0, dtype=np.int64), np.empty((0, 3)))
@@ -519,9 +539,13 @@ def run_attractors_cuda(
                     x.d_w0[:b].copy_to_device(x.h_w0[:b], stream=st)
                 d_s0, d_w0 = (x.d_s0, x.d_w0) if one_start else (x.d_s0[:b], x.d_w0[:b])
                 d_out = x.d_out[:b]
+                blocks = -(-b // THREADS_PER_BLOCK)
+                if persistent:  # as many threads as stay resident, taking rows from the queue
+                    x.d_next.copy_to_device(x.h_zero, stream=st)
+                    blocks = min(blocks, resident)
                 args = (
                     law, x.d_lp[:b], x.d_nu[:b], d_s0, d_w0, bool(from_breakaway), float(rtol), float(atol),
-                    float(t_max), float(conv_tol), int(max_steps), d_out, *shared,
+                    float(t_max), float(conv_tol), int(max_steps), d_out, *shared, x.d_next,
                 )  # fmt: skip
                 x.events = (cuda.event(), cuda.event()) if timed else None
                 if x.events is not None:
@@ -531,10 +555,10 @@ def run_attractors_cuda(
                 with warnings.catch_warnings():
                     # a small grid under-uses the GPU: known (a small sweep, a store's last block)
                     warnings.simplefilter("ignore", NumbaPerformanceWarning)
-                    kern[-(-b // THREADS_PER_BLOCK), THREADS_PER_BLOCK, st](*args)
+                    kern[blocks, THREADS_PER_BLOCK, st](*args)
                     if x.gathered:  # the kept columns, side by side: only they cross back
-                        blocks = -(-b // THREADS_PER_BLOCK)
-                        gather[blocks, THREADS_PER_BLOCK, st](d_out, x.d_cols, x.d_kept[:b])
+                        whole = -(-b // THREADS_PER_BLOCK)
+                        gather[whole, THREADS_PER_BLOCK, st](d_out, x.d_cols, x.d_kept[:b])
                 if x.events is not None:
                     x.events[1].record(stream=st)
                 x.d_kept[:b].copy_to_host(x.h_out[:b], stream=st)
