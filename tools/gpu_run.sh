@@ -4,8 +4,15 @@
 # tests of tests/test_cuda.py that a real GPU runs (the simulator's run in CI), each stage under
 # its own time limit, everything teed into $OUT.
 #
-#   bash tools/gpu_run.sh [bench_gpu.py arguments]
+#   bash tools/gpu_run.sh [all|bench|tests] [bench_gpu.py arguments]
+#
+# 'all' (the default) runs both stages in one call (bench 300 s, tests 270 s: the device
+# tool's 600 s a call); 'bench' alone gives the benchmark 560 s (its launch variants compile
+# the kernel again, some 5-15 s each), and 'tests' the tests 560 s, as two calls on the
+# machine while it stays warm.
 set -uo pipefail
+stage=all
+case "${1:-}" in all|bench|tests) stage=$1; shift ;; esac
 cd "$(dirname "$0")/.."
 OUT=${OUT:-/tmp/gpu_out}
 mkdir -p "$OUT"
@@ -21,5 +28,8 @@ export PYTHONPATH=/tmp/site:$PWD/src:$PWD/benchmarks PYTHONUNBUFFERED=1 NUMBA_CA
   fi
   python3 -c "from stickslip.core import cuda; print('stickslip cuda_status', cuda.cuda_status())"
 } 2>&1 | tee "$OUT/env.txt"
-timeout 240 python3 benchmarks/bench_gpu.py "$@" 2>&1 | tee "$OUT/bench_gpu.txt"
-timeout 270 python3 -m pytest -p no:cacheprovider -q -rs tests/test_cuda.py -k "not simulator and not rows_and_statuses and not streams and not too_long and not stopped_half_way and not frees_its_workers and not held_once and not fields_kept and not any_order and not persistent" 2>&1 | tee "$OUT/test_cuda.txt"
+if [ "$stage" != tests ]; then
+  timeout "$([ "$stage" = bench ] && echo 560 || echo 300)" python3 benchmarks/bench_gpu.py "$@" 2>&1 | tee "$OUT/bench_gpu.txt"
+fi
+[ "$stage" = bench ] && exit 0
+timeout "$([ "$stage" = tests ] && echo 560 || echo 270)" python3 -m pytest -p no:cacheprovider -q -rs tests/test_cuda.py -k "not simulator and not rows_and_statuses and not streams and not too_long and not stopped_half_way and not frees_its_workers and not held_once and not fields_kept and not any_order and not persistent" 2>&1 | tee "$OUT/test_cuda.txt"
