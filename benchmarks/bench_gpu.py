@@ -307,16 +307,20 @@ def _sweep_grid(n: int) -> tuple[object, dict[str, np.ndarray]]:
     return base, {"nu": np.geomspace(1e-4, 0.05, max(1, n // 1000)), "c": np.linspace(2.0, 10.0, 1000)}
 
 
-def _gpu_sweep(n: int) -> None:
-    """A sweep on the GPU end to end (the host's share included): what a user runs."""
+def _timed_sweep(n: int) -> tuple[int, float]:
+    """Run ``sweep(..., backend="cuda")`` over :func:`_sweep_grid` after a warm-up: (points, seconds)."""
     from stickslip.dynamics.sweep import sweep
 
     base, grid = _sweep_grid(n)
     sweep(base, {"nu": [0.01, 0.02], "c": [3.8]}, backend="cuda", progress=False)  # imports, compiles
     t0 = time.perf_counter()
     ds = sweep(base, grid, backend="cuda", progress=False)
-    dt = time.perf_counter() - t0
-    m = ds.sizes["nu"] * ds.sizes["c"]
+    return ds.sizes["nu"] * ds.sizes["c"], time.perf_counter() - t0
+
+
+def _gpu_sweep(n: int) -> None:
+    """A sweep on the GPU end to end (the host's share included): what a user runs."""
+    m, dt = _timed_sweep(n)
     kernels = core_cuda.TIMES.get("kernel", 0.0)
     print(
         f"sweep(..., backend='cuda'), end to end: {m} points in {dt:.3f} s = {m / dt:.3g} points/s "
@@ -333,7 +337,6 @@ def _host_only_sweep(n: int) -> None:
     grid, making the rows, the polish, the result's variables and its labels.
     """
     from stickslip.dynamics import sweep as sweep_module
-    from stickslip.dynamics.sweep import sweep
 
     kernel = WeakeningLaw(c=1.0).kernel
     kw = dict(from_breakaway=True, rtol=RTOL, atol=ATOL, max_slip_time=1e4, conv_tol=1e-8)
@@ -349,12 +352,7 @@ def _host_only_sweep(n: int) -> None:
     core_cuda.run_attractors_cuda = rows_as_the_gpu_would  # type: ignore[assignment]
     core_cuda.resolve_backend = lambda backend: "cuda" if backend == "cuda" else "cpu"  # type: ignore[assignment]
     sweep_module.resolve_backend = core_cuda.resolve_backend  # type: ignore[attr-defined]
-    base, grid = _sweep_grid(n)
-    sweep(base, {"nu": [0.01, 0.02], "c": [3.8]}, backend="cuda", progress=False)  # imports, compiles
-    t0 = time.perf_counter()
-    ds = sweep(base, grid, backend="cuda", progress=False)
-    dt = time.perf_counter() - t0
-    m = ds.sizes["nu"] * ds.sizes["c"]
+    m, dt = _timed_sweep(n)
     machine = platform.processor() or platform.machine()
     print(f"machine: {machine}, {os.cpu_count()} cores; no GPU: its work stubbed")
     print(f"sweep(..., backend='cuda'), the host's part: {m} points in {dt:.3f} s = {m / dt:.3g} points/s")

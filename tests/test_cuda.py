@@ -14,6 +14,7 @@ import os
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -226,6 +227,17 @@ def test_rows_and_statuses_equal_the_cpu_engine(
         assert len(codes) == 3 and len(regimes) == 3  # two ways to fail beside ok
 
 
+def _cpu_rows_from_breakaway() -> Any:
+    """The CPU engine's rows for :data:`_ROWS`' 40 random rows, from breakaway."""
+    rng = np.random.default_rng(7)
+    nu = 10 ** rng.uniform(-4, 1.3, 40)
+    c = rng.uniform(0.5, 30.0, 40)
+    return run_attractors(
+        WeakeningLaw(c=1.0).kernel, c[:, None], nu, from_breakaway=True, rtol=1e-10, atol=1e-12,
+        max_slip_time=1e4, conv_tol=1e-8,
+    )  # fmt: skip
+
+
 @needs_numba_cuda
 @pytest.mark.parametrize("streams", ["at-once", "deferred"])
 def test_only_the_fields_kept_cross_back_from_the_gpu(streams: str) -> None:
@@ -242,13 +254,7 @@ def test_only_the_fields_kept_cross_back_from_the_gpu(streams: str) -> None:
     assert got["fields"] == fields  # the layout's order
     gpu = np.array(got["raw"], dtype=float)
     assert gpu.shape == (40, len(fields))
-    rng = np.random.default_rng(7)
-    nu = 10 ** rng.uniform(-4, 1.3, 40)
-    c = rng.uniform(0.5, 30.0, 40)
-    cpu = run_attractors(
-        WeakeningLaw(c=1.0).kernel, c[:, None], nu, from_breakaway=True, rtol=1e-10, atol=1e-12,
-        max_slip_time=1e4, conv_tol=1e-8,
-    )  # fmt: skip
+    cpu = _cpu_rows_from_breakaway()
     want = np.column_stack([getattr(cpu, x) for x in fields])
     np.testing.assert_array_equal(gpu[:, :2], want[:, :2])
     np.testing.assert_allclose(gpu[:, 2:], want[:, 2:], rtol=1e-9)
@@ -265,13 +271,7 @@ def test_the_persistent_kernel_gives_the_cpu_engines_rows() -> None:
     )  # fmt: skip
     assert run.returncode == 0, run.stderr
     gpu = np.array(json.loads(run.stdout)["raw"], dtype=float)
-    rng = np.random.default_rng(7)
-    nu = 10 ** rng.uniform(-4, 1.3, 40)
-    c = rng.uniform(0.5, 30.0, 40)
-    cpu = run_attractors(
-        WeakeningLaw(c=1.0).kernel, c[:, None], nu, from_breakaway=True, rtol=1e-10, atol=1e-12,
-        max_slip_time=1e4, conv_tol=1e-8,
-    )  # fmt: skip
+    cpu = _cpu_rows_from_breakaway()
     np.testing.assert_array_equal(gpu[:, 0], cpu.status)
     np.testing.assert_array_equal(gpu[:, 1], cpu.regime)
     cycle = _cycle_columns()

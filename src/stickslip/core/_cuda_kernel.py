@@ -44,29 +44,6 @@ def make(one: Any, width: int = 2, options: dict[str, Any] | None = None, persis
         law, lp_a, nu_a, s0_a, w0_a, from_breakaway, rtol, atol, t_max, conv_tol, max_steps, out,
         t_eval, out_y, out_mode, evbuf, next_row,
     ):  # fmt: skip
-        i = cuda.grid(1)
-        if i < nu_a.shape[0]:
-            k = cuda.local.array((ns, width), float64)
-            f = cuda.local.array((7, width), float64)
-            y_new = cuda.local.array(width, float64)
-            ytmp = cuda.local.array(width, float64)
-            y = cuda.local.array(width, float64)
-            trk = cuda.local.array(nt, float64)
-            evn = cuda.local.array(1, int64)
-            lp = cuda.local.array(npar, float64)
-            for j in range(npar):
-                lp[j] = lp_a[i, j] if j < lp_a.shape[1] else 0.0
-            evn[0] = 0
-            r0 = i if s0_a.shape[0] > 1 else 0
-            one(
-                law, lp, nu_a[i], s0_a[r0], w0_a[r0], from_breakaway, rtol, atol, t_max, conv_tol,
-                max_steps, out[i], k, f, y_new, ytmp, y, trk, t_eval, out_y, out_mode, evbuf, evn,
-            )  # fmt: skip
-
-    def queue(  # type: ignore[no-untyped-def]
-        law, lp_a, nu_a, s0_a, w0_a, from_breakaway, rtol, atol, t_max, conv_tol, max_steps, out,
-        t_eval, out_y, out_mode, evbuf, next_row,
-    ):  # fmt: skip
         k = cuda.local.array((ns, width), float64)
         f = cuda.local.array((7, width), float64)
         y_new = cuda.local.array(width, float64)
@@ -75,7 +52,8 @@ def make(one: Any, width: int = 2, options: dict[str, Any] | None = None, persis
         trk = cuda.local.array(nt, float64)
         evn = cuda.local.array(1, int64)
         lp = cuda.local.array(npar, float64)
-        i = cuda.atomic.add(next_row, 0, 1)
+        # a thread's own row, or the queue's next (``persistent``, a constant when compiled)
+        i = cuda.atomic.add(next_row, 0, 1) if persistent else cuda.grid(1)
         while i < nu_a.shape[0]:
             for j in range(npar):
                 lp[j] = lp_a[i, j] if j < lp_a.shape[1] else 0.0
@@ -85,9 +63,9 @@ def make(one: Any, width: int = 2, options: dict[str, Any] | None = None, persis
                 law, lp, nu_a[i], s0_a[r0], w0_a[r0], from_breakaway, rtol, atol, t_max, conv_tol,
                 max_steps, out[i], k, f, y_new, ytmp, y, trk, t_eval, out_y, out_mode, evbuf, evn,
             )  # fmt: skip
-            i = cuda.atomic.add(next_row, 0, 1)
+            i = cuda.atomic.add(next_row, 0, 1) if persistent else nu_a.shape[0]
 
-    return cuda.jit(queue if persistent else rows, **(options or {}))
+    return cuda.jit(rows, **(options or {}))
 
 
 def _gather(src, cols, dst):  # type: ignore[no-untyped-def]
