@@ -3,7 +3,8 @@
 Work: the steady stick-slip cycle of law F1 (the workload of ``bench_cycles.py``: ``nu``
 log-uniform in [1e-5, 1e-1], ``c`` uniform in [0.5, 50], rtol 1e-9, atol 1e-12). The GPU
 runs ``run_attractors(..., backend="cuda")``: the CPU engine's own per-row function
-compiled by numba-cuda, one parameter set per thread, double precision. The CPU engine
+compiled by numba-cuda, one parameter set per thread (each launch's rows sorted on the
+GPU by the law's parameters and ``nu``, ``SORT_ROWS``), double precision. The CPU engine
 runs a subset on this machine's cores; the two are compared on that subset (statuses
 equal, amplitudes to 1e-8). The device is named. Where no GPU is usable, the script
 says why and stops: the speed is then unmeasured (the numbers of docs/benchmarks.md
@@ -23,9 +24,10 @@ Then, on fewer sets (``--n-extra``), the GPU's cycles per second for F2, the cub
 law typed as a formula and a measured table (600 rows), for F1 at other block sizes and
 register limits, with the threads taking rows from a queue (``PERSISTENT``), with one,
 two or three CUDA streams at launches of 2^18 rows, and for F1 with
-the rows in the caller's order (not sorted for the load balance), random or sorted
-beforehand (as a grid's rows come): each end to end and its kernels alone (the launch
-options change the kernels; end to end, the host's copies may hide it).
+the rows in the caller's order (not sorted for the load balance), random, sorted
+beforehand (as a grid's rows come) and under a cap of 128 registers: each end to end
+and its kernels alone (the launch options change the kernels; end to end, the host's
+copies may hide it), and each F1 variant's rows against the default's.
 
 Without a GPU, ``--host-only N`` times the host's part of a sweep of N points on the GPU
 (its kernels and copies replaced by a copy of one row): what bounds a sweep end to end
@@ -160,18 +162,16 @@ def main() -> None:
         f"  (first call incl. compile {t_compile:.1f} s; the call before, making the stream "
         f"buffers, {t_cold:.3f} s)"
     )
-    back = times["total"] - times["order"] - times["gpu"]
     print(
-        f"       of which ordering the rows {times['order']:.3f} s, the GPU with the copies "
-        f"{times['gpu']:.3f} s (the host copying results out of pinned memory {times['copy_out']:.3f} s "
-        f"of it), waiting for another call {times['lock_wait']:.3f} s, putting the results back "
-        f"{back - times['lock_wait']:.3f} s;"
+        f"       of which the GPU with the copies {times['gpu']:.3f} s (the host sorting each launch's "
+        f"rows {times['order']:.3f} s and copying results out of pinned memory {times['copy_out']:.3f} s "
+        f"of it), waiting for another call {times['lock_wait']:.3f} s;"
     )
     print(
         f"       the GPU busy with kernels (CUDA events, their union over the streams) "
         f"{times['kernel']:.3f} s = "
-        f"{args.n / times['kernel']:14.0f} cycles/s; from the first launch's start to the last's "
-        f"end {times['span']:.3f} s = {args.n / times['span']:14.0f} cycles/s "
+        f"{_per_s(args.n, times['kernel']):14.0f} cycles/s; from the first launch's start to the last's "
+        f"end {times['span']:.3f} s = {_per_s(args.n, times['span']):14.0f} cycles/s "
         f"({core_cuda.STREAMS} streams, launches of {core_cuda.MAX_BATCH} rows at most)"
     )
     _kept_fields(kernel, lp, nu, kw, gpu)
@@ -186,7 +186,7 @@ def main() -> None:
         f"difference {worst:.3e} (median {float(np.median(rel)):.3e})"
     )
     if args.n_extra:
-        _other_laws_and_launches(args.n_extra, nu, c, kw)
+        _other_laws_and_launches(args.n_extra, nu, c, kw, gpu)
     k = min(args.n_diffrax, args.n)
     if k == 0:
         print("diffrax: not run (--n-diffrax 0)")
@@ -223,8 +223,13 @@ def _kept_fields(kernel: object, lp: np.ndarray, nu: np.ndarray, kw: dict, full:
         )
 
 
-def _other_laws_and_launches(n: int, nu: np.ndarray, c: np.ndarray, kw: dict) -> None:
-    """Cycles per second of the other kinds of law, other block sizes, and without the sorting."""
+def _other_laws_and_launches(n: int, nu: np.ndarray, c: np.ndarray, kw: dict, full: object) -> None:
+    """Cycles per second of the other kinds of law, other block sizes, and without the sorting.
+
+    Each F1 variant's rows are compared with the default kernel's (``full``, the same sets):
+    statuses equal and the largest relative difference of the amplitudes, since a register
+    cap or the row queue changes the compiled kernel, not only its speed.
+    """
     from stickslip.laws import CubicLaw, ExpressionLaw, TabulatedLaw
     from stickslip.units import Q_
 
@@ -246,12 +251,21 @@ def _other_laws_and_launches(n: int, nu: np.ndarray, c: np.ndarray, kw: dict) ->
         print(f"  {name:26s}: {n:9d} cycles in {dt:7.3f} s = {n / dt:14.0f} cycles/s{_kernels(n)}")
     kernel, lp = WeakeningLaw(c=1.0).kernel, c[:, None]
 
-    def f1(label: str, lp_: np.ndarray = lp, nu_: np.ndarray = nu) -> None:
+    ref_status, ref_amp = full.status[:n], full.amplitude[:n]  # type: ignore[attr-defined]
+
+    def f1(label: str, lp_: np.ndarray = lp, nu_: np.ndarray = nu, order: np.ndarray | None = None) -> None:
         run_attractors(kernel, lp_, nu_, backend="cuda", **kw)  # compiled if a knob changed, buffers made
         t0 = time.perf_counter()
-        run_attractors(kernel, lp_, nu_, backend="cuda", **kw)
+        got = run_attractors(kernel, lp_, nu_, backend="cuda", **kw)
         dt = time.perf_counter() - t0
-        print(f"  F1, {label:22s}: {n:9d} cycles in {dt:7.3f} s = {n / dt:14.0f} cycles/s{_kernels(n)}")
+        st, amp = (ref_status, ref_amp) if order is None else (ref_status[order], ref_amp[order])
+        ok = st == 0
+        rel = np.abs(got.amplitude[ok] - amp[ok]) / np.abs(amp[ok])
+        worst = float(rel.max()) if rel.size else 0.0
+        print(
+            f"  F1, {label:27s}: {n:9d} cycles in {dt:7.3f} s = {n / dt:12.0f} cycles/s{_kernels(n)}; "
+            f"as the default: statuses {bool(np.array_equal(got.status, st))}, amplitudes {worst:.1e}"
+        )
 
     streams, max_batch = core_cuda.STREAMS, core_cuda.MAX_BATCH
     core_cuda.MAX_BATCH = 1 << 18  # eight launches of 2e6 rows or more: the streams take turns
@@ -280,6 +294,8 @@ def _other_laws_and_launches(n: int, nu: np.ndarray, c: np.ndarray, kw: dict) ->
     per_sm = core_cuda.PERSISTENT_BLOCKS_PER_SM
     core_cuda.PERSISTENT = True
     f1("persistent (a row queue)")
+    core_cuda.JIT_OPTIONS, core_cuda.PERSISTENT_BLOCKS_PER_SM = {"max_registers": 168}, 3
+    f1("persistent, <= 168 regs")
     core_cuda.JIT_OPTIONS, core_cuda.PERSISTENT_BLOCKS_PER_SM = {"max_registers": 128}, 4
     f1("persistent, <= 128 regs")
     core_cuda.JIT_OPTIONS, core_cuda.PERSISTENT_BLOCKS_PER_SM = default_options, per_sm
@@ -287,10 +303,18 @@ def _other_laws_and_launches(n: int, nu: np.ndarray, c: np.ndarray, kw: dict) ->
     sort = core_cuda.SORT_ROWS
     core_cuda.SORT_ROWS = True
     order = core_cuda.balance_order(lp, nu)
-    f1("rows sorted (key)")
-    core_cuda.SORT_ROWS = False
-    f1("rows sorted beforehand", lp[order], nu[order])  # as a grid's rows come, in order
+    core_cuda.SORT_ROWS = False  # the rows as they come: random, and sorted (as a grid's come)
+    f1("caller's order (random)")
+    f1("caller's order, sorted", lp[order], nu[order], order)
+    core_cuda.JIT_OPTIONS = {"max_registers": 128}
+    f1("caller's order, <= 128 regs")
+    core_cuda.JIT_OPTIONS = default_options
     core_cuda.SORT_ROWS = sort
+
+
+def _per_s(n: int, seconds: float) -> float:
+    """``n`` per second over ``seconds``: nan where no time was taken (no CUDA events)."""
+    return n / seconds if seconds > 0 else float("nan")
 
 
 def _kernels(n: int) -> str:

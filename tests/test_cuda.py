@@ -143,7 +143,12 @@ from stickslip.core.api import run_attractors
 cuda.SIMULATOR_BATCH = 16  # three launches of four blocks for 40 rows: every index path
 cuda.THREADS_PER_BLOCK = 4
 # the threads take rows from a queue: two blocks of four (the simulator's one multiprocessor)
-cuda.PERSISTENT = len(sys.argv) > 7 and sys.argv[7] == "persistent"
+cuda.PERSISTENT = "persistent" in sys.argv[7:]
+# each launch's rows sorted by their keys, read and written through that order on the GPU
+cuda.SORT_ROWS = "unsorted" not in sys.argv[7:]
+sorted_launches = []
+key = cuda.balance_key
+cuda.balance_key = lambda *a: sorted_launches.append(1) or key(*a)
 from stickslip.laws import WeakeningLaw
 rng = np.random.default_rng(7)
 n = 40
@@ -156,7 +161,7 @@ out = run_attractors(WeakeningLaw(c=1.0).kernel, c[:, None], nu, s0=s0 if start 
                      max_slip_time=float(sys.argv[1]), conv_tol=1e-8, max_steps=int(sys.argv[2]),
                      backend=sys.argv[3],
                      fields=sys.argv[6].split(",") if len(sys.argv) > 6 and sys.argv[6] != "all" else None)
-print(json.dumps({"raw": out.raw.tolist(), "fields": out.fields}))
+print(json.dumps({"raw": out.raw.tolist(), "fields": out.fields, "sorted": len(sorted_launches)}))
 """.replace("DEFERRED", repr(_DEFERRED_STREAMS))
 
 
@@ -190,7 +195,9 @@ def test_rows_and_statuses_equal_the_cpu_engine(
         env=SIM, capture_output=True, text=True, timeout=600,
     )  # fmt: skip
     assert run.returncode == 0, run.stderr
-    gpu = np.array(json.loads(run.stdout)["raw"], dtype=float)
+    got = json.loads(run.stdout)
+    assert got["sorted"] == 3  # three launches, each sorted
+    gpu = np.array(got["raw"], dtype=float)
     rng = np.random.default_rng(7)
     nu = 10 ** rng.uniform(-4, 1.3, 40)
     c = rng.uniform(0.5, 30.0, 40)
@@ -270,7 +277,28 @@ def test_the_persistent_kernel_gives_the_cpu_engines_rows() -> None:
         env=SIM, capture_output=True, text=True, timeout=600,
     )  # fmt: skip
     assert run.returncode == 0, run.stderr
-    gpu = np.array(json.loads(run.stdout)["raw"], dtype=float)
+    got = json.loads(run.stdout)
+    assert got["sorted"] == 3  # each launch's rows sorted on the GPU
+    gpu = np.array(got["raw"], dtype=float)
+    cpu = _cpu_rows_from_breakaway()
+    np.testing.assert_array_equal(gpu[:, 0], cpu.status)
+    np.testing.assert_array_equal(gpu[:, 1], cpu.regime)
+    cycle = _cycle_columns()
+    np.testing.assert_allclose(gpu[:, cycle], cpu.raw[:, cycle], rtol=1e-9, atol=1e-300, equal_nan=True)
+
+
+@needs_numba_cuda
+def test_rows_in_the_callers_order_give_the_same_rows() -> None:
+    """With the sort off (SORT_ROWS = False) the kernel runs the launch's rows in their order;
+    the rows equal the CPU engine's as the sorted launches' do (the other tests: sorted)."""
+    run = subprocess.run(
+        [sys.executable, "-c", _ROWS, "1e4", "2000000", "cuda", "breakaway", "deferred", "all", "unsorted"],
+        env=SIM, capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    got = json.loads(run.stdout)
+    assert got["sorted"] == 0
+    gpu = np.array(got["raw"], dtype=float)
     cpu = _cpu_rows_from_breakaway()
     np.testing.assert_array_equal(gpu[:, 0], cpu.status)
     np.testing.assert_array_equal(gpu[:, 1], cpu.regime)
@@ -396,11 +424,12 @@ def test_command_line_without_a_gpu_says_why_in_one_line(tmp_path: Path) -> None
 def test_rows_are_balanced_by_law_parameters_then_nu(monkeypatch: pytest.MonkeyPatch) -> None:
     lp = np.array([[3.0, 0.0], [1.0, 0.0], [3.0, 0.0], [1.0, 1.0]])
     nu = np.array([0.2, 0.5, 0.1, 0.1])
-    assert core_cuda.balance_order(lp, nu) is None  # off by default (docs/gpu.md: measured)
-    monkeypatch.setattr(core_cuda, "SORT_ROWS", True)
-    order = core_cuda.balance_order(lp, nu)
+    order = core_cuda.balance_order(lp, nu)  # on by default (docs/gpu.md: measured)
     assert order is not None and order.tolist() == [1, 3, 2, 0]
     assert core_cuda.balance_order(np.ones((3, 2)), np.full(3, 0.1)) is None  # nothing varies
+    monkeypatch.setattr(core_cuda, "SORT_ROWS", False)
+    assert core_cuda.balance_order(lp, nu) is None
+    monkeypatch.setattr(core_cuda, "SORT_ROWS", True)
     # a million rows of F1 (c and nu span two and four decades: both binned by their logs):
     # sorted by c to a bin's width, and within a bin of c by nu to a bin's width
     rng = np.random.default_rng(3)
@@ -416,6 +445,17 @@ def test_rows_are_balanced_by_law_parameters_then_nu(monkeypatch: pytest.MonkeyP
     assert np.all(np.diff(lognu)[same] > -width_nu * 1.0001)
     bins_nu = ((lognu - lognu.min()) * (255 / np.ptp(lognu))).astype(np.uint16)
     assert np.all(np.diff(bins_nu.astype(int))[same] >= 0)
+    # a launch's rows are keyed on the bins of all the rows: the keys of a slice are the
+    # slice of the keys (a launch's own ranges would bin its rows differently)
+    lp = np.column_stack([c, np.zeros_like(c)])
+    bins_all = core_cuda.balance_bins(lp, nu)
+    assert bins_all is not None and [b[:2] for b in bins_all] == [(0, True), (-1, True)]
+    keys = core_cuda.balance_key(bins_all, lp, nu)
+    part = slice(1000, 5000)
+    assert np.array_equal(core_cuda.balance_key(bins_all, lp[part], nu[part]), keys[part])
+    assert not np.array_equal(
+        core_cuda.balance_key(core_cuda.balance_bins(lp[part], nu[part]), lp[part], nu[part]), keys[part]
+    )  # type: ignore[arg-type]
 
 
 @pytest.mark.parametrize(("launch", "start"), [(1 << 20, "breakaway"), (3000, "breakaway"), (3000, "own")])
@@ -586,27 +626,24 @@ def test_a_table_is_held_once_so_1600_rows_fit_on_the_gpu() -> None:
     assert core_cuda.MAX_TABLE_ROWS == 1600
 
 
-def test_the_gpu_path_counts_its_host_copies_before_allocating(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The rows' sorted copies and the sorted result: 272 bytes a row beyond the CPU path's."""
+def test_the_gpu_path_needs_no_host_memory_beyond_the_cpu_paths(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The rows are sorted on the GPU, launch by launch: no sorted copies of the rows or the results
+    on the host. Memory just enough for the CPU path's rows lets the GPU path run too."""
     from stickslip.core import api, memory
 
     n = 1_000_000
-    cpu_bytes = n * api.BYTES_PER_ROW
-    assert core_cuda.HOST_BYTES_PER_ROW == 8 * (1 + 1 + 8 + 3 + engine.NOUT)
-    # memory enough for the CPU path's rows, not for the GPU path's copies beside them
-    avail = int((cpu_bytes + 0.5 * n * core_cuda.HOST_BYTES_PER_ROW) / memory.FRACTION)
+    avail = int(n * api.BYTES_PER_ROW / memory.FRACTION) + 1
     monkeypatch.setattr(memory, "available_memory", lambda: avail)
     monkeypatch.setattr(core_cuda, "resolve_backend", lambda backend: "cuda")
     reached: list[int] = []
-    monkeypatch.setattr(core_cuda, "run_attractors_cuda", lambda *a, **k: reached.append(1))
+    monkeypatch.setattr(core_cuda, "run_attractors_cuda", lambda *a, **k: reached.append(a[3].size))
     law = WeakeningLaw(c=1.0).kernel
     kw = {"from_breakaway": True, "rtol": 1e-10, "atol": 1e-12, "max_slip_time": 1e4, "conv_tol": 1e-8}
-    with pytest.raises(memory.MemoryRequestError, match="1000000 parameter sets on the GPU needs about"):
+    run_attractors(law, np.full((n, 1), 3.0), np.full(n, 0.5), backend="cuda", **kw)
+    assert reached == [n]
+    monkeypatch.setattr(memory, "available_memory", lambda: avail // 2)
+    with pytest.raises(memory.MemoryRequestError, match="1000000 parameter sets needs about"):
         run_attractors(law, np.full((n, 1), 3.0), np.full(n, 0.5), backend="cuda", **kw)
-    assert not reached
-    monkeypatch.setattr(core_cuda, "resolve_backend", lambda backend: "cpu")
-    monkeypatch.setattr(api, "in_blocks", lambda call, n, on_rows: reached.append(n))
-    run_attractors(law, np.full((n, 1), 3.0), np.full(n, 0.5), backend="cpu", **kw)  # the CPU path fits
     assert reached == [n]
 
 

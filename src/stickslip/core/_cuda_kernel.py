@@ -17,10 +17,12 @@ from .laws import N_LAW_PARAMS
 def make(one: Any, width: int = 2, options: dict[str, Any] | None = None, persistent: bool = False) -> Any:
     """Return the CUDA kernel running the per-row function ``one`` (a law's ``engine.attractor_ws``).
 
-    Thread ``i`` runs row ``i``: the law's id ``law`` (one for all rows), the
-    law's parameters ``lp_a[i]`` (only the columns the law has: the rest are
-    zeros), ``nu_a[i]`` and the start ``s0_a[i]``, ``w0_a[i]`` (or ``[0]`` where
-    they are of length 1: a start at breakaway ignores them). What goes to the
+    Thread ``i`` runs row ``r = order[i]`` (``r = i`` where ``order`` is empty:
+    the launch's rows sorted for the load balance, read and written in place):
+    the law's id ``law`` (one for all rows), the
+    law's parameters ``lp_a[r]`` (only the columns the law has: the rest are
+    zeros), ``nu_a[r]`` and the start ``s0_a[r]``, ``w0_a[r]`` (or ``[0]`` where
+    they are of length 1: a start at breakaway ignores them), its results into ``out[r]``. What goes to the
     GPU is so kept to what differs between rows. Its work arrays (the stages
     ``K`` to the event count ``evn``, ``width`` = 2 state variables, 4 with the
     variational ones) and a copy of its law parameters are the thread's own
@@ -42,7 +44,7 @@ def make(one: Any, width: int = 2, options: dict[str, Any] | None = None, persis
 
     def rows(  # type: ignore[no-untyped-def]
         law, lp_a, nu_a, s0_a, w0_a, from_breakaway, rtol, atol, t_max, conv_tol, max_steps, out,
-        t_eval, out_y, out_mode, evbuf, next_row,
+        t_eval, out_y, out_mode, evbuf, order, next_row,
     ):  # fmt: skip
         k = cuda.local.array((ns, width), float64)
         f = cuda.local.array((7, width), float64)
@@ -55,13 +57,14 @@ def make(one: Any, width: int = 2, options: dict[str, Any] | None = None, persis
         # a thread's own row, or the queue's next (``persistent``, a constant when compiled)
         i = cuda.atomic.add(next_row, 0, 1) if persistent else cuda.grid(1)
         while i < nu_a.shape[0]:
+            r = order[i] if order.shape[0] > 0 else i  # the row, through the launch's sort
             for j in range(npar):
-                lp[j] = lp_a[i, j] if j < lp_a.shape[1] else 0.0
+                lp[j] = lp_a[r, j] if j < lp_a.shape[1] else 0.0
             evn[0] = 0
-            r0 = i if s0_a.shape[0] > 1 else 0
+            r0 = r if s0_a.shape[0] > 1 else 0
             one(
-                law, lp, nu_a[i], s0_a[r0], w0_a[r0], from_breakaway, rtol, atol, t_max, conv_tol,
-                max_steps, out[i], k, f, y_new, ytmp, y, trk, t_eval, out_y, out_mode, evbuf, evn,
+                law, lp, nu_a[r], s0_a[r0], w0_a[r0], from_breakaway, rtol, atol, t_max, conv_tol,
+                max_steps, out[r], k, f, y_new, ytmp, y, trk, t_eval, out_y, out_mode, evbuf, evn,
             )  # fmt: skip
             i = cuda.atomic.add(next_row, 0, 1) if persistent else nu_a.shape[0]
 

@@ -206,7 +206,6 @@ def run_attractors(
     s0_a = z if s0 is None else _broadcast("s0", checks.finite_array("s0", s0), (n,))
     w0_a = z if w0 is None else _broadcast("w0", checks.finite_array("w0", w0), (n,))
     if on_gpu:
-        check_memory(n * (BYTES_PER_ROW + cuda.HOST_BYTES_PER_ROW), f"{n} parameter sets on the GPU")
         columns = np.arange(engine.NOUT) if kept is None else np.array([_LAYOUT[x] for x in kept])
         out = np.empty((n, columns.size))
         cuda.run_attractors_cuda(

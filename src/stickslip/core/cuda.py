@@ -39,7 +39,6 @@ from typing import Any
 import numpy as np
 
 from . import engine
-from .laws import N_LAW_PARAMS
 
 #: the backends of the attractor kernel
 BACKENDS = ("cpu", "cuda", "auto")
@@ -47,11 +46,12 @@ BACKENDS = ("cpu", "cuda", "auto")
 THREADS_PER_BLOCK = 128
 #: rows per launch in the simulator (it runs every thread in Python)
 SIMULATOR_BATCH = 256
-#: sort the rows for the load balance (:func:`balance_order`); off: on an H100 it gained 6 %
-#: on the GPU for random rows and cost the host more than the GPU's whole work (docs/gpu.md)
-SORT_ROWS = False
-#: seconds of the last GPU run: ordering the rows, the GPU's work with the copies, the
-#: kernels alone (CUDA events; 0 in the simulator), in all
+#: sort each launch's rows for the load balance (:func:`balance_order`), on the GPU: a 16-bit
+#: key's radix sort on the host, and the kernel reads its rows and writes their results
+#: through that order (on an H200, random F1 rows: the kernels 2.3 times as fast; docs/gpu.md)
+SORT_ROWS = True
+#: seconds of the last GPU run: ordering the rows (each launch's key and its sort), the GPU's
+#: work with the copies, the kernels alone (CUDA events; 0 in the simulator), in all
 TIMES: dict[str, float] = {}
 #: options of the kernel's ``cuda.jit`` on a GPU (``max_registers``, ``shared_memory_carveout``)
 JIT_OPTIONS: dict[str, Any] = {}
@@ -67,9 +67,6 @@ MAX_BATCH = 1 << 20
 #: launches in flight at once, each on its own CUDA stream with its own buffers: while the GPU
 #: runs one, the host copies the results of the one before out of its pinned buffer
 STREAMS = 2
-#: host memory of one row beyond the CPU path's (:data:`stickslip.core.api.BYTES_PER_ROW`): the
-#: rows' order, their sorted copies (law id, law parameters, nu, s0, w0) and the sorted result
-HOST_BYTES_PER_ROW = 8 * (1 + 1 + N_LAW_PARAMS + 3 + engine.NOUT)
 
 
 class CudaUnavailableError(RuntimeError):
@@ -188,33 +185,59 @@ def attractor_kernel(one: Any, width: int = 2, persistent: bool | None = None) -
     return _KERNELS[key][1]
 
 
-def balance_order(lp: np.ndarray, nu: np.ndarray) -> np.ndarray | None:
-    """Return the order of the rows for the GPU (None: the caller's): by law parameters, then ``nu``.
+def balance_bins(lp: np.ndarray, nu: np.ndarray) -> tuple[tuple[int, bool, float, float], ...] | None:
+    """Return how :func:`balance_key` bins the rows: for each column that varies, its range.
+
+    The columns are the law parameters that vary and ``nu`` (index -1), in that order
+    of precedence, each binned in equal steps of its logarithm where it is positive and
+    spans more than a decade (else of itself): ``(column, log, lo, hi)``. None where
+    :data:`SORT_ROWS` is off or nothing varies. Taken over all the rows once, so that
+    every launch's rows are binned alike.
+    """
+    if not SORT_ROWS or nu.size == 0:
+        return None
+    bins = []
+    for j in [*range(lp.shape[1]), -1]:
+        x = nu if j < 0 else lp[:, j]
+        lo, hi = float(x.min()), float(x.max())
+        if lo == hi:
+            continue
+        log = lo > 0 and hi > 10 * lo
+        bins.append((j, log, math.log(lo), math.log(hi)) if log else (j, log, lo, hi))
+    return tuple(bins) or None
+
+
+def balance_key(
+    bins: tuple[tuple[int, bool, float, float], ...], lp: np.ndarray, nu: np.ndarray
+) -> np.ndarray:
+    """Return the rows' 16-bit sort keys: the columns of ``bins`` (:func:`balance_bins`), each in its bits.
 
     A warp's 32 threads wait for the slowest; the number of steps of a cycle
     follows the law's parameters (the width of its boundary layers) and ``nu``,
-    so neighbouring threads get similar rows. The order is a radix sort of a
-    16-bit key (a few nanoseconds a row; sorting the values themselves took
-    0.5 s a million rows, longer than the GPU's work): the law parameters that
-    vary and ``nu``, in that order of precedence, each binned in equal steps
-    (of its logarithm where it is positive and spans more than a decade).
-    None where :data:`SORT_ROWS` is off or nothing varies.
+    so rows of neighbouring keys take similar times.
     """
-    if not SORT_ROWS:
-        return None
-    cols = [lp[:, j] for j in range(lp.shape[1])] + [nu]
-    varying = [x for x in cols if x.size and x.min() != x.max()]
-    if not varying:
-        return None
-    bits = max(1, 16 // len(varying))
+    bits = max(1, 16 // len(bins))
     key = np.zeros(nu.size, dtype=np.uint16)
-    for x in varying[: 16 // bits]:
-        lo, hi = x.min(), x.max()
-        if lo > 0 and hi > 10 * lo:
-            x, lo, hi = np.log(x), np.log(lo), np.log(hi)
+    for j, log, lo, hi in bins[: 16 // bits]:
+        x = nu if j < 0 else lp[:, j]
+        if log:
+            x = np.log(x)
         step = ((x - lo) * (((1 << bits) - 1) / (hi - lo))).astype(np.uint16)
         key = (key << np.uint16(bits)) | step
-    return np.argsort(key, kind="stable")
+    return key
+
+
+def balance_order(lp: np.ndarray, nu: np.ndarray) -> np.ndarray | None:
+    """Return the order of the rows for the GPU (None: the caller's): by law parameters, then ``nu``.
+
+    A stable radix sort of :func:`balance_key` (a few nanoseconds a row; sorting the
+    values themselves took 0.5 s a million rows). The GPU path sorts each launch's
+    rows so, and the kernel reads the rows and writes their results through that
+    order: the rows and the results stay in the caller's order on the host. None
+    where :data:`SORT_ROWS` is off or nothing varies.
+    """
+    bins = balance_bins(lp, nu)
+    return None if bins is None else np.argsort(balance_key(bins, lp, nu), kind="stable")
 
 
 def _batch_rows(n: int, per_row: int) -> int:
@@ -287,6 +310,8 @@ class _Slot:
         self.h_s0 = cuda.pinned_array(m)
         self.h_w0 = cuda.pinned_array(m)
         self.h_out = cuda.pinned_array((rows, len(columns)))
+        self.d_order = cuda.device_array(rows, dtype=np.int64)  # a launch's rows in their keys' order
+        self.h_order = cuda.pinned_array(rows, dtype=np.int64)
         self.d_next = cuda.device_array(1, dtype=np.int64)  # the persistent kernel's queue
         self.h_zero = cuda.pinned_array(1, dtype=np.int64)
         self.h_zero[0] = 0
@@ -434,7 +459,7 @@ def run_attractors_cuda(
 
     The arguments are those of the CPU kernels, already validated (see
     :func:`stickslip.core.api.run_attractors`); one law for all rows, its
-    parameters ``lp_a`` of shape ``(n, k)``, ``1 <= k <= N_LAW_PARAMS`` (the
+    parameters ``lp_a`` of shape ``(n, k)``, ``1 <= k <= N_LAW_PARAMS`` (:mod:`stickslip.core.laws`) (the
     kernel takes the missing ones as zeros), and no start where the rows start
     at breakaway. The bytes that cross to the GPU and back bound the speed
     (docs/gpu.md): the rows go in launches of at most :data:`MAX_BATCH`, on
@@ -464,17 +489,10 @@ def run_attractors_cuda(
     persistent = PERSISTENT
     kern = attractor_kernel(one, width, persistent)
     t0 = time.perf_counter()
-    order = balance_order(lp_a, nu_a)
+    bins = balance_bins(lp_a, nu_a)  # each launch's rows sorted by their keys on these bins
     one_start = s0_a.shape[0] == 1
-    if order is None:  # the caller's order: no copies
-        lp_s, nu_s, s0_s, w0_s = lp_a, nu_a, s0_a, w0_a
-        res = out
-    else:
-        lp_s, nu_s = lp_a[order], nu_a[order]
-        s0_s, w0_s = (s0_a, w0_a) if one_start else (s0_a[order], w0_a[order])
-        res = np.empty_like(out)
     t_order = time.perf_counter() - t0
-    k = lp_s.shape[1]
+    k = lp_a.shape[1]
     timed = not simulator()
     with _LOCK:  # one call at a time in a process: they share the GPU, the slots and TIMES
         t_locked = time.perf_counter()
@@ -483,7 +501,7 @@ def run_attractors_cuda(
         busy: list[tuple[float, float]] = []  # each launch's kernel, from its start to its end
         in_callback = False
         try:
-            per_row = 8 * (k + 1 + (0 if one_start else 2) + engine.NOUT + len(cols))
+            per_row = 8 * (k + 1 + (0 if one_start else 2) + engine.NOUT + len(cols) + 1)
             batch = _batch_rows(n, per_row)
             slots = _slots(min(batch, n), k, not one_start, cols)
             gather = _cuda_kernel.gather()
@@ -492,15 +510,16 @@ def run_attractors_cuda(
                 cuda.to_device(a)
                 for a in (np.empty(0), np.empty((0, 2)), np.empty(0, dtype=np.int64), np.empty((0, 3)))
             )
+            unsorted = cuda.to_device(np.empty(0, dtype=np.int64))  # the rows in the launch's order
             if one_start:  # one start for every row: copied once to each slot, on its stream
                 for x in slots:
-                    x.h_s0[:] = s0_s[:1]
-                    x.h_w0[:] = w0_s[:1]
+                    x.h_s0[:] = s0_a[:1]
+                    x.h_w0[:] = w0_a[:1]
                     x.d_s0.copy_to_device(x.h_s0, stream=x.stream)
                     x.d_w0.copy_to_device(x.h_w0, stream=x.stream)
 
             def finish(x: _Slot) -> None:
-                """Wait for the slot's launch and copy its results into ``res``."""
+                """Wait for the slot's launch and copy its results into ``out``."""
                 nonlocal in_callback
                 x.stream.synchronize()
                 if x.pending is None:
@@ -515,7 +534,7 @@ def run_attractors_cuda(
                         (cuda.event_elapsed_time(first, ev0) / 1e3, cuda.event_elapsed_time(first, ev1) / 1e3)
                     )
                 tc = time.perf_counter()
-                res[lo:hi] = x.h_out[: hi - lo]
+                out[lo:hi] = x.h_out[: hi - lo]
                 TIMES["copy_out"] += time.perf_counter() - tc
                 if on_rows is not None:
                     in_callback = True  # the caller's own exception (Ctrl-C in its bar) is its own
@@ -528,13 +547,20 @@ def run_attractors_cuda(
                 hi = min(n, lo + batch)
                 b = hi - lo
                 st = x.stream
-                x.h_lp[:b] = lp_s[lo:hi]
-                x.h_nu[:b] = nu_s[lo:hi]
+                x.h_lp[:b] = lp_a[lo:hi]
+                x.h_nu[:b] = nu_a[lo:hi]
                 x.d_lp[:b].copy_to_device(x.h_lp[:b], stream=st)
                 x.d_nu[:b].copy_to_device(x.h_nu[:b], stream=st)
+                d_order = unsorted
+                if bins is not None:  # the launch's rows in the order of their keys, on the GPU
+                    ts = time.perf_counter()
+                    x.h_order[:b] = np.argsort(balance_key(bins, lp_a[lo:hi], nu_a[lo:hi]), kind="stable")
+                    d_order = x.d_order[:b]
+                    d_order.copy_to_device(x.h_order[:b], stream=st)
+                    TIMES["order"] += time.perf_counter() - ts
                 if not one_start:
-                    x.h_s0[:b] = s0_s[lo:hi]
-                    x.h_w0[:b] = w0_s[lo:hi]
+                    x.h_s0[:b] = s0_a[lo:hi]
+                    x.h_w0[:b] = w0_a[lo:hi]
                     x.d_s0[:b].copy_to_device(x.h_s0[:b], stream=st)
                     x.d_w0[:b].copy_to_device(x.h_w0[:b], stream=st)
                 d_s0, d_w0 = (x.d_s0, x.d_w0) if one_start else (x.d_s0[:b], x.d_w0[:b])
@@ -545,7 +571,7 @@ def run_attractors_cuda(
                     blocks = min(blocks, resident)
                 args = (
                     law, x.d_lp[:b], x.d_nu[:b], d_s0, d_w0, bool(from_breakaway), float(rtol), float(atol),
-                    float(t_max), float(conv_tol), int(max_steps), d_out, *shared, x.d_next,
+                    float(t_max), float(conv_tol), int(max_steps), d_out, *shared, d_order, x.d_next,
                 )  # fmt: skip
                 x.events = (cuda.event(), cuda.event()) if timed else None
                 if x.events is not None:
@@ -580,6 +606,4 @@ def run_attractors_cuda(
         TIMES["kernel"] = _busy(busy)
         TIMES["span"] = max((b for _, b in busy), default=0.0)
         TIMES["gpu"] = time.perf_counter() - t_locked
-    if order is not None:
-        out[order] = res
     TIMES["total"] = time.perf_counter() - t0
