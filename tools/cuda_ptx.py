@@ -53,7 +53,7 @@ def main() -> None:
     # C-contiguous arrays, as a launch passes them
     f1, f2, i1 = types.float64[::1], types.float64[:, ::1], types.int64[::1]
     f, i, b = types.float64, types.int64, types.boolean
-    sig = (i, f2, f1, f1, f1, b, f, f, f, f, i, f2, f1, f2, i1, f2, i1)
+    sig = (i, f2, f1, f1, f1, b, f, f, f, f, i, f2, f1, f2, i1, f2, i1, i1)
     v = np.linspace(0.0, 0.05, 600)  # m/s
     kernels = {
         "F1/F2 (weakening)": WeakeningLaw(c=1.0).kernel,
