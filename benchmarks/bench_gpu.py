@@ -3,8 +3,7 @@
 Work: the steady stick-slip cycle of law F1 (the workload of ``bench_cycles.py``: ``nu``
 log-uniform in [1e-5, 1e-1], ``c`` uniform in [0.5, 50], rtol 1e-9, atol 1e-12). The GPU
 runs ``run_attractors(..., backend="cuda")``: the CPU engine's own per-row function
-compiled by numba-cuda, one parameter set per thread (each launch's rows sorted on the
-GPU by the law's parameters and ``nu``, ``SORT_ROWS``), double precision. The CPU engine
+compiled by numba-cuda, one parameter set per thread, double precision. The CPU engine
 runs a subset on this machine's cores; the two are compared on that subset (statuses
 equal, amplitudes to 1e-8). The device is named. Where no GPU is usable, the script
 says why and stops: the speed is then unmeasured (the numbers of docs/benchmarks.md
@@ -24,8 +23,8 @@ Then, on fewer sets (``--n-extra``), the GPU's cycles per second for F2, the cub
 law typed as a formula and a measured table (600 rows), for F1 at other block sizes and
 register limits, with the threads taking rows from a queue (``PERSISTENT``), with one,
 two or three CUDA streams at launches of 2^18 rows, and for F1 with
-the rows in the caller's order (not sorted for the load balance), random, sorted
-beforehand (as a grid's rows come) and under a cap of 128 registers: each end to end
+each launch's rows sorted for the load balance (``SORT_ROWS``; alone and under a cap of
+168 registers) and sorted beforehand (as a grid's rows come): each end to end
 and its kernels alone (the launch options change the kernels; end to end, the host's
 copies may hide it), and each F1 variant's rows against the default's.
 
@@ -263,7 +262,7 @@ def _other_laws_and_launches(n: int, nu: np.ndarray, c: np.ndarray, kw: dict, fu
         rel = np.abs(got.amplitude[ok] - amp[ok]) / np.abs(amp[ok])
         worst = float(rel.max()) if rel.size else 0.0
         print(
-            f"  F1, {label:27s}: {n:9d} cycles in {dt:7.3f} s = {n / dt:12.0f} cycles/s{_kernels(n)}; "
+            f"  F1, {label:30s}: {n:9d} cycles in {dt:7.3f} s = {n / dt:12.0f} cycles/s{_kernels(n)}; "
             f"as the default: statuses {bool(np.array_equal(got.status, st))}, amplitudes {worst:.1e}"
         )
 
@@ -301,14 +300,14 @@ def _other_laws_and_launches(n: int, nu: np.ndarray, c: np.ndarray, kw: dict, fu
     core_cuda.JIT_OPTIONS, core_cuda.PERSISTENT_BLOCKS_PER_SM = default_options, per_sm
     core_cuda.PERSISTENT = False
     sort = core_cuda.SORT_ROWS
-    core_cuda.SORT_ROWS = True
+    core_cuda.SORT_ROWS = True  # each launch's rows sorted by their keys, read through that order
     order = core_cuda.balance_order(lp, nu)
-    core_cuda.SORT_ROWS = False  # the rows as they come: random, and sorted (as a grid's come)
-    f1("caller's order (random)")
-    f1("caller's order, sorted", lp[order], nu[order], order)
-    core_cuda.JIT_OPTIONS = {"max_registers": 128}
-    f1("caller's order, <= 128 regs")
+    f1("sorted per launch")
+    core_cuda.JIT_OPTIONS = {"max_registers": 168}
+    f1("sorted per launch, <= 168 regs")
     core_cuda.JIT_OPTIONS = default_options
+    core_cuda.SORT_ROWS = False  # sorted beforehand, as a grid's rows come
+    f1("sorted beforehand", lp[order], nu[order], order)
     core_cuda.SORT_ROWS = sort
 
 

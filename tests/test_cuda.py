@@ -289,8 +289,9 @@ def test_the_persistent_kernel_gives_the_cpu_engines_rows() -> None:
 
 @needs_numba_cuda
 def test_rows_in_the_callers_order_give_the_same_rows() -> None:
-    """With the sort off (SORT_ROWS = False) the kernel runs the launch's rows in their order;
-    the rows equal the CPU engine's as the sorted launches' do (the other tests: sorted)."""
+    """With the sort off (SORT_ROWS = False, the default) the kernel runs the launch's rows in
+    their order; the rows equal the CPU engine's as the sorted launches' do (the other
+    simulator tests of random rows sort them: SORT_ROWS = True in :data:`_ROWS`)."""
     run = subprocess.run(
         [sys.executable, "-c", _ROWS, "1e4", "2000000", "cuda", "breakaway", "deferred", "all", "unsorted"],
         env=SIM, capture_output=True, text=True, timeout=600,
@@ -424,12 +425,11 @@ def test_command_line_without_a_gpu_says_why_in_one_line(tmp_path: Path) -> None
 def test_rows_are_balanced_by_law_parameters_then_nu(monkeypatch: pytest.MonkeyPatch) -> None:
     lp = np.array([[3.0, 0.0], [1.0, 0.0], [3.0, 0.0], [1.0, 1.0]])
     nu = np.array([0.2, 0.5, 0.1, 0.1])
-    order = core_cuda.balance_order(lp, nu)  # on by default (docs/gpu.md: measured)
+    assert core_cuda.balance_order(lp, nu) is None  # off by default (docs/gpu.md: measured)
+    monkeypatch.setattr(core_cuda, "SORT_ROWS", True)
+    order = core_cuda.balance_order(lp, nu)
     assert order is not None and order.tolist() == [1, 3, 2, 0]
     assert core_cuda.balance_order(np.ones((3, 2)), np.full(3, 0.1)) is None  # nothing varies
-    monkeypatch.setattr(core_cuda, "SORT_ROWS", False)
-    assert core_cuda.balance_order(lp, nu) is None
-    monkeypatch.setattr(core_cuda, "SORT_ROWS", True)
     # a million rows of F1 (c and nu span two and four decades: both binned by their logs):
     # sorted by c to a bin's width, and within a bin of c by nu to a bin's width
     rng = np.random.default_rng(3)

@@ -46,10 +46,12 @@ BACKENDS = ("cpu", "cuda", "auto")
 THREADS_PER_BLOCK = 128
 #: rows per launch in the simulator (it runs every thread in Python)
 SIMULATOR_BATCH = 256
-#: sort each launch's rows for the load balance (:func:`balance_order`), on the GPU: a 16-bit
-#: key's radix sort on the host, and the kernel reads its rows and writes their results
-#: through that order (on an H200, random F1 rows: the kernels 2.3 times as fast; docs/gpu.md)
-SORT_ROWS = True
+#: sort each launch's rows for the load balance (:func:`balance_order`): a 16-bit key's radix
+#: sort on the host, through which the kernel reads its rows and writes their results. Off: on
+#: an H200 it made random F1 rows' kernels 2.1 times as fast (1.26e8 cycles/s) but cost the
+#: host more (0.28 s for 10^7 rows), end to end 1.01 s against 0.75 s; a grid's rows come in
+#: order already (1.37e8 cycles/s unsorted). docs/gpu.md
+SORT_ROWS = False
 #: seconds of the last GPU run: ordering the rows (each launch's key and its sort), the GPU's
 #: work with the copies, the kernels alone (CUDA events; 0 in the simulator), in all
 TIMES: dict[str, float] = {}
