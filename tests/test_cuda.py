@@ -269,36 +269,24 @@ def test_only_the_fields_kept_cross_back_from_the_gpu(streams: str) -> None:
 
 
 @needs_numba_cuda
-def test_the_persistent_kernel_gives_the_cpu_engines_rows() -> None:
-    """Eight threads a launch take its 16 rows from a queue (an atomic counter), on deferred streams;
-    the rows equal the CPU engine's as the one-row-a-thread kernel's do."""
+@pytest.mark.parametrize(("variant", "sorted_launches"), [("persistent", 3), ("unsorted", 0)])
+def test_in_the_simulator_the_kernels_variants_give_the_cpu_engines_rows(
+    variant: str, sorted_launches: int
+) -> None:
+    """On deferred streams, the rows equal the CPU engine's as the default kernel's do.
+
+    ``persistent``: eight threads a launch take its 16 rows from a queue (an atomic counter),
+    each launch's rows sorted. ``unsorted`` (SORT_ROWS = False, the default): the kernel runs
+    the launch's rows in their order (the other simulator tests of random rows sort them:
+    SORT_ROWS = True in :data:`_ROWS`).
+    """
     run = subprocess.run(
-        [sys.executable, "-c", _ROWS, "1e4", "2000000", "cuda", "breakaway", "deferred", "all", "persistent"],
+        [sys.executable, "-c", _ROWS, "1e4", "2000000", "cuda", "breakaway", "deferred", "all", variant],
         env=SIM, capture_output=True, text=True, timeout=600,
     )  # fmt: skip
     assert run.returncode == 0, run.stderr
     got = json.loads(run.stdout)
-    assert got["sorted"] == 3  # each launch's rows sorted on the GPU
-    gpu = np.array(got["raw"], dtype=float)
-    cpu = _cpu_rows_from_breakaway()
-    np.testing.assert_array_equal(gpu[:, 0], cpu.status)
-    np.testing.assert_array_equal(gpu[:, 1], cpu.regime)
-    cycle = _cycle_columns()
-    np.testing.assert_allclose(gpu[:, cycle], cpu.raw[:, cycle], rtol=1e-9, atol=1e-300, equal_nan=True)
-
-
-@needs_numba_cuda
-def test_rows_in_the_callers_order_give_the_same_rows() -> None:
-    """With the sort off (SORT_ROWS = False, the default) the kernel runs the launch's rows in
-    their order; the rows equal the CPU engine's as the sorted launches' do (the other
-    simulator tests of random rows sort them: SORT_ROWS = True in :data:`_ROWS`)."""
-    run = subprocess.run(
-        [sys.executable, "-c", _ROWS, "1e4", "2000000", "cuda", "breakaway", "deferred", "all", "unsorted"],
-        env=SIM, capture_output=True, text=True, timeout=600,
-    )  # fmt: skip
-    assert run.returncode == 0, run.stderr
-    got = json.loads(run.stdout)
-    assert got["sorted"] == 0
+    assert got["sorted"] == sorted_launches  # the launches whose rows were sorted on the GPU
     gpu = np.array(got["raw"], dtype=float)
     cpu = _cpu_rows_from_breakaway()
     np.testing.assert_array_equal(gpu[:, 0], cpu.status)
