@@ -30,7 +30,8 @@ copies may hide it), and each F1 variant's rows against the default's.
 
 Without a GPU, ``--host-only N`` times the host's part of a sweep of N points on the GPU
 (its kernels and copies replaced by a copy of one row): what bounds a sweep end to end
-once the kernels are fast.
+once the kernels are fast; ``--copy-only N`` times the host's copy of N rows of results
+out of a launch's buffer, in one thread and in several.
 
 Run: python benchmarks/bench_gpu.py [--n 10000000] [--n-cpu 200000] [--n-diffrax 1000000] [--n-extra 2000000]
 """
@@ -107,6 +108,13 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--diffrax-only", action="store_true", help="diffrax against the CPU engine (no GPU)")
     ap.add_argument(
+        "--copy-only",
+        type=int,
+        default=0,
+        metavar="N",
+        help="the host's copy of N rows of results out of a launch's buffer, one thread and several (no GPU)",
+    )
+    ap.add_argument(
         "--host-only",
         type=int,
         default=0,
@@ -119,6 +127,9 @@ def main() -> None:
         return
     if args.host_only:
         _host_only_sweep(args.host_only)
+        return
+    if args.copy_only:
+        _copy_out(args.copy_only)
         return
     ok, device = core_cuda.cuda_status()
     if not ok or core_cuda.simulator():
@@ -379,6 +390,43 @@ def _host_only_sweep(n: int) -> None:
     machine = platform.processor() or platform.machine()
     print(f"machine: {machine}, {os.cpu_count()} cores; no GPU: its work stubbed")
     print(f"sweep(..., backend='cuda'), the host's part: {m} points in {dt:.3f} s = {m / dt:.3g} points/s")
+
+
+def _copy_out(n: int) -> None:
+    """The host's copy of ``n`` rows of 21 results out of a launch's buffer (2^20 rows) into fresh memory.
+
+    What takes most of a GPU call end to end (docs/gpu.md): one thread, as before
+    2026-11-28, against :func:`stickslip.core.cuda.copy_rows` (several), each into a
+    fresh array, four times, the two in turn first (the first touch of fresh pages is
+    most of it).
+    """
+    rows = 1 << 20
+    buf = np.random.default_rng(0).random((rows, 21))
+
+    def copy(one: bool) -> float:
+        out = np.empty((n, 21))
+        t0 = time.perf_counter()
+        for lo in range(0, n, rows):
+            hi = min(n, lo + rows)
+            if one:
+                out[lo:hi] = buf[: hi - lo]
+            else:
+                core_cuda.copy_rows(out[lo:hi], buf[: hi - lo])
+        dt = time.perf_counter() - t0
+        assert np.array_equal(out[-1], buf[(n - 1) % rows])
+        return dt
+
+    threads = min(core_cuda.COPY_THREADS, os.cpu_count() or 1)
+    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores")
+    for k in range(4):  # in turn which goes first: a process's first touch of memory costs the most
+        if k % 2:
+            t1, tk = copy(True), copy(False)
+        else:
+            tk, t1 = copy(False), copy(True)
+        print(
+            f"copying {n} rows of 21 numbers out of a buffer of {rows} rows: one thread {t1:.3f} s, "
+            f"{threads} threads {tk:.3f} s ({t1 / tk:.2f} x; {'one thread' if k % 2 else 'threads'} first)"
+        )
 
 
 def _diffrax_against_engine(args: argparse.Namespace) -> None:

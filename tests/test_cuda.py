@@ -660,3 +660,33 @@ def test_numba_cuda_compiles_where_numpy_has_no_row_stack() -> None:
     assert run.returncode == 0, run.stderr
     assert "without the guard: module 'numpy' has no attribute 'row_stack'" in run.stdout
     assert "with the guard: loaded; np.row_stack False" in run.stdout
+
+
+def test_the_hosts_copy_out_of_a_launch_runs_in_threads_and_equals_one_copy(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """From COPY_THREADS_ROWS rows the results are copied out of pinned memory in slices, one a
+    thread: the same rows as one copy, every row written; below it, one copy in the caller's thread."""
+    import threading
+    import time
+
+    rng = np.random.default_rng(5)
+    src = rng.random(((1 << 16) + 7, 5))
+    names: set[str] = set()
+    assign = core_cuda._assign
+
+    def spy(dst: np.ndarray, part: np.ndarray) -> None:
+        names.add(threading.current_thread().name)
+        time.sleep(0.05)  # each slice holds its thread a while: the others go to other threads
+        assign(dst, part)
+
+    monkeypatch.setattr(core_cuda, "_assign", spy)
+    monkeypatch.setattr(core_cuda.os, "cpu_count", lambda: 3)
+    dst = np.full_like(src, np.nan)
+    core_cuda.copy_rows(dst, src)
+    assert np.array_equal(dst, src)
+    assert len(names) >= 2 and all(x.startswith("stickslip-copy") for x in names)
+    names.clear()
+    small = np.full_like(src[:100], np.nan)
+    core_cuda.copy_rows(small, src[:100])
+    assert np.array_equal(small, src[:100]) and not names  # one copy, no thread

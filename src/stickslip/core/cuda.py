@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import contextlib
 import importlib.util
+import itertools
 import math
 import os
 import sys
@@ -34,6 +35,7 @@ import threading
 import time
 import warnings
 from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 import numpy as np
@@ -69,6 +71,11 @@ MAX_BATCH = 1 << 20
 #: launches in flight at once, each on its own CUDA stream with its own buffers: while the GPU
 #: runs one, the host copies the results of the one before out of its pinned buffer
 STREAMS = 2
+#: rows of a launch's results from which the host copies them out of pinned memory in
+#: several threads (:func:`copy_rows`; numpy's copies let go of the GIL)
+COPY_THREADS_ROWS = 1 << 16
+#: threads of that copy at most
+COPY_THREADS = 8
 
 
 class CudaUnavailableError(RuntimeError):
@@ -240,6 +247,37 @@ def balance_order(lp: np.ndarray, nu: np.ndarray) -> np.ndarray | None:
     """
     bins = balance_bins(lp, nu)
     return None if bins is None else np.argsort(balance_key(bins, lp, nu), kind="stable")
+
+
+_COPY_POOL: list[ThreadPoolExecutor] = []
+_COPY_LOCK = threading.Lock()
+
+
+def _assign(dst: np.ndarray, src: np.ndarray) -> None:
+    dst[...] = src
+
+
+def copy_rows(dst: np.ndarray, src: np.ndarray) -> None:
+    """Copy the rows ``src`` into ``dst``, in several threads from :data:`COPY_THREADS_ROWS` rows.
+
+    The host's share of a GPU call end to end is mostly this copy of each launch's
+    results out of pinned memory into the caller's array, whose fresh pages are touched
+    for the first time (on an H200's host, 0.60 s of 0.75 s for 10^7 rows of 21
+    numbers). Its threads take a slice of the rows each; one thread below the threshold
+    or on one core.
+    """
+    n = dst.shape[0]
+    threads = min(COPY_THREADS, os.cpu_count() or 1)
+    if n < COPY_THREADS_ROWS or threads < 2:
+        dst[...] = src
+        return
+    with _COPY_LOCK:
+        if not _COPY_POOL:
+            _COPY_POOL.append(ThreadPoolExecutor(threads, thread_name_prefix="stickslip-copy"))
+    edges = np.linspace(0, n, threads + 1).astype(np.int64)
+    parts = [_COPY_POOL[0].submit(_assign, dst[a:b], src[a:b]) for a, b in itertools.pairwise(edges) if b > a]
+    for part in parts:
+        part.result()
 
 
 def _batch_rows(n: int, per_row: int) -> int:
@@ -536,7 +574,7 @@ def run_attractors_cuda(
                         (cuda.event_elapsed_time(first, ev0) / 1e3, cuda.event_elapsed_time(first, ev1) / 1e3)
                     )
                 tc = time.perf_counter()
-                out[lo:hi] = x.h_out[: hi - lo]
+                copy_rows(out[lo:hi], x.h_out[: hi - lo])
                 TIMES["copy_out"] += time.perf_counter() - tc
                 if on_rows is not None:
                     in_callback = True  # the caller's own exception (Ctrl-C in its bar) is its own
