@@ -499,9 +499,12 @@ def run_attractors_cuda(
 
     The arguments are those of the CPU kernels, already validated (see
     :func:`stickslip.core.api.run_attractors`); one law for all rows, its
-    parameters ``lp_a`` of shape ``(n, k)``, ``1 <= k <= N_LAW_PARAMS`` (:mod:`stickslip.core.laws`) (the
-    kernel takes the missing ones as zeros), and no start where the rows start
-    at breakaway. The bytes that cross to the GPU and back bound the speed
+    parameters ``lp_a`` of shape ``(n, k)``, ``1 <= k <= N_LAW_PARAMS`` of
+    :mod:`stickslip.core.laws` (the kernel takes the missing ones as zeros), and no
+    start where the rows start at breakaway. The rows and results keep the
+    caller's order on the host; with :data:`SORT_ROWS` each launch's kernel runs its
+    rows in the order of their keys (:func:`balance_order`), read and written in place.
+    The bytes that cross to the GPU and back bound the speed
     (docs/gpu.md): the rows go in launches of at most :data:`MAX_BATCH`, on
     :data:`STREAMS` CUDA streams in turn, each launch's inputs and results
     copied through pinned host buffers while the other streams' launches run;
