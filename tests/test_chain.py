@@ -45,8 +45,12 @@ def _one_block_period(law: ss.DimensionlessLaw, nu: float) -> float:
 
 @pytest.mark.parametrize(
     ("law", "nu"),
-    [(WeakeningLaw(c=3.8), 0.5), (WeakeningLaw(c=3.8, p=0.5), 0.2), (CubicLaw(alpha=1.2, gamma=0.3), 0.1)],
-    ids=["F1", "F2", "cubic"],
+    [
+        pytest.param(WeakeningLaw(c=3.8), 0.5, id="F1"),
+        pytest.param(WeakeningLaw(c=3.8, p=0.5), 0.2, id="F2"),
+        # a third compiled chain engine (42 s of CI's 2 cores, cold): in the slow set
+        pytest.param(CubicLaw(alpha=1.2, gamma=0.3), 0.1, id="cubic", marks=pytest.mark.slow),
+    ],
 )
 def test_one_block_chain_is_the_one_block_model(law: ss.DimensionlessLaw, nu: float) -> None:
     period = _one_block_period(law, nu)
