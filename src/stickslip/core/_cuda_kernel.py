@@ -19,11 +19,11 @@ def make(one: Any, width: int = 2, options: dict[str, Any] | None = None, persis
 
     Thread ``i`` runs row ``r = order[i]`` (``r = i`` where ``order`` is empty:
     the launch's rows sorted for the load balance, read and written in place):
-    the law's id ``law`` (one for all rows), the
-    law's parameters ``lp_a[r]`` (only the columns the law has: the rest are
-    zeros), ``nu_a[r]`` and the start ``s0_a[r]``, ``w0_a[r]`` (or ``[0]`` where
-    they are of length 1: a start at breakaway ignores them), its results into ``out[r]``. What goes to the
-    GPU is so kept to what differs between rows. Its work arrays (the stages
+    the law's id ``law`` (one for all rows), the law's parameters ``lp_a[r]``
+    (only the columns the law has: the rest are zeros), ``nu_a[r]`` and the start
+    ``s0_a[r]``, ``w0_a[r]`` (or ``[0]`` where they are of length 1: a start at
+    breakaway ignores them), its results into ``out[r]``. What goes to the GPU is
+    so kept to what differs between rows. Its work arrays (the stages
     ``K`` to the event count ``evn``, ``width`` = 2 state variables, 4 with the
     variational ones) and a copy of its law parameters are the thread's own
     local arrays, which NVVM keeps in registers (ptxas for sm_90: no local

@@ -236,16 +236,19 @@ def balance_key(
     return key
 
 
-def balance_order(lp: np.ndarray, nu: np.ndarray) -> np.ndarray | None:
+def balance_order(
+    lp: np.ndarray, nu: np.ndarray, bins: tuple[tuple[int, bool, float, float], ...] | None = None
+) -> np.ndarray | None:
     """Return the order of the rows for the GPU (None: the caller's): by law parameters, then ``nu``.
 
     A stable radix sort of :func:`balance_key` (a few nanoseconds a row; sorting the
-    values themselves took 0.5 s a million rows). The GPU path sorts each launch's
-    rows so, and the kernel reads the rows and writes their results through that
-    order: the rows and the results stay in the caller's order on the host. None
+    values themselves took 0.5 s a million rows), on ``bins`` (default: these rows'
+    own, :func:`balance_bins`). The GPU path sorts each launch's rows so, on the bins
+    of all the rows, and the kernel reads the rows and writes their results through
+    that order: the rows and the results stay in the caller's order on the host. None
     where :data:`SORT_ROWS` is off or nothing varies.
     """
-    bins = balance_bins(lp, nu)
+    bins = balance_bins(lp, nu) if bins is None else bins
     return None if bins is None else np.argsort(balance_key(bins, lp, nu), kind="stable")
 
 
@@ -597,7 +600,7 @@ def run_attractors_cuda(
                 d_order = unsorted
                 if bins is not None:  # the launch's rows in the order of their keys, on the GPU
                     ts = time.perf_counter()
-                    x.h_order[:b] = np.argsort(balance_key(bins, lp_a[lo:hi], nu_a[lo:hi]), kind="stable")
+                    x.h_order[:b] = balance_order(lp_a[lo:hi], nu_a[lo:hi], bins)
                     d_order = x.d_order[:b]
                     d_order.copy_to_device(x.h_order[:b], stream=st)
                     TIMES["order"] += time.perf_counter() - ts
