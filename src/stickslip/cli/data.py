@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import warnings
+from typing import Any
 
 import click
 
@@ -16,6 +17,51 @@ from .options import figure_names, out_dir_option, overwrite_option
 __all__ = ["register"]
 
 
+def reading_options(func: Any) -> Any:
+    """Add the options that say how a laboratory's files are read (variables, units, set-up)."""
+    options = [
+        click.option("--time", "time_name", default=None, help="The variable or column holding the time."),
+        click.option("--force", "force_name", default=None, help="The variable or column holding the force."),
+        click.option(
+            "--normalised/--absolute",
+            "normalised",
+            default=None,
+            help="The force is divided by the normal load (a friction coefficient, F/W) / is a force "
+            "(default: by its name: Fnorm, mu are normalised).",
+        ),
+        click.option(
+            "--time-unit", default=None, help="The time's unit where the file states none (default s)."
+        ),
+        click.option(
+            "--force-unit", default=None, help="The force's unit where the file states none (default N)."
+        ),
+        click.option(
+            "--name-pattern",
+            default=None,
+            help="Metadata from file names, e.g. 'k{stiffness}Nm_v{v0}' or 'k{stiffness:N/m}_v{v0:mm/s}' "
+            "(bare fields: N/m, um/s, g, N).",
+        ),
+        click.option("--stiffness", default=None, help="Spring stiffness, e.g. '168 N/m' (the set-up's)."),
+        click.option("--mass", default=None, help="Slider mass, e.g. '30.7 g' (the set-up's)."),
+    ]
+    for option in reversed(options):
+        func = option(func)
+    return func
+
+
+def _record_options(
+    time_name: str | None,
+    force_name: str | None,
+    normalised: bool | None,
+    time_unit: str | None,
+    force_unit: str | None,
+    name_pattern: str | None,
+) -> Any:
+    from ..io.formats import RecordOptions
+
+    return RecordOptions(time_name, force_name, normalised, time_unit, force_unit, name_pattern)
+
+
 def register(main: click.Group) -> None:
     """Add the commands to ``main``."""
 
@@ -24,26 +70,63 @@ def register(main: click.Group) -> None:
     @out_dir_option("Output folder: summary.csv and figures.")
     @click.option("--json", "as_json", is_flag=True, help="Print the verdict and summary as JSON.")
     @click.option("--no-plot", is_flag=True, help="Write summary.csv only.")
+    @reading_options
+    @click.option("--v0", default=None, help="Driving velocity of every record (overrides the files').")
+    @click.option(
+        "--load", default=None, help="Normal load of every record; 'weight' is the slider's (mass x g)."
+    )
     @overwrite_option
     @handle_errors
-    def analyze(source: str, out_dir: str, as_json: bool, no_plot: bool, overwrite: bool) -> None:
+    def analyze(
+        source: str,
+        out_dir: str,
+        as_json: bool,
+        no_plot: bool,
+        overwrite: bool,
+        time_name: str | None,
+        force_name: str | None,
+        normalised: bool | None,
+        time_unit: str | None,
+        force_unit: str | None,
+        name_pattern: str | None,
+        stiffness: str | None,
+        mass: str | None,
+        v0: str | None,
+        load: str | None,
+    ) -> None:
         """Measure a folder of force-time records (or one long table) and apply the criterion.
 
-        SOURCE is a folder of CSV/TSV records (with index.csv giving 'file', 'v0 [unit]',
-        'load [unit]', or '# v0 = ...' header lines in each file) or one table with a
-        'record' column. Writes summary.csv (one row per record) and amplitude and
-        period against driving velocity and load.
+        SOURCE is a folder of records (CSV/TSV/text, MATLAB .mat, HDF5, .npz, .xlsx,
+        TDMS; with index.csv giving 'file', 'v0 [unit]', 'load [unit]', 'stiffness
+        [unit]', 'mass [unit]', or '# v0 = ...' header lines, a sidecar NAME.json, or
+        --name-pattern), one record, or one table with a 'record' column. With the
+        driving velocity, the slider's motion follows from the force: slip events,
+        stick phases, the observed regime, the stiffness from the stick slopes and the
+        mass. Writes summary.csv (one row per record), events.csv (one row per slip
+        event), amplitude and period against driving velocity and load, and the
+        measured regime diagram in the (V, k) plane.
         """
+        from ..data.motion import records_events
         from ..data.records import analyze_records, observed_line
         from ..io.output import OutputFolder
         from ..io.records import UnreadableRecord, read_records
-        from ..plots.figures import plot_records, save_figure
+        from ..plots.figures import plot_records, plot_regime_plane, save_figure
 
         with OutputFolder(out_dir, "analyze", overwrite=overwrite) as out:
-            out.expect({"summary.csv": "records-summary"})
+            out.expect({"summary.csv": "records-summary", "events.csv": "records-events"})
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
-                records = read_records(source, on_error="warn")
+                records = read_records(
+                    source,
+                    on_error="warn",
+                    options=_record_options(
+                        time_name, force_name, normalised, time_unit, force_unit, name_pattern
+                    ),
+                    v0=v0,
+                    load=load,
+                    stiffness=stiffness,
+                    mass=mass,
+                )
             unread = {}
             for w in caught:  # a record that cannot be read is a row of the table; the rest are said
                 if isinstance(w.message, UnreadableRecord):
@@ -58,8 +141,17 @@ def register(main: click.Group) -> None:
                     lambda p: table.to_csv(p, index=False, float_format="%.10g"),
                 )
             ]
+            events = records_events(records)
+            if events is not None:
+                written.append(
+                    out.write(
+                        "events.csv",
+                        "records-events",
+                        lambda p: events.to_csv(p, index=False, float_format="%.10g"),
+                    )
+                )
             if not no_plot:
-                for name, fig in plot_records(table).items():
+                for name, fig in (plot_records(table) | plot_regime_plane(table)).items():
                     written += save_figure(fig, name, out=out)
         if as_json:
             click.echo(
@@ -90,6 +182,8 @@ def register(main: click.Group) -> None:
         shown["stick_fraction"] = table["stick_fraction"]
         shown["observed"] = table["observed_regime"]
         click.echo(shown.to_string(index=False, float_format=lambda x: f"{x:.4g}"))
+        if "regime" in table.columns and table["regime"].notna().any():
+            click.echo(motion_text(table))
         click.echo("(summary.csv holds these in SI units)")
         if verdict is None:
             read = table[~table["name"].isin(unread)]
@@ -120,6 +214,36 @@ def register(main: click.Group) -> None:
         seen = observed_line(table, verdict)
         if seen is not None:
             click.echo(seen)
+
+    def motion_text(table: Any) -> str:
+        """Return the records' motion as a table: regime, events, recurrence, stick, stiffness, mass."""
+        rows = table[table["regime"].notna()]
+        shown = rows[["name"]].copy()
+        shown["regime"] = rows["regime"]
+        shown["events"] = rows["n_events"]
+        shown["recurrence [s]"] = rows["recurrence [s]"]
+        shown["rec. CV"] = rows["recurrence_cv"]
+        shown["period [s]"] = rows["period [s]"]
+        shown["stick"] = rows["stick_fraction"]
+        shown["k [N/m]"] = [
+            f"{k:.4g} +- {e:.2g}" if math.isfinite(e) else f"{k:.4g}"
+            for k, e in zip(rows["stiffness [N/m]"], rows["stiffness_error [N/m]"], strict=True)
+        ]
+        shown["(stated)"] = rows["stiffness_nominal [N/m]"]
+        shown["m [g]"] = [
+            f"{1e3 * m:.3g} +- {1e3 * e:.1g}" if math.isfinite(m) else "not resolved"
+            for m, e in zip(rows["mass [kg]"], rows["mass_error [kg]"], strict=True)
+        ]
+        shown["(stated) [g]"] = rows["mass_nominal [kg]"] * 1e3
+        drops = ", ".join(
+            f"{n}: {1e3 * d:.3g} mN" for n, d in zip(rows["name"], rows["min_drop [N]"], strict=True)
+        )
+        text = "the slider's motion from the force (x = V t - F/k, total-variation denoised):\n"
+        text += shown.to_string(index=False, float_format=lambda x: f"{x:.4g}")
+        text += f"\nevents: drops of at least {drops} (5 noise deviations) counted"
+        for name, reason in zip(rows["name"], rows["regime_reason"], strict=True):
+            text += f"\nregime: {name}: {reason}"
+        return text
 
     @main.command()
     @click.argument("record_file", type=click.Path(exists=False, dir_okay=False))

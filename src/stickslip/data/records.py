@@ -681,6 +681,56 @@ def synthetic_record(
     return Record(name, t - t0, force, None, vel, params.v0, params.load, {})
 
 
+def _motion_row(rec: Record) -> dict[str, Any] | None:
+    """Return a record's motion columns where its force and driving velocity give them (None: not tried).
+
+    Tried for records with a driving velocity and no velocity or displacement column (a
+    column of the slider's own motion is measured as it is). A record whose motion cannot
+    be measured gets its reason in ``motion_note``.
+    """
+    from .motion import measure_motion, motion_columns
+
+    if rec.v0 is None or rec.velocity is not None or rec.displacement is not None:
+        return None
+    try:
+        _, _, summary = measure_motion(rec)
+    except DataError as exc:
+        return {"motion_note": str(exc)}
+    return motion_columns(summary) | {"motion_note": "; ".join(summary.notes)}
+
+
+def _from_motion(row: dict[str, Any], motion: dict[str, Any]) -> dict[str, Any]:
+    """Return ``row`` with its period, amplitude, stick fraction and observed regime from the motion.
+
+    The slip events measure an irregular record where a spectral period does not: the
+    period is the median recurrence of the events in stick-slip, the median cycle of
+    the slider's velocity otherwise; the amplitude the median range of the denoised force
+    over a cycle.
+    """
+    from .motion import OBSERVED_OF
+
+    stick_slip = str(motion["regime"]).endswith("stick-slip")
+    period = motion["recurrence [s]"] if stick_slip else motion["motion_period"]
+    q1, q3 = (
+        (motion["recurrence_q1 [s]"], motion["recurrence_q3 [s]"]) if stick_slip else (math.nan, math.nan)
+    )
+    k, v0 = motion["stiffness [N/m]"], row.get("v0", math.nan)
+    return row | {
+        "n_cycles": motion["n_events"] if stick_slip else motion["n_motion_cycles"],
+        "period": period,
+        "period_spread": (q3 - q1) / 1.349,
+        "amplitude": motion["motion_amplitude"],
+        "amplitude_spread": motion["motion_amplitude_spread"],
+        "peak_force": motion["motion_force_before"],
+        "trough_force": motion["motion_force_after"],
+        "drop_time": motion["slip_duration [s]"],
+        "rise_time": period - motion["slip_duration [s]"] if stick_slip else math.nan,
+        "rise_slope": k * v0,
+        "stick_fraction": motion["stick_fraction"],
+        "observed_regime": OBSERVED_OF.get(str(motion["regime"]), "unknown"),
+    }
+
+
 def _failed_row(rec: Record | str, reason: str) -> dict[str, Any]:
     """Return the summary row of a record that could not be measured (or, named only, read).
 
@@ -695,7 +745,7 @@ def _failed_row(rec: Record | str, reason: str) -> dict[str, Any]:
         "n_cycles": 0,
         "v0": float(rec.v0.to("m/s").magnitude) if rec.v0 is not None else math.nan,
         "load": float(rec.load.to("N").magnitude) if rec.load is not None else math.nan,
-        "warning": "not measured: " + reason,
+        "warning": "not measured: " + reason if reason else "",
     }
 
 
@@ -737,15 +787,26 @@ def analyze_records(
     rows = []
     failed = []
     for rec in records:
+        motion = _motion_row(rec)
         try:
             _, s = measure_record(rec)
         except DataError as exc:
-            if len(records) == 1:
-                raise
-            failed.append(str(exc))
-            rows.append(_failed_row(rec, str(exc)))
+            if motion is None or "regime" not in motion:
+                if len(records) == 1:
+                    raise
+                failed.append(str(exc))
+                rows.append(_failed_row(rec, str(exc)) | (motion or {}))
+                continue
+            # the events measure what the cycles could not (an irregular real record)
+            row = _failed_row(rec, "") | motion
+            row["n_cycles"] = motion["n_events"]
+            rows.append(_from_motion(row, motion))
             continue
         row = s.as_dict()
+        if motion is not None and "regime" in motion:
+            row = _from_motion(row | motion, motion)
+        elif motion is not None:
+            row |= motion
         if rec.v0 is None:  # it was measured, and left out of the verdict: say why
             note = (
                 "no driving velocity, so not in the criterion's verdict (give '# v0 = ...' in the "
@@ -772,6 +833,14 @@ def analyze_records(
             "load": "load [N]",
         }
     )
+    df = df.drop(
+        columns=[c for c in df.columns if str(c).startswith("motion_") and c != "motion_note"],
+        errors="ignore",
+    )
+    if "motion_note" in df.columns:  # the motion's notes join the record's warning
+        note = df.pop("motion_note").fillna("").astype(str)
+        old = df["warning"].fillna("").astype(str)
+        df["warning"] = [("; ".join(x for x in (a, b) if x)) for a, b in zip(old, note, strict=True)]
     verdict = None
     sel = df[np.isfinite(df["v0 [m/s]"]) & np.isfinite(df["amplitude [N]"])]
     if len(sel) and sel["load [N]"].notna().any():

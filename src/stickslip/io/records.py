@@ -29,6 +29,15 @@ from ..units import parse_quantity, ureg
 from ..userwarnings import warn
 from . import text
 from .errors import DataError
+from .formats import (
+    BINARY_SUFFIXES,
+    QUANTITIES,
+    RecordOptions,
+    apply_name_pattern,
+    pick_record,
+    read_arrays,
+    read_sidecar,
+)
 from .tables import check_file, header_name, parse_header, split_header
 
 __all__ = ["Record", "UnreadableRecord", "format_record", "read_record", "read_records", "write_record"]
@@ -57,6 +66,10 @@ class Record:
         Driving velocity and normal load, from the index or the header lines.
     metadata : dict
         Every ``# key = value`` header line.
+    stiffness, mass : pint.Quantity or None
+        The spring's stiffness and the slider's mass as the set-up states them
+        (nominal values: :func:`stickslip.data.motion.measure_motion` measures the
+        effective ones).
 
     """
 
@@ -68,6 +81,8 @@ class Record:
     v0: pint.Quantity | None = None
     load: pint.Quantity | None = None
     metadata: Mapping[str, str] = field(default_factory=dict)
+    stiffness: pint.Quantity | None = None
+    mass: pint.Quantity | None = None
 
     def __post_init__(self) -> None:
         # arrays as the readers make them: a 2-D force broadcast into an n x n array (and ran out
@@ -109,7 +124,12 @@ class Record:
         if step.size and float(np.median(step)) < MIN_SAMPLE_INTERVAL:
             raise ValueError(f"{self.name}: {_too_fast(step)}")
         # v0=1e-5 (no unit) failed later with an AttributeError on .to
-        for key, dim, example in (("v0", "[length] / [time]", "10 um/s"), ("load", "[force]", "196 mN")):
+        for key, dim, example in (
+            ("v0", "[length] / [time]", "10 um/s"),
+            ("load", "[force]", "196 mN"),
+            ("stiffness", "[force] / [length]", "168 N/m"),
+            ("mass", "[mass]", "30.7 g"),
+        ):
             value = getattr(self, key)
             if value is not None:
                 object.__setattr__(self, key, parse_quantity(value, key, dim, example))
@@ -179,7 +199,7 @@ def _check_numeric(df: pd.DataFrame, col: str, where: str) -> FloatArray:
 
 
 #: columns read as numbers (when present) and as text
-NUMERIC = ("time", *FORCE_NAMES, "displacement", "velocity", "v0", "load")
+NUMERIC = ("time", *FORCE_NAMES, "displacement", "velocity", "v0", "load", "stiffness", "mass")
 TEXT = ("record", "file")
 #: other names of an index's columns (an index has no sample velocity: 'velocity' is v0 there)
 INDEX_ALIASES = {
@@ -192,6 +212,9 @@ INDEX_ALIASES = {
     "normal_load": "load",
     "normal force": "load",
     "normal_force": "load",
+    "k": "stiffness",
+    "spring stiffness": "stiffness",
+    "m": "mass",
 }
 
 
@@ -203,6 +226,11 @@ META_ALIASES = {text.meta_key(k): v for k, v in INDEX_ALIASES.items()} | {
     "speed": "v0",
     "fn": "load",
     "f_n": "load",
+    "k": "stiffness",
+    "spring_stiffness": "stiffness",
+    "spring_constant": "stiffness",
+    "m": "mass",
+    "slider_mass": "mass",
 }
 
 
@@ -299,6 +327,8 @@ def _record_from_frame(
     where: str,
     v0: Any = None,
     load: Any = None,
+    stiffness: Any = None,
+    mass: Any = None,
 ) -> Record:
     if "time" not in df.columns:
         raise DataError(
@@ -348,11 +378,26 @@ def _record_from_frame(
     loadq = _quantity(
         load if load is not None else _from_meta(meta, "load", where), "load", "[force]", "196 mN", where
     )
+    kq = _quantity(
+        stiffness if stiffness is not None else _from_meta(meta, "stiffness", where),
+        "stiffness",
+        "[force] / [length]",
+        "168 N/m",
+        where,
+    )
+    mq = _quantity(
+        mass if mass is not None else _from_meta(meta, "mass", where), "mass", "[mass]", "30.7 g", where
+    )
     meta = dict(meta)
-    for key, given, used in (("v0", v0, v0q), ("load", load, loadq)):
-        if given is not None and used is not None:  # the metadata say what .v0 and .load are
+    for key, given, used in (
+        ("v0", v0, v0q),
+        ("load", load, loadq),
+        ("stiffness", stiffness, kq),
+        ("mass", mass, mq),
+    ):
+        if given is not None and used is not None:  # the metadata say what the record's quantities are
             meta[key] = f"{used.magnitude!r} {used.units}"
-    return Record(name, t, f, x, v, v0q, loadq, meta)
+    return Record(name, t, f, x, v, v0q, loadq, meta, kq, mq)
 
 
 def _quantity(value: Any, name: str, dimension: str, example: str, where: str) -> pint.Quantity | None:
@@ -364,15 +409,30 @@ def _quantity(value: Any, name: str, dimension: str, example: str, where: str) -
         raise DataError(f"{where}: {exc}") from None
 
 
-def read_record(path: str | os.PathLike[str], *, v0: Any = None, load: Any = None) -> Record:
-    """Read one force-time record (CSV or TSV, units in the header).
+def read_record(
+    path: str | os.PathLike[str],
+    *,
+    v0: Any = None,
+    load: Any = None,
+    stiffness: Any = None,
+    mass: Any = None,
+    options: RecordOptions | None = None,
+) -> Record:
+    """Read one force-time record: a text table, or a file a laboratory's software writes.
 
     Parameters
     ----------
     path : str or path-like
-        The file.
-    v0, load : quantity or str, optional
-        Driving velocity and normal load; override ``# v0 = ...`` header lines.
+        The file: CSV/TSV/text (units in the header), MATLAB ``.mat`` (v5 or v7.3),
+        HDF5, ``.npy``/``.npz``, Excel ``.xlsx`` or TDMS (:mod:`stickslip.io.formats`).
+    v0, load, stiffness, mass : quantity or str, optional
+        Driving velocity, normal load, spring stiffness and slider mass; they override
+        a sidecar ``NAME.json``, the file name (``options.name_pattern``) and the file's
+        own metadata, in that order. ``load="weight"`` is the slider's weight, mass times
+        standard gravity (a slider pressed by its own weight).
+    options : RecordOptions, optional
+        Which variables hold the time and the force, whether the force is normalised by
+        the load (F/W, multiplied by the load here), their units, a name pattern.
 
     Raises
     ------
@@ -382,8 +442,81 @@ def read_record(path: str | os.PathLike[str], *, v0: Any = None, load: Any = Non
 
     """
     p = check_file(path, MAX_BYTES)
-    df, units, meta = _read(p, p, RECORD_ALIASES)
-    return _record_from_frame(df, units, meta, os.path.basename(p), p, v0, load)
+    opts = options if options is not None else RecordOptions()
+    if not isinstance(opts, RecordOptions):
+        raise TypeError(f"options: expected RecordOptions, got {type(opts).__name__}")
+    side = read_sidecar(p)
+    named = apply_name_pattern(opts.name_pattern, p) if opts.name_pattern else {}
+    if side and any(k in side for k in ("time", "force", "normalised")):
+        opts = RecordOptions(
+            time=opts.time or side.get("time"),
+            force=opts.force or side.get("force"),
+            normalised=opts.normalised
+            if opts.normalised is not None
+            else (
+                {"true": True, "false": False}.get(side["normalised"].lower())
+                if "normalised" in side
+                else None
+            ),
+            time_unit=opts.time_unit,
+            force_unit=opts.force_unit,
+            name_pattern=opts.name_pattern,
+        )
+    given = {"v0": v0, "load": load, "stiffness": stiffness, "mass": mass}
+    for key in given:
+        if given[key] is None:
+            given[key] = side.get(key, named.get(key))
+    binary = p.lower().endswith(BINARY_SUFFIXES)
+    if not binary and opts == RecordOptions(name_pattern=opts.name_pattern):
+        df, units, meta = _read(p, p, RECORD_ALIASES)
+        mass_q = given["mass"] if given["mass"] is not None else _from_meta(meta, "mass", p)
+        given["load"] = _weight(given["load"], mass_q, p)
+        return _record_from_frame(df, units, meta, os.path.basename(p), p, **given)
+    arrays, file_units, meta = read_arrays(p)
+    t, f, normalised, notes = pick_record(arrays, file_units, meta, opts, p)
+    meta = {text.meta_key(str(k)): str(v) for k, v in meta.items()}
+    values = {
+        key: given[key] if given[key] is not None else _from_meta(meta, key, p)
+        for key in ("v0", "load", "stiffness", "mass")
+    }
+    values["load"] = _weight(values["load"], values["mass"], p)
+    q = {key: _quantity(values[key], key, dim, example, p) for key, (dim, example) in QUANTITIES.items()}
+    if normalised:
+        if q["load"] is None:
+            raise DataError(
+                f"{p}: the force {notes['force_variable']!r} is normalised by the load (F/W): give the load "
+                "(--load '0.3 N', or --load weight with --mass, or in a sidecar NAME.json)"
+            )
+        f = f * float(q["load"].to("N").magnitude)
+    step = np.diff(t)
+    if np.any(step <= 0):
+        i = int(np.argmax(step <= 0))
+        raise DataError(
+            f"{p}: time {notes['time_variable']!r} is not strictly increasing at samples {i} and {i + 1} "
+            f"({float(t[i])!r} s then {float(t[i + 1])!r} s)"
+        )
+    if float(np.median(step)) < MIN_SAMPLE_INTERVAL:
+        raise DataError(f"{p}: {_too_fast(step)}")
+    meta = dict(meta) | notes
+    for key, used in q.items():
+        if used is not None:
+            meta[key] = f"{used.magnitude!r} {used.units}"
+    return Record(os.path.basename(p), t, f, None, None, q["v0"], q["load"], meta, q["stiffness"], q["mass"])
+
+
+#: standard gravity (m/s^2), for a load given as the slider's weight
+STANDARD_GRAVITY = 9.80665
+
+
+def _weight(load: Any, mass: Any, where: str) -> Any:
+    """Return ``load``, or the slider's weight where it is ``"weight"`` (mass times standard gravity)."""
+    if not (isinstance(load, str) and load.strip().lower() in ("weight", "mg", "m g")):
+        return load
+    if mass is None:
+        raise DataError(f"{where}: load='weight' is the slider's weight: give the mass too (--mass '30.7 g')")
+    m = _quantity(mass, "mass", "[mass]", "30.7 g", where)
+    assert m is not None
+    return (m * ureg.Quantity(STANDARD_GRAVITY, "m/s^2")).to("N")
 
 
 class UnreadableRecord(UserWarning):
@@ -404,7 +537,13 @@ class UnreadableRecord(UserWarning):
         self.reason = reason
 
 
-def read_records(path: str | os.PathLike[str], *, on_error: str = "raise") -> list[Record]:
+def read_records(
+    path: str | os.PathLike[str],
+    *,
+    on_error: str = "raise",
+    options: RecordOptions | None = None,
+    **setup: Any,
+) -> list[Record]:
     """Read several records: a folder (with ``index.csv`` or header lines) or one long table.
 
     A long table has a ``record`` column naming the record of each row, and may
@@ -421,6 +560,10 @@ def read_records(path: str | os.PathLike[str], *, on_error: str = "raise") -> li
         why (as ``pandas.read_csv``'s ``on_bad_lines``). Problems of the folder or the
         table as a whole (no records, an index naming a missing file) raise either way,
         as does a source of which no record can be read.
+    options : RecordOptions, optional
+        How each file's time and force are taken (:func:`read_record`).
+    **setup
+        ``v0``, ``load``, ``stiffness``, ``mass`` for every record (as :func:`read_record`'s).
 
     Raises
     ------
@@ -431,6 +574,10 @@ def read_records(path: str | os.PathLike[str], *, on_error: str = "raise") -> li
     """
     if on_error not in ("raise", "warn"):
         raise ValueError(f"on_error={on_error!r}: expected 'raise' or 'warn'")
+    unknown = set(setup) - set(QUANTITIES)
+    if unknown:
+        raise TypeError(f"read_records: unexpected argument {sorted(unknown)[0]!r}")
+    setup = {k: v for k, v in setup.items() if v is not None}
     p = os.fspath(path)
     unread: list[str] = []
 
@@ -454,7 +601,9 @@ def read_records(path: str | os.PathLike[str], *, on_error: str = "raise") -> li
 
     if os.path.isdir(p):
         index = os.path.join(p, "index.csv")
-        files = sorted(f for f in os.listdir(p) if f.lower().endswith((".csv", ".tsv", ".txt")))
+        files = sorted(
+            f for f in os.listdir(p) if f.lower().endswith((".csv", ".tsv", ".txt", *BINARY_SUFFIXES))
+        )
         if os.path.isfile(index):
             df, units, _ = _read(index, index, INDEX_ALIASES)
             if "file" not in df.columns:
@@ -479,7 +628,20 @@ def read_records(path: str | os.PathLike[str], *, on_error: str = "raise") -> li
                 load = _quantity(
                     _with_unit(row.get("load"), units.get("load")), "load", "[force]", "196 mN", here
                 )
-                out.append(attempt(os.path.basename(f), partial(read_record, f, v0=v0, load=load)))
+                row_setup = {
+                    key: _quantity(_with_unit(row.get(key), units.get(key)), key, dim, example, here)
+                    for key, dim, example in (
+                        ("stiffness", "[force] / [length]", "168 N/m"),
+                        ("mass", "[mass]", "30.7 g"),
+                    )
+                }
+                given = {k: v for k, v in ({"v0": v0, "load": load} | row_setup).items() if v is not None}
+                out.append(
+                    attempt(
+                        os.path.basename(f),
+                        partial(read_record, f, options=options, **(setup | given)),
+                    )
+                )
             left = [f for f in files if f not in named and f != "index.csv"]
             if left:
                 shown = ", ".join(left[:5]) + (f" and {len(left) - 5} more" if len(left) > 5 else "")
@@ -490,12 +652,23 @@ def read_records(path: str | os.PathLike[str], *, on_error: str = "raise") -> li
                 )
             return read_all(out, "indexed records")
         if not files:
-            raise DataError(f"{p}: no .csv, .tsv or .txt records in the folder")
+            raise DataError(f"{p}: no records in the folder (.csv, .tsv, .txt, {', '.join(BINARY_SUFFIXES)})")
+        if options is not None and options.name_pattern:
+            matching = []
+            for f in files:
+                try:
+                    apply_name_pattern(options.name_pattern, f)
+                except DataError:
+                    continue
+                matching.append(f)
+            if not matching:
+                raise DataError(f"{p}: no file name matches the name pattern {options.name_pattern!r}")
+            files = matching
         out = []
         why: list[str] = []
         for f in files:
             try:
-                out.append(attempt(f, partial(read_record, os.path.join(p, f))))
+                out.append(attempt(f, partial(read_record, os.path.join(p, f), options=options, **setup)))
             except NotARecord as exc:  # a README.txt, notes: not a record, said and left out
                 why.append(str(exc))
                 warn(f"not a record, skipped: {exc}", UserWarning)
@@ -509,6 +682,8 @@ def read_records(path: str | os.PathLike[str], *, on_error: str = "raise") -> li
     if not os.path.isfile(p):
         raise DataError(f"{p}: no such file or folder")
     check_file(p, MAX_BYTES)
+    if p.lower().endswith(BINARY_SUFFIXES) or (options is not None and options != RecordOptions()) or setup:
+        return [read_record(p, options=options, **setup)]
     df, units, meta = _read(p, p, RECORD_ALIASES)
     if "record" not in df.columns:
         return [_record_from_frame(df, units, meta, os.path.basename(p), p)]

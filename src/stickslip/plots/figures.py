@@ -327,6 +327,60 @@ def plot_records(table: Any) -> dict[str, Figure]:
     return figs
 
 
+#: a marker and colour for each observed regime of the (V, k) plane
+REGIME_STYLE = {
+    "periodic stick-slip": ("s", "C3"),
+    "irregular stick-slip": ("D", "C1"),
+    "mixed": ("^", "C4"),
+    "pure slip": ("o", "C0"),
+    "steady sliding": ("v", "C2"),
+    "undetermined": ("x", "0.5"),
+}
+
+
+def plot_regime_plane(table: Any) -> dict[str, Figure]:
+    """Draw the measured regime diagram: each record in the (V, k) plane, and amplitude against V per k.
+
+    Left, each record at its driving velocity and stiffness (the stated one, else the
+    measured), marked by its observed regime and labelled with its stick fraction; right,
+    the paper's criterion: the amplitude against the driving velocity, one line per
+    stiffness. Empty (no figure) without records whose motion was measured.
+    """
+    if "regime" not in table.columns:
+        return {}
+    rows = table[table["regime"].notna() & np.isfinite(table["v0 [m/s]"].to_numpy(dtype=float))]
+    if rows.empty:
+        return {}
+    k = rows["stiffness_nominal [N/m]"].to_numpy(dtype=float)
+    k = np.where(np.isfinite(k), k, rows["stiffness [N/m]"].to_numpy(dtype=float))
+    v = rows["v0 [m/s]"].to_numpy(dtype=float) * 1e6
+    fig, (ax, ax2) = subplots(1, 2, figsize=(10, 4.0), layout="constrained")
+    for regime, (marker, color) in REGIME_STYLE.items():
+        sel = (rows["regime"] == regime).to_numpy()
+        if sel.any():
+            ax.scatter(v[sel], k[sel], marker=marker, color=color, s=60, label=regime, zorder=3)
+    for x, y, sf in zip(v, k, rows["stick_fraction"].to_numpy(dtype=float), strict=True):
+        if np.isfinite(sf):
+            ax.annotate(f"{sf:.2f}", (x, y), textcoords="offset points", xytext=(6, 6), fontsize=8)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("driving velocity V [um/s]")
+    ax.set_ylabel("stiffness k [N/m]")
+    ax.set_title("observed regime (stick fraction)", fontsize=10)
+    ax.legend(fontsize=8, loc="best")
+    amp = rows["amplitude [N]"].to_numpy(dtype=float) * 1e3
+    for i, kk in enumerate(np.unique(k[np.isfinite(k)])):
+        sel = k == kk
+        order = np.argsort(v[sel])
+        ax2.plot(v[sel][order], amp[sel][order], "o-", color=f"C{i}", label=f"k = {kk:.4g} N/m")
+    ax2.set_xscale("log")
+    ax2.set_xlabel("driving velocity V [um/s]")
+    ax2.set_ylabel("amplitude [mN]")
+    ax2.set_title("the criterion: amplitude against V", fontsize=10)
+    ax2.legend(fontsize=8)
+    return {"regime_plane": fig}
+
+
 def plot_fit_overlay(record: Any, fit: Any, *, cycles: int = 3, max_points: int = 20_000) -> Figure:
     """Overlay a record and the fitted model over a few cycles, with the residuals underneath.
 
