@@ -87,7 +87,7 @@ __all__ = [
 FloatArray = npt.NDArray[np.float64]
 
 #: a sample this many noise deviations from the running median is a spike
-SPIKE_SIGMAS = 5.0
+SPIKE_SIGMAS = 8.0
 #: the running median's width (samples): removes spikes up to three samples wide
 SPIKE_WINDOW = 7
 #: the TV weight in noise deviations of the position

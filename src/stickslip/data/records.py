@@ -678,7 +678,7 @@ def synthetic_record(
     rng = np.random.default_rng(seed_)
     force = y[:, 0] * sc.force.to("N").magnitude + sigma * rng.standard_normal(n) + k_drift * (t - t0)
     vel = y[:, 1] * sc.velocity.to("m/s").magnitude if with_velocity else None
-    return Record(name, t - t0, force, None, vel, params.v0, params.load, {})
+    return Record(name, t - t0, force, None, vel, params.v0, params.load, {}, params.stiffness, params.mass)
 
 
 def _motion_row(rec: Record) -> dict[str, Any] | None:
@@ -791,7 +791,7 @@ def analyze_records(
         try:
             _, s = measure_record(rec)
         except DataError as exc:
-            if motion is None or "regime" not in motion:
+            if motion is None or motion.get("regime", "undetermined") == "undetermined":
                 if len(records) == 1:
                     raise
                 failed.append(str(exc))
@@ -803,7 +803,7 @@ def analyze_records(
             rows.append(_from_motion(row, motion))
             continue
         row = s.as_dict()
-        if motion is not None and "regime" in motion:
+        if motion is not None and motion.get("regime", "undetermined") != "undetermined":
             row = _from_motion(row | motion, motion)
         elif motion is not None:
             row |= motion
