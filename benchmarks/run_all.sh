@@ -10,6 +10,7 @@ out=$(mktemp -d)
 stickslip reproduce --out "$out/warmup" > /dev/null 2>&1
 time stickslip reproduce --out "$out/results"
 python benchmarks/bench_records.py
+NUMBA_NUM_THREADS=1 python benchmarks/bench_motion.py
 python benchmarks/bench_orbits.py
 python benchmarks/bench_return_maps.py
 python -c "import time; from stickslip import CubicLaw, WeakeningLaw; from stickslip.bifurcation.regimes import regimes

@@ -338,3 +338,30 @@ def test_a_folder_of_mixed_formats_with_a_pattern(tmp_path: Path) -> None:
     recs = read_records(tmp_path, options=RecordOptions(name_pattern="k{stiffness}Nm_v{v0}"))
     assert sorted(r.v0.to("um/s").magnitude for r in recs) == [10, 20]
     assert {r.stiffness.to("N/m").magnitude for r in recs} == {100}
+
+
+@needs_colas
+def test_fit_a_real_record_gives_its_stiffness_and_mass_not_a_tonne(tmp_path: Path) -> None:
+    res = CliRunner().invoke(
+        main,
+        [
+            "fit",
+            str(COLAS / "k168Nm_v42.mat"),
+            "--name-pattern",
+            "k{stiffness}Nm_v{v0}",
+            "--mass",
+            "30.7 g",
+            "--load",
+            "weight",
+            "--out",
+            str(tmp_path / "fit"),
+            "--json",
+        ],
+    )
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.output)
+    assert d["method"] == "motion" and d["regime"].endswith("stick-slip")
+    k, m = d["parameters"]["k"], d["parameters"]["m"]
+    assert abs(k["value"] / 168 - 1) < 0.15 and k["stated"] == 168
+    assert 0.0307 / 2 <= m["value"] <= 2 * 0.0307 and m["error"] < 0.2 * m["value"]
+    assert json.loads((tmp_path / "fit" / "fit.json").read_text())["parameters"]["m"]["unit"] == "kg"

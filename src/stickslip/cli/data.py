@@ -215,6 +215,75 @@ def register(main: click.Group) -> None:
         if seen is not None:
             click.echo(seen)
 
+    def _motion_for_fit(rec: Any, method: str) -> Any:
+        """Return the record's motion summary where the motion is what is fitted (None: the model's fit)."""
+        from ..data.motion import measure_motion
+        from ..io.errors import DataError
+
+        if method == "auto" and (rec.v0 is None or rec.velocity is not None or rec.displacement is not None):
+            return None
+        try:
+            _, _, summary = measure_motion(rec)
+        except DataError:
+            if method == "motion":
+                raise
+            return None
+        if method == "auto" and summary.regime in ("periodic stick-slip", "undetermined"):
+            return None
+        return summary
+
+    def _print_motion_fit(summary: Any, out_dir: str, overwrite: bool, as_json: bool) -> None:
+        from ..io.output import OutputFolder, json_writer
+
+        d = summary.as_dict()
+        result = {
+            "method": "motion",
+            "record": summary.name,
+            "regime": summary.regime,
+            "regime_reason": summary.regime_reason,
+            "parameters": {
+                "k": {
+                    "value": summary.stiffness,
+                    "error": summary.stiffness_error if math.isfinite(summary.stiffness_error) else None,
+                    "unit": "N/m",
+                    "source": summary.stiffness_source,
+                    "stated": summary.stiffness_nominal if math.isfinite(summary.stiffness_nominal) else None,
+                },
+                "m": {
+                    "value": summary.mass if math.isfinite(summary.mass) else None,
+                    "error": summary.mass_error if math.isfinite(summary.mass_error) else None,
+                    "unit": "kg",
+                    "source": summary.mass_source,
+                    "stated": summary.mass_nominal if math.isfinite(summary.mass_nominal) else None,
+                },
+            },
+            "motion": d,
+        }
+        with OutputFolder(out_dir, "fit", overwrite=overwrite) as out:
+            out.expect({"fit.json": "fit"})
+            path = out.write("fit.json", "fit", json_writer(result, "fit"))
+        if as_json:
+            click.echo(dumps_json(result, indent=2))
+            return
+        k, m = result["parameters"]["k"], result["parameters"]["m"]
+        err = f" +- {k['error']:.2g}" if k["error"] is not None else ""
+        stated = f"; stated {k['stated']:.4g} N/m" if k["stated"] is not None else ""
+        click.echo(f"k    = {k['value']:.5g}{err} N/m ({k['source']}{stated})")
+        if m["value"] is None:
+            click.echo(f"m    : {m['source']}")
+        else:
+            err = f" +- {1e3 * m['error']:.2g}" if m["error"] is not None else ""
+            stated = f"; stated {1e3 * m['stated']:.4g} g" if m["stated"] is not None else ""
+            click.echo(f"m    = {1e3 * m['value']:.4g}{err} g ({m['source']}{stated})")
+        click.echo(f"regime: {summary.regime} ({summary.regime_reason})")
+        click.echo(
+            "the paper's model (a periodic orbit) is not fitted to this record: its slips are not periodic; "
+            "--method waveform fits it all the same"
+        )
+        for note in summary.notes:
+            click.echo(f"note: {note}")
+        click.echo(f"wrote {path}")
+
     def motion_text(table: Any) -> str:
         """Return the records' motion as a table: regime, events, recurrence, stick, stiffness, mass."""
         rows = table[table["regime"].notna()]
@@ -252,10 +321,12 @@ def register(main: click.Group) -> None:
     @click.option("--fit-b", is_flag=True, help="Also fit b (law F2); default F1 (b = 0).")
     @click.option(
         "--method",
-        type=click.Choice(["waveform", "features"]),
-        default="waveform",
+        type=click.Choice(["auto", "waveform", "features", "motion"]),
+        default="auto",
         show_default=True,
-        help="Fit the force waveform (started from cycle features), or the cycle features only.",
+        help="Fit the force waveform (started from cycle features), the cycle features only, or measure "
+        "the stiffness and mass from the slider's motion (stick slopes, slips); auto: motion for a record "
+        "that is not periodic stick-slip (the paper's model has a periodic orbit), waveform otherwise.",
     )
     @click.option(
         "--noise",
@@ -266,6 +337,7 @@ def register(main: click.Group) -> None:
     @out_dir_option("Output folder: fit.json, fit.csv, fit_overlay.png/.svg.")
     @click.option("--no-plot", is_flag=True, help="Do not draw the overlay figure.")
     @click.option("--json", "as_json", is_flag=True, help="Print the fit as JSON.")
+    @reading_options
     @overwrite_option
     @handle_errors
     def fit(
@@ -279,6 +351,14 @@ def register(main: click.Group) -> None:
         no_plot: bool,
         as_json: bool,
         overwrite: bool,
+        time_name: str | None,
+        force_name: str | None,
+        normalised: bool | None,
+        time_unit: str | None,
+        force_unit: str | None,
+        name_pattern: str | None,
+        stiffness: str | None,
+        mass: str | None,
     ) -> None:
         """Fit mu_s (the paper's mu0), a, k and the mass (and b) of the paper's model to a stick-slip record.
 
@@ -286,17 +366,28 @@ def register(main: click.Group) -> None:
         noise, so the reduced chi-square says whether the model describes the record),
         starting from a fit on cycle features (peak and trough force, period, stick-ramp
         slope, drop time). Uncertainties, correlations and identifiability warnings.
+        A real record whose slips are irregular is not the model's periodic orbit: there
+        (--method motion, or auto) the stiffness comes from the stick slopes and the mass
+        from the slips or the inertial oscillation, beside the stated values.
         """
         from ..data.fitting import fit_record
         from ..io.output import OutputFolder, json_writer, text_writer
         from ..io.records import read_record
+
+        options = _record_options(time_name, force_name, normalised, time_unit, force_unit, name_pattern)
+        rec = read_record(record_file, v0=v0, load=load, stiffness=stiffness, mass=mass, options=options)
+        if method in ("auto", "motion"):
+            summary = _motion_for_fit(rec, method)
+            if summary is not None:
+                _print_motion_fit(summary, out_dir, overwrite, as_json)
+                return
+            method = "waveform"
 
         with OutputFolder(out_dir, "fit", overwrite=overwrite) as out:
             out.expect(
                 {"fit.json": "fit", "fit.csv": "fit-parameters"}
                 | ({} if no_plot else figure_names("fit_overlay"))
             )
-            rec = read_record(record_file, v0=v0, load=load)
             res = fit_record(rec, fit_b=fit_b, method=method, noise=noise)
             d = res.as_dict()
             rows = "".join(
