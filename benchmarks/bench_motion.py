@@ -74,7 +74,8 @@ def main() -> None:
     t_scipy = time.perf_counter() - t0
     scale = rec.time.size / n
     print(
-        f"TV denoising of {n} samples: exact (Condat, numba) {t_exact * 1e3:.2f} ms; SciPy L-BFGS-B {t_scipy:.2f} s"
+        f"TV denoising of {n} samples: exact (Condat, numba) {t_exact * 1e3:.2f} ms; "
+        f"SciPy L-BFGS-B {t_scipy:.2f} s"
     )
     print(
         f"  ratio {t_scipy / t_exact:.0f}x; SciPy scaled to the whole record {t_scipy * scale:.1f} s; "
