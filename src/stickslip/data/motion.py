@@ -19,7 +19,7 @@ spikes and an ADC's steps:
    the force's mean rise rate), :data:`STIFFNESS_ITERATIONS` times.
 3. **Position by total variation.** :math:`x = V t - F/k` is denoised by exact 1-D
    total variation (:func:`~stickslip.core.tv.tv_denoise`) with weight
-   :math:`\lambda = ` :data:`TV_WEIGHT` :math:`\sigma / k`: a stick is a flat stretch of
+   :math:`\lambda = c\,\sigma / k` with :math:`c` = :data:`TV_WEIGHT`: a stick is a flat stretch of
    :math:`x`, which TV keeps exactly flat while the running sum of its noise stays
    within :math:`\lambda` (ten deviations: a hundred samples of white noise), and a
    slip a rise, which it keeps (TV leaves a monotone stretch as it is).
