@@ -32,6 +32,8 @@ needs_colas = pytest.mark.skipif(
     not COLAS.is_dir(), reason="../shared/data/colas2019 is not beside the project"
 )
 PATTERN = RecordOptions(name_pattern="k{stiffness}Nm_v{v0}")
+#: the command-line options that read the records as PATTERN and colas() do
+COLAS_OPTIONS = ["--name-pattern", "k{stiffness}Nm_v{v0}", "--mass", "30.7 g", "--load", "weight"]
 
 
 def colas(v: int):
@@ -126,18 +128,7 @@ def test_analyze_a_folder_of_matlab_records_draws_the_regime_plane(tmp_path: Pat
     out = tmp_path / "out"
     res = CliRunner().invoke(
         main,
-        [
-            "analyze",
-            str(COLAS),
-            "--name-pattern",
-            "k{stiffness}Nm_v{v0}",
-            "--mass",
-            "30.7 g",
-            "--load",
-            "weight",
-            "--out",
-            str(out),
-        ],
+        ["analyze", str(COLAS), *COLAS_OPTIONS, "--out", str(out)],
     )
     assert res.exit_code == 0, res.output
     assert "irregular stick-slip" in res.output and "drops of at least" in res.output
@@ -344,19 +335,7 @@ def test_a_folder_of_mixed_formats_with_a_pattern(tmp_path: Path) -> None:
 def test_fit_a_real_record_gives_its_stiffness_and_mass_not_a_tonne(tmp_path: Path) -> None:
     res = CliRunner().invoke(
         main,
-        [
-            "fit",
-            str(COLAS / "k168Nm_v42.mat"),
-            "--name-pattern",
-            "k{stiffness}Nm_v{v0}",
-            "--mass",
-            "30.7 g",
-            "--load",
-            "weight",
-            "--out",
-            str(tmp_path / "fit"),
-            "--json",
-        ],
+        ["fit", str(COLAS / "k168Nm_v42.mat"), *COLAS_OPTIONS, "--out", str(tmp_path / "fit"), "--json"],
     )
     assert res.exit_code == 0, res.output
     d = json.loads(res.output)

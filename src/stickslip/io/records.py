@@ -652,7 +652,9 @@ def read_records(
                 )
             return read_all(out, "indexed records")
         if not files:
-            raise DataError(f"{p}: no records in the folder (.csv, .tsv, .txt, {', '.join(BINARY_SUFFIXES)})")
+            raise DataError(
+                f"{p}: no .csv, .tsv or .txt records in the folder (nor {', '.join(BINARY_SUFFIXES)})"
+            )
         if options is not None and options.name_pattern:
             matching = []
             for f in files:
