@@ -353,12 +353,16 @@ def measure_motion(
     check_memory(n * BYTES_PER_SAMPLE, f"{name} ({n} samples)", "cut the record into parts")
     dt = float(np.median(np.diff(t)))
     notes: list[str] = []
-    sigma = noise_level(record.force)
+    from .records import exclude_outliers
+
+    # a sensor's glitch (1e308, a dropped bit) first, as every measurement of a record does
+    raw, _ = exclude_outliers(record.force)
+    sigma = noise_level(raw)
     if not sigma > 0:
-        sigma = 1e-12 * max(float(np.ptp(record.force)), 1e-300)
-    med = median_filter(record.force, size=SPIKE_WINDOW, mode="nearest")
-    spike = np.abs(record.force - med) > SPIKE_SIGMAS * sigma
-    f = np.where(spike, med, record.force)
+        sigma = 1e-12 * max(float(np.ptp(raw)), 1e-300)
+    med = median_filter(raw, size=SPIKE_WINDOW, mode="nearest")
+    spike = np.abs(raw - med) > SPIKE_SIGMAS * sigma
+    f = np.where(spike, med, raw)
     n_spikes = int(np.count_nonzero(spike & ~np.r_[False, spike[:-1]]))
     h = VELOCITY_HALF_WINDOW
     k_nominal = _si(record.stiffness, "N/m")

@@ -696,6 +696,8 @@ def _motion_row(rec: Record) -> dict[str, Any] | None:
         _, _, summary = measure_motion(rec)
     except DataError as exc:
         return {"motion_note": str(exc)}
+    except (ValueError, FloatingPointError) as exc:  # the cycles are measured all the same
+        return {"motion_note": f"the slider's motion could not be measured ({exc})"}
     return motion_columns(summary) | {"motion_note": "; ".join(summary.notes)}
 
 
