@@ -143,6 +143,107 @@ def test_analyze_a_folder_of_matlab_records_draws_the_regime_plane(tmp_path: Pat
     assert (out / "regime_plane.png").stat().st_size > 10_000
 
 
+@needs_colas
+def test_analyze_with_a_law_sets_the_models_regimes_beside_the_measured(tmp_path: Path) -> None:
+    law = "mu_s=0.35, a=30 s/m, b=10 s/m"
+    res = CliRunner().invoke(
+        main, ["analyze", str(COLAS), *COLAS_OPTIONS, "--model", law, "--json", "--out", str(tmp_path)]
+    )
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.output)
+    rows = {r["name"]: r for r in d["records"]}
+    # the model at each record's stated set-up: 168 N/m, 30.7 g, W = m g
+    for name, row in rows.items():
+        v0 = row["v0 [m/s]"]
+        true = S.cycle(
+            S.PhysicalParameters(
+                mass="30.7 g",
+                stiffness="168 N/m",
+                load=f"{row['load [N]']} N",
+                v0=f"{v0} m/s",
+                law=S.PhysicalWeakeningLaw(mu_s=0.35, a="30 s/m", b="10 s/m"),
+            )
+        )
+        assert row["model_regime"] == str(true.regime), name
+        assert row["model_stick_fraction"] == pytest.approx(true.stick_fraction, rel=1e-9)
+    # mixed (4300 um/s) is not compared; the two stick-slip records agree with the model's stick-slip
+    assert rows["k168Nm_v4300.mat"]["model_agrees"] is None
+    assert d["model"]["compared"] == 2 and d["model"]["agree"] == 2
+    assert (tmp_path / "regime_plane.png").stat().st_size > 10_000
+
+
+# --- the model's regimes beside the measured ---------------------------------------------------
+
+
+def test_model_regimes_match_the_engine_at_each_record_and_over_the_plane() -> None:
+    import pandas as pd
+
+    from stickslip.data.model_plane import model_regimes
+
+    law = S.PhysicalWeakeningLaw(mu_s=0.46, a="160 s/m", b="100 s/m")
+    table = pd.DataFrame(
+        {
+            "name": ["slow", "fast", "mixed", "no mass"],
+            "v0 [m/s]": [200e-6, 10e-3, 1e-3, 1e-3],
+            "load [N]": [0.196] * 4,
+            "stiffness_nominal [N/m]": [62.0, np.nan, 62.0, 62.0],
+            "stiffness [N/m]": [70.0, 62.0, 65.0, 62.0],
+            "mass_nominal [kg]": [0.231, 0.231, np.nan, np.nan],
+            "mass [kg]": [np.nan, 0.5, 0.231, np.nan],
+            # measured: stick-slip at 200 um/s (the model too); 'pure slip' at 10 mm/s where the model
+            # slides steadily (disagree); mixed (not compared); no mass (no model)
+            "regime": ["irregular stick-slip", "pure slip", "mixed", "periodic stick-slip"],
+        }
+    )
+    mp = model_regimes(table, law, points=(5, 3))
+    assert mp.columns["model_regime"] == ["stick-slip", "steady-sliding", "stick-slip", None]
+    assert mp.columns["model_agrees"] == [True, False, None, None]
+    assert (mp.agree, mp.compared) == (1, 2)
+    assert mp.mass == pytest.approx(0.231) and mp.load == pytest.approx(0.196)
+    # the stated stiffness is used where given, else the measured one
+    slow = S.cycle(
+        S.PhysicalParameters(mass="0.231 kg", stiffness="62 N/m", load="0.196 N", v0="200 um/s", law=law)
+    )
+    assert mp.columns["model_stick_fraction"][0] == pytest.approx(slow.stick_fraction, rel=1e-9)
+    # the plane spans the records' V and k three times wider, and each point is the engine's
+    v, k = mp.plane["v0"].to_numpy(), mp.plane["stiffness"].to_numpy()
+    assert v[0] == pytest.approx(200 / 3) and v[-1] == pytest.approx(3e4)
+    assert k[0] == pytest.approx(62 / 3) and k[-1] == pytest.approx(62 * 3)
+    corner = S.cycle(
+        S.PhysicalParameters(
+            mass="0.231 kg", stiffness=f"{k[-1]} N/m", load="0.196 N", v0=f"{v[0]} um/s", law=law
+        ),
+        probe=False,
+    )
+    assert str(mp.plane["regime"].values[0, -1]) == str(corner.regime)
+
+
+def test_model_law_from_text_or_a_fit_file_and_its_errors(tmp_path: Path) -> None:
+    from stickslip.data.model_plane import read_model_law
+
+    law = read_model_law("mu_s=0.4, a=300 s/m, b=5 s/m")
+    assert law.mu_s == 0.4 and law.a.to("s/m").magnitude == 300 and law.b.to("s/m").magnitude == 5
+    assert read_model_law("mu0=0.4,a=0.3 s/mm").a.to("s/m").magnitude == pytest.approx(300)
+    fit = tmp_path / "fit.json"
+    fit.write_text(
+        json.dumps({"parameters": {"mu_s": {"value": 0.5, "unit": "1"}, "a": {"value": 20.0, "unit": "s/m"}}})
+    )
+    law = read_model_law(str(fit))
+    assert law.mu_s == 0.5 and law.a.to("s/m").magnitude == 20 and law.b.magnitude == 0
+    for bad, match in (
+        ("mu_s=0.4", "give mu_s and a"),
+        ("mu_s=0.4, c=3", "expected a fit.json file or"),
+        ("mu_s=high, a=3 s/m", "'high' is not a number"),
+        ("mu_s=0.4, a=3 m/s", "a"),
+    ):
+        with pytest.raises(DataError, match=match) as err:
+            read_model_law(bad)
+        assert "\n" not in str(err.value)
+    (tmp_path / "other.json").write_text("{}")
+    with pytest.raises(DataError, match=r"not a fit\.json with parameters mu_s and a"):
+        read_model_law(str(tmp_path / "other.json"))
+
+
 # --- synthetic records: the motion against the model's truth ----------------------------------
 
 
@@ -158,6 +259,25 @@ def test_motion_of_a_model_record_recovers_its_stiffness_and_regime() -> None:
     assert s.recurrence == pytest.approx(true.period, rel=0.01)
     assert s.stick_fraction == pytest.approx(true.stick_fraction, abs=0.03)
     assert 0.231 / 2 <= s.mass <= 2 * 0.231
+
+
+def test_analyze_records_returns_the_events_of_its_own_measurement() -> None:
+    import pandas as pd
+
+    from stickslip.data.motion import records_events
+    from stickslip.data.records import analyze_records
+
+    recs = []
+    for v in (100, 300):
+        p = S.zv_parameters(f"{v} um/s")
+        true = S.cycle(p, probe=False)
+        rec = synthetic_record(
+            p, duration=f"{6 * true.period} s", rate="500 Hz", noise="0.5 mN", seed=v, name=f"v{v}"
+        )
+        recs.append(rec)
+    table, _, events = analyze_records(recs, return_events=True)
+    assert set(events["record"]) == set(table["name"]) and len(events) >= 8
+    pd.testing.assert_frame_equal(events, records_events(recs))
 
 
 def test_motion_of_a_flat_record_is_steady_sliding() -> None:
@@ -302,6 +422,81 @@ def test_a_truncated_file_gets_one_line(tmp_path: Path, suffix: str) -> None:
         read_record(path)
     message = str(err.value)
     assert str(path) in message and "\n" not in message
+
+
+def _write(path: Path, columns: dict[str, np.ndarray]) -> None:
+    """Write ``columns`` to ``path`` with the library its format is written with."""
+    import h5py
+    import nptdms
+    import openpyxl
+
+    suffix = path.suffix
+    if suffix == ".mat":
+        sio.savemat(path, columns)
+    elif suffix == ".h5":
+        with h5py.File(path, "w") as h:
+            for name, values in columns.items():
+                h[name] = values.astype("S") if values.dtype.kind == "U" else values
+    elif suffix == ".npz":
+        np.savez(path, **columns)
+    elif suffix == ".xlsx":
+        book = openpyxl.Workbook()
+        book.active.append(list(columns))
+        for row in zip(*columns.values(), strict=True):
+            book.active.append([v.item() for v in row])
+        book.save(path)
+    else:
+        with nptdms.TdmsWriter(path) as w:
+            w.write_segment([nptdms.ChannelObject("g", n, v) for n, v in columns.items()])
+
+
+@pytest.mark.parametrize("suffix", [".mat", ".h5", ".npz", ".xlsx", ".tdms"])
+def test_wrong_variable_names_get_one_line_with_the_names_the_file_has(tmp_path: Path, suffix: str) -> None:
+    t, f = _signal()
+    path = tmp_path / f"r{suffix}"
+    _write(path, {"zeit": t, "kraft": f})
+    with pytest.raises(DataError) as err:
+        read_record(path)
+    assert (
+        str(err.value) == f"{path}: no time variable (t, time); it has kraft, zeit (choose with --time NAME)"
+    )
+    with pytest.raises(DataError) as err:
+        read_record(path, options=RecordOptions(time="zeit"))
+    assert str(err.value).startswith(f"{path}: no force variable (force, F, Fnorm, mu); it has kraft, zeit")
+    with pytest.raises(DataError) as err:
+        read_record(path, options=RecordOptions(time="zeit", force="Fx"))
+    assert str(err.value) == f"{path}: no variable 'Fx'; it has kraft, zeit (choose with --force NAME)"
+    rec = read_record(path, options=RecordOptions(time="zeit", force="kraft"))
+    assert rec.force == pytest.approx(f)
+
+
+@pytest.mark.parametrize("suffix", [".mat", ".h5", ".npz", ".tdms"])
+def test_text_in_a_number_variable_is_named(tmp_path: Path, suffix: str) -> None:
+    t, _ = _signal()
+    path = tmp_path / f"r{suffix}"
+    _write(path, {"time": t, "force": np.array(["n/a"] * t.size)})
+    with pytest.raises(DataError) as err:
+        read_record(path)
+    assert "'force' holds text ('n/a', ...), not numbers" in str(err.value)
+    assert str(path) in str(err.value) and "\n" not in str(err.value)
+    with pytest.raises(
+        DataError, match=r"the force variable 'force' holds text \('n/a', \.\.\.\), not numbers"
+    ):
+        read_record(path, options=RecordOptions(force="force"))
+
+
+def test_a_clock_that_goes_back_or_too_fast_is_named(tmp_path: Path) -> None:
+    t, f = _signal()
+    np.savez(tmp_path / "back.npz", t=np.r_[t[:10], t[9:-1]], force=f)
+    with pytest.raises(DataError) as err:
+        read_record(tmp_path / "back.npz")
+    assert str(err.value) == (
+        f"{tmp_path / 'back.npz'}: time 't' is not strictly increasing at samples 9 and 10 "
+        f"({float(t[9])!r} s then {float(t[9])!r} s)"
+    )
+    sio.savemat(tmp_path / "fast.mat", {"t": t * 1e-300, "force": f})
+    with pytest.raises(DataError, match="the median sample interval is 5e-303 s, below"):
+        read_record(tmp_path / "fast.mat")
 
 
 def test_text_in_a_number_column_is_named(tmp_path: Path) -> None:

@@ -8,6 +8,7 @@ import warnings
 from typing import Any
 
 import click
+import numpy as np
 
 from ..io.jsonable import dumps as dumps_json
 from ..units import FORCE_UNITS, VELOCITY_UNITS, readable_unit
@@ -75,6 +76,13 @@ def register(main: click.Group) -> None:
     @click.option(
         "--load", default=None, help="Normal load of every record; 'weight' is the slider's (mass x g)."
     )
+    @click.option(
+        "--model",
+        "model_law",
+        default=None,
+        help="The paper's law, 'mu_s=0.35, a=30 s/m, b=10 s/m', or a fit.json from 'stickslip fit': "
+        "the model's regime at each record's set-up and over the (V, k) plane, beside the measured ones.",
+    )
     @overwrite_option
     @handle_errors
     def analyze(
@@ -93,6 +101,7 @@ def register(main: click.Group) -> None:
         mass: str | None,
         v0: str | None,
         load: str | None,
+        model_law: str | None,
     ) -> None:
         """Measure a folder of force-time records (or one long table) and apply the criterion.
 
@@ -104,14 +113,16 @@ def register(main: click.Group) -> None:
         stick phases, the observed regime, the stiffness from the stick slopes and the
         mass. Writes summary.csv (one row per record), events.csv (one row per slip
         event), amplitude and period against driving velocity and load, and the
-        measured regime diagram in the (V, k) plane.
+        measured regime diagram in the (V, k) plane; with --model, the model's regime
+        at each record's set-up (summary.csv's model_* columns) and over that plane.
         """
-        from ..data.motion import records_events
+        from ..data.model_plane import read_model_law
         from ..data.records import analyze_records, observed_line
         from ..io.output import OutputFolder
         from ..io.records import UnreadableRecord, read_records
         from ..plots.figures import plot_records, plot_regime_plane, save_figure
 
+        law = None if model_law is None else read_model_law(model_law)
         with OutputFolder(out_dir, "analyze", overwrite=overwrite) as out:
             out.expect({"summary.csv": "records-summary", "events.csv": "records-events"})
             with warnings.catch_warnings(record=True) as caught:
@@ -133,7 +144,14 @@ def register(main: click.Group) -> None:
                     unread[w.message.name] = w.message.reason
                 else:
                     warnings.showwarning(w.message, w.category, w.filename, w.lineno)
-            table, verdict = analyze_records(records, unreadable=unread)
+            table, verdict, events = analyze_records(records, unreadable=unread, return_events=True)
+            model = None
+            if law is not None:
+                from ..data.model_plane import model_regimes
+
+                model = model_regimes(table, law)
+                for col, values in model.columns.items():
+                    table[col] = values
             written = [
                 out.write(
                     "summary.csv",
@@ -141,7 +159,6 @@ def register(main: click.Group) -> None:
                     lambda p: table.to_csv(p, index=False, float_format="%.10g"),
                 )
             ]
-            events = records_events(records)
             if events is not None:
                 written.append(
                     out.write(
@@ -151,7 +168,7 @@ def register(main: click.Group) -> None:
                     )
                 )
             if not no_plot:
-                for name, fig in (plot_records(table) | plot_regime_plane(table)).items():
+                for name, fig in (plot_records(table) | plot_regime_plane(table, model)).items():
                     written += save_figure(fig, name, out=out)
         if as_json:
             click.echo(
@@ -159,6 +176,19 @@ def register(main: click.Group) -> None:
                     {
                         "verdict": None if verdict is None else verdict.as_dict(),
                         "observed": observed_line(table, verdict),
+                        **(
+                            {}
+                            if model is None
+                            else {
+                                "model": {
+                                    "law": model.law,
+                                    "mass_of_plane": {"value": model.mass, "unit": "kg"},
+                                    "load_of_plane": {"value": model.load, "unit": "N"},
+                                    "agree": model.agree,
+                                    "compared": model.compared,
+                                }
+                            }
+                        ),
                         "records": json.loads(table.to_json(orient="records")),
                     },
                     indent=2,
@@ -184,6 +214,8 @@ def register(main: click.Group) -> None:
         click.echo(shown.to_string(index=False, float_format=lambda x: f"{x:.4g}"))
         if "regime" in table.columns and table["regime"].notna().any():
             click.echo(motion_text(table))
+        if model is not None:
+            click.echo(model_text(table, model))
         click.echo("(summary.csv holds these in SI units)")
         if verdict is None:
             read = table[~table["name"].isin(unread)]
@@ -313,6 +345,31 @@ def register(main: click.Group) -> None:
         for name, reason in zip(rows["name"], rows["regime_reason"], strict=True):
             text += f"\nregime: {name}: {reason}"
         return text
+
+    def model_text(table: Any, model: Any) -> str:
+        """Return the model's regime beside the measured one, record by record, and the count."""
+        shown = table[["name"]].copy()
+        shown["measured"] = table["regime"] if "regime" in table.columns else None
+        shown["stick"] = table["stick_fraction"]
+        shown["model"] = table["model_regime"].fillna("(no set-up)")
+        shown["model stick"] = table["model_stick_fraction"]
+        shown["period [s]"] = table["period [s]"]
+        shown["model period [s]"] = table["model_period [s]"]
+        shown["agree"] = table["model_agrees"].map(lambda a: "-" if a is None or a != a else str(a).lower())
+        ratio = (table["model_period [s]"] / table["period [s]"]).to_numpy(dtype=float)
+        ratio = ratio[np.isfinite(ratio)]
+        periods = (
+            f"\nthe model's period over the measured: {ratio.min():.3g} to {ratio.max():.3g}"
+            if ratio.size
+            else ""
+        )
+        return (
+            "the model at each record's driving velocity, stiffness, mass and load:\n"
+            + shown.to_string(index=False, float_format=lambda x: f"{x:.4g}")
+            + "\n"
+            + model.line()
+            + periods
+        )
 
     @main.command()
     @click.argument("record_file", type=click.Path(exists=False, dir_okay=False))

@@ -131,12 +131,13 @@ class EventTable:
     def __len__(self) -> int:
         return int(self.time.size)
 
-    def as_frame(self) -> Any:
-        """Return the events as a pandas DataFrame, units in the column names."""
+    def as_frame(self, record: str | None = None) -> Any:
+        """Return the events as a pandas DataFrame, units in the column names (first, ``record``'s name)."""
         import pandas as pd
 
         return pd.DataFrame(
-            {
+            ({"record": [record] * len(self)} if record is not None else {})
+            | {
                 "time [s]": self.time,
                 "end_time [s]": self.end_time,
                 "force_before [N]": self.force_before,
@@ -695,7 +696,5 @@ def records_events(records: Any) -> Any:
             events, _, _ = measure_motion(rec)
         except DataError:
             continue
-        frame = events.as_frame()
-        frame.insert(0, "record", rec.name)
-        frames.append(frame)
+        frames.append(events.as_frame(rec.name))
     return pd.concat(frames, ignore_index=True) if frames else None

@@ -681,24 +681,24 @@ def synthetic_record(
     return Record(name, t - t0, force, None, vel, params.v0, params.load, {}, params.stiffness, params.mass)
 
 
-def _motion_row(rec: Record) -> dict[str, Any] | None:
-    """Return a record's motion columns where its force and driving velocity give them (None: not tried).
+def _motion_row(rec: Record) -> tuple[dict[str, Any] | None, Any]:
+    """Return a record's motion columns where its force and driving velocity give them, and its events.
 
     Tried for records with a driving velocity and no velocity or displacement column (a
-    column of the slider's own motion is measured as it is). A record whose motion cannot
-    be measured gets its reason in ``motion_note``.
+    column of the slider's own motion is measured as it is; None, None). A record whose
+    motion cannot be measured gets its reason in ``motion_note`` (and no events).
     """
     from .motion import measure_motion, motion_columns
 
     if rec.v0 is None or rec.velocity is not None or rec.displacement is not None:
-        return None
+        return None, None
     try:
-        _, _, summary = measure_motion(rec)
+        events, _, summary = measure_motion(rec)
     except DataError as exc:
-        return {"motion_note": str(exc)}
+        return {"motion_note": str(exc)}, None
     except (ValueError, FloatingPointError) as exc:  # the cycles are measured all the same
-        return {"motion_note": f"the slider's motion could not be measured ({exc})"}
-    return motion_columns(summary) | {"motion_note": "; ".join(summary.notes)}
+        return {"motion_note": f"the slider's motion could not be measured ({exc})"}, None
+    return motion_columns(summary) | {"motion_note": "; ".join(summary.notes)}, events.as_frame(rec.name)
 
 
 def _from_motion(row: dict[str, Any], motion: dict[str, Any]) -> dict[str, Any]:
@@ -752,8 +752,12 @@ def _failed_row(rec: Record | str, reason: str) -> dict[str, Any]:
 
 
 def analyze_records(
-    records: list[Record], *, confidence: float = 0.95, unreadable: Mapping[str, str] | None = None
-) -> tuple[Any, Any]:
+    records: list[Record],
+    *,
+    confidence: float = 0.95,
+    unreadable: Mapping[str, str] | None = None,
+    return_events: bool = False,
+) -> tuple[Any, ...]:
     """Measure every record; return the summary table and the criterion's verdict.
 
     A record that cannot be measured (no cycles, no structure above its noise) gets a
@@ -772,6 +776,10 @@ def analyze_records(
     verdict : CriterionResult or None
         The amplitude-velocity criterion over the records' driving velocities
         (records at one load: the most common one), or None without velocities.
+    events : pandas.DataFrame or None
+        With ``return_events``: the slip events of every record whose motion was
+        measured, as :func:`~stickslip.data.motion.records_events` gives them (None if
+        none), from the same measurement as the table.
 
     """
     import pandas as pd
@@ -788,8 +796,11 @@ def analyze_records(
         raise ValueError(f"confidence={confidence!r}: expected a level in [0.5, 1), e.g. 0.95")
     rows = []
     failed = []
+    event_frames = []
     for rec in records:
-        motion = _motion_row(rec)
+        motion, events = _motion_row(rec)
+        if events is not None:
+            event_frames.append(events)
         try:
             _, s = measure_record(rec)
         except DataError as exc:
@@ -860,4 +871,6 @@ def analyze_records(
             None if np.any(np.isnan(err)) else err,
             confidence=confidence,
         )
+    if return_events:
+        return df, verdict, pd.concat(event_frames, ignore_index=True) if event_frames else None
     return df, verdict

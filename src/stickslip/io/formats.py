@@ -39,6 +39,8 @@ __all__ = [
 ]
 
 FloatArray = npt.NDArray[np.float64]
+#: a file's 1-D variable: float64 numbers, or the text it holds where it holds text (named in errors)
+Column = npt.NDArray[Any]
 
 #: the file name endings read by :func:`read_arrays` (the text formats have their own reader)
 BINARY_SUFFIXES = (".mat", ".h5", ".hdf5", ".hdf", ".npy", ".npz", ".xlsx", ".xlsm", ".tdms")
@@ -129,25 +131,29 @@ def _need(module: str, path: str) -> Any:
         ) from None
 
 
-def _column(value: Any, name: str, where: str) -> FloatArray | None:
-    """Return ``value`` as a 1-D float array when it is a record's column (None for metadata)."""
+def _column(value: Any, name: str, where: str) -> Column | None:
+    """Return ``value`` as a 1-D float array when it is a record's column (None for metadata).
+
+    A 1-D variable of text (strings, bytes, objects) is returned as it is, so that a
+    record asking for it is told that it holds text, not that it is missing.
+    """
     arr = np.asarray(value)
-    if arr.dtype.kind not in "biuf" or arr.size < MIN_SAMPLES:
+    if arr.dtype.kind not in "biufSUO" or arr.size < MIN_SAMPLES:
         return None
     arr = np.squeeze(arr)
     if arr.ndim != 1:
         return None
-    return np.asarray(arr, dtype=float)
+    return np.asarray(arr, dtype=float) if arr.dtype.kind in "biuf" else arr
 
 
-def _mat_v5(path: str, where: str) -> tuple[dict[str, FloatArray], dict[str, str], dict[str, str]]:
+def _mat_v5(path: str, where: str) -> tuple[dict[str, Column], dict[str, str], dict[str, str]]:
     from scipy.io import loadmat
 
     try:
         data = loadmat(path, squeeze_me=False)
     except Exception as exc:  # scipy raises ValueError, TypeError or OSError for a damaged file
         raise DataError(f"{where}: not a readable MATLAB file ({_short(exc)})") from None
-    arrays: dict[str, FloatArray] = {}
+    arrays: dict[str, Column] = {}
     meta: dict[str, str] = {}
     for key, value in data.items():
         if key.startswith("__"):
@@ -174,9 +180,9 @@ def _attr_text(value: Any) -> str:
     return str(value)
 
 
-def _hdf5(path: str, where: str) -> tuple[dict[str, FloatArray], dict[str, str], dict[str, str]]:
+def _hdf5(path: str, where: str) -> tuple[dict[str, Column], dict[str, str], dict[str, str]]:
     h5py = _need("h5py", where)
-    arrays: dict[str, FloatArray] = {}
+    arrays: dict[str, Column] = {}
     units: dict[str, str] = {}
     meta: dict[str, str] = {}
     try:
@@ -188,7 +194,7 @@ def _hdf5(path: str, where: str) -> tuple[dict[str, FloatArray], dict[str, str],
             def visit(name: str, obj: Any) -> None:
                 if not isinstance(obj, h5py.Dataset) or name.startswith("#refs#"):
                     return
-                if obj.dtype.kind not in "biuf":
+                if obj.dtype.kind not in "biufSO":
                     return
                 if obj.attrs.get("MATLAB_class") == b"char":
                     meta[name.rsplit("/", 1)[-1]] = _attr_text(obj[()])
@@ -212,12 +218,12 @@ def _hdf5(path: str, where: str) -> tuple[dict[str, FloatArray], dict[str, str],
     return arrays, units, meta
 
 
-def _numpy(path: str, where: str) -> tuple[dict[str, FloatArray], dict[str, str], dict[str, str]]:
+def _numpy(path: str, where: str) -> tuple[dict[str, Column], dict[str, str], dict[str, str]]:
     try:
         data = np.load(path, allow_pickle=False)
     except Exception as exc:  # a pickled array, a truncated file: ValueError, EOFError, OSError
         raise DataError(f"{where}: not a readable NumPy file ({_short(exc)})") from None
-    arrays: dict[str, FloatArray] = {}
+    arrays: dict[str, Column] = {}
     meta: dict[str, str] = {}
     if isinstance(data, np.ndarray):
         if data.ndim == 2 and data.shape[1] in (2, 3, 4) and data.shape[0] > data.shape[1]:
@@ -243,7 +249,7 @@ def _numpy(path: str, where: str) -> tuple[dict[str, FloatArray], dict[str, str]
     return arrays, {}, meta
 
 
-def _xlsx(path: str, where: str) -> tuple[dict[str, FloatArray], dict[str, str], dict[str, str]]:
+def _xlsx(path: str, where: str) -> tuple[dict[str, Column], dict[str, str], dict[str, str]]:
     openpyxl = _need("openpyxl", where)
     from .tables import split_header
 
@@ -275,7 +281,7 @@ def _xlsx(path: str, where: str) -> tuple[dict[str, FloatArray], dict[str, str],
     if header_at is None:
         raise DataError(f"{where}: sheet {sheet_name!r} has no header row")
     header = rows[header_at]
-    arrays: dict[str, FloatArray] = {}
+    arrays: dict[str, Column] = {}
     units: dict[str, str] = {}
     for j, cell in enumerate(header):
         if cell is None or not str(cell).strip():
@@ -299,13 +305,13 @@ def _xlsx(path: str, where: str) -> tuple[dict[str, FloatArray], dict[str, str],
     return arrays, units, meta
 
 
-def _tdms(path: str, where: str) -> tuple[dict[str, FloatArray], dict[str, str], dict[str, str]]:
+def _tdms(path: str, where: str) -> tuple[dict[str, Column], dict[str, str], dict[str, str]]:
     nptdms = _need("nptdms", where)
     try:
         f = nptdms.TdmsFile.read(path)
     except Exception as exc:  # nptdms raises ValueError or struct errors for a damaged file
         raise DataError(f"{where}: not a readable TDMS file ({_short(exc)})") from None
-    arrays: dict[str, FloatArray] = {}
+    arrays: dict[str, Column] = {}
     units: dict[str, str] = {}
     meta = {str(k): str(v) for k, v in f.properties.items()}
     for group in f.groups():
@@ -330,7 +336,7 @@ def _tdms(path: str, where: str) -> tuple[dict[str, FloatArray], dict[str, str],
     return arrays, units, meta
 
 
-def _text(path: str, where: str) -> tuple[dict[str, FloatArray], dict[str, str], dict[str, str]]:
+def _text(path: str, where: str) -> tuple[dict[str, Column], dict[str, str], dict[str, str]]:
     """Read a text table of any delimiter, ``#`` lines before the header (``# key = value`` kept)."""
     import pandas as pd
 
@@ -351,7 +357,7 @@ def _text(path: str, where: str) -> tuple[dict[str, FloatArray], dict[str, str],
         frame = pd.read_csv(path, sep=None, engine="python", skiprows=skip, comment="#")
     except Exception as exc:
         raise DataError(f"{where}: not a readable text table ({_short(exc)})") from None
-    arrays: dict[str, FloatArray] = {}
+    arrays: dict[str, Column] = {}
     units: dict[str, str] = {}
     for cell in frame.columns:
         name, unit = split_header(str(cell), where)
@@ -376,7 +382,7 @@ def _short(exc: BaseException) -> str:
     return text[:160]
 
 
-def read_arrays(path: str) -> tuple[dict[str, FloatArray], dict[str, str], dict[str, str]]:
+def read_arrays(path: str) -> tuple[dict[str, Column], dict[str, str], dict[str, str]]:
     """Return a file's 1-D numeric variables, the units it states for them, and its metadata.
 
     Parameters
@@ -424,8 +430,13 @@ def _is_hdf5(path: str) -> bool:
     return False
 
 
-def _find(arrays: Mapping[str, FloatArray], name: str | None, guesses: tuple[str, ...]) -> str | None:
-    """Return the variable named ``name`` (case-insensitive, a path's last part too), or the first guess."""
+def _find(
+    arrays: Mapping[str, Column], name: str | None, guesses: tuple[str, ...], *, numeric: bool = True
+) -> str | None:
+    """Return the variable named ``name`` (case-insensitive, a path's last part too), or the first guess.
+
+    A guess is a numeric variable (``numeric``) or a text one (not ``numeric``).
+    """
     by_lower: dict[str, str] = {}
     for key in arrays:
         by_lower.setdefault(key.lower(), key)
@@ -433,9 +444,20 @@ def _find(arrays: Mapping[str, FloatArray], name: str | None, guesses: tuple[str
     if name is not None:
         return by_lower.get(name.lower())
     for guess in guesses:
-        if guess in by_lower:
+        if guess in by_lower and (arrays[by_lower[guess]].dtype.kind == "f") == numeric:
             return by_lower[guess]
     return None
+
+
+def _text_note(arrays: Mapping[str, Column], guesses: tuple[str, ...]) -> str:
+    """Return '; NAME holds text ('a', ...), not numbers' for a text variable among the guesses, or ''."""
+    name = _find(arrays, None, guesses, numeric=False)
+    return "" if name is None else f"; {name!r} holds text ({_first_text(arrays[name])}), not numbers"
+
+
+def _first_text(arr: Column) -> str:
+    first = arr[0].decode("utf-8", "replace") if isinstance(arr[0], bytes) else str(arr[0])
+    return f"{first!r}, ..."
 
 
 def _scale(unit: str | None, default: str, si: str, dimension: str, what: str, where: str) -> float:
@@ -510,7 +532,7 @@ def read_sidecar(path: str) -> dict[str, str]:
 
 
 def pick_record(
-    arrays: Mapping[str, FloatArray],
+    arrays: Mapping[str, Column],
     units: Mapping[str, str],
     meta: Mapping[str, str],
     options: RecordOptions,
@@ -539,7 +561,8 @@ def pick_record(
         tname = "__waveform_time__"
     if tname is None:
         asked = f"no variable {options.time!r}" if options.time else "no time variable (t, time)"
-        raise DataError(f"{where}: {asked}; it has {have} (choose with --time NAME)")
+        note = "" if options.time else _text_note(arrays, TIME_GUESSES)
+        raise DataError(f"{where}: {asked}{note}; it has {have} (choose with --time NAME)")
     normalised = options.normalised
     fname = _find(arrays, options.force, ())
     if options.force is not None and fname is None:
@@ -553,9 +576,16 @@ def pick_record(
         if fname is not None and normalised is None:
             normalised = True
     if fname is None:
+        note = _text_note(arrays, FORCE_GUESSES + NORMALISED_GUESSES)
         raise DataError(
-            f"{where}: no force variable (force, F, Fnorm, mu); it has {have} (choose with --force NAME)"
+            f"{where}: no force variable (force, F, Fnorm, mu){note}; it has {have} "
+            "(choose with --force NAME)"
         )
+    for kind, name in (("time", tname), ("force", fname)):
+        if arrays[name].dtype.kind != "f":
+            raise DataError(
+                f"{where}: the {kind} variable {name!r} holds text ({_first_text(arrays[name])}), not numbers"
+            )
     if normalised is None:
         normalised = fname.rsplit("/", 1)[-1].lower() in NORMALISED_GUESSES
     t = arrays[tname]

@@ -114,15 +114,9 @@ class Record:
                 shown = float(arr[i])
                 raise ValueError(f"{self.name}: {key}[{i}]={shown!r}: expected finite values ({unit})")
             object.__setattr__(self, key, arr)
-        step = np.diff(self.time)
-        if np.any(step <= 0):
-            i = int(np.argmax(step <= 0))
-            raise ValueError(
-                f"{self.name}: time is not strictly increasing at samples {i} and {i + 1} "
-                f"({float(self.time[i])!r} s then {float(self.time[i + 1])!r} s)"
-            )
-        if step.size and float(np.median(step)) < MIN_SAMPLE_INTERVAL:
-            raise ValueError(f"{self.name}: {_too_fast(step)}")
+        problem = _clock_problem(self.time, "time", _samples)
+        if problem:
+            raise ValueError(f"{self.name}: {problem}")
         # v0=1e-5 (no unit) failed later with an AttributeError on .to
         for key, dim, example in (
             ("v0", "[length] / [time]", "10 um/s"),
@@ -151,11 +145,30 @@ def _si(
 MIN_SAMPLE_INTERVAL = 1e-200
 
 
-def _too_fast(dt: FloatArray) -> str:
-    return (
-        f"the median sample interval is {float(np.median(dt)):.3g} s, below {MIN_SAMPLE_INTERVAL:g} s: "
-        "is the time column in the unit its header says?"
-    )
+def _clock_problem(t: FloatArray, name: str, at: Callable[[int, int], str]) -> str | None:
+    """Return what is wrong with a record's sample times ``t`` (s), or None.
+
+    The times must increase strictly (``at(i, j)`` names samples ``i`` and ``j`` where
+    they do not: sample numbers, or a file's lines), and the median interval must be at
+    least :data:`MIN_SAMPLE_INTERVAL` (1e-302 s ended in 'SVD did not converge').
+    """
+    step = np.diff(t)
+    if np.any(step <= 0):
+        i = int(np.argmax(step <= 0))
+        return (
+            f"{name} is not strictly increasing at {at(i, i + 1)} "
+            f"({float(t[i])!r} s then {float(t[i + 1])!r} s)"
+        )
+    if step.size and float(np.median(step)) < MIN_SAMPLE_INTERVAL:
+        return (
+            f"the median sample interval is {float(np.median(step)):.3g} s, below {MIN_SAMPLE_INTERVAL:g} s: "
+            "is the time column in the unit its header says?"
+        )
+    return None
+
+
+def _samples(i: int, j: int) -> str:
+    return f"samples {i} and {j}"
 
 
 def _lines(df: pd.DataFrame, first: int, last: int | None = None) -> str:
@@ -351,15 +364,9 @@ def _record_from_frame(
     f = _si(
         _check_numeric(df, force_col, where), units[force_col], _written(df, force_col), "[force]", "N", where
     )
-    dt = np.diff(t)
-    if np.any(dt <= 0):
-        i = int(np.argmax(dt <= 0))
-        raise DataError(
-            f"{where}: time is not strictly increasing at {_lines(df, i, i + 1)} "
-            f"({float(t[i])!r} s then {float(t[i + 1])!r} s)"
-        )
-    if float(np.median(dt)) < MIN_SAMPLE_INTERVAL:  # 1e-302 s ended in 'SVD did not converge'
-        raise DataError(f"{where}: {_too_fast(dt)}")
+    problem = _clock_problem(t, "time", lambda i, j: _lines(df, i, j))
+    if problem:
+        raise DataError(f"{where}: {problem}")
 
     def optional(col: str, dimension: str, si: str) -> FloatArray | None:
         if col not in df.columns:
@@ -488,15 +495,9 @@ def read_record(
                 "(--load '0.3 N', or --load weight with --mass, or in a sidecar NAME.json)"
             )
         f = f * float(q["load"].to("N").magnitude)
-    step = np.diff(t)
-    if np.any(step <= 0):
-        i = int(np.argmax(step <= 0))
-        raise DataError(
-            f"{p}: time {notes['time_variable']!r} is not strictly increasing at samples {i} and {i + 1} "
-            f"({float(t[i])!r} s then {float(t[i + 1])!r} s)"
-        )
-    if float(np.median(step)) < MIN_SAMPLE_INTERVAL:
-        raise DataError(f"{p}: {_too_fast(step)}")
+    problem = _clock_problem(t, f"time {notes['time_variable']!r}", _samples)
+    if problem:
+        raise DataError(f"{p}: {problem}")
     meta = dict(meta) | notes
     for key, used in q.items():
         if used is not None:

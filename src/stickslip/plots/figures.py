@@ -338,13 +338,27 @@ REGIME_STYLE = {
 }
 
 
-def plot_regime_plane(table: Any) -> dict[str, Figure]:
+#: the shade of each regime the model computes, under the measured records
+MODEL_SHADE = {
+    "stick-slip": "#f4c7c3",
+    "pure-slip": "#c6dbef",
+    "slip-reversal": "#9ecae1",
+    "steady-sliding": "#c7e9c0",
+}
+
+
+def plot_regime_plane(table: Any, model: Any = None) -> dict[str, Figure]:
     """Draw the measured regime diagram: each record in the (V, k) plane, and amplitude against V per k.
 
     Left, each record at its driving velocity and stiffness (the stated one, else the
     measured), marked by its observed regime and labelled with its stick fraction; right,
     the paper's criterion: the amplitude against the driving velocity, one line per
     stiffness. Empty (no figure) without records whose motion was measured.
+
+    With ``model`` (a :class:`~stickslip.data.model_plane.ModelPlane`), the left panel
+    is shaded by the regime the model computes over the plane, at the records' median
+    mass and load, with contours of the model's stick fraction (0.25, 0.5, 0.75, 0.9),
+    and its title says how many records it agrees with.
     """
     if "regime" not in table.columns:
         return {}
@@ -355,6 +369,13 @@ def plot_regime_plane(table: Any) -> dict[str, Figure]:
     k = np.where(np.isfinite(k), k, rows["stiffness [N/m]"].to_numpy(dtype=float))
     v = rows["v0 [m/s]"].to_numpy(dtype=float) * 1e6
     fig, (ax, ax2) = subplots(1, 2, figsize=(10, 4.0), layout="constrained")
+    title = "observed regime (stick fraction)"
+    if model is not None and model.plane is not None:
+        _shade_model(ax, model)
+        title = (
+            "observed regime (stick fraction) over the model's;\n"
+            f"the model's regime agrees with {model.agree} of {model.compared} compared"
+        )
     for regime, (marker, color) in REGIME_STYLE.items():
         sel = (rows["regime"] == regime).to_numpy()
         if sel.any():
@@ -366,8 +387,8 @@ def plot_regime_plane(table: Any) -> dict[str, Figure]:
     ax.set_yscale("log")
     ax.set_xlabel("driving velocity V [um/s]")
     ax.set_ylabel("stiffness k [N/m]")
-    ax.set_title("observed regime (stick fraction)", fontsize=10)
-    ax.legend(fontsize=8, loc="best")
+    ax.set_title(title, fontsize=10)
+    ax.legend(fontsize=7, loc="best")
     amp = rows["amplitude [N]"].to_numpy(dtype=float) * 1e3
     for i, kk in enumerate(np.unique(k[np.isfinite(k)])):
         sel = k == kk
@@ -379,6 +400,45 @@ def plot_regime_plane(table: Any) -> dict[str, Figure]:
     ax2.set_title("the criterion: amplitude against V", fontsize=10)
     ax2.legend(fontsize=8)
     return {"regime_plane": fig}
+
+
+def _shade_model(ax: Any, model: Any) -> None:
+    """Shade ``ax`` (V in um/s, k in N/m) by the model's regime over ``model.plane``."""
+    from matplotlib.colors import ListedColormap
+    from matplotlib.patches import Patch
+
+    plane = model.plane
+    names = [r for r in MODEL_SHADE if (plane["regime"] == r).any()]
+    codes = np.full(plane["regime"].shape, np.nan)
+    for i, r in enumerate(names):
+        codes[(plane["regime"] == r).to_numpy()] = i
+    v, k = plane["v0"].to_numpy(), plane["stiffness"].to_numpy()
+    if names:
+        ax.pcolormesh(
+            v,
+            k,
+            codes.T,
+            cmap=ListedColormap([MODEL_SHADE[r] for r in names]),
+            vmin=-0.5,
+            vmax=len(names) - 0.5,
+            shading="nearest",
+            zorder=0,
+        )
+    sf = np.asarray(plane["stick_fraction"], dtype=float).T
+    if np.isfinite(sf).sum() > 3 and np.nanmax(sf) > np.nanmin(sf):
+        lines = ax.contour(v, k, sf, levels=[0.25, 0.5, 0.75, 0.9], colors="0.45", linewidths=0.6, zorder=1)
+        ax.clabel(lines, fontsize=6, fmt="%.2g")
+    ax.set_xlim(v[0], v[-1])
+    ax.set_ylim(k[0], k[-1])
+    ax.add_artist(
+        ax.legend(
+            handles=[Patch(color=MODEL_SHADE[r], label=f"model: {r}") for r in names],
+            fontsize=7,
+            loc="lower left",
+            title=f"m = {1e3 * model.mass:.3g} g, W = {1e3 * model.load:.3g} mN",
+            title_fontsize=7,
+        )
+    )
 
 
 def plot_fit_overlay(record: Any, fit: Any, *, cycles: int = 3, max_points: int = 20_000) -> Figure:
