@@ -30,7 +30,7 @@ from stickslip.chains import (
     static_thresholds,
 )
 from stickslip.chains.lyapunov import event_map, lyapunov_exponent
-from stickslip.chains.statistics import KS_CRITICAL_5, power_law_range, slope_change
+from stickslip.chains.statistics import KS_CRITICAL_10, power_law_range, slope_change
 from stickslip.io.errors import DataError
 from stickslip.laws import CarlsonLangerLaw, CubicLaw, TabulatedLaw, WeakeningLaw
 
@@ -327,7 +327,7 @@ def test_power_law_range_between_the_spike_and_the_bump() -> None:
     maxc = b_value(m, n_boot=0)
     assert maxc.b < 0.4 and not maxc.power_law
     # a plain Gutenberg-Richter sample: its completeness and no upper end (a range that is a
-    # power law fails the 5 % test once in twenty: the scan may start a bin or two higher)
+    # power law fails a 10 % test once in ten: the scan may start a bin or two higher)
     g = 2.0 + rng.exponential(1.0 / math.log(10), 20000)
     thin = rng.uniform(0.0, 2.0, 20000)
     g = np.concatenate([g, thin[rng.uniform(size=thin.size) < thin / 2.0]])
@@ -357,9 +357,8 @@ def test_slope_change_holds_its_level_and_sees_a_knee() -> None:
         # 1500 draws: the rate's own spread is 0.26 % at 1 %, 0.56 % at 5 %
         assert 0.002 <= np.mean(p < 0.01) <= 0.025 and 0.025 <= np.mean(p < 0.05) <= 0.08
     # b = 1 from M = -2, flattening to b = 0.4 above 0 (1 % of the events): KS alone takes a
-    # range whose halves differ (seeds 0-7: b 1.01-1.03 below, 0.37-0.67 above, p <= 6e-4);
-    # the default range passes both tests (here it stops at 1.5; on one seed in eight it is
-    # the tail itself, b = 0.5 from 0 up: a power law over more magnitude units)
+    # range whose halves differ (here [-2.0, 2.4]: b 1.02 below M = 0.2, 0.42 above, p 2e-8);
+    # the default range passes both tests (here [-1.9, 1.4], b 1.013)
     rng = np.random.default_rng(0)
     x = -2.0 + rng.exponential(1.0 / math.log(10), 10000)
     tail = x > 0.0
@@ -367,12 +366,14 @@ def test_slope_change_holds_its_level_and_sees_a_knee() -> None:
     x = x[x < 3.0]
     lo, hi, ks = power_law_range(x, slope_level=0.0)
     ks_only = b_value(x, mc=lo, m_max=None if math.isinf(hi) else hi, n_boot=0)
-    assert ks <= KS_CRITICAL_5 and hi > 2.5 and not ks_only.power_law
+    assert ks <= KS_CRITICAL_10 and hi > 2.0 and not ks_only.power_law
     assert ks_only.slope_p < 1e-3 and ks_only.b_upper < 0.7 < 0.95 < ks_only.b_lower
     assert "the slope changes across the range" in ks_only.verdict
     auto = b_value(x, mc="auto", n_boot=0)
     assert auto.power_law and auto.verdict == "" and auto.m_max < 2.5 and abs(auto.b - 1.0) < 0.03
-    assert auto.slope_p == pytest.approx(slope_change(x, auto.mc, auto.m_max)[3], rel=1e-12)
+    # its change of slope is sought at every cut (the largest ratio of two slopes to one; without a
+    # bootstrap, its p bounded by Bonferroni's, the cuts tried times chi-square's p)
+    assert auto.slope_p >= 0.1 and auto.m_split < auto.m_max and auto.n_upper >= 10
     # events of a half all at its lower end: no slope to compare, no overflow on a steep sample
     assert math.isnan(slope_change([0.0, 0.3, 0.5, 0.5, 0.5], 0.0, 1.0)[3])
     assert slope_change([0.0, 0.1, 0.2, 1.0 + 1e-5, 1.0 + 2e-5], 0.0, 2.0)[3] < 0.01
@@ -382,8 +383,8 @@ def test_slope_change_holds_its_level_and_sees_a_knee() -> None:
         power_law_range(x, slope_level=1.0)
     # the verdict of a fit without a b-value, and of an empty half
     assert "no b-value" in b_value(np.full(5, 1.0), mc=0.0, n_boot=0).verdict
-    flat = b_value(np.random.default_rng(1).uniform(0.0, 1.0, 300), mc=0.0, m_max=4.0, n_boot=0)
-    assert math.isnan(flat.b_upper) and flat.slope_p < 0.01 and "Kolmogorov" in flat.verdict
+    flat = b_value(np.random.default_rng(1).uniform(0.0, 1.5, 300), mc=0.0, m_max=4.0, n_boot=0)
+    assert flat.m_split == 1.4 and flat.slope_p < 0.01 and "Kolmogorov" in flat.verdict
     empty_top = BValue(1.0, 0.1, 0.1, 0.0, 4.0, 300, 2.5, 0.5, b_lower=1.0, m_split=2.0, slope_p=1e-3)
     assert empty_top.verdict.endswith("b = 1 below M = 2.00, none (no events) above (p = 0.001)")
 
@@ -799,8 +800,13 @@ def test_command_line_json(tmp_path: Path) -> None:
         assert key in out
     assert out["blocks"] == 8 and out["events"] == 60 and out["status"] == "ok"
     assert out["b_value_range"] == "power-law range"
-    fit = b_value(open_catalog(tmp_path / "catalog.nc")["magnitude"].values, mc="auto", n_boot=0)
-    assert out["b_value"] == pytest.approx(fit.b, rel=1e-12)
+    # the command's fit is b_value's default range of the catalogue's magnitudes, in time order;
+    # 60 events of 8 blocks hold no power law over a decade of moment: no b-value, and why
+    fit = b_value(open_catalog(tmp_path / "catalog.nc")["magnitude"].values, mc="auto", block="auto")
+    assert out["b_value"] is None and math.isnan(fit.b) and not out["b_value_power_law"]
+    assert out["b_value_verdict"] == fit.verdict and fit.verdict.startswith("not a power law")
+    assert out["completeness_magnitude"] == fit.mc and out["b_value_ks_p"] == pytest.approx(fit.ks_p)
+    assert out["events_as"] == "whole" and out["ruptures"] is None
     cat = open_catalog(tmp_path / "catalog.nc")
     assert cat.sizes["event"] == 60
     assert float(np.mean(np.diff(cat["t_start"].values))) == pytest.approx(out["mean_recurrence"])
@@ -951,7 +957,7 @@ def test_command_line_text_report_without_a_b_value_and_bad_fit_ranges() -> None
         assert res.exit_code == 2 and word in res.output, res.output
 
 
-def test_command_line_reports_the_halves_of_the_fitted_range() -> None:
+def test_command_line_reports_the_change_of_slope_in_the_fitted_range() -> None:
     from click.testing import CliRunner
 
     from stickslip.cli import main
@@ -960,7 +966,7 @@ def test_command_line_reports_the_halves_of_the_fitted_range() -> None:
     args += ["--ell", "10", "--blocks", "30", "--events", "600", "--seed", "1", "--quiet"]
     res = CliRunner().invoke(main, args)
     assert res.exit_code == 0, res.output
-    line = next(x for x in res.output.splitlines() if x.startswith("halves of the range"))
+    line = next(x for x in res.output.splitlines() if x.startswith("slope change"))
     js = CliRunner().invoke(main, [*args, "--json"])
     s = json.loads(js.stdout)  # a warning goes to stderr
     assert f"below M = {s['b_value_split']:.2f}" in line and f"p = {s['b_value_slope_p']:.2g}" in line

@@ -3,7 +3,7 @@
 * :mod:`.model`: the set-up (:class:`ChainParameters`), thresholds, initial positions;
 * :mod:`.run`: :func:`chain`, events streamed to a NetCDF catalogue;
 * :mod:`.catalog`: the catalogue on disk;
-* :mod:`.statistics`: b-value, completeness, recurrence;
+* :mod:`.statistics`: b-value and its power-law range, completeness, recurrence, connected ruptures;
 * :mod:`.lyapunov`: the event map and its largest Lyapunov exponent;
 * :mod:`.ensemble`: many seeds of one set-up (:func:`chain_ensemble`), on Dask and in a store.
 """
@@ -17,6 +17,7 @@ from .statistics import (
     b_value,
     block_length,
     completeness_magnitude,
+    connected_ruptures,
     magnitude_frequency,
     power_law_range,
     recurrence_times,
@@ -34,6 +35,7 @@ __all__ = [
     "chain",
     "chain_ensemble",
     "completeness_magnitude",
+    "connected_ruptures",
     "initial_positions",
     "magnitude_frequency",
     "open_catalog",

@@ -8,9 +8,14 @@ flushed: a run that is killed can be continued from its last write
 (:func:`stickslip.chains.chain` with ``resume=True``), and gives the same catalogue
 as an uninterrupted run.
 
-The state records how many events precede it (``events_saved``, and ``slip_saved``
-for the per-block slips). HDF5 may write appended rows before the state that follows
-them (its caches, a full disk, a kill during the flush): such rows are not part of
+A catalogue of a run with ``events_as="connected"`` also holds its events' connected
+ruptures (:func:`~.statistics.connected_ruptures`), on a ``rupture`` dimension of their own
+(:data:`RUPTURE_COLUMNS`), appended with the events they belong to.
+
+The state records how many events precede it (``events_saved``, ``slip_saved``
+for the per-block slips and ``ruptures_saved`` for the ruptures). HDF5 may write
+appended rows before the state that follows them (its caches, a full disk, a kill
+during the flush): such rows are not part of
 the catalogue; a resumed run writes over them (the same events, computed again), and
 :func:`open_catalog` leaves them out.
 """
@@ -30,7 +35,7 @@ from ..core.api import ChainState
 from ..io.errors import DataError
 from ..io.output import generator
 
-__all__ = ["COLUMNS", "CatalogWriter", "open_catalog", "read_state"]
+__all__ = ["COLUMNS", "RUPTURE_COLUMNS", "CatalogWriter", "open_catalog", "read_state"]
 
 KIND = "chain-catalog"
 
@@ -47,6 +52,14 @@ COLUMNS: dict[str, tuple[int, str, str, str]] = {
     "driver_work": (ce.C_WD, "f8", "energy", "work of the driver on the loading springs"),
     "friction_work": (ce.C_WF, "f8", "energy", "energy dissipated by friction"),
     "elastic_change": (ce.C_DE, "f8", "energy", "change of the springs' elastic energy"),
+}
+#: the ruptures' variables (``events_as="connected"``): (dtype, units, description)
+RUPTURE_COLUMNS: dict[str, tuple[str, str, str]] = {
+    "rupture_event": ("i8", "1", "the event (0-based row of the catalogue) the rupture belongs to"),
+    "rupture_first_block": ("i4", "1", "first block of the connected run of slipping blocks (0-based)"),
+    "rupture_last_block": ("i4", "1", "its last block (below the first: across the ends of a ring)"),
+    "rupture_n_blocks": ("i4", "1", "number of blocks that slipped in the rupture"),
+    "rupture_moment": ("f8", "length", "sum of the rupture's blocks' slips"),
 }
 _STATE = ("x", "v", "mode", "sc", "ev_x0", "ev_flag", "ev_list")
 
@@ -67,6 +80,9 @@ class CatalogWriter:
     slip_rows : int
         How many events' per-block slips to keep (``slip(recorded_event, block)``, for the
         space-time diagram).
+    ruptures : bool
+        Keep the events' connected ruptures too (``rupture_*`` variables on a ``rupture``
+        dimension; a resumed catalogue keeps them where it has them).
 
     """
 
@@ -79,6 +95,7 @@ class CatalogWriter:
         slip_rows: int = 0,
         *,
         resume: bool = False,
+        ruptures: bool = False,
     ) -> None:
         self.path = path
         if resume:
@@ -101,9 +118,17 @@ class CatalogWriter:
             # by HDF5 before the state was) are computed again and written over
             self._next = _saved_count(self.ds, "events_saved", len(self.ds.dimensions["event"]))
             self._slips = _saved_count(self.ds, "slip_saved", int(self.ds.getncattr("slip_recorded")))
+            self.ruptures = "rupture" in self.ds.dimensions
+            self._ruptures = (
+                _saved_count(self.ds, "ruptures_saved", len(self.ds.dimensions["rupture"]))
+                if self.ruptures
+                else 0
+            )
             return
         self._next = 0
         self._slips = 0
+        self._ruptures = 0
+        self.ruptures = bool(ruptures)
         ds = netCDF4.Dataset(path, "w", format="NETCDF4")
         self.ds = ds
         ds.createDimension("event", None)
@@ -119,6 +144,14 @@ class CatalogWriter:
         ds.createVariable("slip", "f8", slip_dims, zlib=True, complevel=1, fill_value=np.nan)
         ds["slip"].units = units["length"]
         ds["slip"].long_name = "slip of each block in the first recorded events"
+        if self.ruptures:
+            ds.createDimension("rupture", None)
+            for name, (dtype, unit, desc) in RUPTURE_COLUMNS.items():
+                var = ds.createVariable(
+                    name, dtype, ("rupture",), zlib=True, complevel=1, chunksizes=(65536,)
+                )
+                var.units = units.get(unit, unit)
+                var.long_name = desc
         for name in _STATE:
             dims = ("scalar",) if name == "sc" else ("block",)
             dtype = {"mode": "i8", "ev_flag": "i1", "ev_list": "i8"}.get(name, "f8")
@@ -133,6 +166,8 @@ class CatalogWriter:
         ds.setncattr("state_saved", 0)
         ds.setncattr("events_saved", 0)
         ds.setncattr("slip_saved", 0)
+        if self.ruptures:
+            ds.setncattr("ruptures_saved", 0)
         ds.sync()
 
     @property
@@ -145,8 +180,33 @@ class CatalogWriter:
         """Events whose per-block slips are stored."""
         return self._slips
 
-    def append(self, rows: npt.NDArray[np.float64], slips: npt.NDArray[np.float64]) -> None:
-        """Append catalogue rows (``chain.NCAT`` columns) and the slips of the first events."""
+    @property
+    def n_ruptures(self) -> int:
+        """Ruptures written so far (0 in a catalogue without them)."""
+        return self._ruptures
+
+    def append(
+        self,
+        rows: npt.NDArray[np.float64],
+        slips: npt.NDArray[np.float64],
+        ruptures: dict[str, npt.NDArray[Any]] | None = None,
+    ) -> None:
+        """Append catalogue rows (``chain.NCAT`` columns), the slips of the first events, and their ruptures.
+
+        ``ruptures``: the :data:`RUPTURE_COLUMNS` of the rows' ruptures (their events numbered
+        in the whole catalogue); required where the catalogue keeps ruptures.
+        """
+        if self.ruptures and ruptures is None:
+            raise ValueError(
+                f"{self.path}: a catalogue of connected ruptures needs the ruptures of its events"
+            )
+        if self.ruptures and ruptures is not None:
+            r = self._ruptures
+            m = ruptures["rupture_moment"].shape[0]
+            if m:
+                for name, (dtype, _, _) in RUPTURE_COLUMNS.items():
+                    self.ds[name][r : r + m] = ruptures[name].astype(dtype)
+            self._ruptures = r + m
         k = self._next
         m = rows.shape[0]
         if m:
@@ -171,6 +231,8 @@ class CatalogWriter:
         self.ds.sync()
 
     def _mark_saved(self) -> None:
+        if self.ruptures:
+            self.ds.setncattr("ruptures_saved", self._ruptures)
         self.ds.setncattr("events_saved", self._next)
         self.ds.setncattr("slip_saved", self._slips)
         self.ds.setncattr("slip_recorded", self._slips)
@@ -260,6 +322,9 @@ def open_catalog(path: str | os.PathLike[str]) -> xr.Dataset:
     # (2000 by default), and the rows beyond them were never written
     recorded = int(ds.attrs.get("slip_saved", ds.attrs.get("slip_recorded", 0)))
     ds = ds.isel(recorded_event=slice(0, min(recorded, ds.sizes["recorded_event"])))
+    if "rupture" in ds.dims:  # ruptures written after the last saved state: not yet in the catalogue
+        kept = int(ds.attrs.get("ruptures_saved", ds.sizes["rupture"]))
+        ds = ds.isel(rupture=slice(0, min(kept, ds.sizes["rupture"])))
     ds.set_close(opened.close)  # closing the result closes the file
     if "moment" not in ds:
         ds.close()
@@ -268,4 +333,10 @@ def open_catalog(path: str | os.PathLike[str]) -> xr.Dataset:
     unit = str(ds["moment"].attrs.get("units", "1"))
     per = "its dimensionless unit" if unit in ("1", "") else f"1 {unit}"  # a physical chain's is in m
     ds["magnitude"].attrs = {"units": "1", "long_name": f"log10 of the moment / ({per})"}
+    if "rupture_moment" in ds:
+        ds["rupture_magnitude"] = np.log10(ds["rupture_moment"].where(ds["rupture_moment"] > 0))
+        ds["rupture_magnitude"].attrs = {
+            "units": "1",
+            "long_name": f"log10 of the rupture's moment / ({per})",
+        }
     return ds

@@ -32,7 +32,7 @@ from ..units import check_count, check_number
 from ..userwarnings import warn
 from .catalog import read_state
 from .model import ChainParameters, Init, static_thresholds
-from .run import chain, check_events
+from .run import EVENTS_AS, chain, check_events
 from .statistics import STATISTICS_VERSION, check_fit_range
 
 __all__ = ["EnsembleJob", "chain_ensemble"]
@@ -74,6 +74,7 @@ def chain_ensemble(
     scheduler: Any = None,
     workers: int | None = None,
     progress: ProgressLike = None,
+    events_as: str = "whole",
 ) -> xr.Dataset:
     """Run one chain per seed; return each member's statistics over a ``seed`` dimension.
 
@@ -103,6 +104,8 @@ def chain_ensemble(
         :func:`stickslip.dynamics.sweep`).
     progress : bool or callable, optional
         Progress over members.
+    events_as : {"whole", "connected"}
+        What an event of each member's statistics is, as in :func:`~.run.chain`.
 
     Returns
     -------
@@ -144,9 +147,14 @@ def chain_ensemble(
         raise ValueError(f"seeds={seeds!r}: expected at least one seed, each once")
     static_thresholds(params.blocks, threshold_spread, 0)  # checks the spread
     mc, m_max = check_fit_range(mc, m_max)
+    if not isinstance(events_as, str) or events_as not in EVENTS_AS:
+        raise ValueError(
+            f"events_as={events_as!r}: expected 'whole' (an event from all blocks stuck to all stuck) or "
+            "'connected' (each connected run of slipping blocks in it)"
+        )
     catalogs = None if store is None else os.path.join(os.path.abspath(os.fspath(store)), "catalogs")
     job = EnsembleJob(params, int(events), seed_arr, float(threshold_spread), str(init), float(amplitude),
-                      int(transient), float(rtol), float(atol), catalogs, mc, m_max)  # fmt: skip
+                      int(transient), float(rtol), float(atol), catalogs, mc, m_max, events_as)  # fmt: skip
     from ..scale import run_job
 
     return run_job(job, job.layout(), store=store, scheduler=scheduler, workers=workers, progress=progress,
@@ -169,6 +177,7 @@ class EnsembleJob:
     catalogs: str | None
     mc: float | str | None = "auto"
     m_max: float | None = None
+    events_as: str = "whole"
 
     def task(self, block: Block) -> _Member:
         """Return the computation of one member."""
@@ -210,6 +219,8 @@ class EnsembleJob:
                 # it would mix the two (the range and the error of b changed in version 2)
                 "statistics": STATISTICS_VERSION,
                 "fit": [self.mc, self.m_max],
+                # members of connected ruptures are another job (whole events: as before, unsaid)
+                **({"events_as": self.events_as} if self.events_as != "whole" else {}),
             },
             attrs=self._attrs(),
             describe=(
@@ -237,14 +248,17 @@ class EnsembleJob:
             "events_per_member": self.events,
             "threshold_spread": self.threshold_spread,
             "b_value_fit": self._fit(),
+            "events_as": self.events_as,
         }
 
     def _fit(self) -> str:
         """Return the range of the members' b-value fits, in words (an attribute of the dataset)."""
+        of = " of connected ruptures" if self.events_as == "connected" else ""
         if self.mc == "auto":
-            return "each member's power-law range" + ("" if self.m_max is None else f" below {self.m_max:g}")
+            top = "" if self.m_max is None else f" below {self.m_max:g}"
+            return f"each member's power-law range{top}{of}"
         low = "maximum curvature" if self.mc is None else f"{self.mc:g}"
-        return f"from {low}" + ("" if self.m_max is None else f" to {self.m_max:g}")
+        return f"from {low}" + ("" if self.m_max is None else f" to {self.m_max:g}") + of
 
     def dataset(self, arrays: dict[str, Any]) -> xr.Dataset:
         """Return the ensemble's Dataset from its arrays."""
@@ -283,7 +297,7 @@ class _Member:
         res = chain(
             p, job.events, init=job.init, seed=self.seed, amplitude=job.amplitude, transient=job.transient,
             out=out, resume=out is not None, rtol=job.rtol, atol=job.atol, mc=job.mc, m_max=job.m_max,
-            progress=False,
+            progress=False, events_as=job.events_as,
         )  # fmt: skip
         s = res.summary()
         res.catalog.close()

@@ -29,9 +29,9 @@ from ..io.output import check_target
 from ..io.progress import progress_bar
 from ..units import check_count, check_seed, parse_quantity
 from ..userwarnings import warn
-from .catalog import COLUMNS, KIND, CatalogWriter, open_catalog, read_state
+from .catalog import COLUMNS, KIND, RUPTURE_COLUMNS, CatalogWriter, open_catalog, read_state
 from .model import Boundary, ChainParameters, Init, initial_positions, sliding_after
-from .statistics import BValue, b_value, check_fit_range, ruptures_in_pieces
+from .statistics import BValue, b_value, check_fit_range, connected_ruptures, ruptures_in_pieces
 
 __all__ = ["ChainResult", "chain"]
 
@@ -47,6 +47,12 @@ EVENTS_PER_CHUNK = 20_000
 #: are slips in separate places (:func:`~.statistics.ruptures_in_pieces`)
 PIECES_SHARE = 0.1
 PIECES_CHECKED = 20
+#: what an event of the statistics is: ``whole``, the chain's event (from all stuck to all stuck), or
+#: ``connected``, each connected run of slipping blocks in it (Carlson and Langer's event)
+EVENTS_AS = ("whole", "connected")
+#: with ``events_as="connected"`` every event's slips leave the engine (to be split into ruptures):
+#: a call takes at most this many slip values, 4e6 doubles or 32 MB (4000 events of 1000 blocks)
+SLIP_VALUES_PER_CALL = 4_000_000
 #: a catalogue on disk takes the calls' rows and the state after them at most this often (s):
 #: a write and its flush to disk took about 23 ms, 4 % of a run that wrote after every call
 FLUSH_SECONDS = 5.0
@@ -73,7 +79,12 @@ class ChainResult:
     state : ChainState
         The final state (continue with ``chain(..., state=result.state)``).
     b : BValue
-        Gutenberg-Richter fit of the magnitudes (see :func:`~.statistics.b_value`).
+        Gutenberg-Richter fit of the magnitudes (see :func:`~.statistics.b_value`): of the
+        events, or with ``events_as="connected"`` of their connected ruptures.
+    units : dict
+        Units of time, length, velocity and energy in the catalogue.
+    events_as : {"whole", "connected"}
+        What the statistics count as an event (see :func:`chain`).
 
     """
 
@@ -85,11 +96,22 @@ class ChainResult:
     state: ChainState = field(repr=False)
     b: BValue
     units: dict[str, str] = field(default_factory=dict)
+    events_as: str = "whole"
 
     @property
     def events(self) -> int:
         """Number of events in the catalogue."""
         return int(self.catalog.sizes["event"])
+
+    @property
+    def ruptures(self) -> int | None:
+        """Number of connected ruptures in the catalogue (None where they were not kept)."""
+        return int(self.catalog.sizes["rupture"]) if "rupture_moment" in self.catalog else None
+
+    def magnitudes(self) -> npt.NDArray[np.float64]:
+        """Return the magnitudes the statistics use, in time order: the events', or their ruptures'."""
+        name = "rupture_magnitude" if self.events_as == "connected" else "magnitude"
+        return np.asarray(self.catalog[name].values, dtype=float)
 
     def in_pieces(self) -> tuple[int, int]:
         """Return (events whose slips are separate pieces of the chain, events checked).
@@ -113,9 +135,14 @@ class ChainResult:
         moment = self.catalog["moment"].values
         nb = self.catalog["n_blocks"].values
         pieces, checked = self.in_pieces()
+        connected = self.events_as == "connected"
+        rupture_moment = self.catalog["rupture_moment"].values if connected else None
         return {
             "blocks": self.params.blocks,
             "events": self.events,
+            # what the statistics (the b-value) count as an event, and how many of those there are
+            "events_as": self.events_as,
+            "ruptures": self.ruptures if connected else None,
             "simulated_time": self.simulated_time,
             "mean_recurrence": float(np.mean(np.diff(t0))) if t0.size > 1 else math.nan,
             "mean_moment": float(np.mean(moment)) if moment.size else math.nan,
@@ -125,6 +152,9 @@ class ChainResult:
             "events_checked_for_pieces": checked,
             # with backward slip a moment (the blocks' slips, signed) can be <= 0: no magnitude
             "events_without_magnitude": int(np.count_nonzero(~(moment > 0))),
+            "ruptures_without_magnitude": (
+                int(np.count_nonzero(~(rupture_moment > 0))) if rupture_moment is not None else None
+            ),
             "b_value": self.b.b,
             "b_value_err": self.b.error,
             "b_value_block": self.b.block,
@@ -136,6 +166,10 @@ class ChainResult:
             "b_value_upper": self.b.b_upper,
             "b_value_split": self.b.m_split,
             "b_value_slope_p": self.b.slope_p,
+            "b_value_upper_events": self.b.n_upper,
+            "b_value_ks_p": self.b.ks_p,
+            "b_value_span": self.b.span,
+            "b_value_verdict": self.b.verdict,
             "status": str(self.status),
             "units": dict(self.units),
         }
@@ -160,12 +194,22 @@ def _units(params: ChainParameters) -> tuple[dict[str, str], npt.NDArray[np.floa
 
 
 def _setup(
-    params: ChainParameters, init: str, seed: int | None, amplitude: float, rtol: float, atol: float
+    params: ChainParameters,
+    init: str,
+    seed: int | None,
+    amplitude: float,
+    rtol: float,
+    atol: float,
+    events_as: str = "whole",
 ) -> str:
     # atol joined the set-up on 2026-11-24: a catalogue resumed at another atol mixed two
-    # tolerances without a word (catalogues written before resume with a warning)
+    # tolerances without a word (catalogues written before resume with a warning). A catalogue
+    # of connected ruptures says so (one of whole events, as before: nothing), so that a run is
+    # resumed with the ruptures of every event or of none
+    extra = {"events_as": events_as} if events_as != "whole" else {}
     return json.dumps(
         {
+            **extra,
             "atol": atol,
             "blocks": params.blocks,
             "law": params.law.name,
@@ -275,6 +319,7 @@ def chain(
     m_max: float | None = None,
     max_event_duration: float | None = None,
     progress: bool | None = None,
+    events_as: str = "whole",
 ) -> ChainResult:
     """Simulate a chain of blocks event by event, exactly (stick in closed form for every block).
 
@@ -316,12 +361,16 @@ def chain(
         Tolerances of the slip integration.
     mc : float or "auto", optional
         Lower magnitude of the b-value fit. Default ``"auto"``: both ends of the
-        range that is a power law (:func:`~.statistics.power_law_range`: KS
-        and one slope against two; a chain's catalogue has a spike of
-        one-block events below it and a bump of chain-wide ruptures above it;
-        the range depends on the catalogue's size where the slope drifts: fix
-        it to compare catalogues); None: the completeness magnitude by
-        maximum curvature, no upper end unless ``m_max``.
+        range that is a power law (:func:`~.statistics.power_law_range`: the lower
+        end by the least Kolmogorov-Smirnov distance, as Clauset, Shalizi and
+        Newman choose it; the widest range that passes KS by parametric bootstrap
+        and one slope against two at 10 %, its events spread over a magnitude unit
+        at least; a chain's catalogue has a spike of one-block events below it and
+        a bump of chain-wide ruptures above it). Where no range passes, ``b`` is nan:
+        not a power law over a decade of moment (``result.b.verdict`` says why). The
+        range depends on the catalogue's size where the slope drifts: fix it to
+        compare catalogues. None: the completeness magnitude by maximum curvature,
+        no upper end unless ``m_max``.
     m_max : float, optional
         Upper magnitude of the b-value fit.
     max_event_duration : float or time, optional
@@ -331,6 +380,16 @@ def chain(
         ``1000 / nu + 1000``, a thousand loading times.
     progress : bool, optional
         Progress bar on events (default: on a terminal).
+    events_as : {"whole", "connected"}
+        What an event of the statistics (b-value, magnitude-frequency) is. ``"whole"``
+        (default): the catalogue's event, from all blocks stuck to all stuck again; on a
+        long chain slips in separate places, unrelated ruptures, fall into one such event
+        and their moments add. ``"connected"``: each connected run of neighbouring blocks
+        that slipped in an event is an event of its own, with its own moment and block
+        count (Carlson and Langer's definition; :func:`~.statistics.connected_ruptures`);
+        the catalogue then keeps them (``rupture_*`` variables, ``rupture_magnitude``),
+        and every event's slips pass through memory, a call at most
+        :data:`SLIP_VALUES_PER_CALL` values. The events themselves are the same.
 
     Returns
     -------
@@ -360,6 +419,12 @@ def chain(
     if not (t_max > 0):
         raise ValueError(f"t_max={t_max!r}: expected a positive time")
     mc, m_max = check_fit_range(mc, m_max)  # before the run, not after it
+    if not isinstance(events_as, str) or events_as not in EVENTS_AS:
+        raise ValueError(
+            f"events_as={events_as!r}: expected 'whole' (an event from all blocks stuck to all stuck) or "
+            "'connected' (each connected run of slipping blocks in it)"
+        )
+    connected = events_as == "connected"
     try:
         init_s = str(Init(init)) if state is None else "state"
     except ValueError:
@@ -368,7 +433,7 @@ def chain(
     kernel = params.law.kernel
     lp = params.law.core_params()
     units, factor = _units(params)
-    setup = _setup(params, init_s, seed, amplitude, rtol, atol)
+    setup = _setup(params, init_s, seed, amplitude, rtol, atol, events_as)
     attrs = {"setup": setup, "blocks": n, "law": params.law.name, "nu": params.nu, "ell": params.ell}
     longest = (
         sliding_after(params)
@@ -409,7 +474,7 @@ def chain(
             if not os.path.isdir(folder):
                 raise ValueError(f"out={path!r}: the folder {folder} does not exist")
             check_target(path, KIND, overwrite=bool(overwrite))  # a measured record was replaced once
-            writer = CatalogWriter(path, n, attrs, units, slip_rows=record_slip)
+            writer = CatalogWriter(path, n, attrs, units, slip_rows=record_slip, ruptures=connected)
     phi = params.phi
     args = (
         kernel,
@@ -422,6 +487,9 @@ def chain(
     )
     rows_mem: list[npt.NDArray[np.float64]] = []
     slips_mem: list[npt.NDArray[np.float64]] = []
+    ruptures_mem: list[dict[str, npt.NDArray[Any]]] = []
+    periodic = params.boundary == Boundary.PERIODIC
+    per_call = max(1, min(EVENTS_PER_CHUNK, SLIP_VALUES_PER_CALL // n)) if connected else EVENTS_PER_CHUNK
     n_slips = writer.slip_recorded if writer is not None else 0
     pending = None if writer is None else _Pending(writer)
     status = ChainStatus.OK
@@ -445,15 +513,20 @@ def chain(
                 break
         while status is ChainStatus.OK and done < events:
             want_slips = max(0, record_slip - n_slips)
-            cat, slips, code = advance(min(events - done, EVENTS_PER_CHUNK), want_slips)
+            chunk = min(events - done, per_call)
+            cat, slips, code = advance(chunk, chunk if connected else want_slips)
             cat = cat * factor
             slips = slips * factor[ce.C_MOMENT]
+            rup = _ruptures(slips, done, periodic) if connected else None
+            slips = slips[:want_slips]
             if pending is not None:
-                pending.add(cat, slips, state)
+                pending.add(cat, slips, state, rup)
             else:
                 rows_mem.append(cat)
                 if slips.shape[0]:
                     slips_mem.append(slips)
+                if rup is not None:
+                    ruptures_mem.append(rup)
             n_slips += slips.shape[0]
             done += cat.shape[0]
             if bar is not None:
@@ -478,8 +551,8 @@ def chain(
     if writer is not None and path is not None:
         ds = open_catalog(path)
     else:
-        ds = _in_memory(rows_mem, slips_mem, n, attrs, units)
-    mags = ds["magnitude"].values
+        ds = _in_memory(rows_mem, slips_mem, n, attrs, units, ruptures_mem if connected else None)
+    mags = ds["rupture_magnitude" if connected else "magnitude"].values
     fit = b_value(mags, mc=mc, m_max=m_max, block="auto")  # in time order: blocks of events
     # the law's own word where the motion failed or went beyond its range (a measured table
     # whose extrapolation reaches zero friction): `cycle` said it, a chain did not (the second
@@ -489,17 +562,38 @@ def chain(
     note = params.law.motion_warning(peaks, failed)
     if note:
         warn(f"chain: {note}", UserWarning)
-    result = ChainResult(params, ds, path, status, float(t_end), state, fit, units)
+    result = ChainResult(params, ds, path, status, float(t_end), state, fit, units, events_as)
     pieces, checked = result.in_pieces()
-    if checked >= PIECES_CHECKED and pieces > PIECES_SHARE * checked:
+    if not connected and checked >= PIECES_CHECKED and pieces > PIECES_SHARE * checked:
         warn(
             f"chain: {pieces} of {checked} events slipped in separate pieces of the chain (blocks "
             "that never slipped between blocks that did), one event because the chain was never all "
             "stuck between them: where the pieces are unrelated ruptures their moments add, and the "
             "magnitudes and the b-value are not those of single ruptures (Carlson and Langer count "
-            "connected clusters); events_in_pieces in the summary"
+            "connected clusters); events_in_pieces in the summary; events_as='connected' "
+            "(stickslip chain --events-as connected) counts each piece as an event of its own"
         )
     return result
+
+
+def _ruptures(slips: npt.NDArray[np.float64], before: int, periodic: bool) -> dict[str, npt.NDArray[Any]]:
+    """Return the connected ruptures of a call's events (all slips kept), numbered after ``before`` events."""
+    r = connected_ruptures(slips, periodic=periodic)
+    return {
+        "rupture_event": r.event + before,
+        "rupture_first_block": r.first_block,
+        "rupture_last_block": r.last_block,
+        "rupture_n_blocks": r.n_blocks,
+        "rupture_moment": r.moment,
+    }
+
+
+def _joined(parts: list[dict[str, npt.NDArray[Any]]]) -> dict[str, npt.NDArray[Any]]:
+    """Return the ruptures of several calls as one set of columns."""
+    return {
+        name: np.concatenate([p[name] for p in parts]) if parts else np.zeros(0, dtype=dtype)
+        for name, (dtype, _, _) in RUPTURE_COLUMNS.items()
+    }
 
 
 #: coupling force over static threshold at the start above which :func:`chain` warns
@@ -568,13 +662,22 @@ class _Pending:
         self.writer = writer
         self.rows: list[npt.NDArray[np.float64]] = []
         self.slips: list[npt.NDArray[np.float64]] = []
+        self.ruptures: list[dict[str, npt.NDArray[Any]]] = []
         self.state: ChainState | None = None
         self.last = time.monotonic()
 
-    def add(self, rows: npt.NDArray[np.float64], slips: npt.NDArray[np.float64], state: ChainState) -> None:
+    def add(
+        self,
+        rows: npt.NDArray[np.float64],
+        slips: npt.NDArray[np.float64],
+        state: ChainState,
+        ruptures: dict[str, npt.NDArray[Any]] | None = None,
+    ) -> None:
         with _signals_deferred():
             self.rows.append(rows)
             self.slips.append(slips)
+            if ruptures is not None:
+                self.ruptures.append(ruptures)
             self.state = state.copy()
         if time.monotonic() - self.last >= FLUSH_SECONDS:
             self.flush()
@@ -584,10 +687,15 @@ class _Pending:
         if self.state is None:
             return
         with _signals_deferred():  # rows and state together, or neither
-            self.writer.append(np.concatenate(self.rows), np.concatenate(self.slips))
+            rows, slips = np.concatenate(self.rows), np.concatenate(self.slips)
+            if self.writer.ruptures:
+                self.writer.append(rows, slips, _joined(self.ruptures))
+            else:
+                self.writer.append(rows, slips)
             self.writer.save_state(self.state)
             self.rows.clear()
             self.slips.clear()
+            self.ruptures.clear()
             self.state = None
         self.last = time.monotonic()
 
@@ -640,6 +748,7 @@ def _in_memory(
     n: int,
     attrs: dict[str, Any],
     units: dict[str, str],
+    ruptures: list[dict[str, npt.NDArray[Any]]] | None = None,
 ) -> xr.Dataset:
     """Return the catalogue as a Dataset, through the same NetCDF writer (one code path for both)."""
     fd, tmp = tempfile.mkstemp(suffix=".nc")
@@ -647,8 +756,11 @@ def _in_memory(
     try:
         allrows = np.concatenate(rows) if rows else np.zeros((0, ce.NCAT))
         allslips = np.concatenate(slips) if slips else np.zeros((0, n))
-        w = CatalogWriter(tmp, n, attrs, units, slip_rows=allslips.shape[0])
-        w.append(allrows, allslips)
+        w = CatalogWriter(tmp, n, attrs, units, slip_rows=allslips.shape[0], ruptures=ruptures is not None)
+        if ruptures is None:
+            w.append(allrows, allslips)
+        else:
+            w.append(allrows, allslips, _joined(ruptures))
         w.close(complete=True)
         ds = open_catalog(tmp).load()
         ds.close()

@@ -1,4 +1,4 @@
-"""Earthquake statistics of an event catalogue: Gutenberg-Richter b-value, completeness, recurrence.
+"""Earthquake statistics of an event catalogue: Gutenberg-Richter b-value, its range, recurrence, ruptures.
 
 Magnitudes here are ``log10`` of the moment (sum of the blocks' slips), as in the
 catalogue; a seismological moment magnitude ``M_w = (2/3) log10 M_0 + const``
@@ -17,29 +17,37 @@ has a b-value 3/2 times this one.
 * Completeness ``M_c``: maximum curvature (Wiemer and Wyss 2000), the bin with
   the most events; the synthetic catalogue misses no small events, so no
   correction is added.
-* The range of the power law, ``mc="auto"``: a catalogue of a chain is not one
-  power law from ``M_c`` up (one-block events pile up at one magnitude, ruptures
-  of the whole chain make a bump at the top), and a b-value over the wrong range
-  is a wrong verdict. :func:`power_law_range` scans every range
-  ``[M_lo, M_hi]`` on the magnitude grid, fits each by maximum likelihood and
-  tests it with the Kolmogorov-Smirnov distance to the fitted (truncated)
-  exponential, as Clauset, Shalizi and Newman (2009) choose the start of a power
-  law; the critical value is Stephens' (1974) for an exponential whose scale is
-  estimated (5 %). KS is weak where a slope changes near the ends of a range
-  (the start of the bump flattens its top), so a range must also pass a
-  likelihood-ratio test of one slope against two, its lower and upper halves
-  fitted apart (:func:`slope_change`, 1 %). The range kept is the widest (in
-  magnitude spanned by its events) among those that pass; where none passes,
-  the best-fitting one, marked as not a power law. The range still depends on
-  the catalogue's size where the local slope drifts: a small catalogue cannot
-  reject a range that a large one does (docs/chain.md measures it); compare
-  catalogues of different sizes over a range fixed by hand.
+* The range of the power law, ``mc="auto"`` (:func:`power_law_range`): a
+  catalogue of a chain is not one power law from ``M_c`` up (one-block events pile up at
+  one magnitude, a plateau of few-block events follows, ruptures of the whole chain make a
+  bump at the top), and a b-value over the wrong range is a wrong verdict. For every
+  upper end ``M_hi`` on the magnitude grid (and none) the lower end is the one that
+  minimises the Kolmogorov-Smirnov distance between the events of ``[M_lo, M_hi]`` and
+  the (truncated) exponential fitted to them, as Clauset, Shalizi and Newman (2009,
+  section 3.3) choose the start of a power law. Of these ranges the one whose events
+  span the most magnitude units is kept (the upper end as Deluca and Corral 2013 choose
+  it) among those that pass two tests at CSN's level, p >= 0.1 (their section 4.2), both
+  drawn by one parametric bootstrap that chooses the lower end again in each sample
+  (their section 4.1): KS, and one slope against two at the most likely cut (the largest
+  likelihood ratio over the cuts of the grid: a change-point test). KS compares whole
+  distributions and is weak near a range's top, where a chain's plateau or bump of large
+  events starts; the change of slope is what sets the upper end there. A range must hold
+  50 events spreading over at least one magnitude unit, a decade of moment. Where no
+  range passes, the catalogue is not a power law over a decade of moment: ``b`` is nan,
+  and ``verdict`` says why the widest range tested failed. The range still depends on
+  the catalogue's size where the local slope drifts: a small catalogue cannot reject a
+  range that a large one does (docs/chain.md measures it); compare catalogues of
+  different sizes over a range fixed by hand.
+* Connected ruptures (:func:`connected_ruptures`): an event of a chain, from all blocks
+  stuck to all stuck, may hold slips in separate places; Carlson and Langer's event is
+  one connected run of slipping blocks.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import numpy.typing as npt
@@ -50,10 +58,12 @@ from ..units import check_count, check_number, check_seed
 
 __all__ = [
     "BValue",
+    "Ruptures",
     "b_value",
     "block_length",
     "check_fit_range",
     "completeness_magnitude",
+    "connected_ruptures",
     "magnitude_frequency",
     "power_law_range",
     "recurrence_times",
@@ -67,12 +77,33 @@ LOG10E = math.log10(math.e)
 #: modified statistic ``(D - 0.2/n)(sqrt(n) + 0.26 + 0.5/sqrt(n))`` exceeds this
 #: with probability 5 % when the sample is exponential
 KS_CRITICAL_5 = 1.094
-#: level of the test of one slope against two (:func:`slope_change`) that a power-law range passes
-SLOPE_CHANGE_LEVEL = 0.01
+#: the same table's 10 % value: the KS test of a range when no bootstrap is made (``n_boot=0``),
+#: and a bound that spares the bootstrap of a range that fails anyway (its p is below 0.1)
+KS_CRITICAL_10 = 0.995
+#: a range whose goodness-of-fit p-value (KS by parametric bootstrap; one slope against two) is
+#: below this is not a power law: Clauset, Shalizi and Newman (2009, section 4.2) rule a power law
+#: out at p <= 0.1, which rejects about one true power law in ten, to be safe from false ones
+GOF_LEVEL = 0.1
+#: level of the test of one slope against two (at the most likely cut) that a power-law range passes
+SLOPE_CHANGE_LEVEL = GOF_LEVEL
+#: a power law claims at least this many magnitude units (a decade of moment: M = log10 moment),
+#: from the range's lower end to its largest event
+MIN_SPAN = 1.0
+#: the fewest events in a range that :func:`power_law_range` tests
+MIN_EVENTS = 50
+#: the most ranges whose tests :func:`power_law_range` draws (each ``n_boot`` samples): where the
+#: widest ranges all fail at the edge of the tests, drawing on through narrower ones costs minutes
+#: on a large catalogue and finds, at last, a range that passes by the chance of its draws
+MAX_DRAWN = 12
+#: the fewest events on either side of a cut where the change of slope is sought (:func:`_knee`):
+#: a slope of fewer is too loose to tell from noise, and the largest ratio over the cuts would
+#: be that noise's
+MIN_PART = 10
 #: how the statistics of a catalogue are computed; stores of ensembles record it, so that a
 #: resumed ensemble does not mix members' b-values from two versions (2: block bootstrap errors
-#: and the slope-change test of the power-law range)
-STATISTICS_VERSION = 2
+#: and the slope-change test of the power-law range; 3: the lower end by the least KS distance,
+#: KS by parametric bootstrap, both tests at 10 %, no b-value where no range passes)
+STATISTICS_VERSION = 3
 
 
 @dataclass(frozen=True)
@@ -82,7 +113,10 @@ class BValue:
     Attributes
     ----------
     b : float
-        Maximum-likelihood b-value (nan with fewer than 2 events above ``mc``).
+        Maximum-likelihood b-value: nan with fewer than 2 events above ``mc``, and, for a
+        range chosen by :func:`power_law_range` (``method`` ``"power-law range"``), where no
+        range passes as a power law over a decade of moment (``verdict`` says why; the
+        other fields then describe the widest range drawn, else the closest fit by KS).
     error : float
         Standard deviation of ``b`` over bootstrap resamples.
     shi_bolt : float
@@ -100,7 +134,8 @@ class BValue:
     ks : float
         Stephens' modified Kolmogorov-Smirnov statistic of the events in the
         range against the fitted exponential (truncated at ``m_max``); above
-        :data:`KS_CRITICAL_5` the range is not a power law at the 5 % level.
+        :data:`KS_CRITICAL_10` the range is not a power law at 10 % (the test
+        where no bootstrap was made).
     method : str
         How the range was chosen: ``"given"``, ``"maximum curvature"`` or
         ``"power-law range"`` (:func:`power_law_range`).
@@ -108,18 +143,32 @@ class BValue:
         Events per block of the bootstrap behind ``error`` (1: events resampled
         one by one, as if independent).
     b_lower, b_upper : float
-        The b-values of the range's lower and upper halves in magnitude, below
-        and above ``m_split``, fitted apart (:func:`slope_change`); nan for a
-        half without events.
+        The b-values below and above ``m_split``, fitted apart, at the most likely
+        change of slope in the range.
     m_split : float
-        Where the halves meet: the middle of ``[mc, m_max]`` (of ``mc`` and
-        the largest event where the range is open).
+        That cut: of the cuts on the magnitude grid with at least :data:`MIN_PART`
+        events on either side, the one where two slopes (and shares of the events)
+        fit best against one slope, by likelihood ratio; nan where no cut qualifies.
     slope_p : float
-        The p-value of one slope against two (the halves apart); below
-        :data:`SLOPE_CHANGE_LEVEL` the slope changes across the range, and it
-        is not a power law. Nan where the test cannot be made (fewer than 2
-        events, or a half's events all at its lower end): ``power_law`` then
-        rests on KS alone.
+        The p-value of one slope against two at that cut, the search over the cuts
+        counted: by the parametric bootstrap beside ``ks_p``, or without one
+        (``n_boot=0``) Bonferroni's bound, the cuts tried times the chi-square
+        p-value (2 degrees of freedom). Below :data:`GOF_LEVEL` the slope changes
+        across the range, and it is not a power law. Nan where no cut qualifies:
+        ``power_law`` then rests on KS alone.
+    ks_p : float
+        The p-value of the Kolmogorov-Smirnov distance by parametric bootstrap
+        (Clauset, Shalizi and Newman 2009, section 4.1): the share of samples drawn
+        from the fit whose distance is at least the catalogue's, the lower end chosen
+        again in each where the range was chosen by :func:`power_law_range`; below
+        :data:`GOF_LEVEL`, not a power law. Nan without a bootstrap (``n_boot=0``):
+        ``ks`` against :data:`KS_CRITICAL_10` is the test then.
+    span : float
+        Magnitude units from ``mc`` to the largest event of the range (decades of
+        moment); a power law needs at least :data:`MIN_SPAN`.
+    n_upper : int
+        Events of the range at or above ``m_split``: a few of them test the slope there
+        weakly, and a top that flattens can pass.
 
     """
 
@@ -137,29 +186,68 @@ class BValue:
     b_upper: float = math.nan
     m_split: float = math.nan
     slope_p: float = math.nan
+    ks_p: float = math.nan
+    span: float = math.nan
+    n_upper: int = 0
 
     @property
     def power_law(self) -> bool:
-        """Whether the events of the range pass as a power law: KS at 5 %, one slope at 1 %."""
-        return bool(self.ks <= KS_CRITICAL_5) and not self.slope_p < SLOPE_CHANGE_LEVEL
+        """Whether the range passes as a power law over a decade of moment.
 
-    @property
-    def verdict(self) -> str:
-        """Why the range is not a power law, in words (empty where it is)."""
-        if self.power_law:
+        Its events span :data:`MIN_SPAN` magnitude units at least, and neither test rejects
+        it at :data:`GOF_LEVEL`: KS (``ks_p`` by bootstrap, or ``ks`` against Stephens'
+        10 % value without one) and one slope against two (``slope_p``). A test that could
+        not be made (nan) rejects nothing.
+        """
+        return math.isfinite(self.b) and self._failure() == ""
+
+    def _failure(self) -> str:
+        """Why the range fails as a power law, in words (empty where it passes its tests)."""
+        if not math.isfinite(self.ks):
             return ""
-        if not math.isfinite(self.b):
-            return "no b-value (too few events, or their magnitudes do not spread)"
-        if not self.ks <= KS_CRITICAL_5:
-            return "not a power law at 5 % (Kolmogorov-Smirnov)"
+        if self.span < MIN_SPAN:
+            return (
+                f"its events span {self.span:.2f} magnitude units from M = {self.mc:.2f}, less than "
+                f"{MIN_SPAN:g} (a decade of moment)"
+            )
+        if self.ks_p < GOF_LEVEL:
+            return f"Kolmogorov-Smirnov p = {self.ks_p:.2g} by parametric bootstrap, below {GOF_LEVEL:g}"
+        if not math.isfinite(self.ks_p) and not self.ks <= KS_CRITICAL_10:
+            return f"Kolmogorov-Smirnov statistic {self.ks:.3g} above Stephens' 10 % value {KS_CRITICAL_10}"
 
         def slope(b: float) -> str:
             return f"{b:.3g}" if math.isfinite(b) else "none (no events)"
 
-        return (
-            f"the slope changes across the range: b = {slope(self.b_lower)} below "
-            f"M = {self.m_split:.2f}, {slope(self.b_upper)} above (p = {self.slope_p:.2g})"
-        )
+        if self.slope_p < GOF_LEVEL:
+            return (
+                f"the slope changes across the range: b = {slope(self.b_lower)} below "
+                f"M = {self.m_split:.2f}, {slope(self.b_upper)} above (p = {self.slope_p:.2g})"
+            )
+        return ""
+
+    @property
+    def verdict(self) -> str:
+        """Why the range is not a power law, in one line (empty where it is)."""
+        if self.power_law:
+            return ""
+        why = self._failure()
+        if self.method == "power-law range":
+            if not math.isfinite(self.ks):
+                return (
+                    f"no b-value (no range of magnitudes holds {MIN_EVENTS} events spread over "
+                    f"{MIN_SPAN:g} unit, a decade of moment: too few to test a power law)"
+                )
+            if not math.isfinite(self.b):
+                top = f"{self.m_max:.2f}" if math.isfinite(self.m_max) else "the largest event"
+                why = why or f"it is not among the {MAX_DRAWN} widest ranges drawn"
+                # the range described: the widest drawn, else (none drawn) the closest fit by KS
+                return (
+                    f"not a power law over a decade of moment: no range passes (M = {self.mc:.2f} to "
+                    f"{top}: {why}); no b-value"
+                )
+        if not math.isfinite(self.b) or not why:
+            return "no b-value (too few events, or their magnitudes do not spread)"
+        return f"not a power law: {why}"
 
     def expected_cumulative(self, m: npt.ArrayLike, n_above: int = 0) -> FloatArray:
         """Return the fit's ``N(>= m)`` for ``mc <= m <= m_max``, to compare with a catalogue's.
@@ -281,23 +369,261 @@ def _mle(m: FloatArray, mc: float, m_max: float) -> float:
     return float(brentq(score, 1e-9, hi, xtol=1e-14)) / math.log(10.0)
 
 
+def _distance(sel: FloatArray, lo: float, hi: float, beta: float) -> float:
+    """Return the KS distance of sorted ``sel`` to the exponential of rate ``beta`` (natural) on [lo, hi]."""
+    n = sel.size
+    u = sel - lo
+    if beta <= 0.0:
+        f = u / (hi - lo) if math.isfinite(hi) else np.zeros(n)
+    else:
+        f = -np.expm1(-beta * u)
+        if math.isfinite(hi):
+            f /= -math.expm1(-beta * (hi - lo))
+    i = np.arange(1, n + 1) / n
+    return max(float(np.max(i - f)), float(np.max(f - (i - 1.0 / n))))
+
+
+def _stephens(d: float, n: int) -> float:
+    """Stephens' (1974) modified KS statistic of a distance ``d`` over ``n`` events."""
+    rn = math.sqrt(n)
+    return (d - 0.2 / n) * (rn + 0.26 + 0.5 / rn)
+
+
 def _ks(sel: FloatArray, lo: float, hi: float, b: float) -> float:
     """Stephens' modified KS statistic of sorted ``sel`` against the exponential of ``b`` on [lo, hi]."""
     n = sel.size
     if n < 2 or not math.isfinite(b):
         return math.nan
-    u = sel - lo
-    if b <= 0.0:
-        f = u / (hi - lo) if math.isfinite(hi) else np.zeros(n)
-    else:
-        beta = b * math.log(10.0)
-        f = -np.expm1(-beta * u)
-        if math.isfinite(hi):
-            f /= -math.expm1(-beta * (hi - lo))
-    i = np.arange(1, n + 1) / n
-    d = max(float(np.max(i - f)), float(np.max(f - (i - 1.0 / n))))
-    rn = math.sqrt(n)
-    return (d - 0.2 / n) * (rn + 0.26 + 0.5 / rn)
+    return _stephens(_distance(sel, lo, hi, b * math.log(10.0)), n)
+
+
+def _rates(excess: FloatArray, width: FloatArray) -> FloatArray:
+    """Return maximum-likelihood rates ``beta = b ln 10`` of exponentials truncated at ``width``, vectorised.
+
+    ``excess`` is each sample's mean above its lower end: the rate solves
+    ``1/beta - width/expm1(beta width) = excess`` (:func:`_mle`'s equation), ``1/excess``
+    for an infinite width, 0 where ``excess >= width/2`` (not steeper than uniform), nan where
+    ``excess <= 0``. With ``x = beta width`` and ``r = excess/width`` the root of the
+    decreasing, convex ``h(x) = 1/x - 1/expm1(x)`` at ``h = r`` lies above ``1/r - 2``
+    (``h(y) > 1/(y + 2)`` for every ``y > 0``), and Newton's steps from there rise to it
+    monotonically: 40 of them reach the rounding of a double from any start (a start far
+    below the root at least doubles each step).
+    """
+    excess = np.asarray(excess, dtype=float)
+    width = np.broadcast_to(np.asarray(width, dtype=float), excess.shape)
+    out = np.full(excess.shape, math.nan)
+    pos = excess > 0.0
+    open_ = pos & np.isinf(width)
+    out[open_] = 1.0 / excess[open_]
+    r = np.where(pos & np.isfinite(width), excess / np.where(np.isfinite(width), width, 1.0), math.nan)
+    out[r >= 0.5] = 0.0
+    solve = np.flatnonzero(r < 0.5)
+    if solve.size:
+        target = r[solve]
+        x = np.maximum(1.0 / target - 2.0, 0.0)
+        for _ in range(40):
+            small = x < 1e-2  # the series, where 1/x - 1/expm1(x) would cancel
+            xs = np.where(small, 1.0, np.minimum(x, 700.0))  # beyond, 1/expm1(x) is 0 to a double
+            em = np.expm1(xs)
+            h = np.where(small, 0.5 - x / 12.0 + x**3 / 720.0 - x**5 / 30240.0, 1.0 / xs - 1.0 / em)
+            dh = np.where(
+                small, -1.0 / 12.0 + x**2 / 240.0 - x**4 / 6048.0, -1.0 / xs**2 - 1.0 / (em * np.expm1(-xs))
+            )
+            step = np.maximum(x - (h - target) / dh, x)  # from below the root: never down
+            if np.array_equal(step, x):
+                break
+            x = step
+        out[solve] = x / width[solve]
+    return out
+
+
+def _grid(s: FloatArray, bin_width: float) -> FloatArray:
+    """Return the grid of ``bin_width`` from below the smallest of sorted ``s`` to above its largest."""
+    k0 = math.floor(s[0] / bin_width + 1e-9)
+    k1 = math.ceil(s[-1] / bin_width - 1e-9)
+    return np.asarray(np.round(np.arange(k0, k1 + 1) * bin_width, 12), dtype=float)
+
+
+def _lower_end(
+    s: FloatArray, hi: float, edges: FloatArray, min_width: float, min_events: int
+) -> tuple[float, float, int, int] | None:
+    """Return ``(lo, D, i0, i1)``: the lower end of ``[lo, hi]`` closest to its fit in KS distance ``D``.
+
+    ``lo`` is on ``edges``; the range of sorted ``s`` is the one closest to the exponential
+    fitted to it (Clauset, Shalizi and Newman 2009, section 3.3) among those holding at least
+    ``min_events`` events, the largest ``min_width`` or more above ``lo``: ``s[i0:i1]``.
+    None where no lower end qualifies.
+    """
+    i1 = int(np.searchsorted(s, hi, "right")) if math.isfinite(hi) else s.size
+    if i1 < max(min_events, 2):
+        return None
+    i0 = np.searchsorted(s, edges, "left")
+    n = i1 - i0
+    top = float(s[i1 - 1])
+    ok = np.flatnonzero((n >= max(min_events, 2)) & (edges < hi) & (top - edges >= min_width - 1e-9))
+    if ok.size == 0:
+        return None
+    csum = np.concatenate([[0.0], np.cumsum(s[:i1])])
+    excess = (csum[i1] - csum[i0[ok]]) / n[ok] - edges[ok]
+    beta = _rates(excess, hi - edges[ok])
+    best: tuple[float, float, int, int] | None = None
+    for k, rate in zip(ok, beta, strict=True):
+        if not math.isfinite(rate):
+            continue
+        lo = float(edges[k])
+        d = _distance(s[i0[k] : i1], lo, hi, float(rate))
+        if best is None or d < best[1]:
+            best = (lo, d, int(i0[k]), i1)
+    return best
+
+
+class _Knee(NamedTuple):
+    """The most likely place of a change of slope in a range (:func:`_knee`)."""
+
+    ratio: float  # twice the log-likelihood ratio of two slopes (cut there) against one
+    cut: float
+    b_lower: float
+    b_upper: float
+    n_upper: int  # events at or above the cut
+    cuts: int  # the cuts tried
+
+
+def _part_loglik(k: FloatArray, excess: FloatArray, width: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Return the maximised log-likelihoods of parts of ``k`` events, mean ``excess`` above their lower end.
+
+    Each part is an exponential truncated at ``width`` (inf: none) with its maximum-likelihood
+    rate (:func:`_rates`; rate 0: uniform over ``width``); nan where the rate is nan. The
+    rates are returned beside them.
+    """
+    beta = _rates(excess, width)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        norm = np.where(np.isfinite(width), -np.expm1(-beta * np.where(np.isfinite(width), width, 1.0)), 1.0)
+        steep = k * np.log(beta) - beta * k * excess - k * np.log(norm)
+        flat = -k * np.log(np.where(np.isfinite(width), width, np.inf))
+    return np.where(beta > 0.0, steep, np.where(beta == 0.0, flat, math.nan)), beta
+
+
+def _knee(sel: FloatArray, lo: float, hi: float, edges: FloatArray) -> _Knee:
+    """Return the cut of ``[lo, hi]`` on ``edges`` where two slopes fit sorted ``sel`` best against one.
+
+    At each cut with :data:`MIN_PART` events on either side, the events below it (an
+    exponential truncated at the cut) and above it (truncated at ``hi``) get a slope and a
+    share of the events each; twice their log-likelihood ratio against one slope over the
+    range is chi-square with 2 degrees of freedom at a cut fixed beforehand (Wilks). The
+    largest over the cuts, where a chain's catalogue turns into a plateau or a bump, is
+    the change-point statistic whose p-value :func:`_gof_pvalues` draws (or bounds,
+    :func:`_knee_p`). A ratio of nan where no cut qualifies.
+    """
+    n = sel.size
+    none = _Knee(math.nan, math.nan, math.nan, math.nan, 0, 0)
+    top = hi if math.isfinite(hi) else float(sel[-1]) if n else lo
+    cuts = edges[(edges > lo + 1e-9) & (edges < top - 1e-9)]
+    if n < 2 * MIN_PART or cuts.size == 0:
+        return none
+    at = np.searchsorted(sel, cuts, "left")
+    ok = (at >= MIN_PART) & (n - at >= MIN_PART)
+    cuts, at = cuts[ok], at[ok]
+    c = cuts.size
+    if c == 0:
+        return none
+    csum = np.concatenate([[0.0], np.cumsum(sel)])
+    k1 = at.astype(float)
+    k2 = n - k1
+    below = csum[at]
+    # one solve for all the parts: the range whole, below each cut, above each cut
+    k = np.concatenate([[float(n)], k1, k2])
+    excess = np.concatenate([[csum[n] / n - lo], below / k1 - lo, (csum[n] - below) / k2 - cuts])
+    width = np.concatenate([[hi - lo], cuts - lo, hi - cuts])
+    ll, beta = _part_loglik(k, excess, width)
+    one, ll1, ll2 = ll[0], ll[1 : c + 1], ll[c + 1 :]
+    ratio = 2.0 * (ll1 + ll2 + k1 * np.log(k1 / n) + k2 * np.log(k2 / n) - one)
+    if not math.isfinite(one) or not np.isfinite(ratio).any():
+        return none
+    j = int(np.nanargmax(ratio))
+    b1, b2 = float(beta[1 + j]) / math.log(10.0), float(beta[c + 1 + j]) / math.log(10.0)
+    return _Knee(max(float(ratio[j]), 0.0), float(cuts[j]), b1, b2, int(k2[j]), c)
+
+
+def _knee_p(knee: _Knee) -> float:
+    """Return Bonferroni's bound on the p-value of a knee: the cuts tried times chi-square's p of its ratio.
+
+    At least the bootstrap's p (:func:`_gof_pvalues`), where the chi-square law of each cut holds:
+    a bound below a level rejects, without drawing.
+    """
+    if not math.isfinite(knee.ratio):
+        return math.nan
+    return min(1.0, knee.cuts * float(chi2.sf(knee.ratio, 2)))
+
+
+def _gof_pvalues(
+    s: FloatArray,
+    lo: float,
+    hi: float,
+    d_obs: float,
+    ratio_obs: float,
+    *,
+    edges: FloatArray,
+    scan: bool,
+    min_width: float,
+    min_events: int,
+    n_boot: int,
+    seed: int | None,
+    levels: tuple[float, float] = (0.0, 0.0),
+) -> tuple[float, float]:
+    """Return the p-values of the KS distance ``d_obs`` and the knee ``ratio_obs`` of ``[lo, hi]``, drawn.
+
+    Clauset, Shalizi and Newman (2009, section 4.1): each of ``n_boot`` samples has as many
+    events as sorted ``s``; each event is drawn, with the catalogue's shares, from the events
+    below ``lo``, from the exponential fitted to ``[lo, hi]`` or from the events above ``hi``.
+    With ``scan``, the lower end of each sample is chosen again as :func:`_lower_end` chose
+    ``lo`` (the upper end is held), else the range is held and only the fit is redone. Each
+    p-value is the share of samples whose statistic (distance to their fit; the largest
+    ratio of two slopes to one, :func:`_knee`) is at least the catalogue's; samples without
+    a range or a cut that qualifies are left out (nan where none is left, or ``ratio_obs``
+    is nan). With ``levels`` (KS, knee), the draws stop where either p cannot reach its level
+    any more, and bounds below it are returned.
+    """
+    rng = np.random.default_rng(seed)
+    inside = s[(s >= lo) & (s <= hi)]
+    below = s[s < lo] if scan else s[:0]
+    above = s[s > hi] if scan else s[:0]
+    n = below.size + inside.size + above.size
+    rate = _mle(inside, lo, hi) * math.log(10.0)
+    shares = np.array([below.size, inside.size, above.size], dtype=float) / n
+    knee = math.isfinite(ratio_obs)
+    exceed = np.zeros(2)
+    valid = np.zeros(2)
+    for r in range(n_boot):
+        kb, ki, ka = rng.multinomial(n, shares)
+        u = rng.uniform(size=ki)
+        if rate <= 0.0:
+            drawn = lo + u * (hi - lo)
+        elif math.isfinite(hi):
+            drawn = lo - np.log1p(u * math.expm1(-rate * (hi - lo))) / rate
+        else:
+            drawn = lo - np.log1p(-u) / rate
+        x = np.sort(np.concatenate([rng.choice(below, kb) if kb else below[:0], drawn,
+                                    rng.choice(above, ka) if ka else above[:0]]))  # fmt: skip
+        if scan:
+            found = _lower_end(x, hi, edges, min_width, min_events)
+            d, lo_r, part = (
+                (math.nan, lo, x[:0]) if found is None else (found[1], found[0], x[found[2] : found[3]])
+            )
+        else:
+            b = _mle(x, lo, hi)
+            d = _distance(x, lo, hi, b * math.log(10.0)) if math.isfinite(b) and x.size >= 2 else math.nan
+            lo_r, part = lo, x
+        stats = (d, _knee(part, lo_r, hi, edges).ratio if knee and part.size else math.nan)
+        for i, (got, obs) in enumerate(zip(stats, (d_obs, ratio_obs), strict=True)):
+            if math.isfinite(got):
+                valid[i] += 1
+                exceed[i] += got >= obs
+        left = n_boot - r - 1
+        most = (exceed + left) / np.maximum(valid + left, 1)
+        if most[0] < levels[0] or (knee and most[1] < levels[1]):
+            return float(most[0]), float(most[1]) if knee else math.nan
+    p = np.where(valid > 0, exceed / np.maximum(valid, 1), math.nan)
+    return float(p[0]), float(p[1]) if knee else math.nan
 
 
 def _loglik(sel: FloatArray, lo: float, hi: float, b: float) -> float:
@@ -318,9 +644,10 @@ def slope_change(m: npt.ArrayLike, mc: float, m_max: float = math.inf) -> tuple[
     nested in the law with a slope of its own in each half and a free share
     of the events below the cut (three): twice their log-likelihood ratio is
     chi-square with 2 degrees of freedom where the slope is one (Wilks). The
-    Kolmogorov-Smirnov test of :func:`power_law_range` compares the whole
-    distribution and is weak near a range's ends, where a chain's bump starts
-    (measured: docs/chain.md).
+    Kolmogorov-Smirnov test compares the whole distribution and is weak near a
+    range's ends, where a chain's bump starts (measured: docs/chain.md). The cut in
+    the middle sees a change near the top weakly, where few events lie above it:
+    :func:`power_law_range` and ``b_value`` seek the change at every cut instead.
 
     Parameters
     ----------
@@ -375,95 +702,132 @@ def power_law_range(
     *,
     m_max: float | None = None,
     bin_width: float = 0.1,
-    min_width: float = 1.0,
-    min_events: int = 50,
-    slope_level: float = SLOPE_CHANGE_LEVEL,
+    min_width: float = MIN_SPAN,
+    min_events: int = MIN_EVENTS,
+    slope_level: float = GOF_LEVEL,
+    level: float = GOF_LEVEL,
+    n_boot: int = 200,
+    seed: int | None = 0,
 ) -> tuple[float, float, float]:
     """Return ``(mc, m_max, ks)``: the range of magnitudes that is a Gutenberg-Richter power law.
 
-    Every range ``[lo, hi]`` with ends on the grid of ``bin_width`` (``hi`` also
-    unbounded), at least ``min_width`` wide and holding at least ``min_events``
-    events, is fitted by maximum likelihood (truncated at ``hi``) and tested by
-    the Kolmogorov-Smirnov distance to the fit (Clauset, Shalizi and Newman
-    2009), with Stephens' (1974) modification for an estimated scale, and by
-    the likelihood ratio of one slope against two (:func:`slope_change`). Of
-    the ranges that pass both (KS at 5 %, the slope at ``slope_level``) the
-    one whose events span the most magnitude units (decades of moment: what a
-    power law claims) is returned, then the one with
-    the most events; where none passes both, the one that fits best by KS
-    (its ``ks`` may pass where the slope test fails: ``b_value(m,
-    mc="auto").power_law`` and ``verdict`` say whether and why it is not a
-    power law). Stephens' value is exact for an unbounded
-    range; for a truncated one the test is conservative (samples of a truncated
-    exponential are rejected 0.5-2 % of the time instead of 5 %, measured).
+    For every upper end ``hi`` on the grid of ``bin_width`` (and none), the lower end
+    ``lo`` on the grid is the one whose events in ``[lo, hi]`` are closest, in
+    Kolmogorov-Smirnov distance, to the exponential fitted to them by maximum likelihood
+    (truncated at ``hi``): Clauset, Shalizi and Newman (2009, section 3.3) choose the
+    start of a power law so. The range must hold ``min_events`` events, the largest
+    at least ``min_width`` above ``lo`` (a decade of moment for 1). Of these ranges, one
+    for each upper end, the one whose events span the most magnitude units is returned
+    (then the one with the most events; Deluca and Corral 2013 choose the upper end so)
+    among those that pass two tests, drawn from one parametric bootstrap of ``n_boot``
+    samples in which the lower end is chosen again (CSN section 4.1): KS at ``level``,
+    and one slope against two at the most likely cut (the largest likelihood ratio over
+    the cuts of the grid with :data:`MIN_PART` events on either side) at
+    ``slope_level``. KS compares whole distributions, and misses a slope that changes
+    near a range's top, where a chain's plateau or bump of large events starts: the
+    slope test sets the upper end there. Ranges that fail a cheap bound are not drawn:
+    Stephens' (1974) modified KS statistic above his 10 % value
+    (:data:`KS_CRITICAL_10`), or Bonferroni's bound on the slope test (the cuts times
+    chi-square's p) below ``slope_level``; with ``n_boot=0`` these bounds are the tests.
+    At most :data:`MAX_DRAWN` ranges are drawn, the widest first. Where none passes,
+    the widest range drawn (else the one that fits best by Stephens' statistic) is
+    returned, and ``b_value(m, mc="auto")`` has no b-value (``verdict`` says why). The
+    upper end is not chosen again in the bootstrap: the p-value of a range whose top
+    was picked among many is a little high.
 
     Parameters
     ----------
     m : array of float
         Magnitudes; non-finite ones are skipped.
     m_max : float, optional
-        A fixed upper end (only the lower one is scanned).
+        A fixed upper end (only the lower one is chosen).
     bin_width : float
         Spacing of the grid of candidate ends (magnitude units).
     min_width : float
-        Narrowest range considered (magnitude units).
+        The fewest magnitude units a range's events span (lower end to largest event).
     min_events : int
         Fewest events in a range considered.
     slope_level : float
-        Level of the test of one slope against two (0: KS alone, the scan of
-        stickslip before its statistics version 2).
+        Level of the test of one slope against two (0: none).
+    level : float
+        Level of the KS test (Clauset, Shalizi and Newman's 0.1 by default).
+    n_boot : int
+        Samples of the bootstrap (0: Stephens' value and Bonferroni's bound instead).
+    seed : int, optional
+        Seed of the bootstrap.
 
     Returns
     -------
     mc, m_max, ks : float
-        The range (``m_max`` inf: unbounded) and its modified KS statistic; all
-        nan where no range has ``min_events`` events.
+        The range (``m_max`` inf: unbounded) and Stephens' modified KS statistic of
+        its events; all nan where no range qualifies.
 
     """
-    s = np.sort(np.asarray(m, dtype=float))
-    s = s[np.isfinite(s)]
+    found = _scan(np.asarray(m, dtype=float), m_max, bin_width, min_width, min_events, slope_level, level,
+                  n_boot, seed)  # fmt: skip
+    return (found[0], found[1], found[2]) if found is not None else (math.nan, math.nan, math.nan)
+
+
+def _scan(
+    m: FloatArray,
+    m_max: float | None,
+    bin_width: float,
+    min_width: float,
+    min_events: int,
+    slope_level: float,
+    level: float,
+    n_boot: int,
+    seed: int | None,
+) -> tuple[float, float, float, float, float, bool] | None:
+    """:func:`power_law_range`, with the range's p-values (KS, knee) and whether it passed.
+
+    The p-values are nan where the range did not pass (none did).
+    """
     if not (bin_width > 0 and min_width > 0):
         raise ValueError(f"bin_width={bin_width!r}, min_width={min_width!r}: expected positive widths")
     if not 0.0 <= slope_level < 1.0:
         raise ValueError(f"slope_level={slope_level!r}: expected a level in [0, 1) (0: no slope test)")
+    if not 0.0 < level < 1.0:
+        raise ValueError(f"level={level!r}: expected a level in (0, 1)")
+    n_boot = check_count(n_boot, "n_boot", minimum=0, what="a whole number of bootstrap resamples")
+    s = np.sort(m[np.isfinite(m)])
     if s.size < max(int(min_events), 2):
-        return math.nan, math.nan, math.nan
-    k0 = math.floor(s[0] / bin_width + 1e-9)
-    k1 = math.ceil(s[-1] / bin_width - 1e-9)
-    edges = np.round(np.arange(k0, k1 + 1) * bin_width, 12)
-    if m_max is not None:
-        tops = np.array([float(m_max)])
-    else:
-        tops = np.concatenate([edges, [math.inf]])
-    best: tuple[float, ...] | None = None  # (span, n, -lo, hi) to maximise, then lo, hi, ks
-    fallback: tuple[float, float, float] | None = None
-    for lo in edges:
-        i0 = int(np.searchsorted(s, lo, "left"))
-        for hi in tops:
-            if hi - lo < min_width - 1e-9:
-                continue
-            i1 = int(np.searchsorted(s, hi, "right")) if math.isfinite(hi) else s.size
-            n = i1 - i0
-            if n < min_events:
-                continue
-            sel = s[i0:i1]
-            b = _mle(sel, lo, hi)
-            ks = _ks(sel, lo, hi, b)
-            if not math.isfinite(ks):
-                continue
-            if fallback is None or ks < fallback[2]:
-                fallback = (float(lo), float(hi), ks)
-            if ks <= KS_CRITICAL_5 and (
-                slope_level == 0 or not _slope_change(sel, lo, hi, b)[3] < slope_level
-            ):
-                key = (float(sel[-1]) - lo, n, -lo, hi)  # the decades of moment it spans, then events
-                if best is None or key > best[:4]:
-                    best = (*key, float(lo), float(hi), ks)
-    if best is not None:
-        return best[4], best[5], best[6]
-    if fallback is not None:
-        return fallback
-    return math.nan, math.nan, math.nan
+        return None
+    edges = _grid(s, bin_width)
+    tops = [float(m_max)] if m_max is not None else [*edges.tolist(), math.inf]
+    ranges = []  # (span, events, -lo, hi) to maximise, then lo, hi, distance, Stephens' statistic
+    for hi in tops:
+        found = _lower_end(s, hi, edges, min_width, int(min_events))
+        if found is None:
+            continue
+        lo, d, i0, i1 = found
+        ranges.append(((float(s[i1 - 1]) - lo, i1 - i0, -lo, hi), lo, hi, d, _stephens(d, i1 - i0), i0, i1))
+    if not ranges:
+        return None
+    nan = math.nan
+    drawn: list[tuple[float, float, float]] = []
+    for _, lo, hi, d, ks, i0, i1 in sorted(ranges, key=lambda r: r[0], reverse=True):
+        # Stephens' p below 10 %: the bootstrap's is too (his value is exact for a fixed open range,
+        # conservative for a truncated one, and a lower end chosen again only brings samples closer)
+        if not ks <= KS_CRITICAL_10 and (n_boot == 0 or level >= GOF_LEVEL):
+            continue
+        knee = _knee(s[i0:i1], lo, hi, edges) if slope_level > 0 else _Knee(nan, nan, nan, nan, 0, 0)
+        if _knee_p(knee) < slope_level:  # Bonferroni's bound rejects: the bootstrap would
+            continue
+        if n_boot == 0:
+            return lo, hi, ks, nan, _knee_p(knee), True
+        if len(drawn) == MAX_DRAWN:  # the widest ranges fail at the edge of the tests: marginal
+            break
+        drawn.append((lo, hi, ks))
+        p_ks, p_knee = _gof_pvalues(s, lo, hi, d, knee.ratio, edges=edges, scan=True, min_width=min_width,
+                                    min_events=int(min_events), n_boot=n_boot, seed=seed,
+                                    levels=(level, slope_level))  # fmt: skip
+        if p_ks >= level and not p_knee < slope_level:
+            return lo, hi, ks, p_ks, p_knee, True
+    if drawn:  # the widest range drawn, which failed
+        return *drawn[0], nan, nan, False
+    _, lo, hi, d, ks, _, _ = min(ranges, key=lambda r: r[4])
+    return lo, hi, ks, nan, nan, False
 
 
 def block_length(x: npt.ArrayLike) -> int:
@@ -547,12 +911,19 @@ def b_value(
     mc : float or "auto", optional
         Completeness magnitude; default :func:`completeness_magnitude` (maximum
         curvature). ``"auto"``: the range of the power law by
-        :func:`power_law_range`, both ends (the lower only where ``m_max`` is given).
+        :func:`power_law_range`, both ends (the lower only where ``m_max`` is given):
+        the lower end by the least KS distance, tested by KS (bootstrap, ``n_boot``
+        samples, ``seed``) and one slope against two at 10 %; where no range passes,
+        ``b`` is nan (not a power law over a decade of moment) and ``verdict`` says why.
+        For a range given or by maximum curvature, ``b`` is fitted whatever the tests say,
+        and ``power_law`` and ``verdict`` tell.
     m_max : float, optional
         Upper end of the fit (the power law of small events, below a bump of
         large ones); default none.
     n_boot : int
-        Bootstrap resamples for the error (0: none, error nan; else at least 2).
+        Bootstrap resamples for the error, and samples of the KS test's parametric bootstrap
+        (``ks_p``; 0: none, error and ``ks_p`` nan, KS judged by Stephens' 10 % value; else
+        at least 2).
     seed : int, optional
         Seed of the bootstrap.
     block : int or "auto"
@@ -582,13 +953,14 @@ def b_value(
     if block != "auto" and not whole:
         raise ValueError(f"block={block!r}: expected a whole number of events >= 1 or 'auto'")
     mc, m_max = check_fit_range(mc, m_max)
+    found: tuple[float, float, float, float, float, bool] | None = None
     if isinstance(mc, str):
-        mc_, top, _ = power_law_range(mm, m_max=m_max, bin_width=bin_width)
+        found = _scan(mm, m_max, bin_width, MIN_SPAN, MIN_EVENTS, GOF_LEVEL, GOF_LEVEL, n_boot, seed)
         method = "power-law range"
-        if not math.isfinite(mc_):  # too few events to scan: the whole catalogue
-            mc_ = completeness_magnitude(mm, bin_width)
+        if found is None:  # no range of a magnitude unit holds enough events to test
             top = math.inf if m_max is None else float(m_max)
-            method = "maximum curvature"
+            return BValue(math.nan, math.nan, math.nan, math.nan, top, 0, math.nan, method=method)
+        mc_, top = found[0], found[1]
     else:
         method = "maximum curvature" if mc is None else "given"
         mc_ = completeness_magnitude(mm, bin_width) if mc is None else float(mc)
@@ -601,6 +973,23 @@ def b_value(
     if n < 2 or not math.isfinite(mc_) or sel[-1] - sel[0] < bin_width:
         return BValue(math.nan, math.nan, math.nan, mc_, top, n, math.nan, math.nan, method)
     b = _mle(sel, mc_, top)
+    ks = _ks(sel, mc_, top, b)
+    span = float(sel[-1]) - mc_
+    ordered = np.sort(mm)
+    edges = _grid(ordered, bin_width)
+    knee = _knee(sel, mc_, top, edges)
+    if found is not None and found[5]:  # the range passed the scan's tests: their p-values
+        ks_p, slope_p = found[3], found[4]
+    elif n_boot > 0 and math.isfinite(b):
+        d = _distance(sel, mc_, top, b * math.log(10.0))
+        ks_p, slope_p = _gof_pvalues(ordered, mc_, top, d, knee.ratio, edges=edges, scan=found is not None,
+                                     min_width=MIN_SPAN, min_events=MIN_EVENTS, n_boot=n_boot,
+                                     seed=seed)  # fmt: skip
+    else:
+        ks_p, slope_p = math.nan, _knee_p(knee)
+    tests = (knee.b_lower, knee.b_upper, knee.cut, slope_p, ks_p, span, knee.n_upper)
+    if found is not None and not found[5]:  # no range passes: no b-value, the range reported described
+        return BValue(math.nan, math.nan, math.nan, mc_, top, n, math.nan, ks, method, 1, *tests)
     # Shi and Bolt's formula is for the untruncated exponential: under an upper bound it
     # covered the true b 74-77 % of the time at 1.96 sigma (chains audit), the bootstrap 96 %
     untruncated = math.isfinite(b) and math.isinf(top)
@@ -612,8 +1001,7 @@ def b_value(
     if n_boot > 0:  # event by event: the sorted events, as before blocks (the same draws for a seed)
         err = _bootstrap_error(sel if length <= 1 else in_order, mc_, top, length, n_boot, seed)
     a = math.log10(n) + b * mc_ if math.isfinite(b) else math.nan
-    b1, b2, cut, p = _slope_change(sel, mc_, top, b)
-    return BValue(float(b), err, shi, mc_, top, n, a, _ks(sel, mc_, top, b), method, length, b1, b2, cut, p)
+    return BValue(float(b), err, shi, mc_, top, n, a, ks, method, length, *tests)
 
 
 def _bootstrap_error(
@@ -692,3 +1080,95 @@ def ruptures_in_pieces(
     # pieces on a ring: the places where a stuck block is followed by a slipping one
     starts = np.count_nonzero(moved & ~np.roll(moved, 1, axis=1), axis=1)
     return int(np.count_nonzero(starts > 1)), int(rows.shape[0])
+
+
+class Ruptures(NamedTuple):
+    """The connected ruptures of events (:func:`connected_ruptures`), one entry per rupture.
+
+    Attributes
+    ----------
+    event : ndarray of int
+        The event (row of the slips) each rupture belongs to; ruptures in event order, then
+        by their first block.
+    first_block, last_block : ndarray of int
+        The rupture's ends (0-based); on a ring a rupture across the ends has
+        ``last_block < first_block``.
+    n_blocks : ndarray of int
+        Blocks that slipped in the rupture.
+    moment : ndarray of float
+        Sum of its blocks' slips.
+
+    """
+
+    event: npt.NDArray[np.int64]
+    first_block: npt.NDArray[np.int64]
+    last_block: npt.NDArray[np.int64]
+    n_blocks: npt.NDArray[np.int64]
+    moment: FloatArray
+
+
+def connected_ruptures(slips: npt.ArrayLike, *, periodic: bool = False) -> Ruptures:
+    """Split events into connected ruptures: each run of neighbouring blocks that slipped.
+
+    Carlson and Langer (1989) count an event as a connected cluster of slipping blocks;
+    an event of a chain (from all stuck to all stuck) may hold several, separated by
+    blocks that never slipped, and on a long chain at a fast drive it often does (5 168 of
+    10 000 events of 100 Carlson-Langer blocks at ``nu = 0.01``, ``ell = 10``). Each run is one
+    rupture here, with its own moment (the sum of its blocks' slips) and block count.
+    A block slipped where its slip is not zero. The split is by place only: a run
+    that slipped twice in one event (a rupture, then another over the same blocks)
+    stays one rupture.
+
+    Parameters
+    ----------
+    slips : array_like, shape (events, blocks)
+        Each block's slip in each event (the catalogue's ``slip``); every value finite.
+    periodic : bool, optional
+        The chain's ends are joined: a run through the last block and the first is one.
+
+    Returns
+    -------
+    Ruptures
+
+    """
+    s = np.asarray(slips, dtype=float)
+    if s.ndim != 2:
+        raise ValueError(f"slips: shape {s.shape}; expected (events, blocks), each block's slip per event")
+    if not np.isfinite(s).all():
+        row = int(np.flatnonzero(~np.isfinite(s).all(axis=1))[0])
+        raise ValueError(
+            f"slips[{row}]: not finite (an event whose slips were not recorded); expected finite slips"
+        )
+    e, n = s.shape
+    moved = s != 0.0
+    edges = np.diff(np.pad(moved, ((0, 0), (1, 1))).astype(np.int8), axis=1)
+    event, first = np.nonzero(edges == 1)  # row by row, left to right
+    _, end = np.nonzero(edges == -1)  # one past each run's last block, in the same order
+    # a run's slips and the zeros up to the next run's start sum to its moment exactly
+    starts = event * n + first
+    moment = np.add.reduceat(s.ravel(), starts) if starts.size else np.zeros(0)
+    count = end - first
+    last = end - 1
+    if periodic and n > 1 and e:
+        # a row that slipped at both ends, not everywhere: its last run continues into its first
+        wrap = moved[:, 0] & moved[:, -1] & ~moved.all(axis=1)
+        rows = np.flatnonzero(wrap)
+        if rows.size:
+            head = np.searchsorted(event, rows, "left")  # each such row's first run (at block 0)
+            tail = np.searchsorted(event, rows, "right") - 1  # and its last (to block n - 1)
+            count[tail] += count[head]
+            moment[tail] += moment[head]
+            last[tail] = last[head]
+            keep = np.ones(event.size, dtype=bool)
+            keep[head] = False
+            event, first, last, count, moment = (
+                event[keep],
+                first[keep],
+                last[keep],
+                count[keep],
+                moment[keep],
+            )
+    i8 = np.int64
+    return Ruptures(
+        event.astype(i8), first.astype(i8), last.astype(i8), count.astype(i8), moment.astype(float)
+    )

@@ -83,11 +83,24 @@ def register(main: click.Group) -> None:
         default="auto",
         show_default=True,
         metavar="M|auto|maxc",
-        help="Lower magnitude of the b-value fit: a number; auto, the range that passes as a power law "
-        "(both ends: Kolmogorov-Smirnov at 5 %, one slope against two at 1 %); "
-        "maxc, the completeness magnitude by maximum curvature.",
+        help="Lower magnitude of the b-value fit: a number; auto (default), both ends by an objective "
+        "rule: the lower end of each range the one of least Kolmogorov-Smirnov distance to its fit "
+        "(Clauset-Shalizi-Newman), the widest range that passes KS by parametric bootstrap and one "
+        "slope against two at p >= 0.1 with its events spread over a magnitude unit (a decade of "
+        "moment), and no b-value where none passes (not a power law); maxc, the completeness "
+        "magnitude by maximum curvature.",
     )
     @click.option("--m-max", type=float, default=None, help="Upper magnitude of the b-value fit.")
+    @click.option(
+        "--events-as",
+        type=click.Choice(["whole", "connected"]),
+        default="whole",
+        show_default=True,
+        help="What an event of the statistics (b-value, magnitude-frequency) is: whole, from all blocks "
+        "stuck to all stuck (slips in separate places add up); connected, each connected run of "
+        "slipping blocks in it, with its own moment and block count (Carlson-Langer; kept in the "
+        "catalogue as rupture_*).",
+    )
     @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
     @click.option(
         "--out",
@@ -123,6 +136,7 @@ def register(main: click.Group) -> None:
         transient: int,
         mc: str,
         m_max: float | None,
+        events_as: str,
         as_json: bool,
         out_dir: str | None,
         resume: bool,
@@ -195,7 +209,7 @@ def register(main: click.Group) -> None:
             raise click.UsageError(f"--m-max={m_max!r}: expected a finite magnitude above --mc ({mc})")
         _warn_unused_seed(init, threshold_spread, seeds is not None)
         if seeds is not None:
-            fit = {"mc": mc_, "m_max": m_max}
+            fit = {"mc": mc_, "m_max": m_max, "events_as": events_as}
             _ensemble(params, events, seeds, threshold_spread, init, amplitude, transient, opts, fit, store,
                       scheduler, workers, quiet, as_json, out_dir, overwrite)  # fmt: skip
             return
@@ -209,6 +223,7 @@ def register(main: click.Group) -> None:
             mc=mc_,
             m_max=m_max,
             progress=False if quiet else None,
+            events_as=events_as,
         )
         if out_dir is None:
             if resume:
@@ -241,7 +256,7 @@ def register(main: click.Group) -> None:
                 from ..plots.chains import plot_magnitude_frequency, plot_recurrence, plot_space_time
 
                 figs = [
-                    ("magnitude_frequency", plot_magnitude_frequency(cat, res.b)),
+                    ("magnitude_frequency", plot_magnitude_frequency(_statistics_events(res), res.b)),
                     ("space_time", plot_space_time(cat)),
                     ("recurrence", plot_recurrence(cat)),
                 ]
@@ -299,28 +314,45 @@ def _report(res: Any, as_json: bool, out_dir: str | None = None, *, figures: boo
         u = s["units"]
         click.echo(f"blocks               {s['blocks']}")
         click.echo(f"events               {s['events']}")
-        click.echo(f"simulated time       {s['simulated_time']:.10g} [{u['time']}]")
+        click.echo(f"simulated time       {s['simulated_time']:.6g} [{u['time']}]")
         click.echo(f"mean recurrence      {_shown(s['mean_recurrence'])} [{u['time']}]")
         click.echo(f"mean moment          {_shown(s['mean_moment'])} [{u['length']}]")
         click.echo(f"largest event        {s['largest_event_blocks']} blocks")
         if u["length"] != "1":  # a magnitude is log10 of the moment in its unit: say which
             click.echo(f"magnitude            M = log10(moment / 1 {u['length']})")
-        if s["events_without_magnitude"]:
+        connected = s["events_as"] == "connected"
+        if connected:
             click.echo(
-                f"no magnitude         {s['events_without_magnitude']} events (a net backward or zero "
+                f"ruptures             {s['ruptures']} (connected runs of slipping blocks in the events: "
+                "the events of the b-value)"
+            )
+        unit, without = (
+            ("ruptures", "ruptures_without_magnitude")
+            if connected
+            else ("events", "events_without_magnitude")
+        )
+        if s[without]:
+            click.echo(
+                f"no magnitude         {s[without]} {unit} (a net backward or zero "
                 "moment: the blocks' slips are signed), left out of the b-value"
             )
+        verdict = s["b_value_verdict"]
         if s["b_value"] is None:
-            click.echo("b-value              undefined (too few events, or their magnitudes do not spread)")
+            # one line: no b-value at all (too few events), or none because no range is a power law
+            shown = (
+                f"undefined{verdict[len('no b-value') :]}" if verdict.startswith("no b-value") else verdict
+            )
+            click.echo(f"b-value              {shown}")
         else:
             top = "" if s["b_value_m_max"] is None else f" to {s['b_value_m_max']:.2f}"
-            law = "" if s["b_value_power_law"] else f"; {res.b.verdict}"
+            law = f"; {verdict}" if verdict else ""
+            ks = "" if s["b_value_ks_p"] is None else f", KS p = {s['b_value_ks_p']:.2g}"
             click.echo(
                 f"b-value              {s['b_value']:.4g} ± {_shown(s['b_value_err'])} "
-                f"(M from {_shown(s['completeness_magnitude'], '.2f')}{top}, {s['b_value_range']}{law}; "
-                f"error by bootstrap in blocks of {s['b_value_block']} events)"
+                f"(M from {_shown(s['completeness_magnitude'], '.2f')}{top}, {s['b_value_range']}{ks}{law}; "
+                f"error by bootstrap in blocks of {s['b_value_block']} {unit})"
             )
-            click.echo(f"halves of the range  {_halves(s)}")
+            click.echo(f"slope change         {_knee(s)}")
         click.echo(f"status               {s['status']}")
         if out_dir:
             click.echo(f"wrote {out_dir}/catalog.nc, summary.json{' and figures' if figures else ''}")
@@ -333,14 +365,27 @@ def _report(res: Any, as_json: bool, out_dir: str | None = None, *, figures: boo
         raise SystemExit(1)
 
 
-def _halves(s: dict[str, Any]) -> str:
-    """Return the b-values of the fitted range's halves and the test of one slope, in words."""
-    if s["b_value_slope_p"] is None:
-        return "not compared (the events of a half all at its lower end)"
+def _statistics_events(res: Any) -> Any:
+    """Return the catalogue whose ``magnitude`` the b-value was fitted to: its events, or their ruptures."""
+    if res.events_as != "connected":
+        return res.catalog
+    ruptures = res.catalog[["rupture_magnitude"]].rename(
+        {"rupture_magnitude": "magnitude", "rupture": "event"}
+    )
+    ruptures.attrs = dict(res.catalog.attrs)
+    return ruptures
+
+
+def _knee(s: dict[str, Any]) -> str:
+    """Return the most likely change of slope in the fitted range and the test of one slope, in words."""
+    from ..chains.statistics import MIN_PART
+
+    if s["b_value_slope_p"] is None or s["b_value_split"] is None:
+        return f"not tested (fewer than {MIN_PART} events on either side of every cut of the range)"
     return (
         f"b = {_shown(s['b_value_lower'], '.4g')} below M = {s['b_value_split']:.2f}, "
-        f"{_shown(s['b_value_upper'], '.4g')} above "
-        f"(one slope: p = {s['b_value_slope_p']:.2g})"
+        f"{_shown(s['b_value_upper'], '.4g')} above ({s['b_value_upper_events']} of the range's "
+        f"events; one slope: p = {s['b_value_slope_p']:.2g})"
     )
 
 
