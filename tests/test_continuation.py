@@ -263,8 +263,8 @@ def test_regime_map_and_criterion(tmp_path: Path) -> None:
     trial.to_netcdf(tmp_path / "m.nc")
     back = xr.load_dataset(tmp_path / "m.nc")
     np.testing.assert_array_equal(back.regime.values, ds.regime.values)
-    # (sweep audit) the coordinates have units, as CF asks; the figure names the onset as the
-    # bifurcation figure and the JSON do
+    # the coordinates have units, as CF asks; the figure names the onset in words, as the
+    # bifurcation figure does
     assert back.nu.attrs["units"] == "1" and back.gamma.attrs["units"] == "1"
     assert (
         back.amplitude.attrs["units"] == "1"
@@ -273,7 +273,8 @@ def test_regime_map_and_criterion(tmp_path: Path) -> None:
     from stickslip.plots.regimes import plot_regime_map
 
     labels = plot_regime_map(ds).axes[0].get_legend_handles_labels()[1]
-    assert "stick-slip-onset" in labels and "stick slip onset" not in labels
+    assert "onset of stick-slip" in labels and "Hopf point" in labels
+    assert not any(w in labels for w in ("stick-slip-onset", "stick slip onset", "hopf"))
 
 
 def test_a_log_sweep_figure_leaves_steady_sliding_out() -> None:
@@ -427,7 +428,7 @@ def test_the_slip_reversal_multiplier_is_the_variational_one(c: float, nu: float
     DOP853 at rtol 1e-13, the variational equations with the saltation matrices at the crossings
     of w = 0: det of the monodromy; two reversals a period). Extrapolated: within 1e-8."""
     r = cycle(DimensionlessParameters(nu=nu, law=WeakeningLaw(c=c)), probe=False)
-    assert r.regime.value == "pure-slip" and r.backward_slips > 0
+    assert r.regime.value == "slip-reversal" and r.backward_slips > 0
     assert r.multiplier == pytest.approx(exact, abs=1e-8)
     assert abs(r.multiplier - exact) < 0.1 * 1.9e-7  # the old error, tenfold smaller at least
 
@@ -435,7 +436,7 @@ def test_the_slip_reversal_multiplier_is_the_variational_one(c: float, nu: float
 def test_slip_reversal_is_an_attractor_of_its_own() -> None:
     """F1 at large nu: the block never sticks but its velocity changes sign every cycle."""
     d = regimes(WeakeningLaw(c=3.8), 1.0, 9.0, n_grid=41)
-    assert [iv.regime for iv in d.intervals] == ["stick-slip", "pure-slip"]
+    assert [iv.regime for iv in d.intervals] == ["stick-slip", "slip-reversal"]
     assert d.intervals[1].attractors == ("slip-reversal",)
     # independently, the plain-SciPy reference sticks just below the boundary and reverses
     # without ever sticking just above it

@@ -26,9 +26,9 @@ def test_unconverged_probe_is_not_an_attractor() -> None:
 
 
 def test_backward_slips_counted_in_pure_slip() -> None:
-    """Bug: backward_slips was always 0 when the motion never sticks."""
+    """backward_slips counts the backward phases of a motion that never sticks (slip reversal)."""
     r = S.cycle(S.DimensionlessParameters(nu=42.0, law=S.WeakeningLaw(c=3.8)))
-    assert r.regime == "pure-slip"
+    assert r.regime == "slip-reversal"
     assert r.min_velocity < 0
     assert r.backward_slips == 1
 

@@ -248,10 +248,8 @@ def test_a_block_of_a_job_runs_in_few_engine_calls(monkeypatch: pytest.MonkeyPat
 
 
 def test_slip_reversal_is_told_apart_in_a_sweep() -> None:
-    """Regression (sweep audit, helper-33): a slip-reversal oscillation (the velocity changes sign
-    without sticking) was 'pure-slip' in a sweep with nothing to tell it from w > 0; the
-    regime map's `observed` said slip-reversal. The sweep has `backward_slips` (the engine's
-    count, as `cycle` gives it), and `cycle` says slip reversal on its regime line."""
+    """A slip-reversal oscillation (the velocity changes sign without sticking) is its own regime
+    in a sweep and in `cycle`, with the engine's count of backward slips beside it."""
     from click.testing import CliRunner
 
     from stickslip.cli import main
@@ -263,9 +261,9 @@ def test_slip_reversal_is_told_apart_in_a_sweep() -> None:
         single = cycle(DimensionlessParameters(nu=nu, law=WeakeningLaw(c=3.8, p=0.0)), probe=False)
         assert back == single.backward_slips and regime == str(single.regime)
     assert ds.backward_slips.values.tolist() == [0, 1, 1]
-    assert ds.regime.values.tolist() == ["stick-slip", "pure-slip", "pure-slip"]
+    assert ds.regime.values.tolist() == ["stick-slip", "slip-reversal", "slip-reversal"]
     assert ds.backward_slips.attrs["units"] == "1"
     res = CliRunner().invoke(main, ["cycle", "--c", "3.8", "--p", "0", "--nu", "4.516952255"])
-    assert "regime          pure-slip  (slip reversal" in res.output
+    assert "regime          slip-reversal  (it slips backward without sticking" in res.output
     res = CliRunner().invoke(main, ["cycle", "--c", "3.8", "--p", "0.5", "--nu", "0.5"])
-    assert "slip reversal" not in res.output
+    assert "slip-reversal" not in res.output and "slips backward" not in res.output

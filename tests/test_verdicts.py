@@ -176,11 +176,12 @@ def test_three_attractors_are_multistable_not_bistable() -> None:
     assert interval_regime([ss, ps, st]) == Regime.MULTISTABLE
     assert interval_regime([ss, rev, ps, st]) == Regime.MULTISTABLE
     assert interval_regime([ss, st]) == Regime.BISTABLE
-    assert interval_regime([rev]) == Regime.PURE_SLIP
+    assert interval_regime([rev]) == Regime.SLIP_REVERSAL
     assert interval_regime([st]) == Regime.STEADY_SLIDING
     assert interval_regime([]) == Regime.NONE
     assert interval_regime([ss, Regime.UNKNOWN, st]) == Regime.UNKNOWN
     assert REGIME_CODES["multistable"] == 6 and "multistable" in REGIME_COLORS
+    assert REGIME_CODES["slip-reversal"] == 3 and "slip-reversal" in REGIME_COLORS
     assert len(set(REGIME_CODES.values())) == len(REGIME_CODES)
 
 
@@ -289,3 +290,34 @@ def test_an_orbit_kept_at_a_tables_noise_floor_says_how_well_it_is_known() -> No
         ref = pure_slip_orbit_reference(lambda x: float(law.at(x)), lambda x: float(law.at(x, 1)), nu, guess)
         error = abs(orbit.amplitude / ref.amplitude - 1.0)
         assert 1e-8 < float(found.group(1)) and error <= 3.0 * float(found.group(1)), (nu, error, message)
+
+
+def test_f1_at_large_nu_is_slip_reversal_never_pure_slip_anywhere() -> None:
+    """F1 (p = 0) never slides steadily (f' < 0 everywhere); its oscillation that never sticks,
+    at large nu, slips backward: slip reversal, not the paper's pure slip, in the engine's
+    result, a sweep, a regime map (interval and observed), the map's flags, and the explorer."""
+    import numpy as np
+
+    from stickslip.bifurcation.regime_map import regime_map
+    from stickslip.core.results import Regime
+    from stickslip.dynamics.sweep import sweep
+    from stickslip.explore.session import REGIMES, regime_diagram
+
+    law = WeakeningLaw(c=3.8, p=0.0)
+    res = cycle(DimensionlessParameters(nu=6.0, law=law), probe=False)
+    assert str(res.regime) == "slip-reversal" and res.backward_slips > 0 and res.stick_fraction == 0
+    ds = sweep(DimensionlessParameters(nu=1.0, law=law), {"nu": np.geomspace(0.1, 10.0, 12)}, progress=False)
+    labels = ds.regime.values.astype(str)
+    assert "pure-slip" not in labels and "slip-reversal" in labels
+    assert np.all(
+        (labels == "slip-reversal") == (ds.backward_slips.values > 0) & (ds.stick_fraction.values == 0)
+    )
+    m = regime_map(law, "c", [1.0, 3.8], 0.5, 10.0, n_nu=9, progress=False)
+    for var in ("regime", "observed"):
+        codes = m[var].values
+        assert not np.any(codes == Regime.PURE_SLIP.code), var
+        assert np.any(codes == Regime.SLIP_REVERSAL.code), var
+    assert "slip-reversal" in m.regime.attrs["flag_meanings"].split()
+    _, _, codes = regime_diagram(law, "c", 1.0, 3.8)
+    shown = {REGIMES[c] for c in codes.ravel()}
+    assert "pure-slip" not in shown and "slip-reversal" in shown

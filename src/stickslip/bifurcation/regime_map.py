@@ -44,6 +44,7 @@ REGIME_CODES = {
         Regime.NONE,
         Regime.STICK_SLIP,
         Regime.PURE_SLIP,
+        Regime.SLIP_REVERSAL,
         Regime.STEADY_SLIDING,
         Regime.BISTABLE,
         Regime.MULTISTABLE,

@@ -75,7 +75,16 @@ __all__ = [
 #: the most points of the ``nu`` grid of one diagram (each one a run from rest)
 MAX_GRID = 100_000
 
-REGIME_NAMES = ("stick-slip", "pure-slip", "bistable", "multistable", "steady-sliding", "none", "unknown")
+REGIME_NAMES = (
+    "stick-slip",
+    "pure-slip",
+    "slip-reversal",
+    "bistable",
+    "multistable",
+    "steady-sliding",
+    "none",
+    "unknown",
+)
 
 
 @dataclass(frozen=True)
@@ -157,8 +166,8 @@ def interval_regime(attractors: Sequence[Regime]) -> Regime:
     """Return the regime of an interval with these attractors.
 
     ``unknown`` where the engine failed; ``bistable`` for two, ``multistable`` for three or
-    more; one attractor names the regime (a ``slip-reversal`` oscillation never sticks: its
-    interval is ``pure-slip``); none, ``none``.
+    more; one attractor names the regime (``slip-reversal`` too: an oscillation that never
+    sticks but slips backward is not the paper's pure slip); none, ``none``.
 
     >>> interval_regime([Regime.STICK_SLIP, Regime.PURE_SLIP, Regime.STEADY_SLIDING]).value
     'multistable'
@@ -170,7 +179,7 @@ def interval_regime(attractors: Sequence[Regime]) -> Regime:
     if len(attractors) > 1:
         return Regime.BISTABLE
     if attractors:
-        return Regime.PURE_SLIP if attractors[0] == Regime.SLIP_REVERSAL else attractors[0]
+        return attractors[0]
     return Regime.NONE
 
 
@@ -181,7 +190,7 @@ class Interval:
     Attributes
     ----------
     regime : str
-        ``stick-slip``, ``pure-slip``, ``steady-sliding``, ``bistable`` (two
+        ``stick-slip``, ``pure-slip``, ``slip-reversal``, ``steady-sliding``, ``bistable`` (two
         attractors), ``multistable`` (three or more), ``none`` (no attractor: possible only for a law with
         neutral steady sliding) or ``unknown`` (the engine failed there).
     nu_min, nu_max : float
@@ -190,7 +199,7 @@ class Interval:
         The attractors present, e.g. ``("stick-slip", "steady-sliding")``.
         ``slip-reversal`` is an oscillation that never sticks but whose velocity
         changes sign (backward slip without a stop), found by the engine from
-        rest; alone, its interval's regime is ``pure-slip`` (no stick phase).
+        rest; alone, it is its interval's regime.
 
     """
 

@@ -34,6 +34,7 @@ __all__ = [
     "ShootStatus",
     "ShootingRows",
     "Status",
+    "reversal",
 ]
 
 FloatArray = npt.NDArray[np.float64]
@@ -109,16 +110,18 @@ class Status(_Labelled):
 class Regime(_Labelled):
     """The one vocabulary of regimes and attractors, with one integer code each.
 
-    The engine writes the first three codes and ``unknown``; the others name what
-    the analyses above it find: an oscillation whose velocity changes sign
-    without sticking, two coexisting attractors, no attractor of a kind.
+    The engine writes the first three codes and ``unknown``, with a count of backward
+    slips: a ``pure-slip`` row with backward slips is ``slip-reversal`` (its velocity
+    changes sign without sticking) wherever a regime is shown or stored
+    (:func:`reversal`). The others name what the analyses above it find: two
+    coexisting attractors, no attractor of a kind.
     """
 
     STICK_SLIP = "stick-slip", engine.RG_STICK_SLIP, "the block sticks once per cycle"
     PURE_SLIP = (
         "pure-slip",
         engine.RG_PURE_SLIP,
-        "an oscillation that never sticks (w > 0, or, with backward slips, slip reversal)",
+        "an oscillation that never sticks and never slips backward (w > 0 throughout)",
     )
     STEADY_SLIDING = "steady-sliding", engine.RG_STEADY, "sliding at the driving velocity"
     SLIP_REVERSAL = "slip-reversal", 3, "an oscillation that never sticks but slips backward"
@@ -126,6 +129,18 @@ class Regime(_Labelled):
     MULTISTABLE = "multistable", 6, "three or more attractors coexist"
     NONE = "none", 5, "no attractor of this kind"
     UNKNOWN = "unknown", engine.RG_UNKNOWN, "the computation did not finish"
+
+
+def reversal(codes: Any, n_backward: Any) -> Any:
+    """Return the regime codes with ``pure-slip`` made ``slip-reversal`` where there are backward slips.
+
+    ``codes`` and ``n_backward`` are the engine's arrays (or scalars) of one shape; a
+    NaN count is no backward slip.
+    """
+    codes = np.asarray(codes)
+    back = np.nan_to_num(np.asarray(n_backward, dtype=float), nan=0.0) > 0
+    out = np.where((codes == Regime.PURE_SLIP.code) & back, Regime.SLIP_REVERSAL.code, codes)
+    return out.astype(codes.dtype)
 
 
 class ShootStatus(_Labelled):

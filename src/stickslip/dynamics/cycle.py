@@ -26,7 +26,7 @@ from ..bifurcation.attractors import OrbitKey, orbit_key, polish_rows, same_orbi
 from ..bifurcation.orbits import law_arrays
 from ..core.api import run_attractors
 from ..core.checks import ATOL_MIN
-from ..core.results import AttractorRows, Regime, Status
+from ..core.results import AttractorRows, Regime, Status, reversal
 from ..io.jsonable import json_clean
 from ..models.parameters import (
     DimensionlessParameters,
@@ -319,7 +319,7 @@ def cycle(
     if note:
         warn(note, UserWarning)
     period = float(o.period[0])
-    regime = Regime.from_code(o.regime[0])
+    regime = Regime.from_code(reversal(o.regime[0], o.n_backward[0]))
     stick_time = float(o.stick_time[0])
     if regime == Regime.STEADY_SLIDING:
         stick_fraction = 0.0
@@ -366,7 +366,7 @@ def _converter(scales: Scales | None) -> Any:
 
 def _attractor(o: AttractorRows, start: str, conv: Any, multiplier: float) -> Attractor:
     return Attractor(
-        regime=Regime.from_code(o.regime[0]),
+        regime=Regime.from_code(reversal(o.regime[0], o.n_backward[0])),
         amplitude=conv("force", o.amplitude[0]),
         period=conv("time", o.period[0]),
         start=start,

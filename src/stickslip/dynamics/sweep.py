@@ -37,7 +37,7 @@ from ..core.checks import NU_MAX, NU_MIN
 from ..core.cuda import release_buffers, release_idle_buffers, resolve_backend
 from ..core.laws import N_LAW_PARAMS
 from ..core.memory import check_memory
-from ..core.results import AttractorRows, Regime, Status
+from ..core.results import AttractorRows, Regime, Status, reversal
 from ..io.output import OutputFolder, emit, netcdf_writer, package_version
 from ..io.tables import frame_with_units
 from ..laws import PhysicalLaw
@@ -639,7 +639,7 @@ _VALUES = {
     "backward_slips": (
         "n_backward",
         "1",
-        "backward slip phases per cycle (above 0 in a pure-slip regime: slip reversal, the velocity "
+        "backward slip phases per cycle (above 0 without a stick: slip-reversal, the velocity "
         "changes sign without sticking)",
     ),
 }
@@ -650,8 +650,8 @@ _MULTIPLIER_ATTRS = {
 }
 _REGIME_ATTRS = {
     "long_name": "regime reached from rest",
-    "values": "stick-slip, pure-slip (never sticks; with backward_slips > 0 its velocity changes sign: "
-    "slip reversal), steady-sliding, unknown",
+    "values": "stick-slip, pure-slip (never sticks, never slips backward), slip-reversal (never sticks, "
+    "its velocity changes sign: backward_slips > 0), steady-sliding, unknown",
 }
 _STATUS_ATTRS = {"long_name": "ok, or why the point failed"}
 _STABLE_ATTRS = {"long_name": "steady sliding linearly stable, f'(nu) > 0"}
@@ -693,7 +693,8 @@ def _variables(
             v = v * scales[kind]
         data[key] = np.where(bad, np.nan, v).reshape(shape)
     data["multiplier"] = np.where(bad, np.nan, mult).reshape(shape)
-    data["regime"] = np.where(bad, Regime.UNKNOWN.code, out.regime).astype(np.int8).reshape(shape)
+    regime = reversal(out.regime, out.n_backward)
+    data["regime"] = np.where(bad, Regime.UNKNOWN.code, regime).astype(np.int8).reshape(shape)
     data["status"] = np.asarray(out.status).astype(np.int8).reshape(shape)
     data["steady_sliding_stable"] = (out.dfnu > 0.0).reshape(shape)
     if "nu" not in swept:
