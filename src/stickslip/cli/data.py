@@ -67,6 +67,23 @@ def register(main: click.Group) -> None:
     """Add the commands to ``main``."""
 
     @main.command()
+    @click.argument("folder", type=click.Path(file_okay=False), default="examples", required=False)
+    @overwrite_option
+    @handle_errors
+    def examples(folder: str, overwrite: bool) -> None:
+        """Write example inputs into FOLDER (default ./examples): the files the README's commands read.
+
+        A friction table (mu_v.csv), measured-style amplitudes (amplitudes.csv), a folder
+        of force-time records (records/) and one record (record.csv), made by the model
+        of the paper's zv set-up with a force sensor's noise (synthetic: a few seconds,
+        always the same).
+        """
+        from ..data.examples import write_examples
+
+        paths = write_examples(folder, overwrite=overwrite)
+        click.echo(f"wrote {len(paths)} files into {folder}: mu_v.csv, amplitudes.csv, records/, record.csv")
+
+    @main.command()
     @click.argument("source", type=click.Path(exists=False))
     @out_dir_option("Output folder: summary.csv and figures.")
     @click.option("--json", "as_json", is_flag=True, help="Print the verdict and summary as JSON.")

@@ -16,6 +16,7 @@ from .options import (
     axis_count,
     axis_parameter,
     build_parameters,
+    default_out,
     describe_parameters,
     figure_names,
     is_axis,
@@ -54,17 +55,18 @@ def register(main: click.Group) -> None:
             fail_unless_ok(res.status)
             return
         u = res.units
-        pure = str(res.regime) == "pure-slip"
         reversal = (
-            "  (slip reversal: it slips backward without sticking)" if pure and res.backward_slips else ""
+            "  (it slips backward without sticking: not the paper's pure slip)"
+            if str(res.regime) == "slip-reversal"
+            else ""
         )
         multi = "  (multistable)" if res.multistable else ""
         click.echo(f"regime          {res.regime}{reversal}{multi}")
-        click.echo(f"amplitude       {res.amplitude:.10g} [{u['force']}]")
-        click.echo(f"period          {res.period:.10g} [{u['time']}]")
+        click.echo(f"amplitude       {res.amplitude:.6g} [{u['force']}]")
+        click.echo(f"period          {res.period:.6g} [{u['time']}]")
         click.echo(f"stick fraction  {res.stick_fraction:.6g}")
-        click.echo(f"slip distance   {res.slip_distance:.10g} [{u['length']}]")
-        click.echo(f"peak velocity   {res.peak_velocity:.10g} [{u['velocity']}]")
+        click.echo(f"slip distance   {res.slip_distance:.6g} [{u['length']}]")
+        click.echo(f"peak velocity   {res.peak_velocity:.6g} [{u['velocity']}]")
         click.echo(f"backward slips  {res.backward_slips}")
         click.echo(f"status          {res.status}")
         for a in res.attractors:
@@ -149,8 +151,8 @@ def register(main: click.Group) -> None:
         res = compute_cycle(params, rtol=opts["rtol"], atol=opts["atol"], probe=False)
         u = res.units
         click.echo(
-            f"steady cycle: {res.regime}, amplitude {res.amplitude:.10g} [{u['force']}], "
-            f"period {res.period:.10g} [{u['time']}], Floquet multiplier {res.multiplier:.6g} ({res.status})"
+            f"steady cycle: {res.regime}, amplitude {res.amplitude:.6g} [{u['force']}], "
+            f"period {res.period:.6g} [{u['time']}], Floquet multiplier {res.multiplier:.6g} ({res.status})"
         )
 
     @law_command(main, text=True)
@@ -162,7 +164,7 @@ def register(main: click.Group) -> None:
         type=OutPath(dir_okay=False),
         default=None,
         help="NetCDF output (.nc), or a table (.csv: one row per point, units in the column "
-        "names); the plot goes beside it (.png, .svg). Default results/sweep.nc, "
+        "names); the plot goes beside it (.png, .svg). Default results/sweep/sweep.nc, "
         "or none with --store (the store is the output).",
     )
     @click.option("--no-plot", is_flag=True, help="Write the NetCDF file only.")
@@ -263,7 +265,7 @@ def register(main: click.Group) -> None:
             scale_report(ds)
             _regime_counts(ds)
             return
-        out_path = out_path or "results/sweep.nc"
+        out_path = out_path or os.path.join(default_out("sweep"), "sweep.nc")
         folder, name = os.path.split(out_path)
         stem, ext = os.path.splitext(name)
         if ext.lower() not in (".nc", ".nc4", ".cdf", ".netcdf", ".csv"):  # p.xyz was NetCDF, unsaid

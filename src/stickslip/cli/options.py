@@ -16,6 +16,7 @@ paper's zv set-up (``--preset zv``, each option overridable).
 from __future__ import annotations
 
 import dataclasses
+import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -302,14 +303,28 @@ class OutPath(click.Path):
         return super().convert(value, param, ctx)
 
 
+def default_out(command: str) -> str:
+    """Return a command's own default output folder, ``results/COMMAND``.
+
+    One folder a command: the README's examples, run one after another, never write
+    over each other's files.
+    """
+    return os.path.join("results", command)
+
+
+def _own_folder(ctx: click.Context, param: click.Parameter, value: str | None) -> str:
+    return value if value is not None else default_out(str(ctx.info_name))
+
+
 def out_dir_option(help_text: str) -> Any:
-    """Return the ``--out`` option (an output folder, default ``results``) of a command."""
+    """Return the ``--out`` option (an output folder, default ``results/COMMAND``) of a command."""
     return click.option(
         "--out",
         "out_dir",
         type=OutPath(file_okay=False),
-        default="results",
-        show_default=True,
+        default=None,
+        callback=_own_folder,
+        show_default="results/COMMAND",
         help=help_text,
     )
 

@@ -88,6 +88,10 @@ CSV_HEADERS: dict[str, tuple[str | re.Pattern[str], ...]] = {
         re.compile(r"time \[[^]]*\],position \[[^]]*\],velocity \[[^]]*\],spring_force \[[^]]*\],phase$"),
     ),
     "records-summary": ("name,n_cycles,",),
+    "records-events": ("record,time [s],end_time [s],",),
+    "friction-table": ("# stickslip friction table",),
+    "amplitudes": ("# stickslip amplitudes",),
+    "examples-readme": ("stickslip's example inputs",),
     "fit-parameters": ("parameter,value,error,unit",),
     "ratestate-record": ("# stickslip rate-and-state record",),
     "record": ("# stickslip force-time record",),
@@ -300,7 +304,8 @@ class OutputFolder:
     a hidden staging folder inside the output folder; when the block ends without an
     error they are renamed into place and ``stickslip-manifest.json`` records the
     run. An error or a kill leaves the previous files as they were (a stale staging
-    folder of a dead run is removed by the next run).
+    folder of a dead run is removed by the next run), and a run that fails leaves no
+    folder it made: the folders it created are removed again where they are empty.
     """
 
     def __init__(self, folder: str | os.PathLike[str], command: str, *, overwrite: bool = False) -> None:
@@ -313,9 +318,15 @@ class OutputFolder:
         self._staged: dict[str, str] = {}
         self._kinds: dict[str, str] = {}
         self._staging: str | None = None
+        self._created: list[str] = []  # the folders this run made, deepest first
 
     # ------------------------------------------------------------------ context
     def __enter__(self) -> OutputFolder:
+        missing = os.path.abspath(self.folder)
+        while missing and not os.path.exists(missing):
+            self._created.append(missing)
+            parent = os.path.dirname(missing)
+            missing = parent if parent != missing else ""
         try:
             os.makedirs(self.folder, exist_ok=True)
             check_target(os.path.join(self.folder, MANIFEST), "manifest", overwrite=self.overwrite)
@@ -330,12 +341,20 @@ class OutputFolder:
         return self
 
     def __exit__(self, exc_type: Any, exc: Any, tb: Any) -> None:
+        published = False
         try:
             if exc_type is None:
                 self._publish()
+                published = True
         finally:
             if self._staging is not None:
                 _remove(self._staging)
+            if not published:
+                for folder in self._created:
+                    try:
+                        os.rmdir(folder)  # only an empty one
+                    except OSError:
+                        break
 
     # ------------------------------------------------------------------ files
     def expect(self, names: Mapping[str, str]) -> None:
