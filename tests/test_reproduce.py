@@ -293,3 +293,37 @@ def test_the_trial_maps_mark_the_papers_experiment() -> None:
     np.testing.assert_allclose(line.get_xdata(), [1e-3, 0.042])  # clipped to the map's nu >= 1e-3
     np.testing.assert_allclose(line.get_ydata(), [160 / 42, 160 / 42])
     assert "mark" not in fig.axes[0].get_title()
+
+
+def test_f1_maps_show_slip_reversal_not_pure_slip(quick_run: Path) -> None:
+    """F1 (p = 0) has no pure slip: its non-sticking oscillation slips backward. The trial maps'
+    regimes (drawn in regimes_f1_c.png and the p = 0 row of regimes_f2_p.png) and the regime
+    reached say slip-reversal, and their flags name it."""
+    from stickslip.core.results import Regime
+
+    f1 = xr.load_dataset(quick_run / "criterion_f1_c.nc")
+    f2 = xr.load_dataset(quick_run / "criterion_f2_p.nc").sel(p=0.0)
+    for ds in (f1, f2):
+        for var in ("regime", "observed"):
+            codes = ds[var].values
+            assert not np.any(codes == Regime.PURE_SLIP.code), var
+            assert np.any(codes == Regime.SLIP_REVERSAL.code), var
+        meanings = ds.regime.attrs["flag_meanings"].split()
+        assert meanings[list(ds.regime.attrs["flag_values"]).index(3)] == "slip-reversal"
+
+
+def test_the_report_opens_with_verdicts_in_a_fixed_vocabulary(quick_run: Path) -> None:
+    from stickslip.paper.report import GRADES, claims
+
+    cl = claims(xr.load_dataset(quick_run / "reproduce.nc"))
+    assert all(c.grade in GRADES for c in cl)
+    md = (quick_run / "report.md").read_text()
+    verdicts = md.index("## Verdicts")
+    assert verdicts < md.index("## Set-up and choices") < md.index("## Claims")
+    counts = md[verdicts:].split("\n\n")[1]
+    assert counts.startswith(f"Of the paper's {len(cl)} claims, the model agrees with ")
+    assert "zv and bri are the paper's own keys for its two experiments" in md
+    with pytest.raises(ValueError, match="of none of the report's forms"):
+        from stickslip.paper.report import grade
+
+        grade("fine")

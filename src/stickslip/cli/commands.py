@@ -20,7 +20,42 @@ from .options import OnceCommand, build_parameters, describe_parameters
 __all__ = ["build_parameters", "describe_parameters", "main"]
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+#: the sections of ``stickslip --help``, in order, each with its commands in order
+SECTIONS = (
+    ("The paper", ("reproduce", "examples", "explore")),
+    ("One block", ("cycle", "simulate", "sweep")),
+    ("Measured records", ("analyze", "fit", "classify")),
+    ("Bifurcation", ("regimes",)),
+    ("Rate and state", ("ratestate", "ratestate-fit", "earthquake-cycles", "dulac")),
+    ("Chains of blocks", ("chain",)),
+)
+
+
+class SectionedGroup(click.Group):
+    """A group whose help lists its commands by :data:`SECTIONS`, each description whole."""
+
+    def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        names = self.list_commands(ctx)
+        placed = {n for _, group in SECTIONS for n in group}
+        sections = [*SECTIONS, ("Other", tuple(n for n in names if n not in placed))]
+        formatter.write_paragraph()
+        formatter.write_text(
+            "Start here: 'stickslip reproduce' (the paper, about 2 min), 'stickslip examples' (the "
+            "inputs the README's commands read), 'stickslip COMMAND --help'."
+        )
+        for title, group in sections:
+            rows = []
+            for name in group:
+                cmd = self.get_command(ctx, name)
+                if cmd is None or cmd.hidden:
+                    continue
+                rows.append((name, cmd.get_short_help_str(limit=10_000)))
+            if rows:
+                with formatter.section(title):
+                    formatter.write_dl(rows)
+
+
+@click.group(cls=SectionedGroup, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(package_name="stickslip")
 def main() -> None:
     """Friction oscillators: the one-block spring-slider, exact and fast."""

@@ -35,12 +35,17 @@ def register(main: click.Group) -> None:
         from ..paper import reproduce as run
 
         t0 = time.perf_counter()
+        click.echo(
+            f"reproducing the paper into {out_dir} in 5 stages: "
+            + ("a quick run, about 1 min" if quick else "about 1 to 2.5 min on two cores")
+            + " (the first run after an install also compiles the engines, cached afterwards)"
+        )
         # the appendix in a second process: this entry point is safe to import (spawn)
-        res = run(out_dir, quick=quick, overwrite=overwrite, parallel=not serial)
+        res = run(out_dir, quick=quick, overwrite=overwrite, parallel=not serial, notify=click.echo)
         click.echo(f"wrote {res.netcdf}")
         for paths in res.figures.values():
             click.echo(f"wrote {', '.join(paths)}")
         click.echo(f"wrote {res.report_md}, {res.report_html}")
         for c in res.claims:
-            click.echo(f"claim {c.number:2d}: {c.verdict}")
+            click.echo(f"claim {c.number:2d}: {c.grade} ({c.verdict})")
         click.echo(f"done in {time.perf_counter() - t0:.1f} s")

@@ -42,9 +42,22 @@ from .session import (
 
 __all__ = ["Explorer", "make_server", "serve"]
 
-#: colours of the regimes (stick-slip, pure slip, steady sliding, unknown)
-COLORS = ("#d95f02", "#1b9e77", "#7570b3", "#bbbbbb")
+#: a colour per regime, in the order of :data:`REGIMES`
+COLORS = ("#d95f02", "#1b9e77", "#66a61e", "#7570b3", "#bbbbbb")
 TITLE = "stickslip explorer"
+#: the page's HTML: Bokeh's, with a notice that shows until the document has rendered (the
+#: plots arrive over the websocket after the load event; without it the page stayed blank)
+LOADING_TEMPLATE_TEXT = """{% extends base %}
+{% block contents %}
+<div id="loading" style="font: 16px sans-serif; margin: 2em; color: #333">
+<h2 style="margin: 0">stickslip explorer</h2>
+<p>Loading: the page connects to stickslip's engine, which computes the plots (a few seconds;
+the first page after an install compiles the engine, up to half a minute). It needs JavaScript and
+the <code>stickslip explore</code> process that served it.</p>
+</div>
+{{ super() }}
+{% endblock %}
+"""
 
 
 class Explorer:
@@ -55,15 +68,18 @@ class Explorer:
     doc : bokeh.document.Document
         The page's document.
     setup : Setup, optional
-        The set-up shown first (default: the paper's F1 law, ``nu = 0.01``).
+        The set-up shown first (default: the paper's F1 law, ``nu = 1``: its curve spans
+        nu = 0.1 to 10, stick-slip and the slip reversal above nu = 4.5).
 
     """
 
     def __init__(self, doc: Any, setup: Setup | None = None) -> None:
+        from bokeh.events import DocumentReady
         from bokeh.layouts import column, gridplot, row
         from bokeh.models import ColumnDataSource, CustomJS
         from bokeh.models.widgets import Button, Div, PreText, RadioButtonGroup, Select, Slider, TextInput
         from bokeh.plotting import figure
+        from jinja2 import Template
 
         self.doc = doc
         self.setup = setup or Setup()
@@ -136,27 +152,36 @@ class Explorer:
 
         opts: dict[str, Any] = {"height": 300, "width": 440, "tools": "pan,wheel_zoom,box_zoom,reset,save"}
         self.f_force = figure(title="Spring force against time", **opts)
-        self.f_force.line("x", "y", source=self.force, line_width=1.5)
+        self.f_force.line("x", "y", source=self.force, line_width=1.5, legend_label="spring force")
         self.f_force.scatter("x", "y", source=self.force_stuck, size=3, color=COLORS[0], legend_label="stuck")
         self.f_phase = figure(title="Phase portrait", **opts)
-        self.f_phase.line("x", "y", source=self.phase, line_width=1.5)
+        self.f_phase.line("x", "y", source=self.phase, line_width=1.5, legend_label="motion")
         self.f_phase.scatter("x", "y", source=self.phase_stuck, size=4, color=COLORS[0], legend_label="stick")
         self.f_curve = figure(title="Amplitude against driving velocity", x_axis_type="log", **opts)
-        self.f_curve.line("x", "y", source=self.curve, color="#555555")
+        self.f_curve.line("x", "y", source=self.curve, color="#555555", legend_label="from rest")
         self.f_curve.scatter("x", "y", source=self.curve, color="color", size=6, legend_field="regime")
-        self.f_curve.scatter("x", "y", source=self.current, marker="diamond", size=14, color="black")
+        self.f_curve.scatter(
+            "x", "y", source=self.current, marker="diamond", size=14, color="black", legend_label="this nu"
+        )
         self.f_diag = figure(title="Regimes", x_axis_type="log", **opts)
         self.f_diag.quad(
             left="left", right="right", bottom="bottom", top="top", color="color",
             source=self.diagram, legend_field="regime", line_color=None,
         )  # fmt: skip
         self.f_diag.scatter(
-            "x", "y", source=self.diagram_point, marker="x", size=16, color="black", line_width=3
-        )
+            "x", "y", source=self.diagram_point, marker="x", size=16, color="black", line_width=3,
+            legend_label="this set-up",
+        )  # fmt: skip
         for f in (self.f_force, self.f_phase, self.f_curve, self.f_diag):
             f.legend.location = "top_right"
             f.legend.label_text_font_size = "8pt"
             f.legend.background_fill_alpha = 0.6
+        self.f_curve.legend.location = "top_left"  # the amplitude rises to the right in stick-slip
+        # the regimes' legend beside the map, not over it
+        self.f_diag.legend.location = "center"
+        self.f_diag.legend.background_fill_alpha = 1.0
+        self.f_diag.add_layout(self.f_diag.legend[0], "right")
+        self.f_diag.width = 560
 
         self.law.on_change("value", self._on_law)
         self.apply.on_click(self._on_apply)
@@ -185,6 +210,10 @@ class Explorer:
             [[self.f_force, self.f_phase], [self.f_curve, self.f_diag]], toolbar_location="right"
         )
         doc.title = TITLE
+        doc.template = Template(LOADING_TEMPLATE_TEXT)
+        doc.js_on_event(
+            DocumentReady, CustomJS(code="const n = document.getElementById('loading'); if (n) n.remove();")
+        )
         doc.add_root(row(controls, plots))
         doc.add_root(self.csv)  # not drawn: the page downloads its text when it changes
         self.update()
@@ -374,7 +403,8 @@ class Explorer:
         self.force_stuck.data = {"x": v.time[v.stuck], "y": v.spring_force[v.stuck]}
         self.phase.data = {"x": v.velocity, "y": v.spring_force}
         self.phase_stuck.data = {"x": v.velocity[v.stuck], "y": v.spring_force[v.stuck]}
-        colors = [COLORS[REGIMES.index(r)] if r in REGIMES else COLORS[3] for r in v.curve_regime]
+        unknown = REGIMES.index("unknown")
+        colors = [COLORS[REGIMES.index(r) if r in REGIMES else unknown] for r in v.curve_regime]
         self.curve.data = {
             "x": v.curve_v,
             "y": v.curve_amplitude,
@@ -438,14 +468,15 @@ class Explorer:
 
     def _summary(self, v: View) -> str:
         u = v.units
-        period = "-" if not math.isfinite(v.period) else f"{v.period!r} {u['time']}"
+        period = "-" if not math.isfinite(v.period) else f"{v.period:.5g} {u['time']}"
         ok = v.verdict == v.regime or v.verdict == "inconclusive"
         mark = "" if v.verdict == "inconclusive" else (" (right)" if ok else " (<b>wrong</b>)")
+        # five significant digits shown; every digit in the span's data-value (the CSV has them too)
         return (
-            f"<b>regime</b>: {v.regime}<br><b>amplitude</b>: <span id='amplitude'>{v.amplitude!r}</span> "
-            f"{u['force']}<br><b>period</b>: {period}<br><b>stick fraction</b>: {v.stick_fraction:.6g}<br>"
-            f"<b>criterion</b>: {v.verdict}{mark}<br><small>{v.verdict_reason}</small><br>"
-            f"<small>update {1e3 * self.last_update_s:.0f} ms (#{self.updates})</small>"
+            f"<b>regime</b>: {v.regime}<br><b>amplitude</b>: <span id='amplitude' "
+            f"data-value='{v.amplitude!r}'>{v.amplitude:.5g}</span> "
+            f"{u['force']}<br><b>period</b>: {period}<br><b>stick fraction</b>: {v.stick_fraction:.4g}<br>"
+            f"<b>criterion</b>: {v.verdict}{mark}<br><small>{v.verdict_reason}</small>"
             + (
                 "<br><small>a formula f(w) is dimensionless: shown in units of mu_s W and sqrt(m/k)</small>"
                 if v.setup.physical and v.setup.law == EXPR

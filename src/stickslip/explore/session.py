@@ -63,7 +63,7 @@ CURVE_POINTS = 25
 #: the regime diagram's grid (driving velocity x the law's first parameter)
 DIAGRAM_SHAPE = (36, 24)
 #: the regimes in the order of their colour codes
-REGIMES = ("stick-slip", "pure-slip", "steady-sliding", "unknown")
+REGIMES = ("stick-slip", "pure-slip", "slip-reversal", "steady-sliding", "unknown")
 #: the default physical scales (mass kg, stiffness N/m, load N, mu_s): the paper's zv set-up
 _ZV = zv_parameters()
 ZV_SCALES = (
@@ -114,7 +114,7 @@ class Setup:
 
     law: str = "weakening"
     params: Mapping[str, float] = field(default_factory=lambda: {"c": 3.8, "p": 0.0})
-    nu: float = 0.01
+    nu: float = 1.0  # F1's curve (0.1 to 10) holds its change from stick-slip to slip reversal (4.5)
     expression: str = DEFAULT_EXPRESSION
     physical: bool = False
     mass: float = ZV_SCALES[0]

@@ -330,6 +330,15 @@ def compile_kernel(law_source: str, name: str, law_id: int = 0, *, check: bool =
             module = importlib.util.module_from_spec(spec)
             sys.modules[pkg] = module
             spec.loader.exec_module(module)
+        if not any((folder / "__pycache__").glob("engine.*.nbi")):
+            # numba compiles the engine at its first call, for 20 to 30 s with nothing to show:
+            # say so once, on stderr (the output a command prints stays its own)
+            print(
+                f"stickslip: compiling the engine for the friction law {name!r} once "
+                f"(10 to 30 s on two cores); cached afterwards in {folder}",
+                file=sys.stderr,
+                flush=True,
+            )
         laws = importlib.import_module(f"{pkg}.laws")
         # compile the law's own functions now: a formula numba cannot compile fails here, clearly;
         # each on its own, so that a probe that lands on a pole does not skip the next one's typing

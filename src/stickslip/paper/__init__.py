@@ -9,6 +9,8 @@ from __future__ import annotations
 import contextlib
 import multiprocessing
 import os
+import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from multiprocessing.pool import Pool
 from typing import Any
@@ -29,7 +31,7 @@ REMOTE_TRIALS = ("cubic_alpha",)
 #: quasi-static runaway, which uses it; balanced on a cold start, docs/benchmarks.md)
 LOCAL_APPENDIX_PARTS = ("inertia", "portraits")
 
-__all__ = ["Claim", "PaperConfig", "ReproduceResult", "claims", "compute_paper", "reproduce"]
+__all__ = ["STAGES", "Claim", "PaperConfig", "ReproduceResult", "claims", "compute_paper", "reproduce"]
 
 
 @dataclass(frozen=True)
@@ -50,6 +52,7 @@ def reproduce(
     progress: bool | None = False,
     overwrite: bool = False,
     parallel: bool = False,
+    notify: Callable[[str], None] | None = None,
 ) -> ReproduceResult:
     """Compute every curve of the paper, write the data, the figures and the report.
 
@@ -80,6 +83,9 @@ def reproduce(
         safe to import (an ``if __name__ == "__main__":`` guard); ``stickslip
         reproduce`` uses it. Where no process can be started, everything runs in
         this one. Default False.
+    notify : callable, optional
+        Called with one line as each of the :data:`STAGES` starts (``[2/5] the paper's
+        curves ...``), with the seconds elapsed.
 
     """
     from .trial import TRIAL_MAPS, run_trials
@@ -102,6 +108,7 @@ def reproduce(
             }
         )
         config = PaperConfig.quick() if quick else PaperConfig()
+        stage = _Stages(notify)
         with contextlib.ExitStack() as stack:
             pool = _second_process() if parallel else None
             remote_trial_figures: dict[str, Any] = {}
@@ -120,8 +127,11 @@ def reproduce(
                 }
             # the criterion's trials (regime maps on both cores) while the second process works
             here = None if pool is None else tuple(m.key for m in TRIAL_MAPS if m.key not in REMOTE_TRIALS)
+            stage(0)
             computed_trials = run_trials(quick=quick, progress=progress, keys=here)
+            stage(1)
             ds = compute_paper(config, progress=progress, appendix=pool is None)
+            stage(2)
             trials: dict[str, Any] = {}
 
             def hand_over_trials() -> None:
@@ -149,6 +159,7 @@ def reproduce(
                 parts.update({name: task.get() for name, task in remote_parts.items()})
                 ds = with_appendix(ds, merge_appendix(parts))
             trials = {m.key: trials[m.key] for m in TRIAL_MAPS}
+            stage(3)
             nc = save_sweep(ds, "reproduce.nc", kind="reproduce", out=out)
             data = load_sweep(out.staged_path("reproduce.nc"))
             figures = make_figures(data)
@@ -170,8 +181,32 @@ def reproduce(
                     files[f"{kind}_{m.key}"] = trial_files[f"{kind}_{m.key}"]
         files = {name: files[name] for name in [*figures, *(k for k in files if k not in figures)]}
         staged_png = {k: out.staged_path(os.path.basename(v[0])) for k, v in files.items()}
+        stage(4)
         md, html_path = write_report(data, out, staged_png, trials)
     return ReproduceResult(nc, files, md, html_path, claims(data))
+
+
+#: the stages of :func:`reproduce`, as :func:`reproduce`'s ``notify`` names them
+STAGES = (
+    "the criterion on trial: regime maps of F1, F2 and the cubic law, 16 rows each",
+    "the paper's curves: Figs. 1-3, period, load and mass dependences",
+    "the appendix: Dulac's criterion, phase portraits, critical stiffness, inertia",
+    "reproduce.nc and the figures (PNG and SVG)",
+    "the report (report.md, report.html)",
+)
+
+
+class _Stages:
+    """Say, through ``notify``, which of :data:`STAGES` starts and how long the run has taken."""
+
+    def __init__(self, notify: Callable[[str], None] | None) -> None:
+        self.notify = notify
+        self.t0 = time.perf_counter()
+
+    def __call__(self, i: int) -> None:
+        if self.notify is not None:
+            took = time.perf_counter() - self.t0
+            self.notify(f"[{i + 1}/{len(STAGES)}] {STAGES[i]} ({took:.0f} s so far)")
 
 
 def _save_trial(key: str, trial: Any, out: OutputFolder) -> Any:

@@ -98,7 +98,7 @@ def fig3_amplitude_v0(ds: xr.Dataset) -> Figure:
         ax.plot(v, ds["fig3_amplitude_au"].values[i], lw=1.8, label=rf"$\beta$ = {beta:g} s/m")
     _v0_axis(ax, ds, "fig3_v0")
     ax.set_yscale("log")
-    ax.set_ylabel(r"amplitude [arbitrary units: $\mu_0 W$]")
+    ax.set_ylabel(r"amplitude [units of $\mu_0 W$]")
     ax.set_title(f"Fig. 3: a = {ds.attrs.get('fig3_a', '')}, b = 0", fontsize=10)
     ax.legend(frameon=False)
     return fig
@@ -138,9 +138,10 @@ def mass_dependence(ds: xr.Dataset) -> Figure:
     """Relative change of the amplitude against v0 for masses from 0.1 g to 1 kg, one panel per law.
 
     The change ``A(v0)/A(v0_min) - 1`` spans six orders of magnitude and changes sign (F2 at
-    small masses): it is drawn with its sign on a symmetric logarithmic axis (falling curves
-    below zero), solid where the amplitude rises and dashed where it falls. (Its magnitude on
-    a log axis drew the falling curves going up, as the rising ones: the reproduction audit.)
+    small masses): it is drawn with its sign on an asinh axis, logarithmic away from zero and
+    smooth through it (falling curves below zero), solid where the amplitude rises and dashed
+    where it falls. Its magnitude on a log axis drew the falling curves going up, as the
+    rising ones; a symlog axis kinked every curve where it crossed the linear threshold.
     """
     v = ds["mass_v0"].values
     unit = ds["mass_mass"].attrs.get("units", "")
@@ -164,7 +165,7 @@ def mass_dependence(ds: xr.Dataset) -> Figure:
                 lw=1.8,
                 label=f"m = {m:g} {unit}" + (" (falls)" if falling else ""),
             )
-        ax.set_yscale("symlog", linthresh=linear)
+        ax.set_yscale("asinh", linear_width=linear)  # smooth through zero: symlog kinked at +-linear
         ax.axhline(0.0, color="0.6", lw=0.8)
         _v0_axis(ax, ds, "mass_v0")
         b = float(b_values[i])
@@ -173,7 +174,7 @@ def mass_dependence(ds: xr.Dataset) -> Figure:
         some_fall = bool(np.any(np.median(changes[i], axis=-1) < 0))
         ax.legend(frameon=False, fontsize=8, loc="center right" if some_fall else "lower right")
     lowest = pretty_units(f"{v[0]:g} {ds['mass_v0'].attrs.get('units', '')}")
-    np.atleast_1d(axes)[0].set_ylabel(f"amplitude / amplitude at {lowest} - 1 (symmetric log)")
+    np.atleast_1d(axes)[0].set_ylabel(f"amplitude / amplitude at {lowest} - 1 (asinh scale)")
     fig.suptitle(
         "Dependence on the mass (zv set-up otherwise): above 0 the amplitude rises with $v_0$, below it "
         "falls (dashed)",

@@ -27,12 +27,52 @@ __all__ = ["Claim", "claims", "write_report"]
 
 @dataclass(frozen=True)
 class Claim:
-    """One claim of the paper and what the model says about it."""
+    """One claim of the paper and what the model says about it.
+
+    ``verdict`` is the reproduction's word on the claim, with its qualifier; :attr:`grade`
+    puts it in the report's fixed vocabulary (:data:`GRADES`).
+    """
 
     number: int
     paper: str
     model: str
     verdict: str
+
+    @property
+    def grade(self) -> str:
+        """The verdict in one of :data:`GRADES`."""
+        return grade(self.verdict)
+
+
+#: the report's verdicts: does the model bear out what the paper says?
+GRADES = ("agrees", "agrees in part", "disagrees", "not testable", "inconsistent in the paper")
+
+
+def grade(verdict: str) -> str:
+    """Return the grade (:data:`GRADES`) of a claim's verdict.
+
+    ``supported`` agrees; ``partly supported`` and ``supported for X`` (and not for
+    the others) agree in part; ``contradicted`` disagrees; ``not testable`` stays so; an inconsistency (a
+    number or a name the paper gives two ways) is the paper's.
+
+    Raises
+    ------
+    ValueError
+        For a verdict of none of these forms: each must have its grade.
+
+    """
+    v = verdict.strip().lower()
+    if v.startswith(("partly supported", "supported for")):
+        return "agrees in part"
+    if v.startswith("supported"):
+        return "agrees"
+    if v.startswith("contradicted"):
+        return "disagrees"
+    if v.startswith("not testable"):
+        return "not testable"
+    if "inconsistency" in v:
+        return "inconsistent in the paper"
+    raise ValueError(f"verdict {verdict!r}: of none of the report's forms ({', '.join(GRADES)})")
 
 
 def _slope(x: np.ndarray, y: np.ndarray) -> float:
@@ -104,7 +144,10 @@ def claims(ds: xr.Dataset) -> list[Claim]:
             "experiment, where " + str(measured["zv"]["text"]) + ".",
             f"the stated trend implies a slope of {zv_slope:+.3f}; the model gives {slope_b0:+.4f} "
             f"(b = 0) and {slope_b100:+.4f} (b = 100 s/m): opposite signs.",
-            "supported" if slope_b0 > 0 > zv_slope else "contradicted",
+            "supported: the model's amplitude rises where the zv record's falls, the difference the "
+            "paper states"
+            if slope_b0 > 0 > zv_slope
+            else "contradicted",
         )
     )
     ps0, ps100 = _slope(v2, per2[0]), _slope(v2, per2[1])
@@ -272,7 +315,7 @@ def _appendix_claims(ds: xr.Dataset) -> list[Claim]:
             f"{float(ds.attrs['appendix_cycle_peak_velocity']):.3g} m/s, period "
             f"{float(ds.attrs['appendix_cycle_period']):.3g} s), while the quasi-static one: "
             f"{runaway}",
-            "shown",
+            "supported (shown by the inertial slider's simulation)",
         ),
     ]
 
@@ -521,6 +564,23 @@ class _Figure:
 _Block = _Heading | _Para | _Bullets | _Table | _Figure
 
 
+def _grade_counts(cl: list[Claim]) -> str:
+    """Return one sentence: how many of the claims fall in each grade."""
+    counts = {g: sum(c.grade == g for c in cl) for g in GRADES}
+    words = {
+        "agrees": "the model agrees with {}",
+        "agrees in part": "agrees in part with {}",
+        "disagrees": "disagrees with {}",
+        "not testable": "{} cannot be tested from the paper",
+        "inconsistent in the paper": "{} are inconsistencies in the paper itself",
+    }
+    parts = [words[g].format(n) for g, n in counts.items() if n]
+    return (
+        f"Of the paper's {len(cl)} claims, " + ", ".join(parts) + ". A verdict says whether the "
+        "model bears out what the paper says (agrees), not whether the model matches an experiment."
+    )
+
+
 def _blocks(ds: xr.Dataset, figure_files: dict[str, str]) -> list[_Block]:
     cl = claims(ds)
     beta_claim = next(c.number for c in cl if c.paper.startswith("Parameters: beta"))
@@ -547,9 +607,19 @@ def _blocks(ds: xr.Dataset, figure_files: dict[str, str]) -> list[_Block]:
             if int(ds.attrs.get("quick", 0))
             else []
         ),
+        _Heading(2, "Verdicts"),
+        _Para(_grade_counts(cl)),
+        _Table(
+            ("#", "the paper says", "verdict"),
+            tuple((str(c.number), c.paper, c.grade) for c in cl),
+        ),
         _Heading(2, "Set-up and choices"),
         _Bullets(
             (
+                "zv and bri are the paper's own keys for its two experiments (its bibliography is "
+                "not in the source): zv, a PMMA sample scratched by a conical diamond indenter "
+                "(the paper's Figs. 1, 2 and its Fig. 4 data); bri, another PMMA experiment (its "
+                "Fig. 5, the paper's Fig. 3).",
                 "zv experiment: W = 196 mN, mu0 = 0.46, a = 160 s/m, k = 62 N/m, v0 from 5 to "
                 "1000 um/s; F1 = mu0 W/(1 + a v), F2 = mu0 W [1/(1 + a v) + b v] (b v in units of "
                 "mu0 W, the only reading under which the paper's p = b/beta = 2.38 holds).",
@@ -564,7 +634,7 @@ def _blocks(ds: xr.Dataset, figure_files: dict[str, str]) -> list[_Block]:
         _Heading(2, "Claims"),
         _Table(
             ("#", "the paper says", "the model gives", "verdict"),
-            tuple((str(c.number), c.paper, c.model, c.verdict) for c in cl),
+            tuple((str(c.number), c.paper, c.model, f"{c.grade} ({c.verdict})") for c in cl),
         ),
         _Heading(2, "Figures"),
     ]

@@ -34,6 +34,7 @@ _NOT_IN_TITLE = (BETA_ATTR, MARK_VALUE, MARK_NU_MIN, MARK_NU_MAX)
 REGIME_COLORS = {
     "stick-slip": "#fdd49e",
     "pure-slip": "#c6dbef",
+    "slip-reversal": "#bcbddc",
     "bistable": "#d9d9d9",
     "multistable": "#b3b3b3",
     "steady-sliding": "#e5f5e0",
@@ -41,6 +42,35 @@ REGIME_COLORS = {
     "unknown": "#fcbba1",
 }
 _BRANCH_COLORS = {"steady-sliding": "C2", "pure-slip": "C0", "stick-slip": "C3"}
+#: the words a figure's legend uses for the special points and lines (the code's names are the JSON's)
+POINT_WORDS = {
+    "hopf": "Hopf point",
+    "fold": "fold of pure-slip orbits",
+    "grazing": "grazing (pure slip reaches w = 0)",
+    "stick-slip-onset": "onset of stick-slip",
+}
+#: a law parameter's symbol on an axis
+_SYMBOLS = {"alpha": r"$\alpha$", "gamma": r"$\gamma$", "beta": r"$\beta$", "kappa": r"$\kappa$"}
+
+
+def _law_words(law_name: str, params: dict[str, float]) -> str:
+    """``cubic law (alpha = 0.5, gamma = 0.1667)``: the law, its parameters to four digits."""
+    pars = ", ".join(f"{_SYMBOLS.get(k, k)} = {v:.4g}" for k, v in params.items())
+    return f"{law_name} law" + (f" ({pars})" if pars else "")
+
+
+def _breaks(x: np.ndarray, y: np.ndarray, jump: float = 0.25) -> tuple[np.ndarray, np.ndarray]:
+    """Return ``x, y`` with a NaN between neighbours whose ``x`` differ by more than ``jump`` relative.
+
+    A boundary that jumps from one row of a map to the next (a fold where another branch
+    takes over) is two pieces, not a line drawn across the gap.
+    """
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rel = np.abs(np.diff(x)) / np.maximum(np.abs(x[:-1]), np.abs(x[1:]))
+    cut = np.flatnonzero(rel > jump) + 1
+    return np.insert(x, cut, np.nan), np.insert(y, cut, np.nan)
 
 
 def _segments(ax: Axes, x: np.ndarray, y: np.ndarray, stable: np.ndarray, color: str, label: str) -> None:
@@ -176,7 +206,8 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None, beta: f
     seen = set()
     for p in diagram.points:
         if not np.isfinite(p.amplitude):  # a boundary of an attractor that no branch follows
-            ax.axvline(p.nu, color="0.3", ls=":", lw=1.0, label=None if p.kind in seen else p.kind, zorder=4)
+            word = None if p.kind in seen else POINT_WORDS.get(p.kind, p.kind)
+            ax.axvline(p.nu, color="0.3", ls=":", lw=1.0, label=word, zorder=4)
             seen.add(p.kind)
             continue
         m, c = markers.get(p.kind, ("+", "k"))
@@ -187,7 +218,7 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None, beta: f
             color=c,
             ms=6,
             mfc="none" if m in "os" else c,
-            label=None if p.kind in seen else p.kind,
+            label=None if p.kind in seen else POINT_WORDS.get(p.kind, p.kind),
             zorder=5,
         )
         seen.add(p.kind)
@@ -199,8 +230,7 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None, beta: f
     ax.set_xlabel(r"dimensionless driving velocity $\nu = \beta v_0$")
     ax.set_ylabel(r"amplitude of the spring force [$\mu_s W$]")
     law = diagram.law
-    pars = ", ".join(f"{k} = {v:g}" for k, v in law.params.items())
-    ax.set_title(f"{law.name} law ({pars})", fontsize=10)
+    ax.set_title(_law_words(law.name, dict(law.params)), fontsize=10)
     handles, labels = ax.get_legend_handles_labels()
     # a branch's entry in its colour, solid; the line style is said once (a branch's first piece
     # set it: steady sliding read dashed where it is stable)
@@ -240,9 +270,9 @@ def _map_axes(ds: Any, variable: str, codes: dict[str, int], colors: dict[str, s
     }
     for key, (c, ls) in styles.items():
         if key in ds and np.any(np.isfinite(ds[key].values)):
-            # named as in the bifurcation figure and the JSON (stick-slip-onset, not 'stick slip onset')
-            label = key.replace("stick_slip", "stick-slip").replace("_", "-")
-            ax.plot(ds[key].values, ds[param].values, ls, color=c, lw=1.4, label=label)
+            # in the bifurcation figure's words
+            label = POINT_WORDS[key.replace("stick_slip", "stick-slip").replace("_", "-")]
+            ax.plot(*_breaks(ds[key].values, ds[param].values), ls, color=c, lw=1.4, label=label)
     nu = ds.nu.values
     if MARK_VALUE in ds.attrs:  # where the paper's experiment lies (clipped to the map)
         lo, hi = max(float(ds.attrs[MARK_NU_MIN]), nu[0]), min(float(ds.attrs[MARK_NU_MAX]), nu[-1])
@@ -257,7 +287,7 @@ def _map_axes(ds: Any, variable: str, codes: dict[str, int], colors: dict[str, s
     if ds.attrs.get(BETA_ATTR):  # a physical set-up's map
         _v0_axis(ax, float(ds.attrs[BETA_ATTR]), float(nu[0]), float(nu[-1]))
     ax.set_xlabel(r"dimensionless driving velocity $\nu = \beta v_0$")
-    ax.set_ylabel(f"{ds.attrs.get('law', '')} law parameter {param}")
+    ax.set_ylabel(f"{ds.attrs.get('law', '')} law: {_SYMBOLS.get(param, param)}")
     ax.set_title(title, fontsize=10)
     present = [n for n in names if np.any(ds[variable].values == codes[n])]
     handles, labels = ax.get_legend_handles_labels()
@@ -275,7 +305,9 @@ def plot_regime_map(ds: Any) -> Figure:
     from ..bifurcation.regime_map import REGIME_CODES
 
     fixed = ", ".join(
-        f"{k} = {v:g}" for k, v in ds.attrs.items() if isinstance(v, float) and k not in _NOT_IN_TITLE
+        f"{_SYMBOLS.get(k, k)} = {v:.4g}"
+        for k, v in ds.attrs.items()
+        if isinstance(v, float) and k not in _NOT_IN_TITLE
     )
     return _map_axes(ds, "regime", {**REGIME_CODES}, REGIME_COLORS, f"regimes ({fixed})")
 
@@ -288,6 +320,10 @@ def plot_criterion_map(trial: Any) -> Figure:
     codes = {"not judged": -1, "wrong": 0, "right": 1}
     colors = {"not judged": "#f0f0f0", "wrong": "#d7301f", "right": "#74c476"}
     fixed = ", ".join(
-        f"{k} = {v:g}" for k, v in trial.attrs.items() if isinstance(v, float) and k not in _NOT_IN_TITLE
+        f"{_SYMBOLS.get(k, k)} = {v:.4g}"
+        for k, v in trial.attrs.items()
+        if isinstance(v, float) and k not in _NOT_IN_TITLE
     )
-    return _map_axes(trial, "right", codes, colors, f"sign of dA/dv0 against the regime reached ({fixed})")
+    return _map_axes(
+        trial, "right", codes, colors, f"the criterion (sign of dA/dv0) against the regime reached ({fixed})"
+    )
