@@ -281,7 +281,7 @@ class LawCommand(OnceCommand):
         own = super().get_params(ctx)
         help_opt = [p for p in own if p.name == "help"]
         rest = [p for p in own if p.name != "help"]
-        return self._law_params_now() + rest + help_opt
+        return rest + self._law_params_now() + help_opt
 
 
 def law_command(group: click.Group, name: str | None = None, *, text: bool = False) -> Callable[..., Any]:

@@ -330,9 +330,10 @@ def compile_kernel(law_source: str, name: str, law_id: int = 0, *, check: bool =
             module = importlib.util.module_from_spec(spec)
             sys.modules[pkg] = module
             spec.loader.exec_module(module)
-        if not any((folder / "__pycache__").glob("engine.*.nbi")):
-            # numba compiles the engine at its first call, for 20 to 30 s with nothing to show:
-            # say so once, on stderr (the output a command prints stays its own)
+        if sys.stderr.isatty() and not any((folder / "__pycache__").glob("engine.*.nbi")):
+            # numba compiles the engine at its first call, for 10 to 30 s with nothing to show:
+            # say so once, on a terminal's stderr (a pipe, a log or a parsed JSON output stays
+            # the command's own)
             print(
                 f"stickslip: compiling the engine for the friction law {name!r} once "
                 f"(10 to 30 s on two cores); cached afterwards in {folder}",
