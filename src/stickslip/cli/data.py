@@ -13,7 +13,7 @@ import numpy as np
 from ..io.jsonable import dumps as dumps_json
 from ..units import FORCE_UNITS, VELOCITY_UNITS, readable_unit
 from .errors import handle_errors
-from .options import figure_names, out_dir_option, overwrite_option
+from .options import OutPath, figure_names, out_dir_option, overwrite_option
 
 __all__ = ["register"]
 
@@ -67,7 +67,7 @@ def register(main: click.Group) -> None:
     """Add the commands to ``main``."""
 
     @main.command()
-    @click.argument("folder", type=click.Path(file_okay=False), default="examples", required=False)
+    @click.argument("folder", type=OutPath(file_okay=False), default="examples", required=False)
     @overwrite_option
     @handle_errors
     def examples(folder: str, overwrite: bool) -> None:
