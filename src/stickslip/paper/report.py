@@ -169,11 +169,14 @@ def claims(ds: xr.Dataset) -> list[Claim]:
             0,
             "The period and the amplitude depend on the normal load in the same direction as in the "
             "experiment.",
+            f"least-squares slopes over W from {1e3 * w.min():.3g} to {1e3 * w.max():.3g} mN: "
             "d log(amplitude)/d log(W) = "
             + ", ".join(f"{s:+.2f}" for s in la)
             + "; d log(period)/d log(W) = "
             + ", ".join(f"{s:+.2f}" for s in lp)
-            + f" at v0 = {', '.join(vs)} um/s (F1, the zv set-up's mass and stiffness, so beta falls "
+            + f" at v0 = {', '.join(vs)} um/s; the curves bend, local slopes of the amplitude "
+            + "; ".join(_local_slopes(w, ds["load_amplitude"].values[j]) for j in range(ds.sizes["load_v0"]))
+            + " (F1, the zv set-up's mass and stiffness, so beta falls "
             f"as 1/W): {_directions(la, lp)}. The paper does not say in "
             "which direction the measured ones go, so the agreement cannot be checked from its text.",
             "not testable from the paper",
@@ -351,6 +354,29 @@ def _demo_mass(ds: xr.Dataset) -> str:
     return f" (m = {mass * 1e3:.3g} g)" if math.isfinite(mass) else ""  # an older reproduce.nc lacks it
 
 
+#: the zv experiment's normal load (N), where a local slope is read
+ZV_LOAD = 0.196
+
+
+def _local_slopes(w: np.ndarray, y: np.ndarray) -> str:
+    """``from 1.2 to 7.3 (1.6 at 196 mN)``: the range of d log y / d log w, and its value at the zv load."""
+    ok = np.isfinite(y) & (y > 0)
+    if ok.sum() < 3:
+        return "not measured"
+    lw, ly = np.log(w[ok]), np.log(y[ok])
+    local = np.gradient(ly, lw)
+    at = float(np.interp(math.log(ZV_LOAD), lw, local)) if lw[0] <= math.log(ZV_LOAD) <= lw[-1] else math.nan
+    where = f" ({at:.2g} at {1e3 * ZV_LOAD:g} mN)" if math.isfinite(at) else ""
+    return f"from {local.min():.2g} to {local.max():.2g}{where}"
+
+
+def _percent(x: float) -> str:
+    """Return a relative change for reading: ``+3.2%``, ``-41%``; a factor (``x84``, ``x0.003``) beyond."""
+    if x > 10.0 or x < -0.9:
+        return f"x{1.0 + x:.2g}" if x < 0 else f"x{1.0 + x:.3g}"
+    return f"{100 * x:+.2g}%" if abs(x) < 0.1 else f"{100 * x:+.0f}%"
+
+
 def _directions(amplitude: list[float], period: list[float]) -> str:
     """Say how the amplitude and the period go with the load, from their slopes (it said 'both increase')."""
 
@@ -380,7 +406,7 @@ def _mass_claim(ds: xr.Dataset) -> Claim:
             f"{law}: slope "
             + ", ".join(f"{x:+.2e} at {m:g} {unit}" for m, x in zip(masses, slopes, strict=True))
             + " (amplitude change over the range "
-            + ", ".join(f"{100 * c:+.3g}%" for c in change)
+            + ", ".join(_percent(c) for c in change)
             + f"; regimes: {', '.join(sorted(regimes))})"
         )
         falling = [m for m, x in zip(masses, slopes, strict=True) if x < 0]
@@ -506,7 +532,7 @@ def _friction_range_claim(ds: xr.Dataset) -> Claim:
     rel = fr / amp - 1.0
     parts = [
         f"{'F1' if b == 0 else f'F2 (b = {b:g} s/m)'}: friction range / spring-force range - 1 from "
-        f"{100 * float(np.min(rel[i])):+.3g}% to {100 * float(np.max(rel[i])):+.3g}%"
+        f"{_percent(float(np.min(rel[i])))} to {_percent(float(np.max(rel[i])))}"
         for i, b in enumerate(ds["fig2_b"].values)
     ]
     small = bool(np.all(np.abs(rel) < 0.01))
