@@ -216,3 +216,22 @@ def test_good_arrays_pass_the_check_unchanged() -> None:
     np.testing.assert_array_equal(finite_array("x", a), a)
     assert finite_array("x", []).size == 0
     assert finite_array("x", [1e-300], positive=True)[0] == 1e-300
+
+
+def test_a_table_law_from_a_number_is_a_type_error_naming_the_path() -> None:
+    from stickslip import TabulatedLaw
+
+    with pytest.raises(TypeError, match=r"path=123: expected the path of a CSV file"):
+        TabulatedLaw.from_csv(123)
+
+
+@pytest.mark.parametrize(("text", "which"), [("0.1,,0.2", "value 2 of 3"), ("0.1,0.2,", "value 3 of 3")])
+def test_an_empty_element_of_a_list_is_named(text: str, which: str, tmp_path) -> None:
+    from click.testing import CliRunner
+
+    from stickslip.cli import main
+
+    res = CliRunner().invoke(main, ["sweep", "--nu", text, "--c", "3.8", "--out", str(tmp_path / "s.nc")])
+    assert res.exit_code == 2
+    assert f"nu={text!r}: {which} is empty: expected values separated by single commas" in res.output
+    assert not (tmp_path / "s.nc").exists()

@@ -184,6 +184,7 @@ CASES = [
         "nothing to sweep",
     ),
     Case("options", "sweep --num 1", ["sweep", "--nu", "0.1..1", "--c", "3", "--num", "1"], "error", "--num"),
+    Case("options", "an empty element of a list", ["sweep", "--nu", "0.1,,0.2", "--c", "3"], "error", "nu"),
     Case("options", "regimes with --nu", ["regimes", "--nu", "0.1", "--c", "3"], "error", "--nu"),
     Case(
         "options", "reversed nu range", ["regimes", "--c", "3", "--nu-min", "1", "--nu-max", "0.1"], "error"

@@ -734,9 +734,15 @@ def parse_axis(p: Parameter, name: str, text: str, num: int, log: bool) -> Any:
         else:
             vals = np.linspace(lo, hi, num)
         return [float(v) for v in vals] if unit is None else Q_(vals, unit)
-    items = [t.strip() for t in text.split(",") if t.strip()]
-    if not items:
+    items = [t.strip() for t in text.split(",")]
+    if not any(items):
         raise ValueError(f"{name}={text!r}: expected values separated by commas")
+    if not all(items):  # '0.1,,0.2' dropped the empty one without a word: a typo is said
+        i = items.index("")
+        raise ValueError(
+            f"{name}={text!r}: value {i + 1} of {len(items)} is empty: expected values separated by "
+            "single commas, e.g. '0.1,0.2'"
+        )
     if not p.unit:
         return [float(_to_float(name, t)) for t in items]
     qs = [parse_quantity(t, name, p.dimension, example, allow_zero=True, allow_negative=True) for t in items]

@@ -302,8 +302,12 @@ class TabulatedLaw(PhysicalLaw):
         ------
         DataError
             For a file that cannot be read or a table that cannot be used (naming the file and row).
+        TypeError
+            For a ``path`` that is not a path (a number, None).
 
         """
+        if not isinstance(path, str | os.PathLike):  # 123 gave Python's own TypeError from open()
+            raise TypeError(f"path={path!r}: expected the path of a CSV file (str or os.PathLike)")
         cols = read_table(path, ["velocity"], ["friction coefficient", "friction force", "mu", "friction"])
         p = os.fspath(path)
         vel = cols["velocity"]
