@@ -19,7 +19,10 @@ __all__ = ["register"]
 
 
 def reading_options(func: Any) -> Any:
-    """Add the options that say how a laboratory's files are read (variables, units, set-up)."""
+    """Add the options that say how a laboratory's files are read (variables, units, set-up).
+
+    The command takes them as ``**reading`` and passes :func:`_reading` of them to the reader.
+    """
     options = [
         click.option("--time", "time_name", default=None, help="The variable or column holding the time."),
         click.option("--force", "force_name", default=None, help="The variable or column holding the force."),
@@ -50,17 +53,19 @@ def reading_options(func: Any) -> Any:
     return func
 
 
-def _record_options(
-    time_name: str | None,
-    force_name: str | None,
-    normalised: bool | None,
-    time_unit: str | None,
-    force_unit: str | None,
-    name_pattern: str | None,
-) -> Any:
+def _reading(reading: dict[str, Any]) -> dict[str, Any]:
+    """Return :func:`reading_options`' values as ``read_record``'s keywords (``options``, stiffness, mass)."""
     from ..io.formats import RecordOptions
 
-    return RecordOptions(time_name, force_name, normalised, time_unit, force_unit, name_pattern)
+    options = RecordOptions(
+        reading["time_name"],
+        reading["force_name"],
+        reading["normalised"],
+        reading["time_unit"],
+        reading["force_unit"],
+        reading["name_pattern"],
+    )
+    return {"options": options, "stiffness": reading["stiffness"], "mass": reading["mass"]}
 
 
 def register(main: click.Group) -> None:
@@ -108,17 +113,10 @@ def register(main: click.Group) -> None:
         as_json: bool,
         no_plot: bool,
         overwrite: bool,
-        time_name: str | None,
-        force_name: str | None,
-        normalised: bool | None,
-        time_unit: str | None,
-        force_unit: str | None,
-        name_pattern: str | None,
-        stiffness: str | None,
-        mass: str | None,
         v0: str | None,
         load: str | None,
         model_law: str | None,
+        **reading: Any,
     ) -> None:
         """Measure a folder of force-time records (or one long table) and apply the criterion.
 
@@ -144,17 +142,7 @@ def register(main: click.Group) -> None:
             out.expect({"summary.csv": "records-summary", "events.csv": "records-events"})
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
-                records = read_records(
-                    source,
-                    on_error="warn",
-                    options=_record_options(
-                        time_name, force_name, normalised, time_unit, force_unit, name_pattern
-                    ),
-                    v0=v0,
-                    load=load,
-                    stiffness=stiffness,
-                    mass=mass,
-                )
+                records = read_records(source, on_error="warn", v0=v0, load=load, **_reading(reading))
             unread = {}
             for w in caught:  # a record that cannot be read is a row of the table; the rest are said
                 if isinstance(w.message, UnreadableRecord):
@@ -425,14 +413,7 @@ def register(main: click.Group) -> None:
         no_plot: bool,
         as_json: bool,
         overwrite: bool,
-        time_name: str | None,
-        force_name: str | None,
-        normalised: bool | None,
-        time_unit: str | None,
-        force_unit: str | None,
-        name_pattern: str | None,
-        stiffness: str | None,
-        mass: str | None,
+        **reading: Any,
     ) -> None:
         """Fit mu_s (the paper's mu0), a, k and the mass (and b) of the paper's model to a stick-slip record.
 
@@ -448,8 +429,7 @@ def register(main: click.Group) -> None:
         from ..io.output import OutputFolder, json_writer, text_writer
         from ..io.records import read_record
 
-        options = _record_options(time_name, force_name, normalised, time_unit, force_unit, name_pattern)
-        rec = read_record(record_file, v0=v0, load=load, stiffness=stiffness, mass=mass, options=options)
+        rec = read_record(record_file, v0=v0, load=load, **_reading(reading))
         if method in ("auto", "motion"):
             summary = _motion_for_fit(rec, method)
             if summary is not None:

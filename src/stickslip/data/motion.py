@@ -288,6 +288,11 @@ def _slip_frequency(tau: FloatArray, f: FloatArray) -> float:
     return w if lo * 1.01 < w < hi * 0.99 else math.nan
 
 
+def _median(x: FloatArray) -> float:
+    """Return the median of ``x``, NaN for none."""
+    return float(np.median(x)) if x.size else math.nan
+
+
 def _quartiles(x: FloatArray) -> tuple[float, float, float, float]:
     x = x[np.isfinite(x)]
     if x.size == 0:
@@ -593,17 +598,17 @@ def measure_motion(
         drop_q1=drop_q1,
         drop_q3=drop_q3,
         drop_cv=drop_cv,
-        duration=float(np.median(events.duration)) if len(events) else math.nan,
+        duration=_median(events.duration),
         n_cycles=int(cycles.size),
         amplitude=amplitude,
         amplitude_spread=amplitude_spread,
-        force_before=float(np.median(events.force_before)) if len(events) else math.nan,
-        force_after=float(np.median(events.force_after)) if len(events) else math.nan,
+        force_before=_median(events.force_before),
+        force_after=_median(events.force_after),
         period=period,
         cycles_sticking=share,
         stick_fraction=stick_fraction,
-        peak_slip_velocity=float(np.median(events.peak_velocity)) if len(events) else math.nan,
-        slip_distance=float(np.median(events.slip_distance)) if len(events) else math.nan,
+        peak_slip_velocity=_median(events.peak_velocity),
+        slip_distance=_median(events.slip_distance),
         regime=regime,
         regime_reason=reason,
         stiffness=float(k),

@@ -338,15 +338,6 @@ REGIME_STYLE = {
 }
 
 
-#: the shade of each regime the model computes, under the measured records
-MODEL_SHADE = {
-    "stick-slip": "#f4c7c3",
-    "pure-slip": "#c6dbef",
-    "slip-reversal": "#9ecae1",
-    "steady-sliding": "#c7e9c0",
-}
-
-
 def plot_regime_plane(table: Any, model: Any = None) -> dict[str, Figure]:
     """Draw the measured regime diagram: each record in the (V, k) plane, and amplitude against V per k.
 
@@ -402,13 +393,19 @@ def plot_regime_plane(table: Any, model: Any = None) -> dict[str, Figure]:
     return {"regime_plane": fig}
 
 
+#: the regimes a sweep's point can reach, shaded in the regime maps' colours
+MODEL_REGIMES = ("stick-slip", "pure-slip", "slip-reversal", "steady-sliding")
+
+
 def _shade_model(ax: Any, model: Any) -> None:
     """Shade ``ax`` (V in um/s, k in N/m) by the model's regime over ``model.plane``."""
     from matplotlib.colors import ListedColormap
     from matplotlib.patches import Patch
 
+    from .regimes import REGIME_COLORS
+
     plane = model.plane
-    names = [r for r in MODEL_SHADE if (plane["regime"] == r).any()]
+    names = [r for r in MODEL_REGIMES if (plane["regime"] == r).any()]
     codes = np.full(plane["regime"].shape, np.nan)
     for i, r in enumerate(names):
         codes[(plane["regime"] == r).to_numpy()] = i
@@ -418,7 +415,7 @@ def _shade_model(ax: Any, model: Any) -> None:
             v,
             k,
             codes.T,
-            cmap=ListedColormap([MODEL_SHADE[r] for r in names]),
+            cmap=ListedColormap([REGIME_COLORS[r] for r in names]),
             vmin=-0.5,
             vmax=len(names) - 0.5,
             shading="nearest",
@@ -432,7 +429,7 @@ def _shade_model(ax: Any, model: Any) -> None:
     ax.set_ylim(k[0], k[-1])
     ax.add_artist(
         ax.legend(
-            handles=[Patch(color=MODEL_SHADE[r], label=f"model: {r}") for r in names],
+            handles=[Patch(color=REGIME_COLORS[r], label=f"model: {r}") for r in names],
             fontsize=7,
             loc="lower left",
             title=f"m = {1e3 * model.mass:.3g} g, W = {1e3 * model.load:.3g} mN",
