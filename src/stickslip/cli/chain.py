@@ -231,7 +231,7 @@ def register(main: click.Group) -> None:
             res = run_chain(params, events, **kw)
             _report(res, as_json)
             return
-        os.makedirs(out_dir, exist_ok=True)
+        # the folder is made by OutputFolder below, which removes it again if the run is refused
         partial = os.path.join(out_dir, ".catalog.partial.nc")
         if resume and not os.path.exists(partial):
             if os.path.exists(os.path.join(out_dir, "catalog.nc")):
@@ -465,7 +465,6 @@ def _ensemble(
     if out_dir is not None:
         from ..io.output import OutputFolder, netcdf_writer
 
-        os.makedirs(out_dir, exist_ok=True)
         with OutputFolder(out_dir, "chain ensemble", overwrite=overwrite) as out:
             out.write("ensemble.nc", "chain-ensemble", netcdf_writer(ds, "chain-ensemble"))
     names = {m.code: m.value for m in ChainStatus}

@@ -220,10 +220,12 @@ def atomic_write(
     check_target(p, kind, overwrite=overwrite)
     folder = os.path.dirname(p) or "."
     name = os.path.basename(p)
+    created = _missing_folders(folder)  # removed again if the file is not written
     try:
         os.makedirs(folder, exist_ok=True)
         fd, tmp = temporary_file(folder, f".{name}.", ".part" + os.path.splitext(name)[1])
     except OSError as exc:
+        _remove_empty(created)
         raise OSError(exc.errno, f"cannot write ({exc.strerror or exc})", p) from None
     os.close(fd)
     try:
@@ -233,9 +235,11 @@ def atomic_write(
         _clean_stale_parts(folder, name)
     except OSError as exc:
         _remove(tmp)
+        _remove_empty(created)
         raise OSError(exc.errno, f"cannot write ({exc.strerror or exc})", p) from None
     except BaseException:
         _remove(tmp)
+        _remove_empty(created)
         raise
     return p
 
@@ -282,6 +286,31 @@ def _remove(path: str) -> None:
             os.remove(path)
 
 
+def _missing_folders(folder: str) -> list[str]:
+    """Return the folders that making ``folder`` would create, deepest first (absolute paths)."""
+    out = []
+    missing = os.path.abspath(folder)
+    while missing and not os.path.exists(missing):
+        out.append(missing)
+        parent = os.path.dirname(missing)
+        missing = parent if parent != missing else ""
+    return out
+
+
+def _remove_empty(folders: list[str]) -> None:
+    """Remove ``folders`` (deepest first) where they are empty; stop at the first that holds anything.
+
+    One that was never made (its name too long, a parent refused) is passed over.
+    """
+    for folder in folders:
+        if not os.path.isdir(folder):
+            continue
+        try:
+            os.rmdir(folder)  # only an empty one
+        except OSError:
+            break
+
+
 def _sha256(path: str) -> str:
     h = hashlib.sha256()
     with open(path, "rb") as fh:
@@ -322,11 +351,8 @@ class OutputFolder:
 
     # ------------------------------------------------------------------ context
     def __enter__(self) -> OutputFolder:
-        missing = os.path.abspath(self.folder)
-        while missing and not os.path.exists(missing):
-            self._created.append(missing)
-            parent = os.path.dirname(missing)
-            missing = parent if parent != missing else ""
+        # a failure here has no __exit__: the folders made so far are removed before it is raised
+        self._created = _missing_folders(self.folder)
         try:
             os.makedirs(self.folder, exist_ok=True)
             check_target(os.path.join(self.folder, MANIFEST), "manifest", overwrite=self.overwrite)
@@ -334,9 +360,13 @@ class OutputFolder:
             staging = os.path.join(self.folder, f"{STAGING_PREFIX}{os.getpid()}-{self.run}")
             os.makedirs(staging)
         except OSError as exc:
+            _remove_empty(self._created)
             raise OSError(
                 exc.errno, f"cannot write into this folder ({exc.strerror or exc})", self.folder
             ) from None
+        except BaseException:
+            _remove_empty(self._created)
+            raise
         self._staging = staging
         return self
 
@@ -350,11 +380,7 @@ class OutputFolder:
             if self._staging is not None:
                 _remove(self._staging)
             if not published:
-                for folder in self._created:
-                    try:
-                        os.rmdir(folder)  # only an empty one
-                    except OSError:
-                        break
+                _remove_empty(self._created)
 
     # ------------------------------------------------------------------ files
     def expect(self, names: Mapping[str, str]) -> None:
@@ -560,9 +586,59 @@ def netcdf_writer(ds: Any, kind: str) -> Callable[[str], None]:
     def write(path: str) -> None:
         marked = ds.copy(deep=False)
         marked.attrs = {**ds.attrs, "stickslip_output": kind, "stickslip_generator": generator(kind)}
-        marked.to_netcdf(path, engine="netcdf4")
+        try:
+            marked.to_netcdf(path, engine="netcdf4")
+        except (RuntimeError, OSError) as exc:
+            said = _netcdf_library_error(exc)
+            if said is None:
+                raise
+            raise _netcdf_cause(said, path) from None
 
     return write
+
+
+def _netcdf_library_error(exc: BaseException) -> str | None:
+    """Return the netCDF library's own text of ``exc`` (``NetCDF: HDF error``), or None for another error.
+
+    netCDF4 raises its library's failures as RuntimeError (``NetCDF: ...``) or, on
+    creating a file, as OSError with the library's negative error code; neither says
+    which system call failed (a full disk reads ``NetCDF: HDF error``).
+    """
+    if isinstance(exc, OSError) and isinstance(exc.errno, int) and exc.errno < 0:
+        return str(exc.strerror or exc)
+    text = str(exc)
+    if isinstance(exc, RuntimeError) and text.startswith(("NetCDF:", "HDF")):
+        return text
+    return None
+
+
+#: bytes written to the folder to find why the netCDF library could not write: more than the
+#: few kilobytes a failed HDF5 write can leave free, little enough to be instant
+_PROBE_BYTES = 1 << 16
+
+
+def _netcdf_cause(said: str, path: str) -> OSError:
+    """Return an OSError naming ``path`` and the cause of the netCDF library's failure ``said``.
+
+    The cause is found by writing :data:`_PROBE_BYTES` (then removed) beside the partial file,
+    which still holds its space: a full disk, a quota, a read-only or refused folder gives
+    the system's error; a probe that succeeds leaves the library's text alone.
+    """
+    folder = os.path.dirname(path) or "."
+    probe = None
+    try:
+        fd, probe = temporary_file(folder, ".stickslip-space-")
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(bytes(_PROBE_BYTES))
+            fh.flush()
+            os.fsync(fh.fileno())
+    except OSError as err:
+        why = err.strerror or str(err)
+        return OSError(err.errno, f"{why}; the NetCDF library said '{said}'", path)
+    finally:
+        if probe is not None:
+            _remove(probe)
+    return OSError(errno.EIO, f"the NetCDF library failed: '{said}'", path)
 
 
 def json_writer(obj: Mapping[str, Any], kind: str) -> Callable[[str], None]:
