@@ -32,8 +32,8 @@ friction force with a unit (``friction force [mN]``) and the normal ``load``.
   samples just before a stop) the first cubic piece continues as a polynomial.
 
 Bad tables are refused with the row: unsorted or repeated velocities, negative
-velocities or coefficients, too few rows (at least 4 above ``v = 0``), no row at
-``v = 0``.
+velocities or coefficients, coefficients outside ``1e-6..1e3`` (:data:`MU_RANGE`), too few
+rows (at least 4 above ``v = 0``), no row at ``v = 0``.
 """
 
 from __future__ import annotations
@@ -67,6 +67,14 @@ INTERPOLATIONS = ("pchip", "cubic", "smoothing")
 SMOOTHING_PIN = 1e8
 #: rows above v = 0 a table needs
 MIN_ROWS = 4
+#: the friction coefficients a table may hold: superlubric contacts reach about 1e-4 and clean
+#: metals in vacuum tens; a value outside is a unit or column mistake, and a static coefficient of
+#: 1e12 or 1e-300 makes beta = sqrt(k m)/(mu_s W) and nu = beta v0 leave the engine's range
+MU_RANGE = (1e-6, 1e3)
+#: the most rows a table may have: its pieces are compiled into the engine as one constant array,
+#: 40 bytes a row, and numba makes an array above 1e6 bytes a dynamic global, which it cannot
+#: cache (a warning from each of 15 functions) and compiles in 1.3 GB at 2e5 rows, 5.4 GB at 1e6
+MAX_ROWS = 25_000
 
 
 class _TableSpec(LawSpec):
@@ -202,11 +210,26 @@ class TabulatedLaw(PhysicalLaw):
             )
         if mu_a.size != v_si.size:
             raise ValueError(f"{name}: mu has {mu_a.size} friction values for {v_si.size} velocities in v")
+        if v_si.size > MAX_ROWS:
+            step = -(-v_si.size // (MAX_ROWS - 3))  # with the first two rows and the last: MAX_ROWS
+            raise ValueError(
+                f"{name}: {v_si.size} rows, more than {MAX_ROWS}: a table is compiled into the engine as "
+                "a constant, 40 bytes a row, which numba caches up to 1 MB only; thin it (one row in "
+                f"{step}, with the first two and the last)"
+            )
         bad = np.flatnonzero(~np.isfinite(mu_a) | (mu_a <= 0))
         if bad.size:
             i = int(bad[0])
             raise ValueError(
                 f"{name}: row {i + 1}: friction coefficient {float(mu_a[i])!r} is not a positive number"
+            )
+        absurd = np.flatnonzero((mu_a < MU_RANGE[0]) | (mu_a > MU_RANGE[1]))
+        if absurd.size:  # said here: beta and nu made from it leave their range far from the table
+            i = int(absurd[0])
+            raise ValueError(
+                f"{name}: row {i + 1}: friction coefficient {float(mu_a[i]):.6g} is outside "
+                f"{MU_RANGE[0]:g}..{MU_RANGE[1]:g}, beyond any pair of surfaces: is the column a coefficient "
+                "in the unit its header says (a friction force is 'friction force [mN]' with --load)?"
             )
         if v_si.size == 0 or v_si[0] != 0.0:
             at_zero = np.flatnonzero(v_si == 0.0)
@@ -245,6 +268,11 @@ class TabulatedLaw(PhysicalLaw):
             if static is None
             else check_number(static, "static", what="a positive static coefficient")
         )
+        if not MU_RANGE[0] <= mu_s <= MU_RANGE[1]:  # a static coefficient given apart from the rows
+            raise ValueError(
+                f"{name}: static={static!r}: a static coefficient outside {MU_RANGE[0]:g}..{MU_RANGE[1]:g}, "
+                "beyond any pair of surfaces"
+            )
         kin_v = v_si[zero - 1 :]
         kin_mu = mu_a[zero - 1 :]
         if kin_mu[0] > mu_s * (1.0 + 1e-12):

@@ -387,7 +387,12 @@ def fit_rate_state(
         "offset": np.ones((x.size, 1)),
         "none": np.zeros((x.size, 0)),
     }[detrend]
-    penalty = np.full(t.size, 1e3)
+    # a run that cannot be simulated (a runaway, the bound on the work) weighs more than any run
+    # that can: a friction misfit of FAILED_MISFIT beyond the record's range in every sample, in
+    # units of its noise. A fixed number of noise units is not enough: on a noise-free record (the
+    # floor, 6e-11) a misfit of 1e-6 is 1.7e4 of them, so a failed trial step would look better
+    # than every finite one and the fit would end where the model cannot run
+    penalty = np.full(t.size, (FAILED_MISFIT + float(np.ptp(mu))) / sigma)
     # the detrending basis is fixed: factor it once (Q R), for the residuals and the Jacobian
     q_b, r_b = np.linalg.qr(basis)
 
@@ -532,6 +537,10 @@ def fit_rate_state(
 CHI2_LOW = 0.25
 #: the smallest noise a record is weighted by, relative to its friction: the model's accuracy
 NOISE_FLOOR = 1e-10
+#: the friction misfit (beyond the record's range) a run that cannot be simulated counts as, in
+#: every sample: more than any run's, as the quasi-static slider's friction stays within about
+#: 14 a (a ln 1e6, the runaway bound) of its steady level, a few tenths at most
+FAILED_MISFIT = 1.0
 
 
 def _warnings(
