@@ -14,6 +14,10 @@ Layers, each importing only from those below it (checked by import-linter):
 * :mod:`stickslip.plots`, :mod:`stickslip.paper`: figures, the paper's reproduction;
 * :mod:`stickslip.cli`: the command line.
 
+Beside the layers, :mod:`stickslip.errors` holds :class:`ArgumentTypeError`, raised by
+every layer for an argument of the wrong type (a :class:`TypeError` that is also a
+:class:`ValueError`); a wrong value raises :class:`ValueError`.
+
 The package imports lazily: ``import stickslip`` is quick, and the names below load
 their layer on first use (``stickslip.cycle``, ``from stickslip import simulate``), as
 SciPy's subpackages do. So the command line can start, and answer Ctrl-C during its
@@ -29,6 +33,7 @@ from .lazy import load_attribute
 if TYPE_CHECKING:  # the names for type checkers and for readers; loaded by __getattr__
     from .dynamics.cycle import Attractor, CycleResult, cycle
     from .dynamics.trajectory import Trajectory, simulate
+    from .errors import ArgumentTypeError
     from .laws import (
         CoulombLaw,
         CubicLaw,
@@ -48,6 +53,7 @@ if TYPE_CHECKING:  # the names for type checkers and for readers; loaded by __ge
 
 _HOME = {
     **dict.fromkeys(("Attractor", "CycleResult", "Trajectory", "cycle", "simulate"), "dynamics"),
+    "ArgumentTypeError": "errors",
     **dict.fromkeys(
         (
             "CoulombLaw",
@@ -70,7 +76,7 @@ _HOME = {
 }
 _SUBPACKAGES = frozenset(
     {"bifurcation", "chains", "cli", "core", "data", "defaults", "dynamics", "explore", "io", "laws"}
-    | {"models", "paper", "plots", "ratestate", "scale", "units"}
+    | {"errors", "models", "paper", "plots", "ratestate", "scale", "units"}
 )
 
 
@@ -92,6 +98,7 @@ def __dir__() -> list[str]:
 
 __all__ = [
     "Q_",
+    "ArgumentTypeError",
     "Attractor",
     "CoulombLaw",
     "CubicLaw",

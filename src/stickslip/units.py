@@ -17,6 +17,7 @@ import numpy as np
 import pint
 
 from .core.checks import bound_words
+from .errors import ArgumentTypeError
 
 ureg: pint.UnitRegistry = pint.UnitRegistry()
 Q_ = ureg.Quantity
@@ -102,15 +103,18 @@ def parse_quantity(
 
     Raises
     ------
+    ArgumentTypeError
+        If the value is neither a quantity nor a string (a plain number, ``None``, a
+        list) or is a quantity of more than one number.
     ValueError
-        If the value has no unit, cannot be parsed, has the wrong dimension, or
-        is NaN, infinite, negative or (unless ``allow_zero``) zero.
+        If a string is not a quantity, or the value has no unit, has the wrong
+        dimension, or is NaN, infinite, negative or (unless ``allow_zero``) zero.
 
     """
     if isinstance(value, bool) or value is None:
-        raise ValueError(f"{name}={value!r}: expected a quantity with units such as {example!r}")
+        raise ArgumentTypeError(f"{name}={value!r}: expected a quantity with units such as {example!r}")
     if isinstance(value, int | float):
-        raise ValueError(
+        raise ArgumentTypeError(
             f"{name}={value!r} has no unit: expected a quantity such as {example!r} (dimension {dimension})"
         )
     if isinstance(value, str):
@@ -121,7 +125,7 @@ def parse_quantity(
         except Exception as exc:
             raise ValueError(f"{name}={value!r}: unusable unit ({exc})") from None
     else:
-        raise ValueError(
+        raise ArgumentTypeError(
             f"{name}={value!r} (type {type(value).__name__}): expected a pint Quantity "
             f"or a string such as {example!r}"
         )
@@ -138,7 +142,7 @@ def parse_quantity(
     try:
         x = float(mag)
     except (TypeError, ValueError):
-        raise ValueError(f"{name}={value!r}: expected a single number with a unit") from None
+        raise ArgumentTypeError(f"{name}={value!r}: expected a single number with a unit") from None
     if allow_negative and math.isfinite(x):
         return q
     _check_finite_sign(name, value, x, allow_zero, f"a quantity such as {example!r}")
@@ -217,8 +221,10 @@ def check_number(
 
     Raises
     ------
+    ArgumentTypeError
+        If the value is not a real number (a string, ``None``, a list).
     ValueError
-        If the value is not a real number, is NaN or infinite, or is out of range.
+        If the value is NaN or infinite, out of range, or a quantity with units.
 
     """
     if isinstance(value, pint.Quantity):
@@ -234,7 +240,7 @@ def check_number(
             else:
                 raise TypeError
         except TypeError:
-            raise ValueError(f"{name}={value!r}: expected {what}") from None
+            raise ArgumentTypeError(f"{name}={value!r}: expected {what}") from None
     x = float(value)
     _check_finite_sign(name, value, x, allow_zero, what)
     if upper is not None and (x > upper or (x == upper and not upper_inclusive)):
@@ -250,19 +256,24 @@ def check_count(value: Any, name: str, *, minimum: int = 1, what: str = "") -> i
 
     Raises
     ------
+    ArgumentTypeError
+        If the value is not an integer (a float, a string, ``None``), naming ``name``.
     ValueError
-        Naming ``name``, the value and what was expected.
+        If it is below ``minimum``, naming ``name``, the value and what was expected.
 
     """
     import numpy as np
 
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
-        raise ValueError(f"{name}={value!r}: expected {what or 'a whole number'} >= {minimum}")
+    expected = f"{what or 'a whole number'} >= {minimum}"
+    if isinstance(value, bool) or not isinstance(value, int | np.integer):
+        raise ArgumentTypeError(f"{name}={value!r}: expected {expected}")
+    if value < minimum:
+        raise ValueError(f"{name}={value!r}: expected {expected}")
     return int(value)
 
 
 def check_seed(seed: Any, name: str = "seed") -> int | None:
-    """Return a random seed (None or a whole number >= 0), or a ValueError naming ``name``."""
+    """Return a random seed (None or a whole number >= 0); an error naming ``name`` otherwise."""
     if seed is None:
         return None
     return check_count(seed, name, minimum=0, what="None or a whole-number seed")

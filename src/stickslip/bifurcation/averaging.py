@@ -24,6 +24,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from ..errors import ArgumentTypeError
 from ..laws import CubicLaw
 from ..models.parameters import DimensionlessParameters
 from .orbits import pure_slip_orbit
@@ -62,7 +63,7 @@ class ThomsenFidlin:
 def thomsen_fidlin(law: CubicLaw) -> ThomsenFidlin:
     """Return the averaging predictions for ``law``."""
     if not isinstance(law, CubicLaw):
-        raise ValueError(f"law={law!r}: the Thomsen-Fidlin formulas are for the cubic law")
+        raise ArgumentTypeError(f"law={law!r}: the Thomsen-Fidlin formulas are for the cubic law")
     a, g = law.alpha, law.gamma
     return ThomsenFidlin(a, g, math.sqrt(a / (3.0 * g)), math.sqrt(4.0 * a / (15.0 * g)))
 

@@ -23,6 +23,8 @@ quadratically from a nearby guess (the averaging amplitude).
 from __future__ import annotations
 
 import math
+import numbers
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -32,6 +34,7 @@ from ..core.api import Kernel, Trajectories, run_attractors, run_flow, run_shoot
 from ..core.checks import MAX_STATE
 from ..core.laws import N_LAW_PARAMS
 from ..core.results import EventKind, Regime, ShootingRows, ShootStatus, Status
+from ..errors import ArgumentTypeError
 from ..laws import DimensionlessLaw
 from ..models.parameters import DimensionlessParameters
 from .stability import averaged_amplitude
@@ -120,16 +123,20 @@ def pure_slip_orbit(
 
     Raises
     ------
+    ArgumentTypeError
+        For ``params``, ``guess`` or ``tol`` of the wrong type.
     ValueError
-        Without a guess where averaging gives none, or for an invalid ``tol``.
+        Without a guess where averaging gives none, or for ``tol`` or ``guess`` out of range.
     RuntimeError
         When Newton does not converge, or the orbit found reaches ``w <= 0``
         (it grazes: not pure slip).
 
     """
     if not isinstance(params, DimensionlessParameters):
-        raise ValueError(f"params={params!r}: expected DimensionlessParameters")
-    if not (isinstance(tol, float) and 1e-13 <= tol <= 1e-3):
+        raise ArgumentTypeError(f"params={params!r}: expected DimensionlessParameters")
+    if isinstance(tol, bool) or not isinstance(tol, numbers.Real):
+        raise ArgumentTypeError(f"tol={tol!r}: expected a tolerance between 1e-13 and 1e-3")
+    if not 1e-13 <= tol <= 1e-3:
         raise ValueError(f"tol={tol!r}: expected a tolerance between 1e-13 and 1e-3")
     law, nu = params.law, params.nu
     f_nu = law.at(nu)
@@ -147,10 +154,19 @@ def pure_slip_orbit(
 
 def _check_guess(guess: Any) -> tuple[float, float]:
     """Return ``(s0, period)`` as floats: a finite spring force and a positive period."""
+    pair = f"guess={guess!r}: expected a pair (s0, period) of numbers"
+    if (
+        isinstance(guess, str | bytes)
+        or not isinstance(guess, Sequence | np.ndarray)
+        or (isinstance(guess, np.ndarray) and guess.ndim == 0)
+    ):
+        raise ArgumentTypeError(pair)
+    if len(guess) != 2:
+        raise ValueError(pair)
     try:
         s0, period = (float(g) for g in guess)
-    except (TypeError, ValueError):
-        raise ValueError(f"guess={guess!r}: expected a pair (s0, period) of numbers") from None
+    except (TypeError, ValueError):  # entries that are not numbers
+        raise ArgumentTypeError(pair) from None
     if not (math.isfinite(s0) and math.isfinite(period) and period > 0):
         raise ValueError(f"guess={guess!r}: expected a finite s0 and a positive period")
     return s0, period
@@ -387,7 +403,7 @@ def stick_slip_orbit(params: DimensionlessParameters, *, tol: float = 1e-10) -> 
 
     """
     if not isinstance(params, DimensionlessParameters):
-        raise ValueError(f"params={params!r}: expected DimensionlessParameters")
+        raise ArgumentTypeError(f"params={params!r}: expected DimensionlessParameters")
 
     kernel, lp = law_arrays(params.law)
     nu = params.nu

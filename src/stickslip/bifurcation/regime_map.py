@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -28,6 +29,7 @@ import xarray as xr
 
 from ..core.checks import NU_MAX, NU_MIN
 from ..core.results import AttractorRows, Regime
+from ..errors import ArgumentTypeError
 from ..io.progress import show_progress
 from ..laws import DimensionlessLaw, require_dimensionless_law
 from ..laws.spec import check_distinct
@@ -58,6 +60,8 @@ OBSERVED_CODES = {r.value: r.code for r in _OBSERVED}
 
 def _with(law: DimensionlessLaw, name: str, value: float) -> DimensionlessLaw:
     allowed = law.spec.mappable
+    if not isinstance(name, str):
+        raise ArgumentTypeError(f"param={name!r} (type {type(name).__name__}): expected one of {allowed}")
     if name not in allowed:
         raise ValueError(f"param={name!r}: a regime map of the {law.name} law runs over one of {allowed}")
     return law.replace(**{name: float(value)})
@@ -114,19 +118,32 @@ def regime_map(
 
     """
     law = require_dimensionless_law(law)
-    vals = np.asarray(values, dtype=float)
+    sequence = f"values={values!r}: expected a 1-d sequence of finite numbers"
+    if isinstance(values, str | bytes):
+        raise ArgumentTypeError(sequence)
+    try:
+        vals = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):  # entries that are not numbers, or a ragged nesting
+        raise ArgumentTypeError(sequence) from None
+    if vals.ndim == 0:  # one value (or None) for a sequence
+        raise ArgumentTypeError(sequence)
     if vals.ndim != 1 or vals.size < 1 or not np.all(np.isfinite(vals)):
-        raise ValueError(f"values={values!r}: expected a 1-d sequence of finite numbers")
+        raise ValueError(sequence)
     for v in vals:  # the name, and every value before any row runs (not row by row, in the store)
         _with(law, param, float(v))
     check_distinct(param, vals, [f"{v:g}" for v in vals])
+    for name, nu in (("nu_min", nu_min), ("nu_max", nu_max)):
+        if isinstance(nu, bool) or not isinstance(nu, numbers.Real):
+            raise ArgumentTypeError(f"{name}={nu!r} (type {type(nu).__name__}): expected a driving velocity")
     if not (0 < nu_min < nu_max) or not math.isfinite(nu_max):
         raise ValueError(f"nu_min={nu_min!r}, nu_max={nu_max!r}: expected 0 < nu_min < nu_max")
     if nu_min < NU_MIN or nu_max > NU_MAX:  # before any row runs (not row by row, in the store)
         raise ValueError(
             f"nu_min={nu_min!r}, nu_max={nu_max!r}: expected driving velocities from {NU_MIN:g} to {NU_MAX:g}"
         )
-    if isinstance(n_nu, bool) or not isinstance(n_nu, int | np.integer) or not 5 <= n_nu <= MAX_GRID:
+    if isinstance(n_nu, bool) or not isinstance(n_nu, int | np.integer):
+        raise ArgumentTypeError(f"n_nu={n_nu!r}: expected a whole number of nu points from 5 to {MAX_GRID}")
+    if not 5 <= n_nu <= MAX_GRID:
         raise ValueError(f"n_nu={n_nu!r}: expected a whole number of nu points from 5 to {MAX_GRID}")
     job = RegimeMapJob(law, param, vals, float(nu_min), float(nu_max), int(n_nu))
     from ..scale import run_job

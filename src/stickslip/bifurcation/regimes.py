@@ -37,6 +37,7 @@ from __future__ import annotations
 import itertools
 import json
 import math
+import numbers
 from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
@@ -48,6 +49,7 @@ from .. import defaults
 from ..core.api import run_attractors, run_flow
 from ..core.checks import NU_MAX, NU_MIN
 from ..core.results import AttractorRows, Regime
+from ..errors import ArgumentTypeError
 from ..io.jsonable import json_clean
 from ..laws import DimensionlessLaw, require_dimensionless_law
 from ..models.parameters import DimensionlessParameters
@@ -900,6 +902,9 @@ def regimes(
 
     Raises
     ------
+    TypeError
+        For an argument of the wrong type (:class:`~stickslip.ArgumentTypeError`, or a
+        plain :class:`TypeError` for a law that is not a dimensionless law).
     ValueError
         For a non-positive or reversed range, too small a grid or a tolerance out of range.
 
@@ -921,12 +926,15 @@ def regimes(
         raise ValueError(f"nu_max={nu_max!r}: expected a value above nu_min={nu_min!r}")
     if hi > NU_MAX:
         raise ValueError(f"nu_max={nu_max!r}: expected a driving velocity of at most {NU_MAX:g}")
-    if isinstance(n_grid, bool) or not (isinstance(n_grid, int | np.integer) and 5 <= n_grid <= MAX_GRID):
-        # 1e8 points ran for hours: each point is a run from rest
+    if isinstance(n_grid, bool) or not isinstance(n_grid, int | np.integer):
+        raise ArgumentTypeError(f"n_grid={n_grid!r}: expected an integer from 5 to {MAX_GRID}")
+    if not 5 <= n_grid <= MAX_GRID:  # each point is a run from rest: 1e8 points run for hours
         raise ValueError(f"n_grid={n_grid!r}: expected an integer from 5 to {MAX_GRID}")
     n_grid = int(n_grid)
     # as pure_slip_orbit's: a nan or negative tol once lost the pure-slip branch without a word
-    if isinstance(tol, bool) or not (isinstance(tol, float | int) and 1e-13 <= tol <= 1e-3):
+    if isinstance(tol, bool) or not isinstance(tol, numbers.Real):
+        raise ArgumentTypeError(f"tol={tol!r}: expected a shooting tolerance between 1e-13 and 1e-3")
+    if not 1e-13 <= tol <= 1e-3:
         raise ValueError(f"tol={tol!r}: expected a shooting tolerance between 1e-13 and 1e-3")
     tol = float(tol)
     # Hopf points in a wider window: a branch born just outside the range may enter it

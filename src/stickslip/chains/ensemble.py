@@ -26,13 +26,14 @@ import xarray as xr
 from .. import defaults
 from ..core.results import ChainStatus
 from ..dynamics.cycle import validate_tolerances
+from ..errors import ArgumentTypeError
 from ..scale.progress import ProgressLike
 from ..scale.store import Block, Layout, Variable
 from ..units import check_count, check_number
 from ..userwarnings import warn
 from .catalog import read_state
 from .model import ChainParameters, Init, static_thresholds
-from .run import EVENTS_AS, chain, check_events
+from .run import chain, check_events, check_events_as
 from .statistics import STATISTICS_VERSION, check_fit_range
 
 __all__ = ["EnsembleJob", "chain_ensemble"]
@@ -117,9 +118,9 @@ def chain_ensemble(
 
     """
     if not isinstance(params, ChainParameters):
-        raise ValueError(f"params={params!r}: expected ChainParameters")
+        raise ArgumentTypeError(f"params={params!r}: expected ChainParameters")
     if isinstance(seeds, str) or not isinstance(seeds, Sequence | np.ndarray | range):
-        raise ValueError(f"seeds={seeds!r}: expected a sequence of whole numbers")
+        raise ArgumentTypeError(f"seeds={seeds!r}: expected a sequence of whole numbers")
     # whole numbers, checked: seeds=[1.7, 2.2] once ran the members of seeds 1 and 2
     if len(seeds) > MAX_MEMBERS:  # range(10**12) was checked seed by seed, for minutes
         raise ValueError(f"seeds: {len(seeds)} members; expected at most {MAX_MEMBERS} in one ensemble")
@@ -132,6 +133,8 @@ def chain_ensemble(
     # before the store is made: events=2.7 once ran 2 events, and events=0 failed in a member
     events, transient = check_events(events, transient)
     rtol, atol = validate_tolerances(rtol, atol)
+    if not isinstance(init, str):
+        raise ArgumentTypeError(f"init={init!r}: expected 'uniform' or 'random'")
     try:
         init = str(Init(init))
     except ValueError:
@@ -142,16 +145,12 @@ def chain_ensemble(
         try:
             amplitude = float(amplitude)
         except (TypeError, ValueError):
-            raise ValueError(f"amplitude={amplitude!r}: expected a number") from None
+            raise ArgumentTypeError(f"amplitude={amplitude!r}: expected a number") from None
     if seed_arr.size == 0 or np.unique(seed_arr).size != seed_arr.size:
         raise ValueError(f"seeds={seeds!r}: expected at least one seed, each once")
     static_thresholds(params.blocks, threshold_spread, 0)  # checks the spread
     mc, m_max = check_fit_range(mc, m_max)
-    if not isinstance(events_as, str) or events_as not in EVENTS_AS:
-        raise ValueError(
-            f"events_as={events_as!r}: expected 'whole' (an event from all blocks stuck to all stuck) or "
-            "'connected' (each connected run of slipping blocks in it)"
-        )
+    check_events_as(events_as)
     catalogs = None if store is None else os.path.join(os.path.abspath(os.fspath(store)), "catalogs")
     job = EnsembleJob(params, int(events), seed_arr, float(threshold_spread), str(init), float(amplitude),
                       int(transient), float(rtol), float(atol), catalogs, mc, m_max, events_as)  # fmt: skip

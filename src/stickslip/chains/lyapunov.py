@@ -13,6 +13,7 @@ periodic orbit of the map has a negative one (or zero along a neutral direction)
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,6 +24,7 @@ from ..core import chain as ce
 from ..core.api import ChainState, chain_advance
 from ..core.results import ChainStatus
 from ..dynamics.cycle import validate_tolerances
+from ..errors import ArgumentTypeError
 from ..units import check_count
 from .model import ChainParameters, sliding_after
 
@@ -78,6 +80,23 @@ class LyapunovResult:
     unresolved: int = 0
 
 
+def _positions(name: str, u: object, params: object) -> FloatArray:
+    """Return the blocks' positions ``u`` as a float array of one per block of the chain ``params``."""
+    if not isinstance(params, ChainParameters):
+        raise ArgumentTypeError(f"params={params!r}: expected ChainParameters")
+    if isinstance(u, str | bytes):
+        raise ArgumentTypeError(f"{name}={u!r}: expected one position per block")
+    try:
+        ua = np.array(u, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ArgumentTypeError(f"{name}: expected one position per block, got {type(u).__name__}") from None
+    if ua.shape != (params.blocks,):
+        raise ValueError(
+            f"{name}: {ua.size} positions, shape {ua.shape}; expected one per block, {params.blocks}"
+        )
+    return ua
+
+
 def event_map(
     params: ChainParameters,
     u: npt.ArrayLike,
@@ -114,9 +133,11 @@ def event_map(
     """
     rtol, atol = validate_tolerances(rtol, atol)
     steps = check_count(max_steps, "max_steps")  # 0 would pause before any step, for ever
-    ua = np.array(u, dtype=np.float64)
-    if ua.shape != (params.blocks,):
-        raise ValueError(f"u: {ua.size} positions, shape {ua.shape}; expected one per block, {params.blocks}")
+    ua = _positions("u", u, params)
+    if max_event_duration is not None and (
+        isinstance(max_event_duration, bool) or not isinstance(max_event_duration, numbers.Real)
+    ):
+        raise ArgumentTypeError(f"max_event_duration={max_event_duration!r}: expected a positive duration")
     longest = sliding_after(params) if max_event_duration is None else float(max_event_duration)
     if not longest > 0:
         raise ValueError(f"max_event_duration={max_event_duration!r}: expected a positive duration")
@@ -174,12 +195,14 @@ def lyapunov_exponent(
         When the engine fails (see :func:`event_map`).
 
     """
-    u = np.array(u0, dtype=np.float64)
-    if u.shape != (params.blocks,):
-        raise ValueError(f"u0: {u.size} positions, shape {u.shape}; expected one per block, {params.blocks}")
+    u = _positions("u0", u0, params)
     ev = check_count(events, "events", minimum=2)
     tr = check_count(transient, "transient", minimum=0)
-    if not (isinstance(eps, int | float) and math.isfinite(eps) and 0 < eps < 1):
+    if isinstance(eps, bool) or not isinstance(eps, int | float):
+        raise ArgumentTypeError(
+            f"eps={eps!r}: expected the companion orbit's distance, 0 < eps < 1 (e.g. 1e-7)"
+        )
+    if not (math.isfinite(eps) and 0 < eps < 1):
         raise ValueError(f"eps={eps!r}: expected the companion orbit's distance, 0 < eps < 1 (e.g. 1e-7)")
     rtol, atol = validate_tolerances(rtol, atol)
     try:

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from ..errors import ArgumentTypeError
 from ..laws import DimensionlessLaw
 from ..models import DimensionlessParameters, PhysicalParameters, Scales
 from ..units import check_count, check_number, check_seed, parse_quantity
@@ -84,7 +85,9 @@ class ChainParameters:
 
     def __post_init__(self) -> None:
         n = self.blocks
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1 or n > 10_000_000:
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)):
+            raise ArgumentTypeError(f"blocks={n!r}: expected a whole number of blocks from 1 to 10**7")
+        if n < 1 or n > 10_000_000:
             raise ValueError(f"blocks={n!r}: expected a whole number of blocks from 1 to 10**7")
         object.__setattr__(self, "blocks", int(n))
         # the one-block model's checks of nu and of the law
@@ -94,12 +97,21 @@ class ChainParameters:
         if ell >= ELL_MAX:
             raise ValueError(f"ell={self.ell!r}: expected a coupling ell = sqrt(k_c/k_p) below {ELL_MAX:g}")
         object.__setattr__(self, "ell", ell)
+        if not isinstance(self.boundary, str):
+            raise ArgumentTypeError(f"boundary={self.boundary!r}: expected 'free' or 'periodic'")
         try:
             object.__setattr__(self, "boundary", Boundary(self.boundary))
         except ValueError:
             raise ValueError(f"boundary={self.boundary!r}: expected 'free' or 'periodic'") from None
         if self.thresholds is not None:
-            phi = np.array(self.thresholds, dtype=float)
+            if isinstance(self.thresholds, str | bytes):
+                raise ArgumentTypeError(f"thresholds={self.thresholds!r}: expected one number per block")
+            try:
+                phi = np.array(self.thresholds, dtype=float)
+            except (TypeError, ValueError):
+                raise ArgumentTypeError(
+                    f"thresholds={self.thresholds!r}: expected one number per block"
+                ) from None
             if phi.shape != (self.blocks,):
                 raise ValueError(
                     f"thresholds: expected {self.blocks} values (one per block), got shape {phi.shape}"
@@ -110,8 +122,10 @@ class ChainParameters:
             object.__setattr__(self, "thresholds", phi)
         if self.backslip is None:
             object.__setattr__(self, "backslip", self.law.name not in _NO_BACKSLIP)
-        elif not isinstance(self.backslip, bool | np.bool_):  # "no" was stored, and counted as true
-            raise ValueError(f"backslip={self.backslip!r}: expected True, False or None (the law's default)")
+        elif not isinstance(self.backslip, bool | np.bool_):  # "no" is a true string: refused
+            raise ArgumentTypeError(
+                f"backslip={self.backslip!r}: expected True, False or None (the law's default)"
+            )
         object.__setattr__(self, "backslip", bool(self.backslip))
 
     @property
@@ -150,7 +164,7 @@ class ChainParameters:
 
         """
         if not isinstance(params, PhysicalParameters):
-            raise ValueError(f"params={params!r}: expected PhysicalParameters")
+            raise ArgumentTypeError(f"params={params!r}: expected PhysicalParameters")
         kc = parse_quantity(coupling, "coupling", "[mass] / [time] ** 2", "100 N/m", allow_zero=True)
         kp = params.stiffness.to("N/m").magnitude
         ratio = float(kc.to("N/m").magnitude) / float(kp)
@@ -177,12 +191,14 @@ def static_thresholds(blocks: int, spread: float, seed: int | None) -> FloatArra
 
     Raises
     ------
+    ArgumentTypeError
+        For a ``spread`` that is not a number.
     ValueError
         For ``spread`` outside ``[0, 1)``.
 
     """
     blocks = check_count(blocks, "blocks")
-    s = float(spread)
+    s = check_number(spread, "spread", allow_zero=True, what="a threshold spread in [0, 1)")
     if not (0.0 <= s < 1.0):
         raise ValueError(f"spread={spread!r}: expected a threshold spread in [0, 1)")
     if s == 0.0:
@@ -207,6 +223,8 @@ def initial_positions(blocks: int, init: Init | str, seed: int | None, amplitude
     ``uniform``: all at 0 (identical blocks in identical states); ``random``:
     seeded displacements uniform in ``[0, amplitude)``.
     """
+    if not isinstance(init, str):
+        raise ArgumentTypeError(f"init={init!r}: expected 'uniform' or 'random'")
     try:
         kind = Init(init)
     except ValueError:

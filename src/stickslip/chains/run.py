@@ -24,6 +24,7 @@ from ..core.api import ChainState, chain_advance, check_state
 from ..core.memory import check_memory
 from ..core.results import ChainStatus
 from ..dynamics.cycle import validate_tolerances
+from ..errors import ArgumentTypeError
 from ..io.errors import DataError
 from ..io.output import check_target
 from ..io.progress import progress_bar
@@ -288,15 +289,38 @@ def _duration(name: str, value: Any, params: ChainParameters) -> float:
         if params.scales is not None and math.isfinite(value):
             # the catalogue is in seconds: a bare 50 read as 50 sqrt(m/k_p) came out as 10 s
             unit = params.scales.time.to("s").magnitude
-            raise ValueError(
+            raise ArgumentTypeError(
                 f"{name}={value!r}: a physical chain takes a time with units, e.g. '{value:g} s' (a "
                 f"number would be in units of sqrt(m/k_p) = {unit:.4g} s, its output is in s)"
             )
         return float(value)
     if params.scales is None:
-        raise ValueError(f"{name}={value!r}: a dimensionless chain takes a number (units of sqrt(m/k_p))")
+        raise ArgumentTypeError(
+            f"{name}={value!r}: a dimensionless chain takes a number (units of sqrt(m/k_p))"
+        )
     q = parse_quantity(value, name, "[time]", "10 s")
     return float((q / params.scales.time).to("").magnitude)
+
+
+def check_events_as(events_as: Any) -> None:
+    """Check what an event of the statistics is: ``"whole"`` or ``"connected"``.
+
+    Raises
+    ------
+    ArgumentTypeError
+        For a value that is not a str.
+    ValueError
+        For another str.
+
+    """
+    expected = (
+        f"events_as={events_as!r}: expected 'whole' (an event from all blocks stuck to all stuck) or "
+        "'connected' (each connected run of slipping blocks in it)"
+    )
+    if not isinstance(events_as, str):
+        raise ArgumentTypeError(expected)
+    if events_as not in EVENTS_AS:
+        raise ValueError(expected)
 
 
 def chain(
@@ -397,12 +421,16 @@ def chain(
 
     Raises
     ------
+    TypeError
+        For an argument of the wrong type, named (:class:`~stickslip.ArgumentTypeError`).
     ValueError
-        For a bad argument, named.
+        For an argument of the right type with a wrong value, named.
 
     """
     if not isinstance(params, ChainParameters):
-        raise ValueError(f"params={params!r}: expected ChainParameters")
+        raise ArgumentTypeError(f"params={params!r}: expected ChainParameters")
+    if out is not None and not isinstance(out, str | os.PathLike):
+        raise ArgumentTypeError(f"out={out!r} (type {type(out).__name__}): expected a file's path")
     events, transient = check_events(events, transient)
     seed = check_seed(seed)
     rtol, atol = validate_tolerances(rtol, atol)
@@ -419,12 +447,10 @@ def chain(
     if not (t_max > 0):
         raise ValueError(f"t_max={t_max!r}: expected a positive time")
     mc, m_max = check_fit_range(mc, m_max)  # before the run, not after it
-    if not isinstance(events_as, str) or events_as not in EVENTS_AS:
-        raise ValueError(
-            f"events_as={events_as!r}: expected 'whole' (an event from all blocks stuck to all stuck) or "
-            "'connected' (each connected run of slipping blocks in it)"
-        )
+    check_events_as(events_as)
     connected = events_as == "connected"
+    if not isinstance(init, str):
+        raise ArgumentTypeError(f"init={init!r}: expected 'uniform' or 'random'")
     try:
         init_s = str(Init(init)) if state is None else "state"
     except ValueError:

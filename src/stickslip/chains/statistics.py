@@ -46,6 +46,7 @@ has a b-value 3/2 times this one.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -54,6 +55,7 @@ import numpy.typing as npt
 from scipy.optimize import brentq
 from scipy.stats import chi2
 
+from ..errors import ArgumentTypeError
 from ..units import check_count, check_number, check_seed
 
 __all__ = [
@@ -310,7 +312,7 @@ def _magnitude(name: str, value: object, expected: str) -> float:
     try:
         out = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError):
-        out = math.nan
+        raise ArgumentTypeError(f"{name}={value!r}: expected {expected}") from None
     if not math.isfinite(out):
         raise ValueError(f"{name}={value!r}: expected {expected}")
     return out
@@ -321,7 +323,7 @@ def magnitude_frequency(
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Return bin centres, counts per bin and the cumulative counts ``N(>= lower edge)``."""
     bin_width = _bin_width(bin_width)
-    mm = np.asarray(m, dtype=float)
+    mm = _floats("m", m)
     mm = mm[np.isfinite(mm)]
     if mm.size == 0:
         e = np.empty(0)
@@ -341,6 +343,18 @@ def completeness_magnitude(m: npt.ArrayLike, bin_width: float = 0.1) -> float:
     if centres.size == 0:
         return math.nan
     return float(centres[int(np.argmax(counts))] - 0.5 * bin_width)
+
+
+def _floats(name: str, values: object) -> FloatArray:
+    """Return ``values`` as a float array; text, or entries that are not numbers, are the wrong type."""
+    if isinstance(values, str | bytes):
+        raise ArgumentTypeError(f"{name}={values!r}: expected an array of numbers")
+    try:
+        return np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise ArgumentTypeError(
+            f"{name}: expected an array of numbers, got {type(values).__name__}"
+        ) from None
 
 
 def _bin_width(value: object) -> float:
@@ -669,7 +683,7 @@ def slope_change(m: npt.ArrayLike, mc: float, m_max: float = math.inf) -> tuple[
         at 1 %, measured), but it is weak there.
 
     """
-    mm = np.asarray(m, dtype=float)
+    mm = _floats("m", m)
     sel = np.sort(mm[np.isfinite(mm) & (mm >= mc) & (mm <= m_max)])
     return _slope_change(sel, float(mc), float(m_max), _mle(sel, mc, m_max) if sel.size else math.nan)
 
@@ -763,7 +777,7 @@ def power_law_range(
         its events; all nan where no range qualifies.
 
     """
-    found = _scan(np.asarray(m, dtype=float), m_max, bin_width, min_width, min_events, slope_level, level,
+    found = _scan(_floats("m", m), m_max, bin_width, min_width, min_events, slope_level, level,
                   n_boot, seed)  # fmt: skip
     return (found[0], found[1], found[2]) if found is not None else (math.nan, math.nan, math.nan)
 
@@ -783,6 +797,10 @@ def _scan(
 
     The p-values are nan where the range did not pass (none did).
     """
+    for name, x in (("bin_width", bin_width), ("min_width", min_width), ("slope_level", slope_level),
+                    ("level", level)):  # fmt: skip
+        if isinstance(x, bool) or not isinstance(x, numbers.Real):
+            raise ArgumentTypeError(f"{name}={x!r} (type {type(x).__name__}): expected a number")
     if not (bin_width > 0 and min_width > 0):
         raise ValueError(f"bin_width={bin_width!r}, min_width={min_width!r}: expected positive widths")
     if not 0.0 <= slope_level < 1.0:
@@ -858,7 +876,7 @@ def block_length(x: npt.ArrayLike) -> int:
         series).
 
     """
-    xs = np.asarray(x, dtype=float)
+    xs = _floats("x", x)
     n = xs.size
     if n < 8:
         return 1
@@ -940,7 +958,7 @@ def b_value(
         Magnitudes spread over less than a bin give no fit (``b`` nan).
 
     """
-    mm = np.asarray(m, dtype=float)
+    mm = _floats("m", m)
     if mm.ndim != 1:  # a 2-D array was flattened, its rows' time order lost to the block bootstrap
         raise ValueError(f"m: magnitudes of shape {mm.shape}; expected one catalogue, a 1-D array")
     mm = mm[np.isfinite(mm)]
@@ -949,9 +967,14 @@ def b_value(
         raise ValueError("n_boot=1: expected 0 (no error) or at least 2 bootstrap resamples")
     seed = check_seed(seed)
     bin_width = _bin_width(bin_width)
-    whole = isinstance(block, (int, np.integer)) and not isinstance(block, bool) and block >= 1
-    if block != "auto" and not whole:
-        raise ValueError(f"block={block!r}: expected a whole number of events >= 1 or 'auto'")
+    blocks = f"block={block!r}: expected a whole number of events >= 1 or 'auto'"
+    if isinstance(block, str):
+        if block != "auto":
+            raise ValueError(blocks)
+    elif isinstance(block, bool) or not isinstance(block, (int, np.integer)):
+        raise ArgumentTypeError(blocks)
+    elif block < 1:
+        raise ValueError(blocks)
     mc, m_max = check_fit_range(mc, m_max)
     found: tuple[float, float, float, float, float, bool] | None = None
     if isinstance(mc, str):
@@ -1027,7 +1050,7 @@ def _bootstrap_error(
 
 def recurrence_times(t_start: npt.ArrayLike) -> FloatArray:
     """Return the times between successive event starts (in the order of a catalogue: increasing)."""
-    dt = np.diff(np.asarray(t_start, dtype=float))
+    dt = np.diff(_floats("t_start", t_start))
     if np.any(dt < 0):  # unsorted starts gave negative recurrence times
         i = int(np.flatnonzero(dt < 0)[0]) + 1
         raise ValueError(f"t_start[{i}]: the event starts are not in increasing order (as in a catalogue)")
@@ -1131,7 +1154,7 @@ def connected_ruptures(slips: npt.ArrayLike, *, periodic: bool = False) -> Ruptu
     Ruptures
 
     """
-    s = np.asarray(slips, dtype=float)
+    s = _floats("slips", slips)
     if s.ndim != 2:
         raise ValueError(f"slips: shape {s.shape}; expected (events, blocks), each block's slip per event")
     if not np.isfinite(s).all():

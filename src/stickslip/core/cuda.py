@@ -40,6 +40,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import ArgumentTypeError
 from . import engine
 
 #: the backends of the attractor kernel
@@ -134,13 +135,17 @@ def resolve_backend(backend: str) -> str:
 
     Raises
     ------
+    ArgumentTypeError
+        For a backend that is not a str.
     ValueError
         For a backend that is not one of :data:`BACKENDS`.
     CudaUnavailableError
         For ``"cuda"`` where no CUDA device can run the kernel (said in one line).
 
     """
-    if not isinstance(backend, str) or backend not in BACKENDS:
+    if not isinstance(backend, str):
+        raise ArgumentTypeError(f"backend={backend!r}: expected one of {', '.join(map(repr, BACKENDS))}")
+    if backend not in BACKENDS:
         raise ValueError(f"backend={backend!r}: expected one of {', '.join(map(repr, BACKENDS))}")
     if backend == "cpu":
         return "cpu"

@@ -26,6 +26,7 @@ import numpy.typing as npt
 import pint
 from scipy import stats
 
+from ..errors import ArgumentTypeError
 from ..io.errors import DataError
 from ..io.tables import read_table
 from ..units import ureg
@@ -80,10 +81,14 @@ def _as_array(name: str, x: Any, unit: Any = None) -> npt.NDArray[np.float64]:
             x = x.to(unit).magnitude if unit is not None else x.magnitude
         except pint.DimensionalityError:
             raise ValueError(f"{name}: units {x.units} do not convert to {unit}") from None
+    if isinstance(x, str | bytes):
+        raise ArgumentTypeError(f"{name}={x!r}: expected a 1-d sequence of numbers")
     try:
         a = np.asarray(x, dtype=float)
     except (TypeError, ValueError):
-        raise ValueError(f"{name}: expected numbers") from None
+        raise ArgumentTypeError(f"{name}: expected numbers") from None
+    if a.ndim == 0:  # one number (or None) for a sequence
+        raise ArgumentTypeError(f"{name}={x!r}: expected a 1-d sequence of numbers")
     if a.ndim != 1:
         raise ValueError(f"{name}: expected a 1-d sequence of numbers, got shape {a.shape}")
     if not np.all(np.isfinite(a)):
@@ -122,9 +127,14 @@ def classify(
 
     Raises
     ------
+    ArgumentTypeError
+        For an argument of the wrong type: text or one number for a sequence, entries
+        that are not numbers, errors without units beside amplitudes with units (or the
+        reverse), a ``confidence`` or ``min_points`` that is not a number.
     ValueError
         Different lengths, non-finite values, non-positive velocities or
-        amplitudes, negative errors, or an invalid ``confidence``.
+        amplitudes, negative errors, units of the wrong dimension, or a ``confidence``
+        or ``min_points`` out of range.
 
     """
     if isinstance(velocity, pint.Quantity) and not velocity.check("[length] / [time]"):
@@ -134,7 +144,7 @@ def classify(
     # the errors in the amplitudes' unit: 10 mN beside amplitudes in N was read as 10 N
     a_unit = amplitude.units if isinstance(amplitude, pint.Quantity) else None
     if (a_unit is None) != (not isinstance(amplitude_err, pint.Quantity)) and amplitude_err is not None:
-        raise ValueError("amplitude and amplitude_err: give both with units, or neither")
+        raise ArgumentTypeError("amplitude and amplitude_err: give both with units, or neither")
     if v.shape != a.shape:
         raise ValueError(f"velocity has {v.size} values and amplitude {a.size}: expected equal lengths")
     if np.any(v <= 0):
@@ -143,9 +153,13 @@ def classify(
     if np.any(a <= 0):
         i = int(np.argmax(a <= 0))
         raise ValueError(f"amplitude[{i}]={float(a[i])!r}: amplitudes must be positive")
-    if not (isinstance(confidence, float | int) and 0.5 <= confidence < 1):
+    if isinstance(confidence, bool) or not isinstance(confidence, float | int):
+        raise ArgumentTypeError(f"confidence={confidence!r}: expected a level in [0.5, 1), e.g. 0.95")
+    if not 0.5 <= confidence < 1:
         raise ValueError(f"confidence={confidence!r}: expected a level in [0.5, 1), e.g. 0.95")
-    if isinstance(min_points, bool) or not isinstance(min_points, numbers.Integral) or min_points < 3:
+    if isinstance(min_points, bool) or not isinstance(min_points, numbers.Integral):
+        raise ArgumentTypeError(f"min_points={min_points!r}: expected an integer >= 3")
+    if min_points < 3:
         raise ValueError(f"min_points={min_points!r}: expected an integer >= 3")
     sigma = None
     if amplitude_err is not None:
@@ -307,6 +321,8 @@ def classify_file(
         inconsistent units, or values the criterion cannot take.
 
     """
+    if not isinstance(path, str | os.PathLike):
+        raise ArgumentTypeError(f"path={path!r} (type {type(path).__name__}): expected a file's path")
     p = os.fspath(path)
     cols = read_table(p, ["velocity", "amplitude"], ["amplitude_err"])
     vel, amp = cols["velocity"], cols["amplitude"]

@@ -44,6 +44,7 @@ from scipy.optimize import least_squares
 from ..core.api import run_attractors, run_trajectory
 from ..core.noise import noise_level
 from ..core.results import AttractorRows, EventKind, Regime, Status
+from ..errors import ArgumentTypeError
 from ..io.errors import DataError
 from ..io.records import Record
 from ..laws import PhysicalWeakeningLaw
@@ -282,9 +283,13 @@ def _check_guess(guess: dict[str, float] | None, names: tuple[str, ...]) -> dict
     if guess is None:
         return None
     if not isinstance(guess, dict):
-        raise ValueError(f"guess={guess!r}: expected a dict of starting values by parameter name")
+        raise ArgumentTypeError(f"guess={guess!r}: expected a dict of starting values by parameter name")
     out = {}
     for key, value in guess.items():
+        if not isinstance(key, str):
+            raise ArgumentTypeError(
+                f"guess: the key {key!r} (type {type(key).__name__}): expected one of {names}"
+            )
         if key not in names:
             extra = " (b is fitted with fit_b=True)" if key == "b" else ""
             raise ValueError(f"guess: {key!r} is not a fitted parameter{extra}; expected one of {names}")
@@ -326,6 +331,9 @@ def fit_record(
 
     Raises
     ------
+    TypeError
+        For an argument of the wrong type: a ``record`` that is not a Record (a plain
+        :class:`TypeError`), any other (:class:`~stickslip.ArgumentTypeError`).
     ValueError
         Without ``v0`` or load, for an unknown method, or when the record is not
         stick-slip-like.
@@ -335,6 +343,10 @@ def fit_record(
     """
     if not isinstance(record, Record):
         raise TypeError(f"record={record!r}: expected a Record (read_record(path) reads one)")
+    if not isinstance(method, str):
+        raise ArgumentTypeError(
+            f"method={method!r} (type {type(method).__name__}): expected one of {METHODS}"
+        )
     if method not in METHODS:
         raise ValueError(f"method={method!r}: expected one of {METHODS}")
     given_noise = None if noise is None else _noise(noise)
@@ -344,7 +356,7 @@ def fit_record(
             "(give '# v0 = ...' and '# load = ...' header lines or --v0/--load)"
         )
     if not isinstance(fit_b, bool | np.bool_):
-        raise ValueError(f"fit_b={fit_b!r}: expected True or False")
+        raise ArgumentTypeError(f"fit_b={fit_b!r}: expected True or False")
     if given_noise is not None:  # 1e-320 N weighed the fit into overflow, 1e308 N into a chi-square of 0
         span = float(np.ptp(record.force))
         if not 1e-9 * span <= given_noise <= span:

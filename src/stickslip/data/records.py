@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import asdict, dataclass, fields
 from typing import Any
 
@@ -34,6 +34,7 @@ from scipy.signal import find_peaks
 
 from ..core.memory import check_memory
 from ..core.noise import noise_level
+from ..errors import ArgumentTypeError
 from ..io.errors import DataError
 from ..io.records import Record
 
@@ -284,11 +285,17 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
 
     Raises
     ------
+    ArgumentTypeError
+        If ``record`` is not a :class:`~stickslip.io.records.Record` or ``min_cycles`` not an integer.
     ValueError
         If the record holds fewer than ``min_cycles`` cycles or no oscillation.
 
     """
-    if isinstance(min_cycles, bool) or not isinstance(min_cycles, int | np.integer) or min_cycles < 1:
+    if not isinstance(record, Record):
+        raise ArgumentTypeError(f"record={record!r}: expected a Record (read_record(path) reads one)")
+    if isinstance(min_cycles, bool) or not isinstance(min_cycles, int | np.integer):
+        raise ArgumentTypeError(f"min_cycles={min_cycles!r}: expected a whole number of cycles >= 1")
+    if min_cycles < 1:
         raise ValueError(f"min_cycles={min_cycles!r}: expected a whole number of cycles >= 1")
     t, f = record.time, record.force
     n = f.size
@@ -648,19 +655,24 @@ def synthetic_record(
     from ..units import check_seed, parse_quantity
 
     if not isinstance(params, PhysicalParameters):
-        raise ValueError(f"params={params!r}: expected PhysicalParameters")
+        raise ArgumentTypeError(f"params={params!r}: expected PhysicalParameters")
     dur = parse_quantity(duration, "duration", "[time]", "300 s").to("s").magnitude
     fs = parse_quantity(rate, "rate", "1 / [time]", "100 Hz").to("Hz").magnitude
     sigma = parse_quantity(noise, "noise", "[force]", "1 mN", allow_zero=True).to("N").magnitude
+    import pint
+
     from ..units import ureg
 
+    per_time = f"drift={drift!r}: expected a force per time such as '0.1 mN/s' (may be negative)"
+    if not isinstance(drift, str | pint.Quantity):  # a plain number has no unit to read
+        raise ArgumentTypeError(per_time)
     try:
         dq = ureg.Quantity(drift.strip()) if isinstance(drift, str) else drift
         ok = dq.check("[force] / [time]") and np.isfinite(float(dq.magnitude))
     except Exception:
         ok = False
     if not ok:
-        raise ValueError(f"drift={drift!r}: expected a force per time such as '0.1 mN/s' (may be negative)")
+        raise ValueError(per_time)
     k_drift = float(dq.to("N/s").magnitude)
     t0 = parse_quantity(start, "start", "[time]", "100 s", allow_zero=True).to("s").magnitude
     seed_ = check_seed(seed)
@@ -786,13 +798,19 @@ def analyze_records(
 
     from .criterion import classify
 
-    if isinstance(records, str | bytes | os.PathLike) or not all(isinstance(r, Record) for r in records):
+    if (
+        isinstance(records, str | bytes | os.PathLike)
+        or not isinstance(records, Iterable)
+        or not all(isinstance(r, Record) for r in records)
+    ):
         raise TypeError(
             f"records={records!r}: expected a list of Record (read_records(folder) reads a folder of them)"
         )
     if not records:
         raise ValueError("no records to analyze")
-    if isinstance(confidence, bool) or not (isinstance(confidence, float | int) and 0.5 <= confidence < 1):
+    if isinstance(confidence, bool) or not isinstance(confidence, float | int):
+        raise ArgumentTypeError(f"confidence={confidence!r}: expected a level in [0.5, 1), e.g. 0.95")
+    if not 0.5 <= confidence < 1:
         raise ValueError(f"confidence={confidence!r}: expected a level in [0.5, 1), e.g. 0.95")
     rows = []
     failed = []

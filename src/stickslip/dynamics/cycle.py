@@ -27,6 +27,7 @@ from ..bifurcation.orbits import law_arrays
 from ..core.api import run_attractors
 from ..core.checks import ATOL_MIN
 from ..core.results import AttractorRows, Regime, Status, reversal
+from ..errors import ArgumentTypeError
 from ..io.jsonable import json_clean
 from ..models.parameters import (
     DimensionlessParameters,
@@ -64,11 +65,63 @@ DIMENSIONLESS_UNITS = {
 SI_UNITS = {"force": "N", "time": "s", "length": "m", "velocity": "m/s", "energy": "J"}
 
 
+#: where a run stopped (the step fell below the resolution of the time, or ran out), the law has a
+#: pole there when friction or its slope exceeds POLE_GROWTH times its size 0.1 % of the velocity to
+#: either side: near a pole of order n at a distance d that ratio is (0.001 w / d)**n (1e10 where the
+#: step fails, d about 1e-6 w for a double pole), while a finite law changes by a few times over 0.1 %
+POLE_GROWTH = 1e3
+#: the statuses with which a run stops where the friction law may have a pole
+_STOPPED = (Status.STEP_TOO_SMALL, Status.TOO_MANY_STEPS)
+
+
+def pole_reached(law: Any, w: float) -> float | None:
+    """Return friction at ``|w|`` where a run that stopped at velocity ``w`` met a pole of ``law``, else None.
+
+    NaN when the law cannot be evaluated there. A stiff but finite law (no blow-up at
+    ``w``, :data:`POLE_GROWTH`) and a runaway (friction smooth where it stopped) are not poles.
+    """
+    x = abs(float(w))
+    if not (math.isfinite(x) and x > 0.0):
+        return None
+    h = 1e-3 * x
+    friction = math.nan
+    for order in (0, 1):
+        try:
+            with np.errstate(all="ignore"):
+                at = float(law.at(x, order))
+                side = max(abs(float(law.at(x - h, order))), abs(float(law.at(x + h, order))))
+        except (ZeroDivisionError, OverflowError, ValueError):
+            return friction
+        if order == 0:
+            friction = at
+        if not math.isfinite(at) or abs(at) > POLE_GROWTH * side:
+            return friction
+    return None
+
+
+def pole_message(law: Any, w: float, velocity: Any = None) -> str | None:
+    """Say that a run that stopped at velocity ``w`` met a pole of ``law`` (None when it did not).
+
+    ``velocity`` converts ``w`` to m/s for a physical set-up (:func:`_converter`'s ``"velocity"``).
+    """
+    f = pole_reached(law, w)
+    if f is None:
+        return None
+    at = f"w = {abs(w):.6g}" if velocity is None else f"v = {velocity(abs(w)):.6g} m/s"
+    return (
+        f"the friction law divides by zero at a velocity the motion reached: f = {f:.3g} at {at}, "
+        "where the run stopped (a pole of its formula, or of its derivative); give a law that is "
+        "finite, with a finite slope, at every velocity w >= 0"
+    )
+
+
 def validate_tolerances(rtol: float, atol: float) -> tuple[float, float]:
     """Check integration tolerances; return them as floats.
 
     Raises
     ------
+    ArgumentTypeError
+        If a tolerance is not a number.
     ValueError
         If ``rtol`` is not in ``[1e-14, 1e-3]`` or ``atol`` is not finite and at least ``ATOL_MIN`` (1e-30).
 
@@ -193,10 +246,16 @@ class CycleResult:
 
         Raises
         ------
+        ArgumentTypeError
+            For a ``name`` that is not a str.
         ValueError
             For an unknown field or a dimensionless result.
 
         """
+        if not isinstance(name, str):
+            raise ArgumentTypeError(
+                f"name={name!r} (type {type(name).__name__}): expected one of {sorted(_FIELD_KIND)}"
+            )
         if name not in _FIELD_KIND:
             raise ValueError(f"name={name!r}: expected one of {sorted(_FIELD_KIND)}")
         if self.units.get("force") != "N":
@@ -312,6 +371,12 @@ def cycle(
         )
     distinct = _distinct(keyed)
 
+    for i in range(len(rows)):  # a run that stopped at a pole says so, as one that hit it exactly does
+        if Status.from_code(polished.status[i]) in _STOPPED:
+            speed = None if scales is None else functools.partial(conv, "velocity")
+            pole = pole_message(law, float(polished.w[i]), speed)
+            if pole is not None:
+                raise ValueError(pole)
     o = polished[0]
     # a motion from rest that could not be followed: a table may know why (its extrapolation
     # reaches zero friction); else whether the motions went beyond the table

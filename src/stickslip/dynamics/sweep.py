@@ -38,6 +38,7 @@ from ..core.cuda import release_buffers, release_idle_buffers, resolve_backend
 from ..core.laws import N_LAW_PARAMS
 from ..core.memory import check_memory
 from ..core.results import AttractorRows, Regime, Status, reversal
+from ..errors import ArgumentTypeError
 from ..io.output import OutputFolder, emit, netcdf_writer, package_version
 from ..io.tables import frame_with_units
 from ..laws import PhysicalLaw
@@ -129,10 +130,10 @@ def sweepable(params: DimensionlessParameters | PhysicalParameters) -> list[str]
 def _grid_values(p: Parameter, name: str, values: Any) -> tuple[FloatArray, FloatArray, str]:
     """Return (values in the user's unit, values in SI, unit string) for one swept parameter."""
     if isinstance(values, str):
-        raise ValueError(f"{name}={values!r}: expected a sequence of values, not a single string")
+        raise ArgumentTypeError(f"{name}={values!r}: expected a sequence of values, not a single string")
     if isinstance(values, pint.Quantity):
         if np.ndim(values.magnitude) == 0:
-            raise ValueError(
+            raise ArgumentTypeError(
                 f"{name}={values!r}: expected a sequence of values (an array "
                 "quantity or a list), not a single value"
             )
@@ -153,7 +154,7 @@ def _grid_values(p: Parameter, name: str, values: Any) -> tuple[FloatArray, Floa
         try:
             items = list(values)
         except TypeError:
-            raise ValueError(f"{name}={values!r}: expected a sequence of values") from None
+            raise ArgumentTypeError(f"{name}={values!r}: expected a sequence of values") from None
     if not items:
         raise ValueError(f"{name}: the list of values is empty")
     if not p.unit:
@@ -182,7 +183,7 @@ def _number(name: str, v: Any) -> float:
     try:
         x = float(v)
     except (TypeError, ValueError):
-        raise ValueError(f"{name}={v!r}: expected a number") from None
+        raise ArgumentTypeError(f"{name}={v!r}: expected a number") from None
     if not math.isfinite(x):
         raise ValueError(f"{name}={x!r}: expected a finite number")
     return x
@@ -263,13 +264,15 @@ def sweep(
     rtol, atol = validate_tolerances(rtol, atol)
     backend = resolve_backend(backend)  # an unknown backend, or no GPU for "cuda": said before any work
     if not isinstance(base, DimensionlessParameters | PhysicalParameters):
-        raise ValueError(f"base={base!r}: expected DimensionlessParameters or PhysicalParameters")
+        raise ArgumentTypeError(f"base={base!r}: expected DimensionlessParameters or PhysicalParameters")
     if not isinstance(grid, Mapping):  # a list of pairs ended in 'unhashable type: list' (the API audit)
         raise TypeError(f"grid={grid!r}: expected a mapping of names to values, e.g. {{'nu': [0.01, 0.1]}}")
     if not grid:
         raise ValueError("grid is empty: give at least one parameter to sweep")
     allowed = axes(base)
     for name in grid:
+        if not isinstance(name, str):
+            raise ArgumentTypeError(f"grid: the key {name!r} (type {type(name).__name__}): expected a str")
         if name not in allowed:
             raise ValueError(
                 f"cannot sweep {name!r} for this set-up ({base.law.name} law, "
@@ -288,10 +291,11 @@ def sweep(
         si_axes[p.name] = si
     plan = SweepPlan(base, coords, si_axes, rtol, atol, max_slip_time, conv_tol, backend)
     # checked in every mode, though it is used only with a store or a cluster
-    if block_points is not None and (
-        isinstance(block_points, bool) or not isinstance(block_points, int | np.integer) or block_points < 1
-    ):
-        raise ValueError(f"block_points={block_points!r}: expected a whole number of points >= 1")
+    if block_points is not None:
+        if isinstance(block_points, bool) or not isinstance(block_points, int | np.integer):
+            raise ArgumentTypeError(f"block_points={block_points!r}: expected a whole number of points >= 1")
+        if block_points < 1:
+            raise ValueError(f"block_points={block_points!r}: expected a whole number of points >= 1")
     try:
         return _run(plan, si_axes, store, scheduler, workers, block_points, progress)
     finally:
@@ -790,11 +794,15 @@ def load_sweep(path: str | os.PathLike[str], *, partial: bool = False) -> xr.Dat
 
     Raises
     ------
+    ArgumentTypeError
+        If ``path`` is not a str or a path.
     ValueError
         If the file does not exist or is not a NetCDF file, or the store holds
         another kind of job, or an unfinished sweep (without ``partial``).
 
     """
+    if not isinstance(path, str | os.PathLike):  # os.path.exists(3) asks about file descriptor 3
+        raise ArgumentTypeError(f"path={path!r} (type {type(path).__name__}): expected a file's path")
     if not os.path.exists(path):
         raise ValueError(f"path={os.fspath(path)!r}: no such file")
     from ..scale import is_store

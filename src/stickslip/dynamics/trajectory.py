@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import numbers
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -14,13 +14,14 @@ import pint
 
 from .. import defaults
 from ..bifurcation.orbits import law_arrays
-from ..core.api import MAX_TIME, run_trajectory
+from ..core.api import MAX_TIME, run_attractors, run_trajectory
 from ..core.engine import MAX_PHASES
 from ..core.memory import check_memory
 from ..core.results import EventKind, Regime, Status
+from ..errors import ArgumentTypeError
 from ..models.parameters import DimensionlessParameters, PhysicalParameters, as_dimensionless
 from ..units import check_number, parse_quantity
-from .cycle import DIMENSIONLESS_UNITS, SI_UNITS, cycle, validate_tolerances
+from .cycle import DIMENSIONLESS_UNITS, SI_UNITS, cycle, pole_message, validate_tolerances
 
 __all__ = ["Trajectory", "simulate"]
 
@@ -230,7 +231,9 @@ def simulate(
     """
     dp, scales = as_dimensionless(params)
     rtol, atol = validate_tolerances(rtol, atol)
-    if isinstance(n_points, bool) or not isinstance(n_points, numbers.Integral) or n_points < 2:
+    if isinstance(n_points, bool) or not isinstance(n_points, numbers.Integral):
+        raise ArgumentTypeError(f"n_points={n_points!r}: expected an integer >= 2")
+    if n_points < 2:
         raise ValueError(f"n_points={n_points!r}: expected an integer >= 2")
     check_memory(
         int(n_points) * BYTES_PER_SAMPLE,
@@ -238,16 +241,25 @@ def simulate(
         "sample fewer points (events are always added) or simulate a shorter duration",
     )
     initial = _initial_state(initial, scales)
+    pair = (
+        f"initial={initial!r}: expected a pair (spring force, velocity): numbers in the model's "
+        "units (mu_s W and mu_s W / sqrt(k m)), or, for physical parameters, quantities "
+        "('50 mN', '0 m/s')"
+    )
+    # a str (which iterates as its characters: '59' as (5, 9)), a scalar, or entries that are
+    # not numbers are the wrong type; a sequence of another length than two is a wrong value
+    if (
+        isinstance(initial, str | bytes)
+        or not isinstance(initial, Sequence | np.ndarray)
+        or (isinstance(initial, np.ndarray) and initial.ndim == 0)
+    ):
+        raise ArgumentTypeError(pair)
+    if len(initial) != 2:
+        raise ValueError(pair)
     try:
-        if isinstance(initial, str | bytes):  # '59' was read as the pair (5, 9)
-            raise TypeError
-        s0, w0 = (float(v) for v in initial)  # exactly two: a third value was dropped
+        s0, w0 = (float(v) for v in initial)
     except (TypeError, ValueError):
-        raise ValueError(
-            f"initial={initial!r}: expected a pair (spring force, velocity): numbers in the model's "
-            "units (mu_s W and mu_s W / sqrt(k m)), or, for physical parameters, quantities "
-            "('50 mN', '0 m/s')"
-        ) from None
+        raise ArgumentTypeError(pair) from None
     if cycles is not None and duration is not None:  # cycles reached nothing
         raise ValueError(f"cycles={cycles!r} and duration={duration!r}: give one or the other")
     bound = 1e6
@@ -288,7 +300,20 @@ def simulate(
     y, mode, ev, status = run_trajectory(
         kernel, lp, dp.nu, s0, w0, t, rtol=rtol, atol=atol, event_capacity=max(16, ev.shape[0])
     )
+    stopped = (Status.STEP_TOO_SMALL, Status.TOO_MANY_STEPS)
     if status != Status.OK:
+        if status in stopped:
+            # the trajectory keeps no state past its last sample: the same motion as one attractor
+            # row, which records the velocity where it stopped, says whether a pole stopped it
+            row = run_attractors(
+                kernel, lp, [dp.nu], [s0], [w0], from_breakaway=False, rtol=rtol, atol=atol,
+                max_slip_time=t_end, conv_tol=defaults.CONV_TOL,
+            )  # fmt: skip
+            speed = None if scales is None else (lambda w: w * float(scales.velocity.to("m/s").magnitude))
+            stop = Status.from_code(row.status[0])
+            pole = pole_message(dp.law, float(row.w[0]), speed) if stop in stopped else None
+            if pole is not None:
+                raise ValueError(pole)
         raise RuntimeError(f"integration failed: {status} ({_failure_hint(status, t_end, duration, cycles)})")
     s = y[:, 0]
     w = y[:, 1]

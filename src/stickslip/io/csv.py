@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import ArgumentTypeError
 from .output import OutputFolder, emit
 
 __all__ = ["write_columns"]
@@ -35,6 +36,8 @@ def _column(header: str, values: Any) -> np.ndarray:
                 f"column {header!r}: values in {values.units} do not convert to {m.group(1)}"
             ) from None
     out = np.asarray(values)
+    if out.ndim == 0:  # one value for a column
+        raise ArgumentTypeError(f"column {header!r}={values!r}: expected a 1-d sequence of values")
     if out.ndim != 1:
         raise ValueError(f"column {header!r}: expected a 1-d sequence of values, got shape {out.shape}")
     return out

@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from ..errors import ArgumentTypeError
 from ..units import ureg
 from .errors import DataError
 
@@ -111,10 +112,12 @@ class RecordOptions:
     def __post_init__(self) -> None:
         for key in ("time", "force", "time_unit", "force_unit", "name_pattern"):
             value = getattr(self, key)
-            if value is not None and (not isinstance(value, str) or not value.strip()):
+            if value is not None and not isinstance(value, str):
+                raise ArgumentTypeError(f"{key}={value!r}: expected a non-empty name")
+            if value is not None and not value.strip():
                 raise ValueError(f"{key}={value!r}: expected a non-empty name")
         if self.normalised is not None and not isinstance(self.normalised, bool):
-            raise ValueError(f"normalised={self.normalised!r}: expected True, False or None")
+            raise ArgumentTypeError(f"normalised={self.normalised!r}: expected True, False or None")
 
 
 def _need(module: str, path: str) -> Any:

@@ -25,6 +25,7 @@ import numpy.typing as npt
 import pandas as pd
 import pint
 
+from ..errors import ArgumentTypeError
 from ..units import parse_quantity, ureg
 from ..userwarnings import warn
 from . import text
@@ -88,16 +89,20 @@ class Record:
         # arrays as the readers make them: a 2-D force broadcast into an n x n array (and ran out
         # of memory), lists failed on .size, NaN and repeated times went on silently
         if not isinstance(self.name, str):
-            raise ValueError(f"name={self.name!r}: expected a str")
+            raise ArgumentTypeError(f"name={self.name!r}: expected a str")
         n = None
         for key, unit in (("time", "s"), ("force", "N"), ("displacement", "m"), ("velocity", "m/s")):
             value = getattr(self, key)
             if value is None and key in ("displacement", "velocity"):
                 continue
+            if isinstance(value, str | bytes):
+                raise ArgumentTypeError(
+                    f"{self.name}: {key}: expected numbers ({unit}), got {type(value).__name__}"
+                )
             try:
                 arr = np.asarray(value, dtype=float)
             except (TypeError, ValueError):
-                raise ValueError(
+                raise ArgumentTypeError(
                     f"{self.name}: {key}: expected numbers ({unit}), got {type(value).__name__}"
                 ) from None
             if arr.ndim != 1:
@@ -573,6 +578,8 @@ def read_records(
         every error of :func:`read_record`.
 
     """
+    if not isinstance(on_error, str):
+        raise ArgumentTypeError(f"on_error={on_error!r}: expected 'raise' or 'warn'")
     if on_error not in ("raise", "warn"):
         raise ValueError(f"on_error={on_error!r}: expected 'raise' or 'warn'")
     unknown = set(setup) - set(QUANTITIES)
@@ -742,6 +749,8 @@ def format_record(record: Record, *, force_unit: str = "mN") -> str:
         For a ``force_unit`` that is not a unit of force.
 
     """
+    if not isinstance(force_unit, str):
+        raise ArgumentTypeError(f"force_unit={force_unit!r}: expected a unit of force, e.g. 'mN' or 'N'")
     try:
         to_unit = float(ureg.Quantity(1.0, "N").to(force_unit).magnitude)
     except Exception:  # pint's parser raises what it meets (a TokenError for 'mN]')

@@ -12,6 +12,7 @@ import numpy as np
 import numpy.typing as npt
 import pint
 
+from ..errors import ArgumentTypeError
 from ..units import ureg
 from . import text
 from .errors import DataError
@@ -171,7 +172,7 @@ def read_table(
     """
     for arg, value in (("required", required), ("optional", optional)):
         if isinstance(value, str):  # "velocity" was read as the columns 'v', 'e', ...
-            raise ValueError(f"{arg}={value!r}: expected a sequence of column names, e.g. [{value!r}]")
+            raise ArgumentTypeError(f"{arg}={value!r}: expected a sequence of column names, e.g. [{value!r}]")
     required = [r.strip().lower() for r in required]  # case-insensitive, as the header's names
     optional = [o.strip().lower() for o in optional]
     p = check_file(path, MAX_BYTES)

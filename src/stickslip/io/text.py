@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..core.memory import check_memory
+from ..errors import ArgumentTypeError
 from .errors import DataError
 
 if TYPE_CHECKING:  # pandas is imported where a file is read (0.2 s at import)
@@ -60,10 +61,14 @@ def check_file(path: str | os.PathLike[str]) -> str:
 
     Raises
     ------
+    ArgumentTypeError
+        For a ``path`` that is neither a str nor a path.
     DataError
         Naming the file: missing, a folder, or empty.
 
     """
+    if not isinstance(path, str | os.PathLike):
+        raise ArgumentTypeError(f"path={path!r} (type {type(path).__name__}): expected a file's path")
     p = os.fspath(path)
     if os.path.isdir(p):
         raise DataError(f"{p}: is a folder, expected a file")

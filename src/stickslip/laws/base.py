@@ -20,6 +20,7 @@ import numpy as np
 import numpy.typing as npt
 import pint
 
+from ..errors import ArgumentTypeError
 from ..units import Q_, parse_quantity
 from .spec import STATIC, LawSpec, Parameter
 
@@ -185,7 +186,9 @@ class DimensionlessLaw:
 
         The odd extension gives ``f^(n)(-w) = (-1)^(n+1) f^(n)(w)``.
         """
-        if not isinstance(order, int) or isinstance(order, bool) or order < 1:
+        if not isinstance(order, int) or isinstance(order, bool):
+            raise ArgumentTypeError(f"order={order!r}: expected an integer >= 1")
+        if order < 1:
             raise ValueError(f"order={order!r}: expected an integer >= 1")
         w = np.asarray(w, dtype=float)
         sign = np.where(w < 0, (-1.0) ** (order + 1), 1.0)
@@ -421,7 +424,9 @@ class PhysicalLaw:
 def _velocity(v: Any) -> FloatArray:
     if isinstance(v, str):
         v = parse_quantity(v, "v", "[length] / [time]", "5 um/s", allow_zero=True)
-    if not isinstance(v, pint.Quantity) or not v.check("[length] / [time]"):
+    if not isinstance(v, pint.Quantity):
+        raise ArgumentTypeError(f"v={v!r}: expected a velocity with units, such as '5 um/s'")
+    if not v.check("[length] / [time]"):
         raise ValueError(f"v={v!r}: expected a velocity with units, such as '5 um/s'")
     return np.asarray(v.to("m/s").magnitude, dtype=float)
 
@@ -446,9 +451,9 @@ def require_dimensionless_law(law: Any, name: str = "law") -> DimensionlessLaw:
 
 
 def require_physical_law(law: Any, name: str = "law") -> PhysicalLaw:
-    """Return ``law`` after checking that it is a physical friction law (a ValueError otherwise)."""
+    """Return ``law`` after checking that it is a physical friction law (an ArgumentTypeError otherwise)."""
     if not isinstance(law, PhysicalLaw):
-        raise ValueError(
+        raise ArgumentTypeError(
             f"{name}={law!r}: expected a physical law (PhysicalWeakeningLaw, PhysicalCubicLaw, "
             "PhysicalCoulombLaw, ExpressionLaw(mu=...), TabulatedLaw)"
         )

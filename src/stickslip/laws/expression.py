@@ -32,6 +32,7 @@ import numpy.typing as npt
 import pint
 import sympy as sp
 
+from ..errors import ArgumentTypeError
 from ..units import Q_, check_number, parse_quantity, ureg
 from ..userwarnings import warn
 from .base import DimensionlessLaw, PhysicalLaw
@@ -683,7 +684,9 @@ def _dimension_check(expr: sp.Expr, quantities: Mapping[str, Any], text: str) ->
 
 def _number(name: str, x: Any) -> float:
     if isinstance(x, bool) or not isinstance(x, int | float | np.floating | np.integer):
-        raise ValueError(f"{name}={x!r}: expected a finite number (or, in the physical form, a quantity)")
+        raise ArgumentTypeError(
+            f"{name}={x!r}: expected a finite number (or, in the physical form, a quantity)"
+        )
     if not math.isfinite(float(x)):
         raise ValueError(f"{name}={x!r}: expected a finite number")
     return float(x)

@@ -16,6 +16,8 @@ from collections.abc import Iterable
 
 import sympy as sp
 
+from ..errors import ArgumentTypeError
+
 __all__ = ["FUNCTIONS", "FormulaError", "parse_formula"]
 
 #: the functions a formula may call, by the name the user types
@@ -82,7 +84,7 @@ def parse_formula(text: str, name: str, variables: Iterable[str]) -> sp.Expr:
     """
     variables = tuple(variables)
     if not isinstance(text, str):
-        raise FormulaError(f"{name}={text!r}: expected a formula as text, such as '1/(1 + 3.8*w)'")
+        raise ArgumentTypeError(f"{name}={text!r}: expected a formula as text, such as '1/(1 + 3.8*w)'")
     if not text.strip():
         raise FormulaError(f"{name}: the formula is empty")
     if len(text) > 2000:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import inspect
 from typing import Any
 
+from ..errors import ArgumentTypeError
 from .base import DimensionlessLaw, PhysicalLaw
 from .spec import LawSpec, Parameter
 
@@ -134,10 +135,16 @@ def get(name: str) -> LawEntry:
 
     Raises
     ------
+    ArgumentTypeError
+        For a name that is not a str.
     ValueError
-        Naming the laws there are.
+        For an unknown name, naming the laws there are.
 
     """
+    if not isinstance(name, str):
+        raise ArgumentTypeError(
+            f"law={name!r} (type {type(name).__name__}): expected one of {', '.join(names())}"
+        )
     try:
         return _LAWS[name]
     except KeyError:

@@ -32,6 +32,7 @@ import numpy.typing as npt
 import pint
 import sympy as sp
 
+from ..errors import ArgumentTypeError
 from ..units import Q_, check_number, parse_quantity, ureg
 from .formula import _float, parse_formula
 
@@ -122,8 +123,12 @@ class Parameter:
 
         Raises
         ------
+        ArgumentTypeError
+            For a value of the wrong type (a string for a number, ``None``, a plain number
+            for a physical parameter), naming the parameter.
         ValueError
-            Naming the parameter, the value and what was expected.
+            For a value out of bounds, NaN, or of the wrong unit, naming the parameter,
+            the value and what was expected.
 
         """
         if self.unit:
@@ -140,7 +145,7 @@ class Parameter:
             if isinstance(value, pint.Quantity):
                 x = check_number(value, self.name, allow_zero=True, what=self.what)
             elif isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
-                raise ValueError(f"{self.name}={value!r}: expected {self.what}")
+                raise ArgumentTypeError(f"{self.name}={value!r}: expected {self.what}")
             else:
                 x = float(value)
         self.check_array(np.array([x]), shown=value)

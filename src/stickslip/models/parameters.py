@@ -23,6 +23,7 @@ import numpy.typing as npt
 import pint
 
 from ..core.checks import NU_MAX, NU_MIN
+from ..errors import ArgumentTypeError
 from ..laws import DimensionlessLaw, PhysicalLaw, PhysicalWeakeningLaw, require_physical_law
 from ..laws.spec import STATIC, LawSpec
 from ..units import Q_, check_number, parse_quantity
@@ -105,7 +106,7 @@ class DimensionlessParameters:
                 "precision)"
             )
         if not isinstance(self.law, DimensionlessLaw):
-            raise ValueError(
+            raise ArgumentTypeError(
                 f"law={self.law!r}: expected a dimensionless law (WeakeningLaw, CubicLaw, CoulombLaw, "
                 "ExpressionLaw, ...); convert a physical law with PhysicalParameters"
             )
@@ -171,9 +172,12 @@ class PhysicalParameters:
 
     Raises
     ------
+    ArgumentTypeError
+        For a value of the wrong type (a plain number, ``None``, a law that is not a
+        physical law); the message names the argument.
     ValueError
-        For a value with the wrong dimension, no unit, or a zero, negative,
-        infinite or NaN magnitude; the message names the argument.
+        For a value with the wrong dimension, a string that is not a quantity, or a
+        zero, negative, infinite or NaN magnitude; the message names the argument.
 
     """
 
@@ -268,6 +272,8 @@ class PhysicalParameters:
             The static friction coefficient.
 
         """
+        if not isinstance(params, DimensionlessParameters):
+            raise ArgumentTypeError(f"params={params!r}: expected DimensionlessParameters")
         mu = STATIC.check(mu_s)
         m = parse_quantity(mass, "mass", "[mass]", "1 kg")
         k = parse_quantity(stiffness, "stiffness", "[mass] / [time] ** 2", "62 N/m")
@@ -326,7 +332,7 @@ def as_dimensionless(
 
     Raises
     ------
-    ValueError
+    ArgumentTypeError
         If ``params`` is neither kind of parameter set.
 
     """
@@ -334,7 +340,7 @@ def as_dimensionless(
         return params.dimensionless(), params.scales
     if isinstance(params, DimensionlessParameters):
         return params, None
-    raise ValueError(f"params={params!r}: expected DimensionlessParameters or PhysicalParameters")
+    raise ArgumentTypeError(f"params={params!r}: expected DimensionlessParameters or PhysicalParameters")
 
 
 def dimensionless_from_si(

@@ -24,6 +24,7 @@ import xarray as xr
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
+from ..errors import ArgumentTypeError
 from ..ratestate.dulac import lambdified_field
 from ..ratestate.model import RateStateParameters, growth_rate
 from ..ratestate.protocols import linear_stability, simulate_rate_state
@@ -263,6 +264,10 @@ APPENDIX_PARTS = ("portraits", "critical", "runaway", "inertia")
 
 def appendix_part(name: str, quick: bool = False) -> xr.Dataset:
     """Compute one part of the appendix (one of :data:`APPENDIX_PARTS`)."""
+    if not isinstance(name, str):
+        raise ArgumentTypeError(
+            f"name={name!r} (type {type(name).__name__}): expected one of {APPENDIX_PARTS}"
+        )
     if name == "portraits":
         return _phase_portraits(3 if quick else 5, 60.0 if quick else 120.0)
     if name == "critical":

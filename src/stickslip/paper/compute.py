@@ -20,6 +20,7 @@ from ..bifurcation.regimes import regimes
 from ..core.api import run_attractors
 from ..dynamics.sweep import sweep
 from ..dynamics.trajectory import Trajectory, simulate
+from ..errors import ArgumentTypeError
 from ..laws import CubicLaw, DimensionlessLaw, WeakeningLaw, f1
 from ..models.parameters import PhysicalParameters, zv_parameters
 from ..units import Q_
@@ -79,10 +80,13 @@ class PaperConfig:
         # one point per curve ran, and turned five claims from supported to contradicted
         for name, low in (("n_v0", 3), ("n_load", 3), ("n_time", 2)):
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < low:
-                raise ValueError(f"{name}={value!r}: expected a whole number >= {low} (a slope needs points)")
+            expected = f"{name}={value!r}: expected a whole number >= {low} (a slope needs points)"
+            if isinstance(value, bool) or not isinstance(value, int | np.integer):
+                raise ArgumentTypeError(expected)
+            if value < low:
+                raise ValueError(expected)
         if not isinstance(self.quick_appendix, bool | np.bool_):
-            raise ValueError(f"quick_appendix={self.quick_appendix!r}: expected True or False")
+            raise ArgumentTypeError(f"quick_appendix={self.quick_appendix!r}: expected True or False")
 
     @classmethod
     def quick(cls) -> PaperConfig:
@@ -143,7 +147,9 @@ def compute_paper(
 
     """
     if config is not None and not isinstance(config, PaperConfig):
-        raise ValueError(f"config={config!r}: expected a PaperConfig (or None for the full resolution)")
+        raise ArgumentTypeError(
+            f"config={config!r}: expected a PaperConfig (or None for the full resolution)"
+        )
     cfg = config or PaperConfig()
     v0 = Q_(np.geomspace(*V0_RANGE, cfg.n_v0), "um/s")
     zv = zv_parameters()

@@ -7,6 +7,7 @@ parameter and :func:`~stickslip.bifurcation.regime_map.criterion_trial` over ``n
 from __future__ import annotations
 
 import warnings
+from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any
 
@@ -14,6 +15,7 @@ import numpy as np
 import xarray as xr
 
 from ..bifurcation.regime_map import criterion_table, criterion_trial, regime_map
+from ..errors import ArgumentTypeError
 from ..laws import CubicLaw, DimensionlessLaw, WeakeningLaw
 from ..models.parameters import zv_parameters
 from ..plots.regimes import MARK_LABEL, MARK_NU_MAX, MARK_NU_MIN, MARK_VALUE
@@ -50,8 +52,12 @@ def run_trials(
     """Compute the maps of :data:`TRIAL_MAPS` (those named in ``keys``; all by default) with the verdicts."""
     known = [m.key for m in TRIAL_MAPS]
     if keys is not None:
-        if isinstance(keys, str) or not all(isinstance(k, str) for k in keys):
-            raise ValueError(f"keys={keys!r}: expected a tuple of trial names out of {known}")
+        if (
+            isinstance(keys, str)
+            or not isinstance(keys, Iterable)
+            or not all(isinstance(k, str) for k in keys)
+        ):
+            raise ArgumentTypeError(f"keys={keys!r}: expected a tuple of trial names out of {known}")
         unknown = [k for k in keys if k not in known]
         if unknown:
             raise ValueError(f"keys: {unknown} are not trials: expected names out of {known}")
