@@ -18,6 +18,7 @@ law compiles the engine for it (about 20 s on 2 cores); later runs load it.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import importlib
@@ -27,7 +28,7 @@ import shutil
 import sys
 import tempfile
 import threading
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 import numba
@@ -38,12 +39,14 @@ from sympy.printing.pycode import PythonCodePrinter
 from ..core.api import Kernel
 
 __all__ = [
+    "SLOW_NOTICE_S",
     "builtin_kernel",
     "builtin_module_source",
     "cache_dir",
     "compile_kernel",
     "law_module_source",
     "piecewise_module_source",
+    "slow_notice",
 ]
 
 #: the engine's modules copied into each law's package (the law module is generated)
@@ -58,6 +61,29 @@ ENGINE_MODULES = (
 
 _LOCK = threading.Lock()
 _LOADED: dict[str, Kernel] = {}
+
+
+#: seconds a law's preparation runs before a terminal is told about it
+SLOW_NOTICE_S = 2.0
+
+
+@contextlib.contextmanager
+def slow_notice(message: str, after: float = SLOW_NOTICE_S) -> Iterator[None]:
+    """Print ``stickslip: message`` on a terminal's stderr if the block runs longer than ``after`` s.
+
+    A pipe, a log or a parsed output stays the command's own; nothing is printed for a
+    block that ends in time.
+    """
+    if not sys.stderr.isatty():
+        yield
+        return
+    timer = threading.Timer(after, lambda: print(f"stickslip: {message}", file=sys.stderr, flush=True))
+    timer.daemon = True
+    timer.start()
+    try:
+        yield
+    finally:
+        timer.cancel()
 
 
 def cache_dir() -> Path:
@@ -110,6 +136,92 @@ def _code(expr: sp.Expr, symbols: Sequence[sp.Symbol]) -> str:
     return text
 
 
+#: a formula printed longer than this is printed as one line per distinct part (:func:`_lines`)
+INLINE_CHARS = 20_000
+
+
+def _lines(
+    exprs: Sequence[sp.Expr], symbols: Sequence[sp.Symbol], indent: str
+) -> tuple[list[str], list[str]]:
+    """Lines of temporaries, one per distinct part of ``exprs``, and the code of each after them.
+
+    A derivative repeats its formula's parts (the chain rule) and a Taylor coefficient
+    its arguments' coefficients: printed as trees, they grow exponentially with the
+    nesting, while their distinct parts (shared subtrees, once each) grow as the formula
+    does. The parts are walked without recursion, so a formula as deep as the parser
+    allows prints.
+    """
+    names = {s: f"P[{i}]" for i, s in enumerate(symbols)}
+    names[sp.Symbol("w", real=True)] = "w"
+    printer = _Printer({"fully_qualified_modules": True, "standard": "python3"})
+    code: dict[int, str] = {}
+    lines: list[str] = []
+    stack: list[tuple[sp.Basic, bool]] = [(e, False) for e in exprs]
+    while stack:
+        node, ready = stack.pop()
+        if id(node) in code:
+            continue
+        if node.is_Symbol:
+            code[id(node)] = names[node]
+            continue
+        if node.is_Number or node.is_NumberSymbol:
+            text = printer.doprint(sp.Float(node, 17) if node.is_NumberSymbol else node)
+            code[id(node)] = f"({text})" if text.startswith("-") else text
+            continue
+        if not ready:
+            stack.append((node, True))
+            stack.extend((a, False) for a in node.args if id(a) not in code)
+            continue
+        args = [code[id(a)] for a in node.args]
+        if isinstance(node, sp.Add):
+            text = " + ".join(args)
+        elif isinstance(node, sp.Mul):
+            text = "*".join(args)
+        elif isinstance(node, sp.Pow):
+            e = node.args[1]
+            if e.is_Integer and 2 <= int(e) <= 4:
+                text = "*".join([args[0]] * int(e))
+            elif e == -1:
+                text = f"1.0/{args[0]}"
+            else:
+                text = f"{args[0]}**{args[1]}"
+        else:  # a function: printed with its arguments as the temporaries' names
+            dummies = [sp.Symbol(a, real=True) for a in args]
+            text = printer.doprint(node.func(*dummies))
+        name = f"_t{len(lines)}"
+        lines.append(f"{indent}{name} = {text}")
+        code[id(node)] = name
+    return lines, [code[id(e)] for e in exprs]
+
+
+def _printed(expr: sp.Expr, symbols: Sequence[sp.Symbol], indent: str) -> tuple[list[str], str]:
+    """Return the code of ``expr``: one expression, or lines of its parts where that is long."""
+    text = _code(expr, symbols) if expr.count_ops() < INLINE_CHARS // 10 else ""
+    if text and len(text) <= INLINE_CHARS:
+        return [], text
+    lines, (value,) = _lines([expr], symbols, indent)
+    return lines, value
+
+
+def _function(name: str, expr: sp.Expr, negative: Sequence[sp.Expr], symbols: Sequence[sp.Symbol]) -> str:
+    """Return a kernel function: ``expr`` for ``w >= 0``, the polynomial ``negative`` below."""
+    lines, value = _printed(expr, symbols, " " * 8)
+    body = "\n".join([*lines, f"        return {value}"])
+    cont, coefficients = _lines(negative, symbols, " " * 4)
+    horner = coefficients[-1]
+    for c in reversed(coefficients[:-1]):
+        horner = f"({horner})*w + {c}"
+    tail = "\n".join([*cont, f"    return {horner}"])
+    return f"""
+
+@njit(cache=True)
+def {name}(law, P, w):
+    if w >= 0.0:
+{body}
+{tail}
+"""
+
+
 _HEADER = '''"""Kernel of the friction law {name!r} (generated by stickslip.laws.compiler; do not edit).
 
 f_+(w) = {formula}
@@ -148,26 +260,21 @@ _COMMON = _PARAMS + _GENERIC
 
 
 def law_module_source(
-    expr: sp.Expr, dexpr: sp.Expr, continuation: sp.Expr, symbols: Sequence[sp.Symbol], name: str
+    expr: sp.Expr,
+    dexpr: sp.Expr,
+    continuation: Sequence[sp.Expr],
+    symbols: Sequence[sp.Symbol],
+    name: str,
 ) -> str:
-    """Return the numba module of a law given by formulas (for ``w >= 0`` and its continuation)."""
-    w = sp.Symbol("w", real=True)
-    dcont = sp.diff(continuation, w)
-    body = f"""
+    """Return the numba module of a law given by formulas (for ``w >= 0``) and its continuation.
 
-@njit(cache=True)
-def f_plus(law, P, w):
-    if w >= 0.0:
-        return {_code(expr, symbols)}
-    return {_code(sp.horner(continuation, wrt=w) if continuation.is_polynomial(w) else continuation, symbols)}
-
-
-@njit(cache=True)
-def df_plus(law, P, w):
-    if w >= 0.0:
-        return {_code(dexpr, symbols)}
-    return {_code(dcont, symbols)}
-"""
+    ``continuation`` holds the coefficients of the Taylor polynomial at 0 that
+    continues the law to ``w < 0``, lowest degree first.
+    """
+    slope = [sp.Mul(k, c, evaluate=False) for k, c in enumerate(continuation)][1:] or [sp.Integer(0)]
+    body = _function("f_plus", expr, list(continuation), symbols) + _function(
+        "df_plus", dexpr, slope, symbols
+    )
     return _HEADER.format(name=name, formula=sp.sstr(expr)) + _COMMON + body
 
 

@@ -43,6 +43,11 @@ FUNCTIONS: dict[str, sp.Function] = {
 #: named constants
 CONSTANTS = {"pi": sp.pi, "e": sp.E}
 
+#: the deepest nesting of functions and operations a formula may have (sums and products
+#: count once however many terms): its derivatives, code and checks recurse through it,
+#: about ten Python frames a level; a friction law of the literature nests fewer than ten
+MAX_DEPTH = 60
+
 _BINARY = {
     ast.Add: lambda a, b: a + b,
     ast.Sub: lambda a, b: a - b,
@@ -151,6 +156,13 @@ def parse_formula(text: str, name: str, variables: Iterable[str]) -> sp.Expr:
         raise FormulaError(f"{name}: the formula is nested too deeply to be read") from None
     if not isinstance(expr, sp.Expr):
         raise FormulaError(f"{name}={text!r}: not a formula")
+    deep = _too_deep(expr)
+    if deep is not None:
+        depth, part = deep
+        raise FormulaError(
+            f"{name}: the formula nests {depth} levels deep, at most {MAX_DEPTH}, in its part "
+            f"{_shown(part)}: write it with fewer nested functions"
+        )
     big = next((x for x in expr.atoms(sp.Number) if not math.isfinite(_float(x))), None)
     if big is not None:  # 1e200*1e200: a bare inf in the compiled law
         raise FormulaError(
@@ -186,3 +198,30 @@ def _check_power(base: sp.Expr, exponent: sp.Expr, name: str, text: str) -> None
         f"{name}={text!r}: the power {sp.sstr(base)}**{sp.sstr(exponent)} is beyond double precision "
         "(magnitudes from 1e-308 to 1.8e308)"
     )
+
+
+def _too_deep(expr: sp.Expr) -> tuple[int, sp.Basic] | None:
+    """Return the depth of ``expr`` and its deepest part when deeper than :data:`MAX_DEPTH`, else None."""
+    height: dict[int, int] = {}
+    stack: list[tuple[sp.Basic, bool]] = [(expr, False)]
+    while stack:  # heights after the arguments' (no recursion: the formula may be deep)
+        node, done = stack.pop()
+        if id(node) in height:
+            continue
+        if done:
+            height[id(node)] = 1 + max((height[id(a)] for a in node.args), default=0)
+        else:
+            stack.append((node, True))
+            stack.extend((a, False) for a in node.args if id(a) not in height)
+    if height[id(expr)] <= MAX_DEPTH:
+        return None
+    part: sp.Basic = expr
+    while isinstance(part, sp.Add | sp.Mul):  # down the deepest path to its outermost function
+        part = max(part.args, key=lambda a: height[id(a)])
+    return height[id(expr)], part
+
+
+def _shown(part: sp.Basic, width: int = 60) -> str:
+    """``part`` as text, cut to ``width`` characters."""
+    text = sp.sstr(part, order="none")
+    return repr(text if len(text) <= width else text[: width - 3] + "...")

@@ -35,6 +35,7 @@ import sympy as sp
 from ..errors import ArgumentTypeError
 from ..units import Q_, check_number, parse_quantity, ureg
 from .formula import _float, parse_formula
+from .series import Unsupported, derivatives, node_count, taylor
 
 __all__ = ["STATIC", "LawSpec", "Parameter"]
 
@@ -47,6 +48,10 @@ BETA = sp.Symbol("beta", positive=True)
 MU_S = sp.Symbol("mu_s", positive=True)
 #: degree of the Taylor polynomial that continues f_+ to w < 0
 CONTINUATION_DEGREE = 10
+#: the most nodes of that polynomial's coefficients in the parameters (shared subtrees once)
+CONTINUATION_NODES = 20_000
+#: derivatives up to this order are sympy's formulas; higher ones Taylor coefficients
+SYMBOLIC_ORDER = 1
 
 
 #: the largest magnitude of a dimensionless law parameter (the core's bound on its inputs)
@@ -361,7 +366,19 @@ class LawSpec:
 
     @functools.cache  # noqa: B019
     def numpy_function(self, order: int) -> Callable[..., Any]:
-        """``f_+^(n)(w, *params)`` as a vectorised numpy function."""
+        """``f_+^(n)(w, *params)`` as a vectorised numpy function.
+
+        Orders above :data:`SYMBOLIC_ORDER` are Taylor coefficients of the formula's nodes
+        (:func:`~.series.derivatives`): sympy's third derivative of a formula nested 40
+        deep took minutes; where a node has no series rule, sympy differentiates.
+        """
+        if order > SYMBOLIC_ORDER:
+            try:
+                derivatives(self.expr, W, self.symbols, np.zeros(1), [0.0] * len(self.symbols), order)
+            except Unsupported:
+                pass
+            else:
+                return functools.partial(_jet, self.expr, self.symbols, order)
         return sp.lambdify((W, *self.symbols), self.derivative(order), modules=["scipy", "numpy"])
 
     @functools.cache  # noqa: B019
@@ -371,6 +388,8 @@ class LawSpec:
 
     def evaluate_scalar(self, w: float, values: Sequence[float], order: int = 0) -> float:
         """Return ``f_+^(n)(w)`` at one velocity (NaN where the formula is not defined)."""
+        if order > SYMBOLIC_ORDER:
+            return float(self.evaluate(np.array([w]), values, order)[0])
         try:
             return float(self.scalar_function(order)(float(w), *values))
         except (ValueError, ZeroDivisionError, OverflowError, TypeError):
@@ -392,31 +411,57 @@ class LawSpec:
 
     @functools.cached_property
     def continuation(self) -> sp.Expr:
-        """Taylor polynomial of ``f_+`` at ``w = 0`` (degree :data:`CONTINUATION_DEGREE`), for ``w < 0``.
+        """Taylor polynomial of ``f_+`` at ``w = 0`` for ``w < 0`` (:attr:`continuation_coefficients`)."""
+        return sp.Add(*(c * W**k for k, c in enumerate(self.continuation_coefficients)))
+
+    @functools.cached_property
+    def continuation_coefficients(self) -> tuple[sp.Expr, ...]:
+        """Coefficients of ``f_+``'s Taylor polynomial at 0 (:data:`CONTINUATION_DEGREE`), lowest first.
 
         Where ``f_+`` is not smooth at 0 (``sqrt(w)``), the polynomial stops at the
-        last finite derivative (a constant at least).
+        last finite derivative (a constant at least); where its coefficients in the
+        parameters grow past :data:`CONTINUATION_NODES` nodes, at the last degree
+        within them (the continuation serves the few steps past a stop, which the
+        integrator's error control checks).
         """
-        terms = []
+        try:
+            coefficients = taylor(self.expr, W, CONTINUATION_DEGREE)
+        except Unsupported:  # a node without a series rule, or not smooth at 0: derivatives
+            coefficients = self._derived_coefficients()
+        terms: list[sp.Expr] = []
+        size = 0
+        for c in coefficients:
+            # infinite, a limit sympy cannot take (sign(w - 0.5) inside), or beyond double
+            # precision (1/(1 + 1e200*w): 1e400 w**2)
+            if not _finite(c):
+                break
+            size += node_count(c, CONTINUATION_NODES)
+            if terms and size > CONTINUATION_NODES:
+                break
+            terms.append(c)
+        if not terms:
+            raise ValueError(
+                f"law {self.name!r}: f_+(0+) is not finite; friction at the onset of slip must be"
+            )
+        return tuple(terms)
+
+    def _derived_coefficients(self) -> list[sp.Expr]:
+        """Taylor coefficients at 0 by successive derivatives and limits, while they stay small."""
+        out: list[sp.Expr] = []
         d = self.expr
         bad = (sp.zoo, sp.oo, -sp.oo, sp.nan)
         for k in range(CONTINUATION_DEGREE + 1):
             if k:
                 d = sp.diff(d, W)
+                if node_count(d, CONTINUATION_NODES) > CONTINUATION_NODES:
+                    break
             c = d.subs(W, 0)
             if c.has(*bad):
                 c = sp.limit(d, W, 0, "+")
-            if c.has(*bad, sp.Limit):  # infinite, or a limit sympy cannot take (sign(w - 0.5) inside)
+            out.append(c / sp.factorial(k))
+            if c.has(*bad, sp.Limit):
                 break
-            term = c / sp.factorial(k)
-            if term.is_Number and not math.isfinite(_float(term)):  # 1/(1 + 1e200*w): 1e400 w**2
-                break
-            terms.append(term * W**k)
-        if not terms:
-            raise ValueError(
-                f"law {self.name!r}: f_+(0+) is not finite; friction at the onset of slip must be"
-            )
-        return sp.Add(*terms)
+        return out
 
     # ------------------------------------------------------------------ kernel
 
@@ -424,17 +469,21 @@ class LawSpec:
         """Return the numba module of this law's kernel (the functions of :mod:`stickslip.core.laws`)."""
         from .compiler import law_module_source
 
-        return law_module_source(self.expr, self.derivative(1), self.continuation, self.symbols, self.name)
+        return law_module_source(
+            self.expr, self.derivative(1), self.continuation_coefficients, self.symbols, self.name
+        )
 
     def kernel(self) -> Any:
         """Return the compiled kernel (:class:`~stickslip.core.api.Kernel`) of this law."""
-        from .compiler import builtin_kernel, compile_kernel
+        from .compiler import builtin_kernel, compile_kernel, slow_notice
 
         if self.core_id is not None:
             # the engine compiled with this law alone: the same code as the built-in
             # engine's for it, compiled in less time (no switch over the four laws)
             return builtin_kernel(self.core_id, self.name)
-        return compile_kernel(self.kernel_source(), self.name)
+        with slow_notice(f"preparing the kernel of {self.title} (its slope and continuation below w = 0)"):
+            source = self.kernel_source()
+        return compile_kernel(source, self.name)
 
     # ------------------------------------------------------------------ physical form
 
@@ -542,3 +591,30 @@ class LawSpec:
     def latex(self) -> str:
         """``f_+(w)`` in LaTeX."""
         return sp.latex(self.expr)
+
+
+def _jet(expr: sp.Expr, symbols: Sequence[sp.Symbol], order: int, w: Any, *values: Any) -> FloatArray:
+    """``d^order expr / dw^order`` at ``w`` by series arithmetic (:func:`~.series.derivatives`)."""
+    return derivatives(expr, W, symbols, w, values, order)
+
+
+def _finite(expr: sp.Expr) -> bool:
+    """Whether every number in ``expr`` is finite in double precision and no limit is left in it.
+
+    Walks the distinct parts once (a Taylor coefficient shares its subtrees: as a tree it
+    is exponentially larger).
+    """
+    seen: set[int] = set()
+    stack = [expr]
+    while stack:
+        node = stack.pop()
+        if id(node) in seen:
+            continue
+        seen.add(id(node))
+        if node.is_Number:
+            if not math.isfinite(_float(node)):
+                return False
+        elif node in (sp.zoo, sp.nan) or isinstance(node, sp.Limit):
+            return False
+        stack.extend(node.args)
+    return True
