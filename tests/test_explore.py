@@ -581,3 +581,50 @@ def test_a_law_switched_back_keeps_one_slider_per_parameter_name():
     assert ex.param_sliders == first and len(first[0]._callbacks["value"]) == 1
     assert [sl.value for sl in ex.param_sliders] == [3.8, 0.5] == list(ex.view.setup.params.values())
     assert ex.updates == 4 and "--c 3.8" in ex.command.text
+
+
+def test_crafted_messages_get_their_error_on_the_page():
+    """A page's messages may carry any value: an unknown law or diagram parameter is named."""
+    from bokeh.document import Document
+
+    from stickslip.explore import Explorer
+
+    ex = Explorer(Document(), Setup(nu=0.05))
+    shown = ex.command.text
+    ex.law.value = "zzz"
+    assert "error" in ex.status.text
+    assert "law=&#x27;zzz&#x27; is not one the explorer offers" in ex.status.text
+    assert "weakening" in ex.status.text and ex.law.value == "weakening" and ex.command.text == shown
+    ex.diagram_param.value = "zzz"
+    assert "regime diagram: &#x27;zzz&#x27; is not a parameter of the law" in ex.status.text, ex.status.text
+    assert "expected one of c, p" in ex.status.text and ex.command.text == shown
+
+
+@pytest.mark.xdist_group("explore_server")
+def test_a_formula_compiles_in_a_worker_while_the_server_serves_others(server, browser):
+    """A formula's first view compiles its engine (15 to 30 s cold): in a worker process, so
+    that the server answers a second client meanwhile, and the page shows the formula after."""
+    url, _ = server
+    d = browser
+    d.get(url)
+    _wait(d, lambda: d.execute_script(JS_MODEL, "force") and len(_force(d)[0]) > 0, what="the first plots")
+    # a formula no cache holds: its engine is compiled now
+    formula = f"1/(1 + c*w) + q*w + 1e-9*sin({time.time_ns() % 10**9 + 1}*w)"
+    d.execute_script(
+        "const doc = Bokeh.documents[0];"
+        "doc.get_model_by_name('expression').value = arguments[0];"
+        "doc.get_model_by_name('law').value = 'expr';",
+        formula,
+    )
+    _wait(d, lambda: "Compiling" in _model(d, "status", "text"), timeout=30, what="the compiling notice")
+    t0 = time.time()
+    with urllib.request.urlopen(url, timeout=60) as r:  # a second client: a page of its own
+        assert "<title>stickslip explorer</title>" in r.read().decode()
+    served = time.time() - t0
+    still = "Compiling" in _model(d, "status", "text")
+    assert still, "the formula compiled before the second client was served: nothing was shown"
+    assert served < 15.0, f"the second client waited {served:.1f} s"
+    _wait(d, lambda: "--law expr" in _model(d, "command", "text"), timeout=240, what="the formula's view")
+    status = _model(d, "status", "text")
+    assert "Compiling" not in status and "error" not in status, status
+    print(f"second client served in {served:.2f} s while the formula compiled")

@@ -14,8 +14,11 @@ so that a test or a script can read them from BokehJS.
 
 from __future__ import annotations
 
+import concurrent.futures
+import functools
 import html
 import math
+import multiprocessing
 import time
 import warnings
 import webbrowser
@@ -35,6 +38,7 @@ from .session import (
     default_params,
     law_names,
     parse_params,
+    prepare,
     regime_diagram,
     slider_range,
     view_csv,
@@ -58,6 +62,32 @@ the <code>stickslip explore</code> process that served it.</p>
 {{ super() }}
 {% endblock %}
 """
+
+
+#: worker processes that compile a law's engine for served pages (:func:`_workers`)
+_WORKERS: concurrent.futures.ProcessPoolExecutor | None = None
+#: the laws (name, formula) whose engine this process has compiled or loaded
+_PREPARED: set[tuple[str, str]] = set()
+
+
+def _workers() -> concurrent.futures.ProcessPoolExecutor:
+    """Return the server's pool of two worker processes, started at its first use.
+
+    A law's first view compiles its engine for 10 to 30 s. Compiled on the server's
+    event loop, it held every page, static files included, for that time; in a thread,
+    numba and LLVM hold the interpreter's lock for seconds at a time. In a process of
+    its own ("spawn": a fork of a server with threads is unsafe) it holds nothing.
+    """
+    global _WORKERS
+    if _WORKERS is None:
+        _WORKERS = concurrent.futures.ProcessPoolExecutor(
+            max_workers=2, mp_context=multiprocessing.get_context("spawn")
+        )
+    return _WORKERS
+
+
+def _law_key(setup: Setup) -> tuple[str, str]:
+    return (setup.law, setup.expression if setup.law == EXPR else "")
 
 
 class Explorer:
@@ -243,6 +273,17 @@ class Explorer:
         self.diagram_param.value = names[-1] if names else ""
 
     def _on_law(self, attr: str, old: Any, new: Any) -> None:
+        if getattr(self, "_reverting", False):
+            return
+        names = law_names()
+        if new not in names:  # a page's message may carry any text, not only the menu's choices
+            self._error(f"law={new!r} is not one the explorer offers: expected one of {', '.join(names)}")
+            self._reverting = True
+            try:
+                self.law.value = self.setup.law
+            finally:
+                self._reverting = False
+            return
         is_expr = new == EXPR
         for w in (self.expression, self.expr_params, self.apply):
             w.visible = is_expr
@@ -251,7 +292,10 @@ class Explorer:
             return
         self.setup = self.setup.with_(law=new, params=default_params(new))
         # a law's first view compiles its engine (seconds): said before, done on the next tick
-        self._later(self._rebuild, f"Computing the {new} law (the first time: compiling it, about 10 s)...")
+        message = f"Computing the {new} law (the first time: compiling it, about 10 s)..."
+        if self._prepare(self._rebuild, message):
+            return
+        self._later(self._rebuild, message)
 
     def _on_apply(self) -> None:
         """Take the formula and its parameters; compile (once) and show it on the next tick."""
@@ -261,8 +305,36 @@ class Explorer:
             self._error(str(e))
             return
         self.setup = self.setup.with_(law=EXPR, params=params, expression=self.expression.value)
-        self._set_status("Compiling the engine for this formula (the first time only, about 20 s)...")
+        message = "Compiling the engine for this formula (the first time only, about 20 s)..."
+        if self._prepare(self._rebuild, message):
+            return
+        self._set_status(message)
         self.doc.add_next_tick_callback(self._rebuild)
+
+    def _prepare(self, work: Any, message: str) -> bool:
+        """Compile the set-up's law in a worker process, then run ``work`` on the page's loop.
+
+        Returns whether it did so: not for a document that is not served (a test, a
+        script), nor for a law this process has compiled already.
+        """
+        key = _law_key(self.setup)
+        if self.doc.session_context is None or key in _PREPARED:
+            return False
+        self._set_status(message)
+        future = _workers().submit(prepare, self.setup)
+        done = functools.partial(self._prepared, key=key, work=work)
+        future.add_done_callback(lambda f: self.doc.add_next_tick_callback(functools.partial(done, f)))
+        return True
+
+    def _prepared(self, future: concurrent.futures.Future[None], key: tuple[str, str], work: Any) -> None:
+        """Run ``work`` once the worker has compiled the law (or found the set-up wrong)."""
+        error = future.exception()
+        if error is None:
+            _PREPARED.add(key)
+        elif not isinstance(error, ValueError | TypeError):  # the worker died (memory, a signal)
+            self._error(f"the engine could not be compiled for this law: {error or type(error).__name__}")
+            return
+        work()  # a wrong set-up fails again here, at once, with its message on the page
 
     def _rebuild(self) -> None:
         """Make the sliders of ``self.setup``'s law and show it; where it fails, keep the shown one whole.
@@ -431,6 +503,11 @@ class Explorer:
         param = self.diagram_param.value
         if not param:
             return {"cells": {k: [] for k in self.diagram.data}, "key": None, "range": (math.inf, -math.inf)}
+        if param not in s.params:  # a page's message may carry any text
+            raise ValueError(
+                f"regime diagram: {param!r} is not a parameter of the law: expected one of "
+                f"{', '.join(s.params) or '(none)'}"
+            )
         others = tuple(sorted((k, x) for k, x in s.params.items() if k != param))
         decade = round(math.log10(s.nu))
         key = (s.law, s.expression, param, others, decade, s.physical, s.mass, s.stiffness, s.load, s.mu_s)
@@ -561,6 +638,8 @@ def serve(
         pass
     finally:
         server.stop()
+        if _WORKERS is not None:
+            _WORKERS.shutdown(wait=False, cancel_futures=True)
 
 
 def _params_text(params: Any) -> str:

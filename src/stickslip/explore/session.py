@@ -454,6 +454,22 @@ def compute(setup: Setup) -> View:
     )
 
 
+def prepare(setup: Setup) -> None:
+    """Compile the engine of ``setup``'s law and write numba's caches: what its first view costs.
+
+    Run in a worker process by a served page (:class:`~.app.Explorer`): the server's own
+    process then loads the compiled engine from the cache in a second, and a formula that
+    compiles for half a minute never holds the other pages up.
+
+    Raises
+    ------
+    ValueError
+        For a set-up that cannot be computed (the message names the value).
+
+    """
+    compute(setup)
+
+
 def _num(x: float) -> str:
     return repr(float(x))
 
