@@ -300,7 +300,7 @@ def test_ctrl_c_while_the_command_line_starts_is_one_line(tmp_path: Path, module
 
 @pytest.mark.slow
 def test_the_failure_probe_finds_nothing() -> None:
-    """The hostile-user probe of docs/robustness.md (64 cases, about 100 s): no traceback, no
+    """The hostile-user probe of docs/robustness.md (77 cases, about 6 min): no traceback, no
     hang, nothing silently wrong, no data lost."""
     import subprocess
     import sys

@@ -12,7 +12,7 @@ folder and is classified:
 * ok: the expected result, or a refusal in one ``Error:`` line that names the
   option or the file.
 
-Categories: options, files, physics, paths, interrupts, API, concurrency. Exit status
+Categories: options, files, physics, formulas, paths, interrupts, API, explorer, concurrency. Exit status
 1 if any case failed.
 """
 
@@ -120,9 +120,56 @@ def prepare(d: Path) -> None:
     (d / "negamp.csv").write_text("velocity [um/s],amplitude [mN]\n1,-2\n2,3\n3,4\n4,5\n")
     (d / "badunit.csv").write_text("time [s],force [furlong]\n0,1\n1,2\n2,3\n")
     (d / "notes.csv").write_text("my notes\n")
+    head = "velocity [um/s],friction coefficient\n"
+    (d / "absurd.csv").write_text(head + "0,1e12\n1,1e12\n10,0.9e12\n100,0.8e12\n1000,0.7e12\n")
+    v = np.arange(1_000_000) * 1e-2
+    np.savetxt(
+        d / "huge.csv",
+        np.column_stack([v, 0.4 + 0.06 / (1 + v)]),
+        delimiter=",",
+        header=head.strip(),
+        comments="",
+        fmt="%.9g",
+    )
+    dense_rate_state_record(d / "dense.csv")
     (d / "afolder").mkdir()
     (d / "afolder" / "trajectory.csv").write_text("a colleague's table\n")
     (d / "blocker").write_text("x")
+
+
+def dense_rate_state_record(path: Path) -> None:
+    """The model's own noise-free velocity-step record near critical stiffness, resampled 10 times."""
+    from stickslip.ratestate.model import RateStateParameters
+    from stickslip.ratestate.protocols import velocity_steps
+
+    p = RateStateParameters(
+        a=0.01, b=0.015, dc="10 um", v_ref="1 um/s", mu0=0.6, stiffness_per_load="0.6 1/mm"
+    )
+    ds = velocity_steps(p, ["1 um/s", "10 um/s", "1 um/s"], n_points=400)
+    t = ds.time.values
+    tt = np.linspace(t[0], t[-1], (t.size - 1) * 10 + 1)
+    mu = np.interp(tt, t, ds.friction.values)
+    v = ds.load_point_velocity.values[np.clip(np.searchsorted(t, tt, side="right") - 1, 0, t.size - 1)]
+    head = "# mu0 = 0.6\n# v_ref = 1 um/s\n# stiffness_per_load = 0.6 1/mm\n# law = aging\n"
+    rows = "".join(
+        f"{float(a)!r},{float(b) * 1e6!r},{float(c)!r}\n" for a, b, c in zip(tt, v, mu, strict=True)
+    )
+    path.write_text(head + "time [s],load-point velocity [um/s],friction [1]\n" + rows)
+
+
+def nothing_made(name: str) -> Callable[[Path, subprocess.CompletedProcess[str]], str | None]:
+    def check(cwd: Path, _proc: subprocess.CompletedProcess[str]) -> str | None:
+        return f"a refused run left {name}" if (cwd / name).exists() else None
+
+    return check
+
+
+def nested(levels: int) -> str:
+    """A formula ``cos(sinh(erf(...)))`` ``levels`` deep in a weakening law."""
+    text = "w"
+    for i in range(levels):
+        text = f"{('cos', 'sinh', 'erf')[i % 3]}({text})"
+    return f"1/(1+w) + 0.001*w*{text}"
 
 
 def unchanged(name: str, text: str) -> Callable[[Path, subprocess.CompletedProcess[str]], str | None]:
@@ -295,7 +342,107 @@ CASES = [
         "error",
         "needs about",
     ),
+    # formulas whose preparation took minutes (sympy's tenth derivative) or raised RecursionError
+    Case(
+        "formulas",
+        "49-character nested formula",
+        ["cycle", "--law", "expr", "--f", "1/(1+w) + 0.001*w*exp(sin(exp(sin(exp(sin(w))))))", "--nu", "0.5"],
+        "ok",
+        "stick-slip",
+        timeout=60.0,
+    ),
+    Case(
+        "formulas",
+        "40 nested functions",
+        ["cycle", "--law", "expr", "--f", nested(40), "--nu", "0.5"],
+        "ok",
+        "stick-slip",
+        timeout=60.0,
+    ),
+    Case(
+        "formulas",
+        "150 nested functions",
+        ["cycle", "--law", "expr", "--f", nested(150), "--nu", "0.5"],
+        "error",
+        "nests 153 levels deep",
+        timeout=30.0,
+    ),
+    Case(
+        "formulas",
+        "a pole beyond the checked range, reached",
+        [
+            "cycle",
+            "--law",
+            "expr",
+            "--f",
+            "1/(1+0.05*w) - 0.001/(w - P)**2 + 0.001/P**2",
+            "--param",
+            "P=150.37",
+            "--nu",
+            "120",
+        ],
+        "error",
+        "divides by zero at a velocity the motion reached",
+    ),
+    Case(
+        "files",
+        "a table of absurd coefficients",
+        [
+            "cycle",
+            "--law",
+            "table",
+            "--table",
+            "absurd.csv",
+            "--v0",
+            "10 um/s",
+            "--mass",
+            "231 g",
+            "--stiffness",
+            "62 N/m",
+            "--load",
+            "196 mN",
+        ],
+        "error",
+        "absurd.csv: line 2",
+    ),
+    Case(
+        "files",
+        "a table of 10^6 rows",
+        [
+            "cycle",
+            "--law",
+            "table",
+            "--table",
+            "huge.csv",
+            "--v0",
+            "10 um/s",
+            "--mass",
+            "231 g",
+            "--stiffness",
+            "62 N/m",
+            "--load",
+            "196 mN",
+        ],
+        "error",
+        "huge.csv: 1000000 rows, more than 25000",
+        timeout=60.0,
+    ),
+    Case(
+        "files",
+        "ratestate-fit of a noise-free record resampled 10x",
+        ["ratestate-fit", "dense.csv", "--no-plot", "--out", "rsfit"],
+        "ok",
+        timeout=300.0,
+    ),
     # paths
+    Case(
+        "paths",
+        "a refused chain run",
+        ["chain", "--blocks", "3", "--nu", "0.1", "--c", "3", "--events", "0", "--out", "made/sub"],
+        "error",
+        "events=0",
+        nothing_made("made"),
+    ),
     Case(
         "paths",
         "sweep onto a user's CSV file",
@@ -503,7 +650,21 @@ def api_cases() -> list[tuple[str, str, str, str]]:
                                                       S.Q_([1, 1, 1, 1], "m/s")),
           "TabulatedLaw(friction in N)": lambda: S.TabulatedLaw(S.Q_([0, 1, 2, 3, 4], "um/s"),
                                                                 S.Q_([0.5, 0.4, 0.4, 0.4, 0.4], "N")),
+          "TabulatedLaw.from_csv(123)": lambda: S.TabulatedLaw.from_csv(123),
+          "ExpressionLaw(150 nested functions)": lambda: S.ExpressionLaw(
+              "1/(1+w) + 0.001*w*" + "cos(" * 150 + "w" + ")" * 150),
         }
+        import html
+        from bokeh.document import Document
+        from stickslip.explore import Explorer, Setup
+        page = Explorer(Document(), Setup(nu=0.05))
+        def crafted(widget, value):
+            setattr(widget, "value", value)
+            if "error" not in page.status.text:
+                return
+            raise ValueError(html.unescape(page.status.text.split("</b>: ", 1)[1].split("</span>")[0]))
+        cases["explorer: law 'zzz' sent by a page"] = lambda: crafted(page.law, "zzz")
+        cases["explorer: diagram parameter 'zzz'"] = lambda: crafted(page.diagram_param, "zzz")
         out = {}
         for name, call in cases.items():
             t = time.perf_counter()
@@ -522,7 +683,9 @@ def api_cases() -> list[tuple[str, str, str, str]]:
     rows = []
     for name, (what, dt) in res.items():
         verdict = "ok" if not what.startswith(("WRONG", "no exception")) and dt < 1.0 else "wrong"
-        rows.append(("API", name, "python", verdict, f"{what} ({dt * 1e3:.0f} ms)"))
+        category = "explorer" if name.startswith("explorer") else "API"
+        shown = f"{what} ({dt * 1e3:.0f} ms)"
+        rows.append((category, name.removeprefix("explorer: "), "python", verdict, shown))
     return rows
 
 
