@@ -6,7 +6,7 @@ install; then once more with the cache it left (the warm start). The compile
 time of every kernel is taken from numba's own compile events: inclusive of the
 kernels it calls and compiles first, and its own part (the rest).
 
-Run: ``python benchmarks/bench_coldstart.py [--reproduce]``.
+Run: ``python benchmarks/bench_coldstart.py [--reproduce] [--warm-only]``.
 """
 
 from __future__ import annotations
@@ -60,11 +60,43 @@ def run(args: list[str], cache: str) -> tuple[float, dict]:
     return wall, json.loads(out.stdout.strip().splitlines()[-1])
 
 
+def warm_start(repeat: int = 5) -> None:
+    """Time the installed command as a user runs it, caches warm: the median of ``repeat`` runs.
+
+    The reference is what any SciPy script pays before its first step: the interpreter
+    and ``from scipy.integrate import solve_ivp``.
+    """
+
+    def median(cmd: list[str]) -> float:
+        times = []
+        for _ in range(repeat):
+            t0 = time.perf_counter()
+            subprocess.run(cmd, capture_output=True, check=True)
+            times.append(time.perf_counter() - t0)
+        return sorted(times)[len(times) // 2]
+
+    cycle = [sys.executable, "-m", "stickslip", "cycle", "--law", "weakening", "--nu", "0.1", "--c", "3.8"]
+    median(cycle)  # the caches of this checkout, warm
+    scipy = median([sys.executable, "-c", "from scipy.integrate import solve_ivp"])
+    rows = {
+        "stickslip cycle --law weakening --nu 0.1 --c 3.8": median(cycle),
+        "stickslip --help": median([sys.executable, "-m", "stickslip", "--help"]),
+        "python -c 'import stickslip'": median([sys.executable, "-c", "import stickslip"]),
+    }
+    print(f"warm start, median of {repeat} runs (reference: python + import of solve_ivp, {scipy:.2f} s)")
+    for name, t in rows.items():
+        print(f"  {t:5.2f} s  ({t / scipy:4.1f} x the reference)  {name}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--reproduce", action="store_true", help="also time `stickslip reproduce --quick`")
     parser.add_argument("--top", type=int, default=8)
+    parser.add_argument("--warm-only", action="store_true", help="only the installed command's warm start")
     a = parser.parse_args()
+    warm_start()
+    if a.warm_only:
+        return
     cmds = dict(COMMANDS)
     if a.reproduce:
         cmds["reproduce"] = ["reproduce", "--out", tempfile.mkdtemp(prefix="stickslip-repro-")]

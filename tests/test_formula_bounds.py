@@ -21,7 +21,7 @@ import pytest
 import sympy as sp
 
 from stickslip import ExpressionLaw
-from stickslip.laws.compiler import INLINE_CHARS, law_module_source
+from stickslip.laws.codegen import INLINE_CHARS, law_module_source
 from stickslip.laws.formula import MAX_DEPTH, FormulaError, parse_formula
 from stickslip.laws.series import Unsupported, derivatives, node_count, taylor
 from stickslip.laws.spec import CONTINUATION_NODES

@@ -25,7 +25,7 @@ import click
 import numpy as np
 
 from .. import defaults
-from ..laws import ExpressionLaw, PhysicalExpressionLaw, TabulatedLaw, registry
+from ..laws import registry
 from ..laws.spec import STATIC, Parameter
 from ..laws.table import INTERPOLATIONS
 from ..models.parameters import (
@@ -632,11 +632,15 @@ def _expression(opts: dict[str, Any]) -> DimensionlessParameters | PhysicalParam
                 "a dimensionless formula (--f) takes --nu and --param only"
             )
         _require(opts, ("nu",), "--f (a dimensionless formula)")
+        from ..laws.expression import ExpressionLaw  # sympy: loaded by a formula's command only
+
         law = ExpressionLaw(f, static=static, **{k: _param_value(k, v, False) for k, v in given.items()})
         return DimensionlessParameters(nu=_to_float("nu", opts["nu"]), law=law)
     o = _physical_setup(opts, "--mu (a physical formula)")
     if o.get("nu") is not None:
         raise click.UsageError("--nu: a physical formula (--mu) takes --v0 --mass --stiffness --load")
+    from ..laws.expression import PhysicalExpressionLaw
+
     plaw = PhysicalExpressionLaw(
         str(mu), static=static, **{k: _param_value(k, v, True) for k, v in given.items()}
     )
@@ -658,6 +662,8 @@ def _table(opts: dict[str, Any]) -> PhysicalParameters:
     o = _physical_setup(opts, "--law table (a physical law)")
     if o.get("nu") is not None:
         raise click.UsageError("--nu: a table is physical: give --v0 --mass --stiffness --load")
+    from ..laws.table import TabulatedLaw
+
     plaw = TabulatedLaw.from_csv(
         o["table"], load=o.get("load"), static=o.get("static"), interpolation=o["interpolation"]
     )

@@ -25,27 +25,48 @@ import functools
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
 import pint
-import sympy as sp
 
 from ..errors import ArgumentTypeError
 from ..units import Q_, check_number, parse_quantity, ureg
-from .formula import _float, parse_formula
-from .series import Unsupported, derivatives, node_count, taylor
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = ["STATIC", "LawSpec", "Parameter"]
 
 FloatArray = npt.NDArray[np.float64]
 
-#: the velocity symbol of the dimensionless formulas
-W = sp.Symbol("w", real=True)
-#: symbols of the scales in the physical-to-dimensionless map
-BETA = sp.Symbol("beta", positive=True)
-MU_S = sp.Symbol("mu_s", positive=True)
+#: the sympy symbols of the formulas, by name: the velocity of the dimensionless formulas
+#: (``W``) and the scales of the physical-to-dimensionless map (``BETA``, ``MU_S``); made on
+#: first use, so that declaring the built-in laws does not import sympy (0.3 s of a command's
+#: start)
+_SYMBOLS = {
+    "W": ("w", {"real": True}),
+    "BETA": ("beta", {"positive": True}),
+    "MU_S": ("mu_s", {"positive": True}),
+}
+
+
+def _symbol(name: str) -> sp.Symbol:
+    """Return the symbol ``W``, ``BETA`` or ``MU_S`` (sympy caches it: the same object each time)."""
+    import sympy as sp
+
+    text, assumptions = _SYMBOLS[name]
+    return sp.Symbol(text, **assumptions)
+
+
+def __getattr__(name: str) -> Any:
+    """Return ``W``, ``BETA`` or ``MU_S``, made on first use (PEP 562)."""
+    if name in _SYMBOLS:
+        return _symbol(name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
 #: degree of the Taylor polynomial that continues f_+ to w < 0
 CONTINUATION_DEGREE = 10
 #: the most nodes of that polynomial's coefficients in the parameters (shared subtrees once)
@@ -345,11 +366,17 @@ class LawSpec:
     @functools.cached_property
     def symbols(self) -> tuple[sp.Symbol, ...]:
         """Symbols of the dimensionless parameters, in order."""
+        import sympy as sp
+
         return tuple(sp.Symbol(p.name, real=True) for p in self.parameters)
 
     @functools.cached_property
     def expr(self) -> sp.Expr:
         """``f_+(w)`` as a sympy expression."""
+        import sympy as sp
+
+        from .formula import parse_formula
+
         e = (
             self.expression
             if self.expression is not None
@@ -362,6 +389,9 @@ class LawSpec:
     @functools.cache  # noqa: B019  (specs live for the whole run)
     def derivative(self, order: int) -> sp.Expr:
         """``d^n f_+ / d w^n`` as a sympy expression."""
+        import sympy as sp
+
+        W = _symbol("W")
         return sp.diff(self.expr, W, order) if order else self.expr
 
     @functools.cache  # noqa: B019
@@ -372,6 +402,11 @@ class LawSpec:
         (:func:`~.series.derivatives`): sympy's third derivative of a formula nested 40
         deep took minutes; where a node has no series rule, sympy differentiates.
         """
+        import sympy as sp
+
+        from .series import Unsupported, derivatives
+
+        W = _symbol("W")
         if order > SYMBOLIC_ORDER:
             try:
                 derivatives(self.expr, W, self.symbols, np.zeros(1), [0.0] * len(self.symbols), order)
@@ -384,12 +419,22 @@ class LawSpec:
     @functools.cache  # noqa: B019
     def scalar_function(self, order: int) -> Callable[..., float]:
         """``f_+^(n)(w, *params)`` for Python floats (``math``; no array overhead)."""
+        import sympy as sp
+
+        W = _symbol("W")
         return sp.lambdify((W, *self.symbols), self.derivative(order), modules="math")
 
     def evaluate_scalar(self, w: float, values: Sequence[float], order: int = 0) -> float:
-        """Return ``f_+^(n)(w)`` at one velocity (NaN where the formula is not defined)."""
+        """Return ``f_+^(n)(w)`` at one velocity (NaN where the formula is not defined).
+
+        A built-in law's friction and slope at ``w > 0`` are its hand-written kernel's
+        (:mod:`stickslip.core.laws`, the same formula, checked against it by the
+        conformance tests): a one-block command then needs no sympy (0.3 s of its start).
+        """
         if order > SYMBOLIC_ORDER:
             return float(self.evaluate(np.array([w]), values, order)[0])
+        if self.core_id is not None and w > 0.0:
+            return float(_core_function(self.core_id, order)(self.core_id, _kernel_params(values), float(w)))
         try:
             return float(self.scalar_function(order)(float(w), *values))
         except (ValueError, ZeroDivisionError, OverflowError, TypeError):
@@ -412,6 +457,9 @@ class LawSpec:
     @functools.cached_property
     def continuation(self) -> sp.Expr:
         """Taylor polynomial of ``f_+`` at ``w = 0`` for ``w < 0`` (:attr:`continuation_coefficients`)."""
+        import sympy as sp
+
+        W = _symbol("W")
         return sp.Add(*(c * W**k for k, c in enumerate(self.continuation_coefficients)))
 
     @functools.cached_property
@@ -424,6 +472,9 @@ class LawSpec:
         within them (the continuation serves the few steps past a stop, which the
         integrator's error control checks).
         """
+        from .series import Unsupported, node_count, taylor
+
+        W = _symbol("W")
         try:
             coefficients = taylor(self.expr, W, CONTINUATION_DEGREE)
         except Unsupported:  # a node without a series rule, or not smooth at 0: derivatives
@@ -447,6 +498,11 @@ class LawSpec:
 
     def _derived_coefficients(self) -> list[sp.Expr]:
         """Taylor coefficients at 0 by successive derivatives and limits, while they stay small."""
+        import sympy as sp
+
+        from .series import node_count
+
+        W = _symbol("W")
         out: list[sp.Expr] = []
         d = self.expr
         bad = (sp.zoo, sp.oo, -sp.oo, sp.nan)
@@ -467,7 +523,7 @@ class LawSpec:
 
     def kernel_source(self) -> str:
         """Return the numba module of this law's kernel (the functions of :mod:`stickslip.core.laws`)."""
-        from .compiler import law_module_source
+        from .codegen import law_module_source
 
         return law_module_source(
             self.expr, self.derivative(1), self.continuation_coefficients, self.symbols, self.name
@@ -489,6 +545,11 @@ class LawSpec:
 
     @functools.cached_property
     def _mapping(self) -> dict[str, sp.Expr]:
+        import sympy as sp
+
+        from .formula import parse_formula
+
+        BETA, MU_S = _symbol("BETA"), _symbol("MU_S")
         phys = {p.name: sp.Symbol(p.name, real=True) for p in self.physical}
         local = ("beta", "mu_s")
         out = {}
@@ -507,6 +568,8 @@ class LawSpec:
     @functools.cached_property
     def _inverse(self) -> dict[str, sp.Expr]:
         """Each physical parameter from the dimensionless ones (the map solved by sympy)."""
+        import sympy as sp
+
         out = {}
         for p in self.physical:
             sym = sp.Symbol(p.name, real=True)
@@ -526,12 +589,18 @@ class LawSpec:
 
     @functools.cached_property
     def _to_dimensionless_fn(self) -> Callable[..., Any]:
+        import sympy as sp
+
+        BETA, MU_S = _symbol("BETA"), _symbol("MU_S")
         args = (*[sp.Symbol(p.name, real=True) for p in self.physical], BETA, MU_S)
         out = [self._mapping[p.name] for p in self.parameters]
         return sp.lambdify(args, out, modules=["scipy", "numpy"], dummify=True)
 
     @functools.cached_property
     def _to_physical_fn(self) -> Callable[..., Any]:
+        import sympy as sp
+
+        BETA, MU_S = _symbol("BETA"), _symbol("MU_S")
         args = (*[sp.Symbol(p.name, real=True) for p in self.parameters], BETA, MU_S)
         out = [self._inverse[p.name] for p in self.physical]
         return sp.lambdify(args, out, modules=["scipy", "numpy"], dummify=True)
@@ -556,6 +625,9 @@ class LawSpec:
     @functools.cached_property
     def physical_expr(self) -> sp.Expr:
         """``mu(v) = mu_s f(beta v)`` in the physical parameters (``v`` in m/s)."""
+        import sympy as sp
+
+        W, BETA, MU_S = _symbol("W"), _symbol("BETA"), _symbol("MU_S")
         v = sp.Symbol("v", positive=True)
         e = self.expr.subs(W, BETA * v).subs(
             {s: self._mapping[p.name] for p, s in zip(self.parameters, self.symbols, strict=True)}
@@ -590,11 +662,16 @@ class LawSpec:
 
     def latex(self) -> str:
         """``f_+(w)`` in LaTeX."""
+        import sympy as sp
+
         return sp.latex(self.expr)
 
 
 def _jet(expr: sp.Expr, symbols: Sequence[sp.Symbol], order: int, w: Any, *values: Any) -> FloatArray:
     """``d^order expr / dw^order`` at ``w`` by series arithmetic (:func:`~.series.derivatives`)."""
+    from .series import derivatives
+
+    W = _symbol("W")
     return derivatives(expr, W, symbols, w, values, order)
 
 
@@ -604,6 +681,10 @@ def _finite(expr: sp.Expr) -> bool:
     Walks the distinct parts once (a Taylor coefficient shares its subtrees: as a tree it
     is exponentially larger).
     """
+    import sympy as sp
+
+    from .formula import _float
+
     seen: set[int] = set()
     stack = [expr]
     while stack:
@@ -618,3 +699,18 @@ def _finite(expr: sp.Expr) -> bool:
             return False
         stack.extend(node.args)
     return True
+
+
+@functools.cache
+def _core_function(core_id: int, order: int) -> Callable[..., float]:
+    """Return a built-in law's compiled ``f_+`` (order 0) or ``f_+'`` (order 1)."""
+    from ..core import laws
+
+    return getattr(laws, f"{laws.LAW_PREFIX[core_id]}_{'f' if order == 0 else 'df'}")
+
+
+def _kernel_params(values: Sequence[float]) -> tuple[float, ...]:
+    """Return the kernel's parameter tuple: the law's values, then zeros to its eight places."""
+    from ..core.laws import N_LAW_PARAMS
+
+    return tuple(float(v) for v in values) + (0.0,) * (N_LAW_PARAMS - len(values))

@@ -48,15 +48,17 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 import pint
-import sympy as sp
 
 from ..io.errors import DataError
 from ..io.tables import read_table
 from ..units import Q_, check_number, format_speed, parse_quantity, ureg
 from .base import DimensionlessLaw, PhysicalLaw
-from .spec import LawSpec, Parameter, W
+from .spec import LawSpec, Parameter
 
-if TYPE_CHECKING:  # scipy.interpolate is imported where a table is fitted (0.4 s at import)
+if TYPE_CHECKING:
+    import sympy as sp
+
+    # scipy.interpolate is imported where a table is fitted (0.4 s at import)
     from scipy.interpolate import PPoly
 
 __all__ = ["INTERPOLATIONS", "TabulatedDimensionlessLaw", "TabulatedLaw"]
@@ -94,6 +96,8 @@ class _TableSpec(LawSpec):
 
     @functools.cached_property
     def continuation(self) -> sp.Expr:  # the first cubic piece, not a Taylor polynomial
+        import sympy as sp
+
         return sp.Integer(0)
 
     def kernel_source(self) -> str:
@@ -294,7 +298,7 @@ class TabulatedLaw(PhysicalLaw):
             ),
             to_dimensionless={"beta": "beta", "mu_s": "mu_s"},
             physical=(),
-            expression=sp.Function("table")(W),
+            expression=_table_symbol(),
             source=name,
         )
         object.__setattr__(spec, "pp", pp)
@@ -540,3 +544,12 @@ def _velocities(v: Any, name: str) -> FloatArray:
 
 
 _ = ureg  # the package's registry (quantities above are made in it)
+
+
+def _table_symbol() -> sp.Expr:
+    """``table(w)``: the formula a table law stands for (sympy, loaded on a table's first use)."""
+    import sympy as sp
+
+    from .spec import W
+
+    return sp.Function("table")(W)

@@ -25,7 +25,6 @@ import pint
 
 from ..core import ratestate as core
 from ..units import Q_, check_number, parse_quantity
-from .statelaw import program_table, state_law_formula
 
 __all__ = ["STATE_LAWS", "RateStateParameters"]
 
@@ -110,6 +109,8 @@ class RateStateParameters:
     friction_form: str = "log"
 
     def __post_init__(self) -> None:
+        from .statelaw import state_law_formula  # sympy: loaded by a formula's law only
+
         set_ = object.__setattr__
         set_(self, "a", check_number(self.a, "a", what="a positive direct effect A"))
         bs = list(self.b) if _many(self.b) else [self.b]
@@ -341,6 +342,8 @@ class RateStateParameters:
 
     def core_arrays(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
         """Return ``(P, S)`` in SI for the compiled core (:mod:`stickslip.core.ratestate`)."""
+        from .statelaw import program_table, state_law_formula  # sympy: loaded by a formula's law only
+
         wm = (self.load / self.mass).to("m/s**2").magnitude if self.mass is not None else 0.0
         eta = 0.0 if self.radiation_damping is None else self.radiation_damping.to("s/m").magnitude
         form = core.REGULARIZED if (self.friction_form == "regularized" or self.inertial) else core.LOG
@@ -376,6 +379,8 @@ class RateStateParameters:
 
 def steady_log_states(params: RateStateParameters, v: float) -> npt.NDArray[np.float64]:
     """Log-states of steady sliding at ``v`` (m/s): ``ln(V_r / v)`` for the built-in laws."""
+    from .statelaw import state_law_formula  # sympy: loaded by a formula's law only
+
     vr = float(params.v_ref.to("m/s").magnitude)
     out = np.full(params.n_states, math.log(vr / v))
     for i, lw in enumerate(params.laws):
