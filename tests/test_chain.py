@@ -820,14 +820,46 @@ def test_command_line_bad_input() -> None:
 
     from stickslip.cli import main
 
-    res = CliRunner().invoke(main, ["chain", "--blocks", "0", "--events", "5", "--c", "1", "--nu", "0.1"])
+    res = CliRunner().invoke(
+        main, ["chain", "--law", "weakening", "--blocks", "0", "--events", "5", "--c", "1", "--nu", "0.1"]
+    )
     assert res.exit_code == 2 and "blocks" in res.output
     res = CliRunner().invoke(
-        main, ["chain", "--blocks", "3", "--events", "5", "--c", "1", "--nu", "0.1", "--boundary", "open"]
+        main,
+        [
+            "chain",
+            "--law",
+            "weakening",
+            "--blocks",
+            "3",
+            "--events",
+            "5",
+            "--c",
+            "1",
+            "--nu",
+            "0.1",
+            "--boundary",
+            "open",
+        ],
     )
     assert res.exit_code == 2 and "boundary" in res.output
     res = CliRunner().invoke(
-        main, ["chain", "--blocks", "3", "--events", "5", "--c", "1", "--nu", "0.1", "--mc", "x"]
+        main,
+        [
+            "chain",
+            "--law",
+            "weakening",
+            "--blocks",
+            "3",
+            "--events",
+            "5",
+            "--c",
+            "1",
+            "--nu",
+            "0.1",
+            "--mc",
+            "x",
+        ],
     )
     assert res.exit_code == 2 and "--mc='x'" in res.output
 
@@ -946,7 +978,20 @@ def test_command_line_text_report_without_a_b_value_and_bad_fit_ranges() -> None
 
     from stickslip.cli import main
 
-    base = ["chain", "--blocks", "3", "--events", "5", "--c", "3", "--ell", "1", "--quiet"]
+    base = [
+        "chain",
+        "--law",
+        "weakening",
+        "--blocks",
+        "3",
+        "--events",
+        "5",
+        "--c",
+        "3",
+        "--ell",
+        "1",
+        "--quiet",
+    ]
     # a sliding chain: no event, no b-value; the text report says so (it raised a TypeError)
     res = CliRunner().invoke(main, [*base, "--nu", "10"])
     assert res.exit_code == 1 and isinstance(res.exception, SystemExit)  # not a TypeError
@@ -978,7 +1023,20 @@ def test_command_line_refuses_negative_seeds_in_one_line() -> None:
 
     from stickslip.cli import main
 
-    base = ["chain", "--blocks", "3", "--events", "5", "--c", "3", "--nu", "0.01", "--quiet"]
+    base = [
+        "chain",
+        "--law",
+        "weakening",
+        "--blocks",
+        "3",
+        "--events",
+        "5",
+        "--c",
+        "3",
+        "--nu",
+        "0.01",
+        "--quiet",
+    ]
     for bad, word in (
         (["--seed", "-1"], "--seed"),
         (["--seeds", "-2..0"], "--seeds"),
@@ -993,7 +1051,21 @@ def test_command_line_resume_never_replaces_a_finished_run(tmp_path: Path) -> No
 
     from stickslip.cli import main
 
-    base = ["chain", "--blocks", "3", "--events", "5", "--c", "3", "--ell", "1", "--quiet", "--no-plot"]
+    base = [
+        "chain",
+        "--law",
+        "weakening",
+        "--blocks",
+        "3",
+        "--events",
+        "5",
+        "--c",
+        "3",
+        "--ell",
+        "1",
+        "--quiet",
+        "--no-plot",
+    ]
     out = ["--out", str(tmp_path / "run")]
     first = CliRunner().invoke(main, [*base, "--nu", "0.01", *out, "--resume"])
     assert first.exit_code == 0 and "starting a new one" in first.output
@@ -1009,7 +1081,21 @@ def test_command_line_warns_where_seed_or_amplitude_cannot_matter() -> None:
 
     from stickslip.cli import main
 
-    base = ["chain", "--blocks", "3", "--events", "3", "--c", "3", "--nu", "0.1", "--quiet", "--json"]
+    base = [
+        "chain",
+        "--law",
+        "weakening",
+        "--blocks",
+        "3",
+        "--events",
+        "3",
+        "--c",
+        "3",
+        "--nu",
+        "0.1",
+        "--quiet",
+        "--json",
+    ]
     runs = {
         "seed": CliRunner().invoke(main, [*base, "--init", "uniform", "--seed", "4"]),
         "amplitude": CliRunner().invoke(main, [*base, "--init", "uniform", "--amplitude", "0.1"]),
@@ -1025,7 +1111,21 @@ def test_command_line_warns_where_seed_or_amplitude_cannot_matter() -> None:
     # the seed draws the thresholds; with random positions it draws those: no warning
     assert "warning" not in runs["seeds thresholds"].output
     assert "warning" not in runs["random"].output
-    ensemble = ["chain", "--blocks", "3", "--events", "3", "--c", "3", "--nu", "0.1", "--quiet", "--json"]
+    ensemble = [
+        "chain",
+        "--law",
+        "weakening",
+        "--blocks",
+        "3",
+        "--events",
+        "3",
+        "--c",
+        "3",
+        "--nu",
+        "0.1",
+        "--quiet",
+        "--json",
+    ]
     same = CliRunner().invoke(main, [*ensemble, "--seeds", "1..2", "--init", "uniform"])
     seed = CliRunner().invoke(main, [*ensemble, "--seeds", "1..2", "--seed", "7"])
     assert same.exit_code == 0 and seed.exit_code == 0, same.output + seed.output
@@ -1089,7 +1189,9 @@ def test_the_command_line_gives_sigterm_back_when_it_ends() -> None:
     from stickslip.cli import main
 
     before = signal.getsignal(signal.SIGTERM)
-    res = CliRunner().invoke(main, ["chain", "--blocks", "2", "--events", "2", "--c", "3", "--nu", "0.1"])
+    res = CliRunner().invoke(
+        main, ["chain", "--law", "weakening", "--blocks", "2", "--events", "2", "--c", "3", "--nu", "0.1"]
+    )
     assert res.exit_code == 0, res.output
     # a program (or a test run) that calls main keeps its own SIGTERM afterwards
     assert signal.getsignal(signal.SIGTERM) is before
@@ -1127,7 +1229,8 @@ def test_sigterm_leaves_a_resumable_chain_and_no_staging_folder(tmp_path: Path) 
 
     out = tmp_path / "run"
     cmd = [sys.executable, "-m", "stickslip.cli", "chain", "--blocks", "60", "--events", "10000000",
-           "--c", "3", "--nu", "0.01", "--ell", "3", "--quiet", "--no-plot", "--out", str(out)]  # fmt: skip
+           "--c", "3", "--nu", "0.01", "--ell", "3", "--quiet", "--no-plot", "--out", str(out),
+           "--law", "weakening"]  # fmt: skip
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     partial = out / ".catalog.partial.nc"
     deadline = time.monotonic() + 120
@@ -1360,7 +1463,21 @@ def test_chain_audit_small_things(tmp_path: Path) -> None:
         static_thresholds(-1, 0.1, seed=1)
     with pytest.raises(ValueError, match=r"m: magnitudes of shape \(2, 3\)"):
         b_value(np.zeros((2, 3)), mc=0.0)
-    cli = ["chain", "--nu", "0.002", "--c", "10", "--ell", "2", "--blocks", "4", "--events", "30"]
+    cli = [
+        "chain",
+        "--law",
+        "weakening",
+        "--nu",
+        "0.002",
+        "--c",
+        "10",
+        "--ell",
+        "2",
+        "--blocks",
+        "4",
+        "--events",
+        "30",
+    ]
     res = CliRunner().invoke(main, [*cli, "--out", str(tmp_path / "d"), "--no-plot"])
     assert res.exit_code == 0, res.output
     assert f"wrote {tmp_path / 'd'}/catalog.nc, summary.json\n" in res.output  # no 'and figures'
@@ -1369,7 +1486,7 @@ def test_chain_audit_small_things(tmp_path: Path) -> None:
         res.exit_code == 2
         and "Invalid value for --threshold-spread: 1.5: expected a threshold spread" in res.output
     )
-    physical = ["chain", "--preset", "zv", "--v0", "100 um/s"]
+    physical = ["chain", "--law", "weakening", "--preset", "zv", "--v0", "100 um/s"]
     res = CliRunner().invoke(main, [*physical, "--ell", "2", "--events", "5", "--blocks", "3"])
     assert res.exit_code == 2 and "--ell is for dimensionless input" in res.output
 
@@ -1389,11 +1506,27 @@ def test_events_with_backward_moment_are_counted() -> None:
     assert moment[0] == pytest.approx(-0.278, abs=1e-3)  # the audit's set-up H: event 0 slips back
     assert r.summary()["events_without_magnitude"] == int(np.sum(moment <= 0)) > 0
     assert r.b.n <= int(np.sum(moment > 0))
-    cli = ["chain", "--nu", "0.01", "--c", "10", "--ell", "3", "--blocks", "3", "--events", "40"]
+    cli = [
+        "chain",
+        "--law",
+        "weakening",
+        "--nu",
+        "0.01",
+        "--c",
+        "10",
+        "--ell",
+        "3",
+        "--blocks",
+        "3",
+        "--events",
+        "40",
+    ]
     res = CliRunner().invoke(main, [*cli, "--amplitude", "0.5"])  # random starts half a unit apart
     assert res.exit_code == 0, res.output
     assert "no magnitude         1 events (a net backward or zero moment" in res.output
-    res = CliRunner().invoke(main, ["chain", "--nu", "0.02", "--c", "1", "--ell", "1", "--blocks", "3"])
+    res = CliRunner().invoke(
+        main, ["chain", "--law", "weakening", "--nu", "0.02", "--c", "1", "--ell", "1", "--blocks", "3"]
+    )
     assert res.exit_code == 0 and "no magnitude" not in res.output
 
 

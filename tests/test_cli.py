@@ -273,7 +273,22 @@ BAD = [
     (["regimes", "--c", "3.8", "--nu-min", "0.05", "--nu-max", "2", "--map-n", "5"], "--map-n goes with"),
     (["cycle", "--law", "expr", "--f", "1/(1+3*w)", "--nu", "0.1", "--interpolation", "cubic"], "law table"),
     (
-        ["chain", "--blocks", "5", "--events", "3", "--nu", "0.1", "--c", "3", "--seeds", "1,2", "--resume"],
+        [
+            "chain",
+            "--law",
+            "weakening",
+            "--blocks",
+            "5",
+            "--events",
+            "3",
+            "--nu",
+            "0.1",
+            "--c",
+            "3",
+            "--seeds",
+            "1,2",
+            "--resume",
+        ],
         "an ensemble resumes from its --store",
     ),
 ]
@@ -414,7 +429,21 @@ def test_file_flags_warn_where_no_file_is_written(tmp_path: Path) -> None:
     written = run("sweep", "--nu", "0.1,0.2", "--c", "3", "--store", f"{tmp_path}/t.zarr",
                   "--out", f"{tmp_path}/t.nc", "--no-plot", "--overwrite")  # fmt: skip
     assert written.exit_code == 0 and "warning" not in written.output, written.output
-    chain = ["chain", "--blocks", "3", "--events", "3", "--c", "3", "--nu", "0.1", "--quiet", "--json"]
+    chain = [
+        "chain",
+        "--law",
+        "weakening",
+        "--blocks",
+        "3",
+        "--events",
+        "3",
+        "--c",
+        "3",
+        "--nu",
+        "0.1",
+        "--quiet",
+        "--json",
+    ]
     one = run(*chain, "--no-plot")
     assert one.exit_code == 0 and "warning: --no-plot does nothing without --out" in one.output, one.output
     ensemble = run(*chain, "--seeds", "1..2", "--overwrite")

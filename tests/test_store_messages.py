@@ -327,8 +327,36 @@ LONG = "x" * 300  # a folder name longer than any file system takes (255 bytes)
 
 REFUSED = [
     # refused inside the run, after its output folder was made
-    ["chain", "--blocks", "3", "--nu", "0.1", "--c", "3", "--events", "0", "--out", "a/b"],
-    ["chain", "--blocks", "3", "--nu", "0.1", "--c", "3", "--amplitude", "-1", "--out", "a/b"],
+    [
+        "chain",
+        "--law",
+        "weakening",
+        "--blocks",
+        "3",
+        "--nu",
+        "0.1",
+        "--c",
+        "3",
+        "--events",
+        "0",
+        "--out",
+        "a/b",
+    ],
+    [
+        "chain",
+        "--law",
+        "weakening",
+        "--blocks",
+        "3",
+        "--nu",
+        "0.1",
+        "--c",
+        "3",
+        "--amplitude",
+        "-1",
+        "--out",
+        "a/b",
+    ],
     # the output folder cannot be made past its first part
     ["simulate", "--nu", "0.1", "--c", "3", "--out", f"a/{LONG}"],
     ["examples", f"a/{LONG}"],

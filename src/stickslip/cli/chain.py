@@ -29,7 +29,7 @@ _FIGURES = ("magnitude_frequency", "space_time", "recurrence")
 def register(main: click.Group) -> None:
     """Add the command to ``main``."""
 
-    @law_command(main)
+    @law_command(main, default_law="carlson-langer")  # the chain's law (Carlson & Langer 1989)
     @click.option("--blocks", type=int, required=True, help="Number of blocks N.")
     @click.option("--events", type=int, default=1000, show_default=True, help="Events to record.")
     @click.option(

@@ -122,7 +122,7 @@ class _LawChoice(click.ParamType):
         return str(value)
 
 
-def _option_decorators(text: bool) -> list[Any]:
+def _option_decorators(text: bool, default_law: str = "weakening") -> list[Any]:
     """Return the options of a parameter set, from the registry as it is now."""
     num: Any = str if text else float
     laws = _law_options()
@@ -130,7 +130,7 @@ def _option_decorators(text: bool) -> list[Any]:
         click.option(
             "--law",
             type=_LawChoice(),
-            default="weakening",
+            default=default_law,
             show_default=True,
             help="Friction law: a registered law, 'expr' (a formula: --f or --mu) or 'table' (--table FILE).",
         ),
@@ -258,9 +258,10 @@ def _single(param: click.Parameter) -> bool:
 class LawCommand(OnceCommand):
     """A command whose parameter-set options come from the law registry, at parse time."""
 
-    def __init__(self, *args: Any, text: bool = False, **kwargs: Any) -> None:
+    def __init__(self, *args: Any, text: bool = False, default_law: str = "weakening", **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         self._text = text
+        self._default_law = default_law
         self._built_for = -1
         self._law_params: list[click.Parameter] = []
 
@@ -270,7 +271,7 @@ class LawCommand(OnceCommand):
             def holder() -> None:  # pragma: no cover - only collects the options
                 return None
 
-            for d in reversed(_option_decorators(self._text)):
+            for d in reversed(_option_decorators(self._text, self._default_law)):
                 holder = d(holder)
             self._law_params = list(getattr(holder, "__click_params__", []))[::-1]
             self._built_for = registry.version
@@ -284,9 +285,11 @@ class LawCommand(OnceCommand):
         return rest + self._law_params_now() + help_opt
 
 
-def law_command(group: click.Group, name: str | None = None, *, text: bool = False) -> Callable[..., Any]:
-    """Register a :class:`LawCommand` in ``group``."""
-    return group.command(name, cls=LawCommand, text=text)
+def law_command(
+    group: click.Group, name: str | None = None, *, text: bool = False, default_law: str = "weakening"
+) -> Callable[..., Any]:
+    """Register a :class:`LawCommand` in ``group``; ``--law`` defaults to ``default_law``."""
+    return group.command(name, cls=LawCommand, text=text, default_law=default_law)
 
 
 class OutPath(click.Path):
