@@ -316,8 +316,8 @@ def _appendix_claims(ds: xr.Dataset) -> list[Claim]:
             f"{float(ds.attrs['appendix_inertia_v0']) * 1e3:g} mm/s the inertial slider"
             f"{_demo_mass(ds)} settles on a bounded stick-slip cycle{_settling(ds)} (peak velocity "
             f"{float(ds.attrs['appendix_cycle_peak_velocity']):.3g} m/s, period "
-            f"{float(ds.attrs['appendix_cycle_period']):.3g} s), while the quasi-static one: "
-            f"{runaway}",
+            f"{float(ds.attrs['appendix_cycle_period']):.3g} s), while the quasi-static one "
+            f"{runaway}.",
             "supported (shown by the inertial slider's simulation)",
         ),
     ]

@@ -274,12 +274,15 @@ class RateStateStopped(RuntimeError):
 
     ``reason`` says why, in a word: ``"runaway"`` (the slider accelerates without
     bound), ``"max-steps"`` (the bound on the work), ``"step-too-small"`` or
-    ``"not-finite"``; the message says it in full.
+    ``"not-finite"``; ``time`` (s) is where it stopped and ``velocity`` (m/s) the slip
+    velocity it passed there (a runaway's cap; NaN otherwise); the message says it in full.
     """
 
-    def __init__(self, message: str, reason: str) -> None:
+    def __init__(self, message: str, reason: str, time: float = math.nan, velocity: float = math.nan) -> None:
         super().__init__(message)
         self.reason = reason
+        self.time = time
+        self.velocity = velocity
 
 
 #: the compiled integrator's codes, in words
@@ -382,7 +385,8 @@ def _dop853(
             status, v_cap = core.RS_RUNAWAY, v_end  # the message says the speed it reached
     if status != core.RS_OK:
         message = _status_message(status, t, v_cap, steps_total, time.monotonic() - started)
-        raise RateStateStopped(message, STOP_REASONS.get(status, "step-too-small"))
+        reason = STOP_REASONS.get(status, "step-too-small")
+        raise RateStateStopped(message, reason, float(t), float(v_cap) if reason == "runaway" else math.nan)
     evs = np.concatenate(events) if events else np.zeros((0, 3 + nvar))
     peaks = {
         "spring": [(float(r[1]), r[3 : 3 + 1 + n].copy()) for r in evs if int(r[0]) == core.EV_SPRING_PEAK],
