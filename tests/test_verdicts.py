@@ -197,8 +197,10 @@ def test_the_bifurcation_legend_names_each_kind_once() -> None:
 
     d = regimes(ExpressionLaw("1/(1+3.8*w)+2*w*exp(-w/2)+0.05*w"), 1.5, 12.0)
     assert sum(b.kind == "pure-slip" for b in d.branches) >= 2
-    ax = plot_bifurcation(d).axes[0]
-    legend = ax.get_legend()
+    fig = plot_bifurcation(d)
+    ax = fig.axes[0]
+    assert ax.get_legend() is None and len(fig.legends) == 1  # under the axes, not beside them
+    legend = fig.legends[0]
     labels = [t.get_text() for t in legend.get_texts()]
     assert len(labels) == len(set(labels)), labels
     assert "pure-slip" in labels and "regime: pure-slip" in labels

@@ -155,7 +155,7 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None, beta: f
         ``v0 = nu / beta`` in a unit that suits the range.
 
     """
-    fig, ax = subplots(figsize=(7.6, 4.2), constrained_layout=True)
+    fig, ax = subplots(figsize=(6.4, 4.8), constrained_layout=True)
     if log if log is not None else diagram.nu_max / diagram.nu_min > 20:
         ax.set_xscale("log")
         plain_log_ticks(ax.xaxis)
@@ -244,8 +244,15 @@ def plot_bifurcation(diagram: RegimeDiagram, *, log: bool | None = None, beta: f
     labels += ["stable", "unstable"]
     handles += regime_patches
     labels += regime_labels
-    ax.legend(handles, labels, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    _legend_below(fig, handles, labels)
     return fig
+
+
+def _legend_below(fig: Figure, handles: list[Any], labels: list[str]) -> None:
+    """Put the legend under the axes, in rows of four (beside them, it took a third of the width)."""
+    fig.legend(
+        handles, labels, fontsize=7, loc="outside lower center", ncols=min(4, len(labels)), frameon=False
+    )
 
 
 def _map_axes(ds: Any, variable: str, codes: dict[str, int], colors: dict[str, str], title: str) -> Figure:
@@ -258,7 +265,7 @@ def _map_axes(ds: Any, variable: str, codes: dict[str, int], colors: dict[str, s
     cmap = ListedColormap([colors[n] for n in names])
     bounds = [v - 0.5 for v in values] + [values[-1] + 0.5]
     norm = BoundaryNorm(bounds, cmap.N)
-    fig, ax = subplots(figsize=(7.6, 4.4), constrained_layout=True)
+    fig, ax = subplots(figsize=(6.4, 4.8), constrained_layout=True)
     ax.pcolormesh(
         ds.nu.values, ds[param].values, ds[variable].values, cmap=cmap, norm=norm, shading="nearest"
     )
@@ -293,7 +300,7 @@ def _map_axes(ds: Any, variable: str, codes: dict[str, int], colors: dict[str, s
     handles, labels = ax.get_legend_handles_labels()
     handles += [Patch(color=colors[n]) for n in present]
     labels += present
-    ax.legend(handles, labels, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    _legend_below(fig, handles, labels)
     return fig
 
 
