@@ -48,10 +48,10 @@ from unittest import mock
 import numpy as np
 from bench_cycles import ATOL, RTOL, workload
 
-from stickslip.bifurcation.attractors import POLISH_FIELDS
 from stickslip.core import api
 from stickslip.core import cuda as core_cuda
 from stickslip.core.api import run_attractors, threads
+from stickslip.dynamics.attractors import POLISH_FIELDS
 from stickslip.laws import WeakeningLaw
 
 

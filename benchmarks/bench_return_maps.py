@@ -32,8 +32,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import newton
 
-from stickslip.bifurcation.orbits import return_map_orbit_core
 from stickslip.core.api import run_attractors, run_return_maps, threads
+from stickslip.dynamics.return_map import return_map_orbit_core
 from stickslip.laws import WeakeningLaw
 
 TOL = 1e-10

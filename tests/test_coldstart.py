@@ -138,7 +138,7 @@ def test_a_few_rows_run_alone_equal_the_batch_kernel_bit_for_bit() -> None:
 _CYCLE_CHILD = r"""
 import json
 from stickslip import cycle, DimensionlessParameters, WeakeningLaw
-from stickslip.bifurcation.orbits import law_arrays
+from stickslip.laws import law_arrays
 law = WeakeningLaw(c=3.8)
 r = cycle(DimensionlessParameters(nu=1e-3, law=law))
 eng = law_arrays(law)[0].engine  # the law's own compiled package

@@ -14,11 +14,12 @@ from scipy.optimize import brentq
 
 from stickslip import CoulombLaw, CubicLaw, DimensionlessParameters, WeakeningLaw, cycle
 from stickslip.bifurcation.averaging import averaging_table, thomsen_fidlin
-from stickslip.bifurcation.orbits import law_arrays, pure_slip_orbit, saltation, stick_slip_orbit
+from stickslip.bifurcation.orbits import pure_slip_orbit, saltation, stick_slip_orbit
 from stickslip.bifurcation.regime_map import criterion_table, criterion_trial, regime_map
 from stickslip.bifurcation.regimes import _fold, _orbits_at, confirm, pure_slip_orbits_at, regimes
 from stickslip.cli import main
 from stickslip.core.api import run_flow
+from stickslip.laws import law_arrays
 from stickslip.laws.expression import ExpressionLaw
 
 CUBIC = CubicLaw(alpha=0.5, gamma=0.5 / 3)  # supercritical Hopf at nu = 1

@@ -112,9 +112,9 @@ def test_trajectories_checked_once_give_run_trajectorys_events() -> None:
 def test_compiled_return_maps_equal_the_python_secant_bit_for_bit() -> None:
     """Slip-reversal orbits of F1: compiled, many at once (a sweep's polish from 16 rows on), against
     the secant in Python around the engine's trajectories (a cycle's, which compiles nothing more)."""
-    from stickslip.bifurcation.orbits import return_map_orbit_core
     from stickslip.core.api import run_attractors, run_return_maps
     from stickslip.core.results import ReturnMapStatus
+    from stickslip.dynamics.return_map import return_map_orbit_core
 
     kernel = WeakeningLaw(c=1.0).kernel
     rng = np.random.default_rng(3)
@@ -133,8 +133,8 @@ def test_compiled_return_maps_equal_the_python_secant_bit_for_bit() -> None:
 
 
 def test_a_return_map_that_sticks_says_so() -> None:
-    from stickslip.bifurcation.orbits import return_map_orbit
     from stickslip.core.api import run_return_maps
+    from stickslip.dynamics.return_map import return_map_orbit
 
     law = WeakeningLaw(c=3.8)  # the Python secant and the compiled one say the same
     said = r"return map from s = 1: the motion sticks \(not a non-sticking orbit\)"
@@ -149,8 +149,8 @@ def test_a_return_map_that_sticks_says_so() -> None:
 def test_a_sweeps_polish_is_the_same_with_its_return_maps_compiled_or_in_python(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    from stickslip.bifurcation import attractors
     from stickslip.core.api import run_attractors
+    from stickslip.dynamics import attractors
 
     kernel = WeakeningLaw(c=1.0).kernel
     c, nu = np.linspace(2.0, 10.0, 40), np.geomspace(1.0, 20.0, 40)
@@ -168,9 +168,9 @@ def test_a_sweeps_polish_is_the_same_with_its_return_maps_compiled_or_in_python(
 
 def test_return_maps_refuse_what_the_python_secant_refuses() -> None:
     """The flow's tolerances (tol / 100) and an iterate beyond the states: the same on both paths."""
-    from stickslip.bifurcation.orbits import return_map_orbit_core
     from stickslip.core.api import run_return_maps
     from stickslip.core.results import ReturnMapStatus
+    from stickslip.dynamics.return_map import return_map_orbit_core
 
     kernel = WeakeningLaw(c=1.0).kernel
     with pytest.raises(ValueError, match=r"rtol=1e-15: expected a relative tolerance between 1e-14"):

@@ -12,9 +12,9 @@ from typing import Any
 import numpy as np
 import pytest
 
-from stickslip.bifurcation.attractors import POLISH_FIELDS, polish_rows
 from stickslip.core.api import run_attractors
 from stickslip.core.results import AttractorRows
+from stickslip.dynamics.attractors import POLISH_FIELDS, polish_rows
 from stickslip.laws import WeakeningLaw
 
 KW: dict[str, Any] = {

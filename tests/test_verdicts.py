@@ -268,7 +268,7 @@ def test_an_orbit_kept_at_a_tables_noise_floor_says_how_well_it_is_known() -> No
     from reference import pure_slip_orbit_reference
 
     from stickslip import TabulatedLaw
-    from stickslip.bifurcation.attractors import NoisyOrbitWarning
+    from stickslip.dynamics.attractors import NoisyOrbitWarning
     from stickslip.units import Q_
 
     v = np.r_[0.0, np.geomspace(10.0, 2e5, 40)]

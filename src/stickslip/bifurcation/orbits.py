@@ -24,30 +24,23 @@ from __future__ import annotations
 
 import math
 import numbers
-from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
-from ..core.api import Kernel, Trajectories, run_attractors, run_flow, run_shooting
-from ..core.checks import MAX_STATE
-from ..core.laws import N_LAW_PARAMS
-from ..core.results import EventKind, Regime, ShootingRows, ShootStatus, Status
+from ..core.api import run_attractors, run_flow, run_shooting
+from ..core.results import Regime, ShootingRows, ShootStatus
+from ..dynamics.return_map import check_guess
 from ..errors import ArgumentTypeError
-from ..laws import DimensionlessLaw
+from ..laws import DimensionlessLaw, law_arrays
 from ..models.parameters import DimensionlessParameters
 from .stability import averaged_amplitude
 
 __all__ = [
     "PeriodicOrbit",
-    "ReturnMapOrbit",
     "StickSlipOrbit",
-    "next_force_maximum",
     "orbit_from_shot",
     "pure_slip_orbit",
-    "return_map_orbit",
-    "return_map_orbit_core",
     "saltation",
     "stick_slip_orbit",
 ]
@@ -90,14 +83,6 @@ class PeriodicOrbit:
     stable: bool
     iterations: int
     residual: float
-
-
-def law_arrays(law: DimensionlessLaw) -> tuple[Kernel, np.ndarray]:
-    """Return the compiled kernel and the parameter vector of ``law``."""
-    lp = np.zeros(N_LAW_PARAMS)
-    cp = np.asarray(law.core_params(), dtype=np.float64)
-    lp[: cp.size] = cp
-    return law.kernel, lp
 
 
 def pure_slip_orbit(
@@ -148,28 +133,8 @@ def pure_slip_orbit(
                 "give guess=(s0, period), e.g. from stickslip.cycle"
             )
         guess = (f_nu + a, 2.0 * math.pi)
-    s0, period = _check_guess(guess)
+    s0, period = check_guess(guess)
     return _shot(law, nu, s0, period, tol, max_iter)
-
-
-def _check_guess(guess: Any) -> tuple[float, float]:
-    """Return ``(s0, period)`` as floats: a finite spring force and a positive period."""
-    pair = f"guess={guess!r}: expected a pair (s0, period) of numbers"
-    if (
-        isinstance(guess, str | bytes)
-        or not isinstance(guess, Sequence | np.ndarray)
-        or (isinstance(guess, np.ndarray) and guess.ndim == 0)
-    ):
-        raise ArgumentTypeError(pair)
-    if len(guess) != 2:
-        raise ValueError(pair)
-    try:
-        s0, period = (float(g) for g in guess)
-    except (TypeError, ValueError):  # entries that are not numbers
-        raise ArgumentTypeError(pair) from None
-    if not (math.isfinite(s0) and math.isfinite(period) and period > 0):
-        raise ValueError(f"guess={guess!r}: expected a finite s0 and a positive period")
-    return s0, period
 
 
 def _shot(
@@ -204,143 +169,6 @@ def orbit_from_shot(sh: ShootingRows) -> PeriodicOrbit:
         iterations=int(sh.iterations[0]),
         residual=float(sh.residual[0]),
     )
-
-
-def next_force_maximum(
-    kernel: Kernel,
-    lp: np.ndarray,
-    nu: float,
-    s0: float,
-    t_guess: float,
-    *,
-    rtol: float,
-    atol: float,
-    runs: Trajectories | None = None,
-) -> tuple[float, float]:
-    """Return ``(s, t)`` at the next spring-force maximum after leaving ``(s0, w = nu)`` (exact engine).
-
-    This is the Poincaré return map on the section ``w = nu`` (crossed upward, where
-    ``s`` is largest); the non-smooth engine handles stops and slip reversals on the way.
-    ``runs``: the law, ``lp``, ``nu`` and tolerances checked once, for many calls.
-    """
-    if runs is None:
-        runs = Trajectories(kernel, lp, nu, rtol=rtol, atol=atol)
-    t_end = 2.5 * t_guess
-    for _ in range(8):
-        ev, status = runs.events(s0, nu, t_end)
-        if status != Status.OK:
-            raise RuntimeError(f"return map from s = {s0:.6g}: the integration failed ({status.message})")
-        if np.any(ev[:, 1] == EventKind.STICK.code):
-            raise RuntimeError(f"return map from s = {s0:.6g}: the motion sticks (not a non-sticking orbit)")
-        hit = ev[(ev[:, 1] == EventKind.FORCE_MAXIMUM.code) & (ev[:, 0] > 0.0)]
-        if hit.size:
-            return float(hit[0, 2]), float(hit[0, 0])
-        t_end *= 2.0
-    raise RuntimeError(f"return map from s = {s0:.6g}: no spring-force maximum within tau = {t_end:.3g}")
-
-
-@dataclass(frozen=True)
-class ReturnMapOrbit:
-    """A non-sticking orbit found as a fixed point of the return map on ``w = nu`` (dimensionless).
-
-    Attributes
-    ----------
-    s0 : float
-        Spring-force maximum (where ``w`` crosses ``nu`` upward).
-    period : float
-        Return time.
-    multiplier : float
-        Derivative of the return map at the fixed point: the nontrivial Floquet
-        multiplier (central difference).
-    residual : float
-        ``|P(s0) - s0|``.
-
-    """
-
-    s0: float
-    period: float
-    multiplier: float
-    residual: float
-
-
-def return_map_orbit(
-    law: DimensionlessLaw,
-    nu: float,
-    guess: tuple[float, float],
-    *,
-    tol: float = 1e-10,
-    max_iter: int = 40,
-) -> ReturnMapOrbit:
-    """Find a non-sticking periodic orbit (pure slip or slip reversal) as a fixed point of the return map.
-
-    The return map ``P`` takes the spring force at one upward crossing of ``w = nu``
-    to the next, computed by the exact non-smooth engine (so backward slip and
-    its velocity reversals are handled). Secant iterations solve ``P(s) = s``.
-
-    Raises
-    ------
-    RuntimeError
-        When the iteration does not converge or the motion sticks.
-
-    """
-    kernel, lp = law_arrays(law)
-    return return_map_orbit_core(kernel, lp, nu, _check_guess(guess), tol=tol, max_iter=max_iter)
-
-
-def return_map_orbit_core(
-    kernel: Kernel,
-    lp: np.ndarray,
-    nu: float,
-    guess: tuple[float, float],
-    *,
-    tol: float = 1e-10,
-    max_iter: int = 40,
-) -> ReturnMapOrbit:
-    """:func:`return_map_orbit` for a law given by its compiled kernel and parameter vector.
-
-    In Python, around the compiled engine's trajectories: a few orbits need no
-    compilation of their own (a cycle's). Many at once run compiled, bit for bit the
-    same (:func:`~stickslip.core.api.run_return_maps`, as a sweep's slip-reversal rows do).
-    """
-    rtol, atol = tol * 1e-2, tol * 1e-4
-    runs = Trajectories(kernel, lp, nu, rtol=rtol, atol=atol)
-
-    def g(s: float) -> tuple[float, float]:
-        if not abs(s) <= MAX_STATE:  # as the compiled secant says it
-            raise RuntimeError(
-                f"return map: the secant iteration left the states the engine takes (s = {s:.6g})"
-            )
-        s1, t1 = next_force_maximum(kernel, lp, nu, s, guess[1], rtol=rtol, atol=atol, runs=runs)
-        return s1 - s, t1
-
-    scale = max(1.0, abs(guess[0]))
-    x0 = float(guess[0])
-    x1 = x0 + 1e-6 * scale
-    g0, _ = g(x0)
-    g1, t1 = g(x1)
-    for _ in range(max_iter):
-        if abs(g1) < tol * scale:
-            break
-        if g1 == g0:
-            raise RuntimeError("return map: the secant iteration stalled")
-        x0, x1, g0 = x1, x1 - g1 * (x1 - x0) / (g1 - g0), g1
-        g1, t1 = g(x1)
-    else:
-        raise RuntimeError(
-            f"return map: no fixed point within {max_iter} iterations (|P(s) - s| = {abs(g1):.3g})"
-        )
-    # the derivative of the map by central differences at h and h/2, extrapolated (Richardson):
-    # the map is strongly curved near sticking, and the difference at h = 1e-5 alone was off by
-    # 1e-7 to 3e-7 (the sweep audit, helper-36: 0.60144688 where the variational equations with
-    # saltation say 0.60144723); extrapolated, 7.5e-12 and 6.9e-9 from them at two orbits (a
-    # third level, h/4, is no better: the map's integration noise then dominates)
-    h = 1e-5 * scale
-
-    def central(step: float) -> float:
-        return (g(x1 + step)[0] - g(x1 - step)[0]) / (2.0 * step)
-
-    mult = 1.0 + (4.0 * central(0.5 * h) - central(h)) / 3.0
-    return ReturnMapOrbit(s0=x1, period=t1, multiplier=mult, residual=abs(g1))
 
 
 @dataclass(frozen=True)

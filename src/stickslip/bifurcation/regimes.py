@@ -49,14 +49,14 @@ from .. import defaults
 from ..core.api import run_attractors, run_flow
 from ..core.checks import NU_MAX, NU_MIN
 from ..core.results import AttractorRows, Regime
+from ..dynamics.attractors import OrbitKey, distinct, orbit_key, polish_rows, same_orbit
 from ..errors import ArgumentTypeError
 from ..io.jsonable import json_clean
-from ..laws import DimensionlessLaw, require_dimensionless_law
+from ..laws import DimensionlessLaw, law_arrays, require_dimensionless_law
 from ..models.parameters import DimensionlessParameters
 from ..units import check_number
 from ..userwarnings import warn
-from .attractors import OrbitKey, distinct, orbit_key, polish_rows, same_orbit
-from .orbits import PeriodicOrbit, law_arrays, pure_slip_orbit
+from .orbits import PeriodicOrbit, pure_slip_orbit
 from .stability import Hopf, hopf_points
 
 __all__ = [

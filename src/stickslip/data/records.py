@@ -647,10 +647,10 @@ def synthetic_record(
         Simulated time discarded before the record starts (to skip the transient).
 
     """
-    from ..bifurcation.orbits import law_arrays
     from ..core.api import run_trajectory
     from ..core.memory import check_memory
     from ..core.results import Status
+    from ..laws import law_arrays
     from ..models.parameters import PhysicalParameters
     from ..units import check_seed, parse_quantity
 

@@ -22,13 +22,12 @@ import numpy as np
 import pint
 
 from .. import defaults
-from ..bifurcation.attractors import OrbitKey, orbit_key, polish_rows, same_orbit
-from ..bifurcation.orbits import law_arrays
 from ..core.api import run_attractors
 from ..core.checks import ATOL_MIN
 from ..core.results import AttractorRows, Regime, Status, reversal
 from ..errors import ArgumentTypeError
 from ..io.jsonable import json_clean
+from ..laws import law_arrays
 from ..models.parameters import (
     DimensionlessParameters,
     PhysicalParameters,
@@ -37,6 +36,7 @@ from ..models.parameters import (
 )
 from ..units import Q_, check_number, parse_quantity
 from ..userwarnings import warn
+from .attractors import OrbitKey, orbit_key, polish_rows, same_orbit
 
 __all__ = ["Attractor", "CycleResult", "cycle", "validate_tolerances"]
 

@@ -31,7 +31,6 @@ import pint
 import xarray as xr
 
 from .. import defaults
-from ..bifurcation.attractors import POLISH_FIELDS, polish_rows
 from ..core.api import Kernel, run_attractors
 from ..core.checks import NU_MAX, NU_MIN
 from ..core.cuda import release_buffers, release_idle_buffers, resolve_backend
@@ -52,6 +51,7 @@ from ..models.parameters import (
 from ..scale.progress import Progress, ProgressLike
 from ..scale.store import Block, Layout, Variable
 from ..units import parse_quantity
+from .attractors import POLISH_FIELDS, polish_rows
 from .cycle import DIMENSIONLESS_UNITS, validate_tolerances
 
 __all__ = [

@@ -13,12 +13,12 @@ import numpy.typing as npt
 import pint
 
 from .. import defaults
-from ..bifurcation.orbits import law_arrays
 from ..core.api import MAX_TIME, run_attractors, run_trajectory
 from ..core.engine import MAX_PHASES
 from ..core.memory import check_memory
 from ..core.results import EventKind, Regime, Status
 from ..errors import ArgumentTypeError
+from ..laws import law_arrays
 from ..models.parameters import DimensionlessParameters, PhysicalParameters, as_dimensionless
 from ..units import check_number, parse_quantity
 from .cycle import DIMENSIONLESS_UNITS, SI_UNITS, cycle, pole_message, validate_tolerances

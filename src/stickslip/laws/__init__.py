@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any
 
 from ..lazy import load_attribute
 from . import carlson_langer, coulomb, cubic, weakening
-from .base import DimensionlessLaw, PhysicalLaw, require_dimensionless_law, require_physical_law
+from .base import DimensionlessLaw, PhysicalLaw, law_arrays, require_dimensionless_law, require_physical_law
 from .carlson_langer import CarlsonLangerLaw, PhysicalCarlsonLangerLaw
 from .coulomb import CoulombLaw, PhysicalCoulombLaw
 from .cubic import CubicLaw, PhysicalCubicLaw
@@ -66,6 +66,7 @@ __all__ = [
     "f1",
     "f2",
     "get",
+    "law_arrays",
     "names",
     "register",
     "require_dimensionless_law",

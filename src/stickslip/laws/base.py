@@ -24,7 +24,13 @@ from ..errors import ArgumentTypeError
 from ..units import Q_, parse_quantity
 from .spec import STATIC, LawSpec, Parameter
 
-__all__ = ["DimensionlessLaw", "PhysicalLaw", "require_dimensionless_law", "require_physical_law"]
+__all__ = [
+    "DimensionlessLaw",
+    "PhysicalLaw",
+    "law_arrays",
+    "require_dimensionless_law",
+    "require_physical_law",
+]
 
 FloatArray = npt.NDArray[np.float64]
 _ONE_S_PER_M = 1.0  # beta in s/m at which a physical law is evaluated (mu(v) does not depend on it)
@@ -458,3 +464,13 @@ def require_physical_law(law: Any, name: str = "law") -> PhysicalLaw:
             "PhysicalCoulombLaw, ExpressionLaw(mu=...), TabulatedLaw)"
         )
     return law
+
+
+def law_arrays(law: DimensionlessLaw) -> tuple[Any, np.ndarray]:
+    """Return the compiled kernel and the parameter vector of ``law``."""
+    from ..core.laws import N_LAW_PARAMS
+
+    lp = np.zeros(N_LAW_PARAMS)
+    cp = np.asarray(law.core_params(), dtype=np.float64)
+    lp[: cp.size] = cp
+    return law.kernel, lp

@@ -15,13 +15,12 @@ import numpy as np
 import xarray as xr
 from scipy.optimize import brentq
 
-from ..bifurcation.orbits import law_arrays
 from ..bifurcation.regimes import regimes
 from ..core.api import run_attractors
 from ..dynamics.sweep import sweep
 from ..dynamics.trajectory import Trajectory, simulate
 from ..errors import ArgumentTypeError
-from ..laws import CubicLaw, DimensionlessLaw, WeakeningLaw, f1
+from ..laws import CubicLaw, DimensionlessLaw, WeakeningLaw, f1, law_arrays
 from ..models.parameters import PhysicalParameters, zv_parameters
 from ..units import Q_
 

@@ -11,7 +11,7 @@ therefore *polished*: solved as a periodic orbit from the transient's end —
 * a slip-reversal orbit (it never sticks, but the velocity changes sign, so the
   flow switches between the forward and the backward branch of the law) as a
   fixed point of the return map on ``w = nu``, computed by the exact non-smooth
-  engine (:func:`~.orbits.return_map_orbit`).
+  engine (:func:`~.return_map.return_map_orbit`).
 
 Its nontrivial Floquet multiplier is reported; a stick-slip orbit has
 multiplier 0 (the stick phase forgets the velocity). A transient that cannot be
@@ -36,9 +36,9 @@ import numpy.typing as npt
 from .. import defaults
 from ..core.api import Kernel, run_attractors, run_return_maps, run_shooting
 from ..core.results import AttractorRows, Regime, ReturnMapStatus, ShootingRows, ShootStatus, Status
-from ..laws import DimensionlessLaw
+from ..laws import DimensionlessLaw, law_arrays
 from ..userwarnings import warn
-from .orbits import ReturnMapOrbit, law_arrays, return_map_orbit_core
+from .return_map import ReturnMapOrbit, return_map_orbit_core
 
 __all__ = [
     "POLISH_FIELDS",
