@@ -1403,7 +1403,7 @@ def test_the_event_map_refuses_what_is_not_a_state_and_a_constant_map_is_superst
     p = ChainParameters(3, WeakeningLaw(c=1.0), 0.05, 1.0)
     with pytest.raises(ValueError, match=r"u: 2 positions, shape \(2,\); expected one per block, 3"):
         event_map(p, [0.0, 0.3])
-    with pytest.raises(ValueError, match=r"rtol=-1 must be positive"):
+    with pytest.raises(ValueError, match=r"rtol=-1: expected a relative tolerance"):
         event_map(p, [0.0, 0.3, 0.1], rtol=-1)
     # an event longer than max_steps goes on over several calls of the engine (it was called
     # 'a sliding state' after one call): one step per call gives the same map

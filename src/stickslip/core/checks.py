@@ -15,6 +15,8 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from ..errors import ArgumentTypeError
+
 __all__ = [
     "ATOL_MIN",
     "MAX_STATE",
@@ -45,7 +47,7 @@ ATOL_MIN = 1e-30
 
 def _real(name: str, value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name}={value!r} (type {type(value).__name__}): expected a real number")
+        raise ArgumentTypeError(f"{name}={value!r} (type {type(value).__name__}): expected a real number")
     return float(value)
 
 

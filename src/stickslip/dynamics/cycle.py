@@ -22,8 +22,8 @@ import numpy as np
 import pint
 
 from .. import defaults
+from ..core import checks
 from ..core.api import run_attractors
-from ..core.checks import ATOL_MIN
 from ..core.results import AttractorRows, Regime, Status, reversal
 from ..errors import ArgumentTypeError
 from ..io.jsonable import json_clean
@@ -116,23 +116,18 @@ def pole_message(law: Any, w: float, velocity: Any = None) -> str | None:
 
 
 def validate_tolerances(rtol: float, atol: float) -> tuple[float, float]:
-    """Check integration tolerances; return them as floats.
+    """Check integration tolerances by the core's rule (:func:`~stickslip.core.checks.tolerances`).
 
     Raises
     ------
-    ArgumentTypeError
+    TypeError
         If a tolerance is not a number.
     ValueError
-        If ``rtol`` is not in ``[1e-14, 1e-3]`` or ``atol`` is not finite and at least ``ATOL_MIN`` (1e-30).
+        If ``rtol`` is not in ``[1e-14, 1e-3]`` or ``atol`` is not in ``[ATOL_MIN, 1]`` (1e-30: a
+        subnormal one ended in step-size-too-small, blaming the friction law).
 
     """
-    r = check_number(rtol, "rtol", what="a relative tolerance between 1e-14 and 1e-3")
-    if not 1e-14 <= r <= 1e-3:
-        raise ValueError(f"rtol={rtol!r}: expected a relative tolerance between 1e-14 and 1e-3")
-    a = check_number(atol, "atol", what="a positive absolute tolerance")
-    if not ATOL_MIN <= a <= 1.0:  # a subnormal one ended in step-size-too-small, blaming the friction law
-        raise ValueError(f"atol={atol!r}: expected an absolute tolerance between {ATOL_MIN:g} and 1")
-    return r, a
+    return checks.tolerances(rtol, atol)
 
 
 @dataclass(frozen=True)
