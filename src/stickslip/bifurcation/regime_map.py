@@ -30,10 +30,9 @@ import xarray as xr
 from ..core.checks import NU_MAX, NU_MIN
 from ..core.results import AttractorRows, Regime
 from ..errors import ArgumentTypeError
-from ..io.progress import show_progress
 from ..laws import DimensionlessLaw, require_dimensionless_law
 from ..laws.spec import check_distinct
-from ..scale.progress import ProgressLike
+from ..scale.progress import ProgressLike, show_progress
 from ..scale.store import Block, Layout, Variable
 from .regimes import MAX_GRID, RegimeDiagram, _grid, pure_slip_orbits_at, regimes
 

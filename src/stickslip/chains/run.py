@@ -27,7 +27,7 @@ from ..dynamics.cycle import validate_tolerances
 from ..errors import ArgumentTypeError
 from ..io.errors import DataError
 from ..io.output import check_target
-from ..io.progress import progress_bar
+from ..scale.progress import progress_bar
 from ..units import check_count, check_seed, parse_quantity
 from ..userwarnings import warn
 from .catalog import COLUMNS, KIND, RUPTURE_COLUMNS, CatalogWriter, open_catalog, read_state
