@@ -295,8 +295,8 @@ def polish_rows(
         # a stable orbit that Newton cannot pin down to 1e-10 because the flow itself is noisier
         # (a pchip table: 1e-10 to 1e-8 across its rows, times 1 / (1 - multiplier)) is still an
         # attractor: it is shot again at SHOOTING_TOLS_NOISY, and the first stable orbit found
-        # next to the motion's own (1e-3) is kept. One ulp of nu dropped it from `cycle`, and a
-        # band of a table's map read stick-slip alone (the sweep audit, helper-36)
+        # next to the motion's own (1e-3) is kept: otherwise one ulp of nu drops it from `cycle`,
+        # and a band of a table's map reads stick-slip alone
         # (a table's only: a smooth law's flow is good to its tolerance, and an orbit it cannot
         # pin down is ill-conditioned, next to a Hopf point, as not-converged says)
         for tol in SHOOTING_TOLS_NOISY if kernel.name.startswith("table") else ():

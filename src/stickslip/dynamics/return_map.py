@@ -171,8 +171,8 @@ def return_map_orbit_core(
         )
     # the derivative of the map by central differences at h and h/2, extrapolated (Richardson):
     # the map is strongly curved near sticking, and the difference at h = 1e-5 alone was off by
-    # 1e-7 to 3e-7 (the sweep audit, helper-36: 0.60144688 where the variational equations with
-    # saltation say 0.60144723); extrapolated, 7.5e-12 and 6.9e-9 from them at two orbits (a
+    # 1e-7 to 3e-7 (0.60144688 where the variational equations with saltation say
+    # 0.60144723); extrapolated, 7.5e-12 and 6.9e-9 from them at two orbits (a
     # third level, h/4, is no better: the map's integration noise then dominates)
     h = 1e-5 * scale
 

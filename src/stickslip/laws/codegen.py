@@ -14,6 +14,7 @@ import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
 from .compiler import _COMMON, _HEADER
+from .series import node_count
 
 __all__ = ["INLINE_CHARS", "law_module_source"]
 
@@ -111,7 +112,8 @@ def _lines(
 
 def _printed(expr: sp.Expr, symbols: Sequence[sp.Symbol], indent: str) -> tuple[list[str], str]:
     """Return the code of ``expr``: one expression, or lines of its parts where that is long."""
-    text = _code(expr, symbols) if expr.count_ops() < INLINE_CHARS // 10 else ""
+    # distinct parts counted once (count_ops walks the tree, exponential in a derivative's nesting)
+    text = _code(expr, symbols) if node_count(expr, INLINE_CHARS // 10) <= INLINE_CHARS // 10 else ""
     if text and len(text) <= INLINE_CHARS:
         return [], text
     lines, (value,) = _lines([expr], symbols, indent)

@@ -21,14 +21,14 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 import sympy as sp
 
-__all__ = ["Unsupported", "derivatives", "node_count", "taylor"]
+__all__ = ["Unsupported", "derivatives", "distinct_nodes", "node_count", "taylor"]
 
 FloatArray = npt.NDArray[np.float64]
 #: digits of a coefficient free of parameters (a double needs 17)
@@ -39,11 +39,12 @@ class Unsupported(Exception):
     """A node the series arithmetic has no rule for (the caller differentiates instead)."""
 
 
-def node_count(expr: sp.Basic, limit: int | None = None) -> int:
-    """Return the number of distinct nodes of ``expr`` (shared subtrees once), up to ``limit``.
+def distinct_nodes(expr: sp.Basic) -> Iterator[sp.Basic]:
+    """Yield each distinct node of ``expr`` once (shared subtrees once), without recursion.
 
-    The tree of a derivative shares its subtrees; counted as a tree it can be
-    exponentially larger than the code that evaluates it with common subexpressions.
+    The tree of a derivative or a Taylor coefficient shares its subtrees; walked as a
+    tree it can be exponentially larger than the code that evaluates it with common
+    subexpressions.
     """
     seen: set[int] = set()
     stack = [expr]
@@ -52,10 +53,18 @@ def node_count(expr: sp.Basic, limit: int | None = None) -> int:
         if id(node) in seen:
             continue
         seen.add(id(node))
-        if limit is not None and len(seen) > limit:
-            break
+        yield node
         stack.extend(node.args)
-    return len(seen)
+
+
+def node_count(expr: sp.Basic, limit: int | None = None) -> int:
+    """Return the number of distinct nodes of ``expr`` (:func:`distinct_nodes`), up to ``limit``."""
+    count = 0
+    for _ in distinct_nodes(expr):
+        count += 1
+        if limit is not None and count > limit:
+            break
+    return count
 
 
 def _sym(x: Any) -> sp.Expr:

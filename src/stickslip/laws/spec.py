@@ -684,20 +684,14 @@ def _finite(expr: sp.Expr) -> bool:
     import sympy as sp
 
     from .formula import _float
+    from .series import distinct_nodes
 
-    seen: set[int] = set()
-    stack = [expr]
-    while stack:
-        node = stack.pop()
-        if id(node) in seen:
-            continue
-        seen.add(id(node))
+    for node in distinct_nodes(expr):
         if node.is_Number:
             if not math.isfinite(_float(node)):
                 return False
         elif node in (sp.zoo, sp.nan) or isinstance(node, sp.Limit):
             return False
-        stack.extend(node.args)
     return True
 
 
