@@ -9,7 +9,8 @@ Layers, each importing only from those below it (checked by import-linter):
 * :mod:`stickslip.units`, :mod:`stickslip.io`: units, files;
 * :mod:`stickslip.laws`: friction laws, each declared once and registered;
 * :mod:`stickslip.models`: parameter sets with units;
-* :mod:`stickslip.bifurcation`, :mod:`stickslip.dynamics`: orbits and regimes, cycles and sweeps;
+* :mod:`stickslip.orbits`: steady sliding's stability, periodic orbits, attractors polished into them;
+* :mod:`stickslip.bifurcation`, :mod:`stickslip.dynamics`: branches and regimes, cycles and sweeps;
 * :mod:`stickslip.data`, :mod:`stickslip.ratestate`: measured records, rate and state;
 * :mod:`stickslip.plots`, :mod:`stickslip.paper`: figures, the paper's reproduction;
 * :mod:`stickslip.cli`: the command line.
@@ -31,9 +32,18 @@ from typing import TYPE_CHECKING, Any
 from .lazy import load_attribute
 
 if TYPE_CHECKING:  # the names for type checkers and for readers; loaded by __getattr__
+    from .bifurcation.regime_map import regime_map
+    from .bifurcation.regimes import confirm, regimes
+    from .chains import ChainParameters, chain, chain_ensemble
+    from .data.criterion import classify
+    from .data.fitting import fit_record
+    from .data.records import analyze_records
     from .dynamics.cycle import Attractor, CycleResult, cycle
+    from .dynamics.sweep import load_sweep, sweep
     from .dynamics.trajectory import Trajectory, simulate
     from .errors import ArgumentTypeError
+    from .io.netcdf import load_dataset, save_dataset
+    from .io.records import read_record, read_records
     from .laws import (
         CoulombLaw,
         CubicLaw,
@@ -49,6 +59,9 @@ if TYPE_CHECKING:  # the names for type checkers and for readers; loaded by __ge
         f2,
     )
     from .models import DimensionlessParameters, PhysicalParameters, Scales, zv_parameters
+    from .ratestate.fitting import fit_rate_state
+    from .ratestate.model import RateStateParameters
+    from .ratestate.protocols import linear_stability, simulate_rate_state, slide_hold_slide, velocity_steps
     from .units import Q_, ureg
 
 _HOME = {
@@ -73,10 +86,26 @@ _HOME = {
     ),
     **dict.fromkeys(("DimensionlessParameters", "PhysicalParameters", "Scales", "zv_parameters"), "models"),
     **dict.fromkeys(("Q_", "ureg"), "units"),
+    # the analyses, each from its family
+    **dict.fromkeys(("load_sweep", "sweep"), "dynamics.sweep"),
+    **dict.fromkeys(("confirm", "regimes"), "bifurcation.regimes"),
+    "regime_map": "bifurcation.regime_map",
+    **dict.fromkeys(("ChainParameters", "chain", "chain_ensemble"), "chains"),
+    "analyze_records": "data.records",
+    "classify": "data.criterion",
+    "fit_record": "data.fitting",
+    **dict.fromkeys(("read_record", "read_records"), "io.records"),
+    **dict.fromkeys(("load_dataset", "save_dataset"), "io.netcdf"),
+    "RateStateParameters": "ratestate.model",
+    "fit_rate_state": "ratestate.fitting",
+    **dict.fromkeys(
+        ("linear_stability", "simulate_rate_state", "slide_hold_slide", "velocity_steps"),
+        "ratestate.protocols",
+    ),
 }
 _SUBPACKAGES = frozenset(
     {"bifurcation", "chains", "cli", "core", "data", "defaults", "dynamics", "explore", "io", "laws"}
-    | {"errors", "models", "paper", "plots", "ratestate", "scale", "units"}
+    | {"errors", "models", "orbits", "paper", "plots", "ratestate", "scale", "units"}
 )
 
 
@@ -100,6 +129,7 @@ __all__ = [
     "Q_",
     "ArgumentTypeError",
     "Attractor",
+    "ChainParameters",
     "CoulombLaw",
     "CubicLaw",
     "CycleResult",
@@ -111,15 +141,35 @@ __all__ = [
     "PhysicalLaw",
     "PhysicalParameters",
     "PhysicalWeakeningLaw",
+    "RateStateParameters",
     "Scales",
     "TabulatedLaw",
     "Trajectory",
     "WeakeningLaw",
     "__version__",
+    "analyze_records",
+    "chain",
+    "chain_ensemble",
+    "classify",
+    "confirm",
     "cycle",
     "f1",
     "f2",
+    "fit_rate_state",
+    "fit_record",
+    "linear_stability",
+    "load_dataset",
+    "load_sweep",
+    "read_record",
+    "read_records",
+    "regime_map",
+    "regimes",
+    "save_dataset",
     "simulate",
+    "simulate_rate_state",
+    "slide_hold_slide",
+    "sweep",
     "ureg",
+    "velocity_steps",
     "zv_parameters",
 ]

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 import pint
 
-from .core.checks import bound_words
+from .core.checks import bound_words, refusal
 from .errors import ArgumentTypeError
 
 ureg: pint.UnitRegistry = pint.UnitRegistry()
@@ -280,10 +280,6 @@ def check_seed(seed: Any, name: str = "seed") -> int | None:
 
 
 def _check_finite_sign(name: str, shown: Any, x: float, allow_zero: bool, what: str) -> None:
-    if math.isnan(x):
-        raise ValueError(f"{name}={shown!r} is NaN: expected {what}")
-    if math.isinf(x):
-        raise ValueError(f"{name}={shown!r} is infinite: expected {what}")
-    if x < 0 or (x == 0 and not allow_zero):
-        bound = "non-negative" if allow_zero else "positive"
-        raise ValueError(f"{name}={shown!r} must be {bound}: expected {what}")
+    why = refusal(x, allow_zero=allow_zero)
+    if why is not None:
+        raise ValueError(f"{name}={shown!r} {why}: expected {what}")

@@ -27,9 +27,9 @@ from dataclasses import dataclass
 from ..errors import ArgumentTypeError
 from ..laws import CubicLaw
 from ..models.parameters import DimensionlessParameters
-from .orbits import pure_slip_orbit
-from .regimes import continue_pure_slip
-from .stability import hopf_points
+from ..orbits.periodic import pure_slip_orbit
+from ..orbits.stability import hopf_points
+from .continuation import continue_pure_slip
 
 __all__ = ["ThomsenFidlin", "averaging_table", "thomsen_fidlin"]
 

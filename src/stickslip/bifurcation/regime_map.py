@@ -27,14 +27,15 @@ import numpy as np
 import numpy.typing as npt
 import xarray as xr
 
-from ..core.checks import NU_MAX, NU_MIN
+from ..core.checks import NU_MAX, NU_MIN, nu_outside
 from ..core.results import AttractorRows, Regime
 from ..errors import ArgumentTypeError
 from ..laws import DimensionlessLaw, require_dimensionless_law
 from ..laws.spec import check_distinct
 from ..scale.progress import ProgressLike, show_progress
 from ..scale.store import Block, Layout, Variable
-from .regimes import MAX_GRID, RegimeDiagram, _grid, pure_slip_orbits_at, regimes
+from .branches import RegimeDiagram, pure_slip_orbits_at
+from .regimes import MAX_GRID, _grid, regimes
 
 __all__ = ["REGIME_CODES", "RegimeMapJob", "criterion_table", "criterion_trial", "regime_map"]
 
@@ -136,7 +137,7 @@ def regime_map(
             raise ArgumentTypeError(f"{name}={nu!r} (type {type(nu).__name__}): expected a driving velocity")
     if not (0 < nu_min < nu_max) or not math.isfinite(nu_max):
         raise ValueError(f"nu_min={nu_min!r}, nu_max={nu_max!r}: expected 0 < nu_min < nu_max")
-    if nu_min < NU_MIN or nu_max > NU_MAX:  # before any row runs (not row by row, in the store)
+    if nu_outside([nu_min, nu_max]).any():  # before any row runs (not row by row, in the store)
         raise ValueError(
             f"nu_min={nu_min!r}, nu_max={nu_max!r}: expected driving velocities from {NU_MIN:g} to {NU_MAX:g}"
         )

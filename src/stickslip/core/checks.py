@@ -23,9 +23,12 @@ __all__ = [
     "NU_MAX",
     "NU_MIN",
     "bound_words",
+    "driving_velocity",
     "finite_array",
     "integer",
+    "nu_outside",
     "positive",
+    "refusal",
     "state",
     "tolerances",
 ]
@@ -36,12 +39,13 @@ __all__ = [
 MAX_STATE = 1e13
 #: the smallest dimensionless driving velocity: below it the spring-force maximum (where the
 #: slip velocity passes nu) is no longer located in double precision (at nu = 1e-20 an
-#: amplitude came out 3e-4 off with status ok; subnormal values hung the compiled loop)
+#: amplitude comes out 3e-4 off with status ok; subnormal values stall the compiled loop)
 NU_MIN = 1e-15
 #: the largest dimensionless driving velocity a parameter set may have
 NU_MAX = 1e12
-#: the smallest absolute tolerance: a subnormal one (1e-320) ended in step-size-too-small, blaming
-#: the friction law, and below about 1e-30 a cycle's steps run out (the default is 1e-12)
+#: the smallest absolute tolerance: a subnormal one (1e-320) ends in step-size-too-small, which
+#: reads as the friction law's fault, and below about 1e-30 a cycle's steps run out (the
+#: default is 1e-12)
 ATOL_MIN = 1e-30
 
 
@@ -51,16 +55,50 @@ def _real(name: str, value: Any) -> float:
     return float(value)
 
 
+def refusal(x: float, *, allow_zero: bool = False) -> str | None:
+    """Say why ``x`` is not a finite positive (or, with ``allow_zero``, non-negative) number.
+
+    The words every validator puts after ``name=value``: ``"is NaN"``, ``"is infinite"``,
+    ``"must be positive"`` or ``"must be non-negative"``; ``None`` for a good value.
+    """
+    if math.isnan(x):
+        return "is NaN"
+    if math.isinf(x):
+        return "is infinite"
+    if x < 0.0 or (x == 0.0 and not allow_zero):
+        return "must be non-negative" if allow_zero else "must be positive"
+    return None
+
+
 def positive(name: str, value: Any, *, upper: float | None = None, what: str = "a positive number") -> float:
     """Return ``value`` as a float after checking that it is finite, positive and at most ``upper``."""
     x = _real(name, value)
-    if math.isnan(x):
-        raise ValueError(f"{name}={value!r} is NaN: expected {what}")
-    if not math.isfinite(x) or x <= 0.0:
-        raise ValueError(f"{name}={value!r}: expected {what}")
+    why = refusal(x)
+    if why is not None:
+        raise ValueError(f"{name}={value!r} {why}: expected {what}")
     if upper is not None and x > upper:
         raise ValueError(f"{name}={value!r}: expected {what}{bound_words(what, f' of at most {upper:g}')}")
     return x
+
+
+def driving_velocity(name: str, value: Any) -> float:
+    """Return a dimensionless driving velocity ``nu = beta v0``, checked: ``NU_MIN <= nu <= NU_MAX``."""
+    x = positive(name, value, what=f"a positive driving velocity (at most {NU_MAX:g})")
+    if x < NU_MIN:
+        raise ValueError(
+            f"{name}={value!r}: expected a driving velocity of at least {NU_MIN:g} (below it the "
+            "spring-force maximum, where the slip velocity passes nu, is not resolved in double "
+            "precision)"
+        )
+    if x > NU_MAX:
+        raise ValueError(f"{name}={value!r}: expected a driving velocity of at most {NU_MAX:g}")
+    return x
+
+
+def nu_outside(nu: npt.ArrayLike) -> npt.NDArray[np.bool_]:
+    """Return where driving velocities lie outside ``[NU_MIN, NU_MAX]`` (NaN included), elementwise."""
+    a = np.asarray(nu, dtype=np.float64)
+    return ~((a >= NU_MIN) & (a <= NU_MAX))
 
 
 def bound_words(what: str, words: str) -> str:

@@ -34,9 +34,10 @@ from ..models.parameters import (
     Scales,
     as_dimensionless,
 )
+from ..models.scales import UNITS
+from ..orbits.attractors import OrbitKey, orbit_key, polish_rows, same_orbit
 from ..units import Q_, check_number, parse_quantity
 from ..userwarnings import warn
-from .attractors import OrbitKey, orbit_key, polish_rows, same_orbit
 
 __all__ = ["Attractor", "CycleResult", "cycle", "validate_tolerances"]
 
@@ -55,14 +56,9 @@ _FIELD_KIND = {
     "friction_work": "energy",
     "transient_time": "time",
 }
-DIMENSIONLESS_UNITS = {
-    "force": "static friction force mu_s W",
-    "time": "sqrt(m/k)",
-    "length": "mu_s W / k",
-    "velocity": "mu_s W / sqrt(k m)",
-    "energy": "(mu_s W)**2 / k",
-}
-SI_UNITS = {"force": "N", "time": "s", "length": "m", "velocity": "m/s", "energy": "J"}
+#: the units of a result of each kind, dimensionless (in words) and SI
+DIMENSIONLESS_UNITS = {kind: label.scale for kind, label in UNITS.items()}
+SI_UNITS = {kind: label.si for kind, label in UNITS.items()}
 
 
 #: where a run stopped (the step fell below the resolution of the time, or ran out), the law has a
@@ -307,11 +303,11 @@ def cycle(
     """
     dp, scales = as_dimensionless(params)
     rtol, atol = validate_tolerances(rtol, atol)
-    if not isinstance(probe, bool | np.bool_):  # 'no' is a true string: the probe ran (the API audit)
+    if not isinstance(probe, bool | np.bool_):  # 'no' is a true string: refused, not taken as True
         raise TypeError(f"probe={probe!r}: expected True or False")
-    if scales is not None and isinstance(max_slip_time, str | pint.Quantity):  # '10 s' was refused
+    if scales is not None and isinstance(max_slip_time, str | pint.Quantity):  # '10 s' taken as a time
         bound = parse_quantity(max_slip_time, "max_slip_time", "[time]", "10 s")
-        max_slip_time = float((bound / scales.time).to("").magnitude)
+        max_slip_time = scales.from_si("time", bound)
     max_slip_time = check_number(max_slip_time, "max_slip_time")
     conv_tol = check_number(conv_tol, "conv_tol", upper=0.1, what="a relative tolerance below 0.1")
     law = dp.law
@@ -414,14 +410,7 @@ def cycle(
 def _converter(scales: Scales | None) -> Any:
     if scales is None:
         return lambda kind, x: float(x)
-    factor = {
-        "force": scales.force.to("N").magnitude,
-        "time": scales.time.to("s").magnitude,
-        "length": scales.length.to("m").magnitude,
-        "velocity": scales.velocity.to("m/s").magnitude,
-        "energy": scales.energy.to("J").magnitude,
-    }
-    return lambda kind, x: float(x) * float(factor[kind])
+    return lambda kind, x: float(scales.to_si(kind, x))
 
 
 def _attractor(o: AttractorRows, start: str, conv: Any, multiplier: float) -> Attractor:

@@ -32,27 +32,22 @@ import xarray as xr
 
 from .. import defaults
 from ..core.api import Kernel, run_attractors
-from ..core.checks import NU_MAX, NU_MIN
+from ..core.checks import NU_MAX, NU_MIN, nu_outside
 from ..core.cuda import release_buffers, release_idle_buffers, resolve_backend
 from ..core.laws import N_LAW_PARAMS
 from ..core.memory import check_memory
 from ..core.results import AttractorRows, Regime, Status, reversal
 from ..errors import ArgumentTypeError
-from ..io.output import OutputFolder, emit, netcdf_writer, package_version
-from ..io.tables import frame_with_units
-from ..laws import PhysicalLaw
+from ..io.netcdf import flag_attrs, labels, load_dataset, save_dataset
+from ..io.output import package_version
 from ..laws.spec import STATIC, Parameter, check_distinct
-from ..models.parameters import (
-    DimensionlessParameters,
-    PhysicalParameters,
-    dimensionless_from_si,
-    mass_for_beta,
-)
+from ..models.parameters import DimensionlessParameters, PhysicalParameters
+from ..models.scales import unit_attrs
+from ..orbits.attractors import POLISH_FIELDS, polish_rows
 from ..scale.progress import Progress, ProgressLike
 from ..scale.store import Block, Layout, Variable
 from ..units import parse_quantity
-from .attractors import POLISH_FIELDS, polish_rows
-from .cycle import DIMENSIONLESS_UNITS, validate_tolerances
+from .cycle import validate_tolerances
 
 __all__ = [
     "SETUP",
@@ -265,7 +260,7 @@ def sweep(
     backend = resolve_backend(backend)  # an unknown backend, or no GPU for "cuda": said before any work
     if not isinstance(base, DimensionlessParameters | PhysicalParameters):
         raise ArgumentTypeError(f"base={base!r}: expected DimensionlessParameters or PhysicalParameters")
-    if not isinstance(grid, Mapping):  # a list of pairs ended in 'unhashable type: list' (the API audit)
+    if not isinstance(grid, Mapping):  # a list of pairs is named here, not left to 'unhashable type'
         raise TypeError(f"grid={grid!r}: expected a mapping of names to values, e.g. {{'nu': [0.01, 0.1]}}")
     if not grid:
         raise ValueError("grid is empty: give at least one parameter to sweep")
@@ -398,8 +393,8 @@ class SweepPlan:
         n = int(np.prod([len(v) for v in axes.values()], dtype=np.int64))
         base = self.base
         if isinstance(base, PhysicalParameters):
-            nu, law_nd, scales = _physical_to_dimensionless(base, flat, n)
-            bad = ~((nu >= NU_MIN) & (nu <= NU_MAX))  # NaN too
+            nu, law_nd, scales = base.dimensionless_at(flat, n)
+            bad = nu_outside(nu)
             if bad.any():  # 'nu[0]=5.3e+149', a number never typed: name the point's settings
                 i = int(np.argmax(bad))
                 point = ", ".join(f"{k}={float(flat[k][i]):.4g} {_unit_of(base, k)}".rstrip() for k in flat)
@@ -408,7 +403,7 @@ class SweepPlan:
                     f"{NU_MIN:g} to {NU_MAX:g}; check the swept values' units and magnitudes"
                 )
         else:
-            nu, law_nd = _dimensionless_arrays(base, flat, n)
+            nu, law_nd = base.law_arrays_at(flat, n)
             scales = None
         spec = base.law.spec
         spec.validate(law_nd)
@@ -440,25 +435,16 @@ class SweepPlan:
         for key, (_, kind, desc) in _VALUES.items():
             out.append(Variable(key, dims, "float64", {**self._unit_attrs(kind), "long_name": desc}))
         out.append(Variable("multiplier", dims, "float64", _MULTIPLIER_ATTRS))
-        out.append(Variable("regime", dims, "int8", {**_REGIME_ATTRS, **_flags(Regime)}))
-        out.append(Variable("status", dims, "int8", {**_STATUS_ATTRS, **_flags(Status)}))
+        out.append(Variable("regime", dims, "int8", {**_REGIME_ATTRS, **flag_attrs(Regime)}))
+        out.append(Variable("status", dims, "int8", {**_STATUS_ATTRS, **flag_attrs(Status)}))
         out.append(Variable("steady_sliding_stable", dims, "bool", _STABLE_ATTRS))
         for key, attrs in self._extra_attrs().items():
             out.append(Variable(key, dims, "float64", attrs))
         return out
 
     def _unit_attrs(self, kind: str) -> dict[str, str]:
-        """Return a value's ``units`` (UDUNITS, as CF asks: "1" for a dimensionless one) and ``scale``.
-
-        A dimensionless sweep's amplitude is in units of the static friction force ``mu_s W``:
-        its ``units`` is "1" and ``scale`` says of what (it was the ``units``, which no CF
-        reader parses: the sweep audit).
-        """
-        if kind == "1":
-            return {"units": "1"}
-        if isinstance(self.base, PhysicalParameters):
-            return {"units": _SI[kind]}
-        return {"units": "1", "scale": DIMENSIONLESS_UNITS[kind]}
+        """Return a value's CF ``units`` (and ``scale``, for a dimensionless sweep)."""
+        return unit_attrs(kind, isinstance(self.base, PhysicalParameters))
 
     def _extra_attrs(self) -> dict[str, dict[str, str]]:
         """``nu`` and the law's dimensionless parameters, unless swept."""
@@ -490,8 +476,8 @@ class SweepPlan:
             # the GPU's cycles agree with the CPU's to 1e-9, not bit for bit: a store is one or the other
             identity["backend"] = self.backend
         if (self.rtol, self.atol) != (defaults.RTOL, defaults.ATOL):
-            # slip-reversal orbits were re-measured at the default tolerances before 2026-11-24:
-            # a store of such a sweep begun then is another job (its rows would mix the two)
+            # slip-reversal orbits are polished at the sweep's own tolerances: a store begun by a
+            # version that polished them at the defaults is another job (its rows would mix the two)
             identity["polish"] = "at the sweep's tolerances"
         grid = ", ".join(
             f"{k} ({len(v)} values {v[0]:.4g}..{v[-1]:.4g}{' ' + u if u else ''})"
@@ -540,43 +526,10 @@ class _SweepTask:
         return self.plan.compute(self.axes)
 
 
-def _physical_to_dimensionless(
-    base: PhysicalParameters, flat: dict[str, FloatArray], n: int
-) -> tuple[FloatArray, dict[str, FloatArray], dict[str, FloatArray]]:
-    def arr(name: str, default: float) -> FloatArray:
-        return flat[name] if name in flat else np.full(n, default)
-
-    law: PhysicalLaw = base.law
-    spec = law.spec
-    law_si = {key: arr(key, v) for key, v in law.si_parameters().items()}
-    mu = spec.static_from(law_si) if spec.static_from is not None else arr("mu_s", law.mu_s)
-    k = arr("stiffness", base.stiffness.to("N/m").magnitude)
-    w = arr("load", base.load.to("N").magnitude)
-    if "beta" in flat:
-        if "mass" in flat:
-            raise ValueError("sweep either 'beta' or 'mass', not both: beta sets the mass")
-        m = mass_for_beta(flat["beta"], k, w, mu)
-    else:
-        m = arr("mass", base.mass.to("kg").magnitude)
-    PhysicalLaw._validate(spec, mu, law_si)
-    nu, nd, scales = dimensionless_from_si(
-        spec, stiffness=k, mass=m, load=w, v0=arr("v0", base.v0.to("m/s").magnitude), mu_s=mu, law_si=law_si
-    )
-    return nu, nd, scales
-
-
 def _unit_of(base: PhysicalParameters, name: str) -> str:
     """Return the SI unit of a swept parameter of a physical set-up ('' where dimensionless)."""
     allowed = axes(base)
     return allowed[name].parameter.unit if name in allowed else ""
-
-
-def _dimensionless_arrays(
-    base: DimensionlessParameters, flat: dict[str, FloatArray], n: int
-) -> tuple[FloatArray, dict[str, FloatArray]]:
-    nu = flat["nu"] if "nu" in flat else np.full(n, base.nu)
-    nd = {k: flat[k] if k in flat else np.full(n, v) for k, v in base.law.params.items()}
-    return nu, nd
 
 
 def _run_chunks(
@@ -647,7 +600,6 @@ _VALUES = {
         "changes sign without sticking)",
     ),
 }
-_SI = {"force": "N", "time": "s", "length": "m", "velocity": "m/s", "1": "1"}
 _MULTIPLIER_ATTRS = {
     "units": "1",
     "long_name": "nontrivial Floquet multiplier of the attractor (0 stick-slip, NaN steady sliding)",
@@ -659,10 +611,6 @@ _REGIME_ATTRS = {
 }
 _STATUS_ATTRS = {"long_name": "ok, or why the point failed"}
 _STABLE_ATTRS = {"long_name": "steady sliding linearly stable, f'(nu) > 0"}
-
-
-def _flags(enum: Any) -> dict[str, Any]:
-    return {"flag_values": [m.code for m in enum], "flag_meanings": " ".join(m.value for m in enum)}
 
 
 def _variables(
@@ -709,24 +657,6 @@ def _variables(
     return data
 
 
-def _labels(codes: npt.NDArray[Any], enum: Any) -> npt.NDArray[np.str_]:
-    """Integer codes to their labels (plain str arrays: numpy picks the width, NetCDF round-trips)."""
-    codes = np.asarray(codes)
-    names = {m.code: str(m) for m in enum}
-    lo = min(names)
-    flat = codes.ravel().astype(np.int64) - lo
-    counts = np.bincount(flat, minlength=max(names) - lo + 1) if flat.size and flat.min() >= 0 else None
-    present = [] if counts is None else [int(c) + lo for c in np.flatnonzero(counts)]
-    if flat.size and (counts is None or any(c not in names for c in present)):
-        unknown = sorted({int(c) for c in codes.ravel()} - set(names))
-        raise ValueError(f"{enum.__name__}: no member with code {unknown[0]}")
-    # one lookup for all points, as wide as the labels present (numpy's choice for the same
-    # list; the Python loop over the points that it replaces took 0.5 s a million points)
-    width = max((len(names[c]) for c in present), default=1)
-    table = np.array([names.get(c, "") for c in range(lo, max(names) + 1)], dtype=f"<U{width}")
-    return table[flat].reshape(codes.shape)
-
-
 def _assemble(plan: SweepPlan, arrays: Mapping[str, Any]) -> xr.Dataset:
     dims = plan.coords_names
     data: dict[str, Any] = {}
@@ -734,9 +664,9 @@ def _assemble(plan: SweepPlan, arrays: Mapping[str, Any]) -> xr.Dataset:
         a = arrays[v.name]
         attrs = {k: x for k, x in v.attrs.items() if k not in ("flag_values", "flag_meanings")}
         if v.name == "regime":
-            a = _labels(a, Regime)
+            a = labels(a, Regime)
         elif v.name == "status":
-            a = _labels(a, Status)
+            a = labels(a, Status)
         data[v.name] = (dims, np.asarray(a), attrs)
     coord_vars = {
         name: (name, vals, {"units": unit or "1", "long_name": desc})
@@ -745,34 +675,8 @@ def _assemble(plan: SweepPlan, arrays: Mapping[str, Any]) -> xr.Dataset:
     return xr.Dataset(data, coords=coord_vars, attrs=plan.attrs())
 
 
-def save_sweep(
-    ds: xr.Dataset,
-    path: str | os.PathLike[str],
-    *,
-    kind: str = "sweep",
-    out: OutputFolder | None = None,
-    overwrite: bool = False,
-) -> str:
-    """Write a dataset to NetCDF (netCDF4 format), or a ``.csv`` path as a table; return the path.
-
-    The file is marked as stickslip's output of ``kind`` (attribute ``stickslip_output``);
-    an existing file that is not stickslip's output of that kind is kept unless
-    ``overwrite``. ``out`` stages it with the other files of a run (``path`` a name in it).
-    A ``.csv`` path gets one row per point, its coordinates first, units in the column
-    names (``amplitude [N]``), regimes and statuses by name (a NetCDF file named ``.csv``
-    was written before: the sweep audit).
-    """
-    p = os.fspath(path)
-    if p.lower().endswith(".csv"):
-        table = frame_with_units(ds)
-
-        def write(target: str) -> None:
-            with open(target, "w", encoding="utf-8") as fh:
-                fh.write(f"# stickslip {kind} table\n")  # pandas: read_csv(path, comment="#")
-                table.to_csv(fh, index=False)
-
-        return emit(p, kind, write, out=out, overwrite=overwrite)
-    return emit(p, kind, netcdf_writer(ds, kind), out=out, overwrite=overwrite)
+#: write a sweep's dataset: NetCDF, or a table for a ``.csv`` path (:func:`stickslip.io.netcdf.save_dataset`)
+save_sweep = save_dataset
 
 
 def load_sweep(path: str | os.PathLike[str], *, partial: bool = False) -> xr.Dataset:
@@ -803,19 +707,11 @@ def load_sweep(path: str | os.PathLike[str], *, partial: bool = False) -> xr.Dat
     """
     if not isinstance(path, str | os.PathLike):  # os.path.exists(3) asks about file descriptor 3
         raise ArgumentTypeError(f"path={path!r} (type {type(path).__name__}): expected a file's path")
-    if not os.path.exists(path):
-        raise ValueError(f"path={os.fspath(path)!r}: no such file")
     from ..scale import is_store
 
-    if is_store(path):
+    if os.path.exists(path) and is_store(path):
         return _load_store(path, partial)
-    try:
-        ds = xr.load_dataset(path, engine="netcdf4")
-    except Exception as exc:  # netCDF4 raises OSError/RuntimeError/ValueError variously
-        raise ValueError(f"path={os.fspath(path)!r} is not a readable NetCDF file ({exc})") from None
-    for key in ("stickslip_output", "stickslip_generator"):  # the file's marks, not the data's
-        ds.attrs.pop(key, None)
-    return ds
+    return load_dataset(path)
 
 
 #: the label of a point a partly finished store does not hold yet (``load_sweep(partial=True)``)
@@ -843,8 +739,8 @@ def _load_store(path: str | os.PathLike[str], partial: bool = False) -> xr.Datas
         raise StoreError(f"path={p!r}: its coordinates {', '.join(lost)} are damaged: {again}")
     codes = {name: ds[name].values for name in ("regime", "status")}
     fill = zarr.open_array(store=p, path="regime", mode="r").fill_value
-    if int(fill) in {m.code for m in Regime}:  # a store from before 2026-11-24 (fill -1): its markers
-        done = computed_points(p)
+    if int(fill) in {m.code for m in Regime}:  # a fill that is a regime's code (-1, unknown) hides
+        done = computed_points(p)  # which points are there: the blocks' markers say it
     else:  # the fill is no regime's code: the data say which points are there
         done = codes["regime"] != fill
     n_done, n = int(done.sum()), done.size
@@ -859,10 +755,10 @@ def _load_store(path: str | os.PathLike[str], partial: bool = False) -> xr.Datas
         if not np.isin(codes[name][done], valid).all():
             raise StoreError(f"path={p!r}: {name} holds values that are no code (a damaged store): {again}")
         attrs = {k: x for k, x in ds[name].attrs.items() if k not in ("flag_values", "flag_meanings")}
-        labels = _labels(np.where(done, codes[name], valid[0]), enum)
+        words = labels(np.where(done, codes[name], valid[0]), enum)
         if n_done < n:
-            labels = np.where(done, labels, NOT_COMPUTED)
-        ds[name] = (ds[name].dims, labels, attrs)
+            words = np.where(done, words, NOT_COMPUTED)
+        ds[name] = (ds[name].dims, words, attrs)
     if partial:
         dims = ds["regime"].dims
         for name, var in ds.data_vars.items():

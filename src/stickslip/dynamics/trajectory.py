@@ -20,6 +20,7 @@ from ..core.results import EventKind, Regime, Status
 from ..errors import ArgumentTypeError
 from ..laws import law_arrays
 from ..models.parameters import DimensionlessParameters, PhysicalParameters, as_dimensionless
+from ..models.scales import unit_attrs, unit_label
 from ..units import check_number, parse_quantity
 from .cycle import DIMENSIONLESS_UNITS, SI_UNITS, cycle, pole_message, validate_tolerances
 
@@ -81,8 +82,8 @@ class Trajectory:
         """Whether the trajectory is in SI units."""
         return self.units.get("force") == "N"
 
-    def __repr__(self) -> str:  # the arrays' dump said nothing at a glance (the API audit)
-        unit = "s" if self.physical else "sqrt(m/k)"
+    def __repr__(self) -> str:  # a summary at a glance, not the arrays' dump
+        unit = unit_label("time", self.physical)
         span = f"t = {self.time[0]:.6g}..{self.time[-1]:.6g} {unit}" if self.time.size else "no samples"
         return (
             f"Trajectory({self.time.size} samples, {span}, {len(self.event_time)} events, "
@@ -97,19 +98,8 @@ class Trajectory:
         """
         import xarray as xr
 
-        if self.physical:
-            units = {"time": ("s", ""), "length": ("m", ""), "velocity": ("m/s", ""), "force": ("N", "")}
-        else:
-            units = {
-                "time": ("1", "sqrt(m/k)"),
-                "length": ("1", "mu_s W/k"),
-                "velocity": ("1", "mu_s W/sqrt(k m)"),
-                "force": ("1", "static friction force mu_s W"),
-            }
-
         def attrs(kind: str, name: str) -> dict[str, str]:
-            unit, scale = units[kind]
-            return {"units": unit, "long_name": name, **({"scale": scale} if scale else {})}
+            return {**unit_attrs(kind, self.physical), "long_name": name}
 
         return xr.Dataset(
             {
@@ -137,10 +127,7 @@ class Trajectory:
 
     def columns(self) -> dict[str, Any]:
         """Return the columns with their units in brackets, as written to CSV."""
-        if self.physical:
-            t, x, v, f = "s", "m", "m/s", "N"
-        else:
-            t, x, v, f = "sqrt(m/k)", "mu_s W/k", "mu_s W/sqrt(k m)", "mu_s W"
+        t, x, v, f = (unit_label(kind, self.physical) for kind in ("time", "length", "velocity", "force"))
         return {
             f"time [{t}]": self.time,
             f"position [{x}]": self.position,
@@ -161,7 +148,7 @@ class Trajectory:
 
 
 def _failure_hint(status: Status, t_end: float, duration: Any, cycles: float | None) -> str:
-    """Say why a run failed and what to change; the limits are the engine's (the simulate audit)."""
+    """Say why a run failed and what to change; the limits named are the engine's own."""
     asked = f"duration={duration!r}" if duration is not None else f"cycles={cycles!r}"
     if status == Status.TOO_MANY_PHASES:
         return (
@@ -181,7 +168,7 @@ def _failure_hint(status: Status, t_end: float, duration: Any, cycles: float | N
 def _initial_state(initial: Any, scales: Any) -> Any:
     """Return ``initial`` in the model's units: a physical set-up's quantities are converted.
 
-    ``('50 mN', '0 m/s')`` was 'expected a pair', though it is one (the API audit).
+    A pair of quantities (``('50 mN', '0 m/s')``) is a pair like two numbers are.
     """
     if scales is None or not isinstance(initial, tuple | list) or len(initial) != 2:
         return initial
@@ -190,7 +177,7 @@ def _initial_state(initial: Any, scales: Any) -> Any:
     signed = {"allow_zero": True, "allow_negative": True}
     force = parse_quantity(initial[0], "initial[0] (spring force)", "[force]", "50 mN", **signed)
     speed = parse_quantity(initial[1], "initial[1] (velocity)", "[length] / [time]", "0 m/s", **signed)
-    return (float((force / scales.force).to("").magnitude), float((speed / scales.velocity).to("").magnitude))
+    return (scales.from_si("force", force), scales.from_si("velocity", speed))
 
 
 def simulate(
@@ -273,20 +260,20 @@ def simulate(
         res = cycle(dp, rtol=max(rtol, 1e-9), atol=atol, probe=False)
         period = res.period if math.isfinite(res.period) else 2.0 * math.pi
         # at rest between the thresholds the block sticks until s = 1; from any other start it
-        # slips at once, and after its first stop breaks away within 2 / nu (the simulate audit:
-        # s0 = -1e6 was given 1e6 / nu of stick, and ran out of phases)
+        # slips at once, and after its first stop breaks away within 2 / nu (s0 = -1e6 does not
+        # stick for 1e6 / nu: such a bound would run out of phases)
         stuck = w0 == 0.0 and -1.0 <= s0 < 1.0
         t_end = ((1.0 - s0) if stuck else 2.0) / dp.nu + cycles * period
         if res.regime != Regime.STICK_SLIP:
             t_end = min(res.transient_time, defaults.MAX_SLIP_TIME) + cycles * period
     elif scales is not None:
         dq = parse_quantity(duration, "duration", "[time]", "10 s")
-        t_end = float((dq / scales.time).to("").magnitude)
+        t_end = scales.from_si("time", dq)
         end_s = float(dq.to("s").magnitude)  # the last sample's time as asked
     else:
         t_end = check_number(duration, "duration", what="a positive dimensionless duration")
 
-    if t_end > MAX_TIME:  # the engine's own bound named t_eval (the simulate audit)
+    if t_end > MAX_TIME:  # the engine's own bound, named as the user's duration or cycles
         asked = f"duration={duration!r}" if duration is not None else f"cycles={cycles!r}"
         raise ValueError(
             f"{asked}: {t_end:.3g} in units of sqrt(m/k), expected at most {MAX_TIME:g} "
@@ -309,7 +296,7 @@ def simulate(
                 kernel, lp, [dp.nu], [s0], [w0], from_breakaway=False, rtol=rtol, atol=atol,
                 max_slip_time=t_end, conv_tol=defaults.CONV_TOL,
             )  # fmt: skip
-            speed = None if scales is None else (lambda w: w * float(scales.velocity.to("m/s").magnitude))
+            speed = None if scales is None else (lambda w: scales.to_si("velocity", w))
             stop = Status.from_code(row.status[0])
             pole = pole_message(dp.law, float(row.w[0]), speed) if stop in stopped else None
             if pole is not None:
@@ -323,13 +310,11 @@ def simulate(
         return Trajectory(
             t, u - u[0], w, s, mode, ev[:, 0].copy(), kinds, ev[:, 2].copy(), dict(DIMENSIONLESS_UNITS)
         )
-    ft = scales.time.to("s").magnitude
-    fx = scales.length.to("m").magnitude
-    fv = scales.velocity.to("m/s").magnitude
-    ff = scales.force.to("N").magnitude
-    times = t * ft
-    if duration is not None:  # the end as asked: 1 min ended at 60.00000000000001 s (the simulate audit)
+    si = scales.to_si
+    times = si("time", t)
+    if duration is not None:  # the end as asked (1 min ends at 60 s, not 60.00000000000001 s)
         times[-1] = end_s
     return Trajectory(
-        times, (u - u[0]) * fx, w * fv, s * ff, mode, ev[:, 0] * ft, kinds, ev[:, 2] * ff, dict(SI_UNITS)
-    )
+        times, si("length", u - u[0]), si("velocity", w), si("force", s), mode, si("time", ev[:, 0]), kinds,
+        si("force", ev[:, 2]), dict(SI_UNITS),
+    )  # fmt: skip

@@ -254,8 +254,8 @@ class Explorer:
 
         sliders: list[Any] = []
         # one slider per parameter name for the page's life: a new one for a name seen before
-        # (weakening, cubic, weakening again) left two models of that name in BokehJS, and
-        # get_model_by_name found the stale one (the explorer audit)
+        # (weakening, cubic, weakening again) would leave two models of that name in BokehJS,
+        # and get_model_by_name would find the stale one
         pool: dict[str, Any] = self.__dict__.setdefault("_slider_pool", {})
         for name, value in self.setup.params.items():
             settings = _slider_settings(self.setup.law, name, float(value))
@@ -339,10 +339,10 @@ class Explorer:
     def _rebuild(self) -> None:
         """Make the sliders of ``self.setup``'s law and show it; where it fails, keep the shown one whole.
 
-        A formula's parameter that is not a number (``c=nan``) failed in its slider's range and
-        left the page on "Compiling" for good; one the formula does not have (``z=1``) failed
-        after its slider was made, and the sliders no longer matched the plots (the explorer
-        audit, helper-39).
+        So a formula's parameter that is not a number (``c=nan``) is refused before its
+        slider's range is made (the page would stay on "Compiling"), and one the formula does
+        not have (``z=1``) before its slider is made (the sliders would no longer match the
+        plots).
         """
         shown = self.view.setup if getattr(self, "view", None) is not None else None
         self._building = True
@@ -565,8 +565,8 @@ class Explorer:
         self.status.text = html
 
     def _error(self, message: str) -> None:
-        # escaped: a message that quotes a quantity (<Quantity(3.3e+152, 's / m')>) lost it as a
-        # tag, and read "a= , b= :" (the explorer audit)
+        # escaped: a message that quotes a quantity (<Quantity(3.3e+152, 's / m')>) would lose it
+        # as a tag, and read "a= , b= :"
         self.status.text = f"<span style='color:#b00020'><b>error</b>: {html.escape(message)}</span>"
 
 

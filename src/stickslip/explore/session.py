@@ -31,7 +31,7 @@ from ..dynamics import cycle, simulate
 from ..dynamics.sweep import sweep
 from ..laws import ExpressionLaw, registry
 from ..laws.base import DimensionlessLaw
-from ..models import DimensionlessParameters, PhysicalParameters, zv_parameters
+from ..models import DimensionlessParameters, PhysicalParameters, unit_label, zv_parameters
 from ..models.parameters import beta_of
 from ..units import Q_, check_number
 from ..userwarnings import warn
@@ -167,8 +167,8 @@ class Setup:
         In physical units a new mass (stiffness, load, ``mu_s``) changes the set-up, not
         the driving velocity ``v0`` in m/s or the law's physical parameters (``a``, ``b``
         in s/m; ``mu_k``; ...): those are held, and ``nu = beta v0`` and the law's
-        dimensionless parameters follow. (They were held instead, so that a new mass
-        changed ``v0`` and the law: the explorer audit.) Where the law cannot be held
+        dimensionless parameters follow, so that a new mass changes neither ``v0`` nor
+        the law. Where the law cannot be held
         (``mu_k`` above a new ``mu_s``), its dimensionless parameters are kept and a
         warning says so. A formula (dimensionless) and the dimensionless view keep their
         values.
@@ -315,7 +315,7 @@ def slider_range(law: str, name: str, value: float) -> tuple[float, float, float
 
     A registered law's bounds come from its spec (an excluded bound is kept one
     step away, or closer where ``value`` lies closer: the slider holds the value
-    given, which it used to move); an unbounded end is four times the value (at
+    given, unmoved); an unbounded end is four times the value (at
     least 1).
     """
     if not math.isfinite(value):  # before the formula's branch too (a nan slider)
@@ -333,9 +333,8 @@ def slider_range(law: str, name: str, value: float) -> tuple[float, float, float
 
 
 def _units(setup: Setup) -> dict[str, str]:
-    if setup.physical and setup.law != EXPR:
-        return {"force": "N", "time": "s", "velocity": "m/s"}
-    return {"force": "mu_s W", "time": "sqrt(m/k)", "velocity": "mu_s W/sqrt(k m)"}
+    physical = setup.physical and setup.law != EXPR  # a formula f(w) is dimensionless
+    return {kind: unit_label(kind, physical) for kind in ("force", "time", "velocity")}
 
 
 def _scale(setup: Setup) -> tuple[float, float, float]:

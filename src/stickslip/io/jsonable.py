@@ -27,8 +27,8 @@ def json_clean(x: Any) -> Any:
 def dumps(obj: Any, **kwargs: Any) -> str:
     """Return ``obj`` as JSON text, NaN and infinities as ``null`` (never the invalid ``NaN``).
 
-    ``json.dumps`` writes ``NaN``, which JSON parsers other than Python's refuse
-    (the rate-and-state audit: ``cycles.json``); every JSON stickslip writes or
+    ``json.dumps`` writes ``NaN``, which JSON parsers other than Python's refuse;
+    every JSON stickslip writes or
     prints goes through here. Keyword arguments are ``json.dumps``'s.
     """
     return json.dumps(json_clean(obj), allow_nan=False, **kwargs)

@@ -47,7 +47,6 @@ __all__ = [
     "emit",
     "generator",
     "json_writer",
-    "netcdf_writer",
     "own_kind",
     "package_version",
     "temporary_file",
@@ -442,8 +441,8 @@ class OutputFolder:
 def _provenance() -> dict[str, Any]:
     """Return what made a run: the command and its options (from the command line), the source.
 
-    The manifest said only 'stickslip 0.1.0', which many commits share, and not which options
-    (--quick) made the folder (the reproduction audit).
+    A version alone ('stickslip 0.1.0') is shared by many commits and says nothing of the
+    options (--quick) that made the folder: the manifest records both.
     """
     out: dict[str, Any] = {}
     ctx = _click_context()
@@ -580,67 +579,6 @@ def emit(
     return atomic_write(name, write, kind=kind, overwrite=overwrite)
 
 
-def netcdf_writer(ds: Any, kind: str) -> Callable[[str], None]:
-    """Return a writer of ``ds`` as NetCDF (netCDF4), marked as stickslip's output of ``kind``."""
-
-    def write(path: str) -> None:
-        marked = ds.copy(deep=False)
-        marked.attrs = {**ds.attrs, "stickslip_output": kind, "stickslip_generator": generator(kind)}
-        try:
-            marked.to_netcdf(path, engine="netcdf4")
-        except (RuntimeError, OSError) as exc:
-            said = _netcdf_library_error(exc)
-            if said is None:
-                raise
-            raise _netcdf_cause(said, path) from None
-
-    return write
-
-
-def _netcdf_library_error(exc: BaseException) -> str | None:
-    """Return the netCDF library's own text of ``exc`` (``NetCDF: HDF error``), or None for another error.
-
-    netCDF4 raises its library's failures as RuntimeError (``NetCDF: ...``) or, on
-    creating a file, as OSError with the library's negative error code; neither says
-    which system call failed (a full disk reads ``NetCDF: HDF error``).
-    """
-    if isinstance(exc, OSError) and isinstance(exc.errno, int) and exc.errno < 0:
-        return str(exc.strerror or exc)
-    text = str(exc)
-    if isinstance(exc, RuntimeError) and text.startswith(("NetCDF:", "HDF")):
-        return text
-    return None
-
-
-#: bytes written to the folder to find why the netCDF library could not write: more than the
-#: few kilobytes a failed HDF5 write can leave free, little enough to be instant
-_PROBE_BYTES = 1 << 16
-
-
-def _netcdf_cause(said: str, path: str) -> OSError:
-    """Return an OSError naming ``path`` and the cause of the netCDF library's failure ``said``.
-
-    The cause is found by writing :data:`_PROBE_BYTES` (then removed) beside the partial file,
-    which still holds its space: a full disk, a quota, a read-only or refused folder gives
-    the system's error; a probe that succeeds leaves the library's text alone.
-    """
-    folder = os.path.dirname(path) or "."
-    probe = None
-    try:
-        fd, probe = temporary_file(folder, ".stickslip-space-")
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(bytes(_PROBE_BYTES))
-            fh.flush()
-            os.fsync(fh.fileno())
-    except OSError as err:
-        why = err.strerror or str(err)
-        return OSError(err.errno, f"{why}; the NetCDF library said '{said}'", path)
-    finally:
-        if probe is not None:
-            _remove(probe)
-    return OSError(errno.EIO, f"the NetCDF library failed: '{said}'", path)
-
-
 def json_writer(obj: Mapping[str, Any], kind: str) -> Callable[[str], None]:
     """Return a writer of ``obj`` as indented JSON with a ``generator`` entry first."""
     text = dumps_json({"generator": generator(kind), **obj}, indent=2)
@@ -660,3 +598,12 @@ def text_writer(text: str) -> Callable[[str], None]:
             fh.write(text)
 
     return write
+
+
+def __getattr__(name: str) -> Any:
+    """``netcdf_writer``, now in :mod:`stickslip.io.netcdf`, by its former path."""
+    if name == "netcdf_writer":
+        from .netcdf import netcdf_writer
+
+        return netcdf_writer
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -683,8 +683,8 @@ def read_records(
                 why.append(str(exc))
                 warn(f"not a record, skipped: {exc}", UserWarning)
         if not out:
-            # with the first file's reason: a folder of exports with a title line said no more
-            # (the measured-data audit)
+            # with the first file's reason (a folder of exports with a title line): the user sees
+            # what to change
             raise DataError(
                 f"{p}: none of its {len(files)} .csv, .tsv or .txt files is a record (the first: {why[0]})"
             )

@@ -535,7 +535,7 @@ def diagnose(
                         raise DataError(
                             f"{place}, column {name!r}: {_show(cell)} has a decimal point, and the file's "
                             "first lines decimal commas: write one kind"
-                        )  # the first line was named, with the advice to write points (the data audit)
+                        )  # the line that mixes the two, and the one kind to write
                     cell = cell.replace(",", ".")
                 try:
                     x = float(cell)

@@ -160,6 +160,19 @@ class DimensionlessLaw:
         """The compiled kernel (:class:`~stickslip.core.api.Kernel`) of the law."""
         return self.spec.kernel()
 
+    def arrays(self) -> tuple[Any, FloatArray]:
+        """Return the compiled kernel and the parameter vector, padded to the kernels' width.
+
+        What the core's functions take (:func:`~stickslip.core.api.run_attractors`):
+        ``kernel, lp = law.arrays()``.
+        """
+        from ..core.laws import N_LAW_PARAMS
+
+        lp = np.zeros(N_LAW_PARAMS)
+        cp = np.asarray(self.core_params(), dtype=np.float64)
+        lp[: cp.size] = cp
+        return self.kernel, lp
+
     # ------------------------------------------------------------------ values
 
     def forward(self, w: npt.ArrayLike, order: int = 0) -> FloatArray:
@@ -467,10 +480,5 @@ def require_physical_law(law: Any, name: str = "law") -> PhysicalLaw:
 
 
 def law_arrays(law: DimensionlessLaw) -> tuple[Any, np.ndarray]:
-    """Return the compiled kernel and the parameter vector of ``law``."""
-    from ..core.laws import N_LAW_PARAMS
-
-    lp = np.zeros(N_LAW_PARAMS)
-    cp = np.asarray(law.core_params(), dtype=np.float64)
-    lp[: cp.size] = cp
-    return law.kernel, lp
+    """Return the compiled kernel and the parameter vector of ``law`` (:meth:`DimensionlessLaw.arrays`)."""
+    return law.arrays()

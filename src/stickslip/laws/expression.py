@@ -100,7 +100,7 @@ def _parameters(expr: sp.Expr, variable: str, given: Mapping[str, Any], what: st
         )
     extra = [n for n in given if n not in names]
     constant = [n for n in extra if n in CONSTANTS]
-    if constant:  # 'e' in the formula was Euler's number, silently (the regimes audit)
+    if constant:  # 'e' in a formula is Euler's number: a parameter of that name is refused, said
         n = constant[0]
         raise FormulaError(
             f"{what}={text!r}: {n!r} in a formula is the constant {n} = {float(CONSTANTS[n]):.6g}, "
@@ -570,8 +570,8 @@ class PhysicalExpressionLaw(PhysicalLaw):
         beta_s, mu_s_s = sp.Symbol("beta", real=True), sp.Symbol("mu_s", real=True)
         f_expr = expr.subs(V, W / beta_s) / mu_s_s
         nd_names = ["beta", "mu_s", *names]
-        # the parameters' units in the key too: a law of the same formula with other units showed
-        # the first one's (a = 160 s/m as '160 kilogram', the API audit)
+        # the parameters' units in the key too: a law of the same formula with other units must not
+        # show the first one's (a = 160 s/m as '160 kilogram')
         key = ("physical", sp.srepr(f_expr), tuple(nd_names), tuple(units[n] for n in names))
         spec = _SPECS.get(key)
         if spec is None:
@@ -658,8 +658,8 @@ def _dimension_check(expr: sp.Expr, quantities: Mapping[str, Any], text: str) ->
     ``v`` either as a velocity (``a = 160 s/m`` in ``1 + a*v``) or as a number of m/s.
     """
     names = sorted(quantities)
-    # erf is SciPy's, which pint does not wrap: the check gave up and took a = "160 kg" for
-    # 160 s/m (the API audit). tanh asks the same of its argument (a pure number), and pint has it
+    # erf is SciPy's, which pint does not wrap, so the check could not tell a = "160 kg" from
+    # 160 s/m; tanh asks the same of its argument (a pure number), and pint has it
     checked = expr.replace(sp.erf, sp.tanh)
     fn = sp.lambdify([V, *[sp.Symbol(n, real=True) for n in names]], checked, modules=["numpy"])
     reasons = []

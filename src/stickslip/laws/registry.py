@@ -98,7 +98,7 @@ def register(
     if physical is None:
         physical = type(f"Physical{title}Law", (PhysicalLaw,), {"__slots__": (), "_spec": spec})
     # help(), inspect.signature and a notebook's completion show the law's parameters, not
-    # (*args, **kwargs) (the API audit)
+    # (*args, **kwargs)
     dimensionless.__signature__ = _signature(spec.parameters)  # type: ignore[attr-defined]
     physical.__signature__ = _signature(  # type: ignore[attr-defined]
         (Parameter("mu_s", "static friction coefficient"), *spec.physical)

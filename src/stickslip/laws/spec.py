@@ -31,6 +31,7 @@ import numpy as np
 import numpy.typing as npt
 import pint
 
+from ..core.checks import refusal
 from ..errors import ArgumentTypeError
 from ..units import Q_, check_number, parse_quantity, ureg
 
@@ -204,15 +205,11 @@ class Parameter:
             shown = np.ravel(np.asarray(shown, dtype=object))[i]
         v = shown if shown is not None else (Q_(bad, self.unit) if self.unit else bad)
         at = f" (point {i}{where})" if x.size > 1 else where
-        if math.isnan(bad):
-            reason = "is NaN"
-        elif math.isinf(bad):
-            reason = "is infinite"
+        why = refusal(bad, allow_zero=self.lower_inclusive)  # NaN, infinite, or below a lower bound of 0
+        if why is not None and (self.lower == 0 or not math.isfinite(bad)):
+            reason = why
         elif bad < self.lower or (bad == self.lower and not self.lower_inclusive):
-            if self.lower == 0:
-                reason = "must be non-negative" if self.lower_inclusive else "must be positive"
-            else:
-                reason = "is too small"
+            reason = "is too small"
         elif abs(bad) > KERNEL_BOUND and not self.unit:
             reason = f"is beyond {KERNEL_BOUND:g} in magnitude, the compiled kernels' range"
         else:

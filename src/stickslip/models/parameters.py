@@ -22,11 +22,12 @@ import numpy as np
 import numpy.typing as npt
 import pint
 
-from ..core.checks import NU_MAX, NU_MIN
+from ..core.checks import NU_MAX, driving_velocity
 from ..errors import ArgumentTypeError
 from ..laws import DimensionlessLaw, PhysicalLaw, PhysicalWeakeningLaw, require_physical_law
 from ..laws.spec import STATIC, LawSpec
 from ..units import Q_, check_number, parse_quantity
+from .scales import Scales
 
 __all__ = [
     "DimensionlessParameters",
@@ -88,23 +89,9 @@ class DimensionlessParameters:
     law: DimensionlessLaw
 
     def __post_init__(self) -> None:
-        object.__setattr__(
-            self,
-            "nu",
-            check_number(
-                self.nu,
-                "nu",
-                upper=NU_MAX,
-                upper_inclusive=True,
-                what=f"a positive driving velocity (at most {NU_MAX:g})",
-            ),
-        )
-        if self.nu < NU_MIN:
-            raise ValueError(
-                f"nu={self.nu!r}: expected a driving velocity of at least {NU_MIN:g} (below it the "
-                "spring-force maximum, where the slip velocity passes nu, is not resolved in double "
-                "precision)"
-            )
+        # a pint quantity or a numpy number as a float, then the range every driving velocity has
+        nu = check_number(self.nu, "nu", what=f"a positive driving velocity (at most {NU_MAX:g})")
+        object.__setattr__(self, "nu", driving_velocity("nu", nu))
         if not isinstance(self.law, DimensionlessLaw):
             raise ArgumentTypeError(
                 f"law={self.law!r}: expected a dimensionless law (WeakeningLaw, CubicLaw, CoulombLaw, "
@@ -115,38 +102,11 @@ class DimensionlessParameters:
         """Return a copy with another driving velocity."""
         return replace(self, nu=nu)
 
-
-@dataclass(frozen=True)
-class Scales:
-    """Units of the dimensionless model in SI.
-
-    Attributes
-    ----------
-    force : pint.Quantity
-        Static friction force ``mu_s W`` (N).
-    time : pint.Quantity
-        ``sqrt(m/k)`` (s).
-    length : pint.Quantity
-        ``mu_s W / k`` (m).
-    velocity : pint.Quantity
-        ``mu_s W / sqrt(k m) = 1/beta`` (m/s).
-
-    """
-
-    force: pint.Quantity
-    time: pint.Quantity
-    length: pint.Quantity
-    velocity: pint.Quantity
-
-    @property
-    def beta(self) -> pint.Quantity:
-        """``beta = sqrt(k m)/(mu_s W)`` (s/m)."""
-        return (1.0 / self.velocity).to("s/m")
-
-    @property
-    def energy(self) -> pint.Quantity:
-        """``(mu_s W)**2 / k`` (J)."""
-        return (self.force * self.length).to("J")
+    def law_arrays_at(self, values: Mapping[str, Any], n: int) -> tuple[Any, dict[str, Any]]:
+        """Return ``nu`` and the law's parameters at ``n`` points: ``values`` (arrays) where given."""
+        nu = values["nu"] if "nu" in values else np.full(n, self.nu)
+        nd = {k: values[k] if k in values else np.full(n, v) for k, v in self.law.params.items()}
+        return nu, nd
 
 
 @dataclass(frozen=True)
@@ -217,7 +177,8 @@ class PhysicalParameters:
     def _named(self) -> Iterator[None]:
         """Name the physical inputs in an error of the dimensionless numbers made from them.
 
-        ``--mass "1e-320 kg"`` was 'c=1.8e+160: ...', a number the user never typed.
+        ``--mass "1e-320 kg"`` makes ``c = 1.8e+160``, a number the user never typed: the
+        message names the mass it came from.
         """
         try:
             yield
@@ -245,6 +206,42 @@ class PhysicalParameters:
         nu, law, _ = self._form
         with self._named():
             return DimensionlessParameters(nu=nu, law=law)
+
+    def dimensionless_at(
+        self, values: Mapping[str, Any], n: int
+    ) -> tuple[Any, dict[str, Any], dict[str, Any]]:
+        """Return the dimensionless form at ``n`` points whose SI ``values`` (arrays) replace this set's.
+
+        ``values`` may hold ``stiffness`` (N/m), ``load`` (N), ``mass`` (kg) or ``beta``
+        (s/m, which sets the mass), ``v0`` (m/s) and the law's physical parameters (SI).
+        Returns ``nu``, the law's dimensionless parameters and the scales per point
+        (:func:`dimensionless_from_si`).
+
+        Raises
+        ------
+        ValueError
+            For ``mass`` and ``beta`` both, or a point where the law's values are not valid.
+
+        """
+
+        def arr(name: str, default: float) -> Any:
+            return values[name] if name in values else np.full(n, default)
+
+        law: PhysicalLaw = self.law
+        spec = law.spec
+        law_si = {key: arr(key, v) for key, v in law.si_parameters().items()}
+        mu = spec.static_from(law_si) if spec.static_from is not None else arr("mu_s", law.mu_s)
+        k = arr("stiffness", self.stiffness.to("N/m").magnitude)
+        w = arr("load", self.load.to("N").magnitude)
+        if "beta" in values:
+            if "mass" in values:
+                raise ValueError("sweep either 'beta' or 'mass', not both: beta sets the mass")
+            m = mass_for_beta(values["beta"], k, w, mu)
+        else:
+            m = arr("mass", self.mass.to("kg").magnitude)
+        PhysicalLaw._validate(spec, mu, law_si)
+        v0 = arr("v0", self.v0.to("m/s").magnitude)
+        return dimensionless_from_si(spec, stiffness=k, mass=m, load=w, v0=v0, mu_s=mu, law_si=law_si)
 
     def with_v0(self, v0: Any) -> PhysicalParameters:
         """Return a copy with another driving velocity."""

@@ -150,8 +150,8 @@ def _savefig(fig: Figure, target: Any, fmt: str) -> None:
     if fmt == "pdf" and metadata is not None:
         metadata["CreationDate"] = None  # the same figure, the same bytes (as the SVG below)
     if fmt == "svg" and metadata is not None:
-        # the same figure, the same bytes: no date, and ids from a fixed salt (two identical
-        # reproductions wrote different SVGs: the reproduction audit)
+        # the same figure, the same bytes: no date, and ids from a fixed salt, so that two
+        # identical reproductions write identical SVGs
         metadata["Date"] = None
         import matplotlib
 
@@ -531,8 +531,8 @@ def plot_earthquake_cycles(runs: Sequence[Any], estimate: dict[str, float] | Non
             ax.legend(frameon=False, fontsize=7, loc="upper right")
     shown = ("stress_drop", "slip", "recurrence")
     if estimate is not None and all(math.isfinite(estimate[k]) for k in shown):
-        # inside the stress panel, whose numbers it estimates (as a title between the panels it
-        # read as the slip-rate panel's caption: the rate-and-state audit), in headroom above
+        # inside the stress panel, whose numbers it estimates (a title between the panels would
+        # read as the slip-rate panel's caption), in headroom above
         # the curves so that it hides none of them
         lo, hi = axes[1].get_ylim()
         axes[1].set_ylim(lo, hi + 0.22 * (hi - lo))
