@@ -1,11 +1,15 @@
 """Command line: a thin layer over the public API, one module per command family.
 
 :mod:`~.dynamics` (``cycle``, ``simulate``, ``sweep``), :mod:`~.bifurcation`
-(``regimes``), :mod:`~.data` (``analyze``, ``fit``, ``classify``),
-:mod:`~.ratestate` (``ratestate``, ``dulac``), :mod:`~.chain` (``chain``) and
-:mod:`~.paper` (``reproduce``) and :mod:`~.explore` (``explore``, the browser app);
+(``regimes``), :mod:`~.data` (``examples``, ``analyze``, ``fit``, ``classify``),
+:mod:`~.ratestate` (``ratestate``, ``ratestate-fit``, ``earthquake-cycles``, ``dulac``),
+:mod:`~.chain` (``chain``), :mod:`~.paper` (``reproduce``) and :mod:`~.explore`
+(``explore``, the browser app);
 the options of a parameter set are built from the law registry (:mod:`~.options`);
-:mod:`~.commands` holds the click group.
+:mod:`~.commands` holds the click group. Each command is a module-level click
+command of its family's module (``from stickslip.cli.dynamics import cycle``), to
+import and invoke alone (``click.testing.CliRunner().invoke(cycle, [...])``); each
+family's ``register(main)`` adds its commands to the group.
 
 The package loads its command families on first use of a name (PEP 562), so that
 ``python -m stickslip.cli`` reaches :func:`stickslip.__main__.main`, which turns a

@@ -69,8 +69,8 @@ def _exit_on_sigterm(ctx: click.Context) -> None:
     """Make SIGTERM (``kill``, a batch scheduler's time limit) end a command as Ctrl-C does.
 
     Python's default for SIGTERM ends the process at once, skipping every ``finally``:
-    an output folder kept its hidden staging folder and a chain's partial catalogue was
-    not closed. Raised as ``SystemExit(143)`` instead, the clean-up runs and an
+    an output folder would keep its hidden staging folder and a chain's partial catalogue
+    would stay open. Raised as ``SystemExit(143)`` instead, the clean-up runs and an
     interrupted chain can be resumed (``--resume``). Only where SIGTERM still has its
     default handler, only in the main thread (where signal handlers live), and for
     the command only: the default comes back when it ends (a program or a test run
@@ -84,8 +84,8 @@ def _exit_on_sigterm(ctx: click.Context) -> None:
 
 
 def _terminated(signum: int, frame: Any) -> None:
-    # the same advice as Ctrl-C's: a sweep or map goes on with --store, a chain with --resume
-    # (it named the chain's alone, on a sweep too: the scale audit, helper-36)
+    # the same advice as Ctrl-C's, for every command: a sweep or map goes on with --store, a
+    # chain with --resume
     click.echo(
         "stickslip: stopped by SIGTERM (the same command with --store, or a chain's with --resume, "
         "goes on where it stopped)",

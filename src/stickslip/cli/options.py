@@ -28,16 +28,8 @@ from .. import defaults
 from ..laws import registry
 from ..laws.spec import STATIC, Parameter
 from ..laws.table import INTERPOLATIONS
-from ..models.parameters import (
-    ZV_A,
-    ZV_LOAD,
-    ZV_MU0,
-    ZV_STIFFNESS,
-    DimensionlessParameters,
-    PhysicalParameters,
-    mass_of_beta,
-    zv_parameters,
-)
+from ..models.parameters import DimensionlessParameters, PhysicalParameters, mass_of_beta
+from ..models.presets import PRESETS
 from ..units import Q_, parse_quantity, ureg
 
 __all__ = [
@@ -136,7 +128,7 @@ def _option_decorators(text: bool, default_law: str = "weakening") -> list[Any]:
         ),
         click.option(
             "--preset",
-            type=click.Choice(["zv"]),
+            type=click.Choice(sorted(PRESETS)),
             default=None,
             help="Physical set-up of the paper's zv experiment (beta = 42 s/m); other options override it.",
         ),
@@ -286,18 +278,30 @@ class LawCommand(OnceCommand):
 
 
 def law_command(
-    group: click.Group, name: str | None = None, *, text: bool = False, default_law: str = "weakening"
-) -> Callable[..., Any]:
-    """Register a :class:`LawCommand` in ``group``; ``--law`` defaults to ``default_law``."""
+    group: click.Group | None = None,
+    name: str | None = None,
+    *,
+    text: bool = False,
+    default_law: str = "weakening",
+) -> Callable[[Callable[..., Any]], click.Command]:
+    """Return a decorator that makes a :class:`LawCommand`; ``--law`` defaults to ``default_law``.
+
+    With ``group``, the command is also added to it; without (``law_command()``), the
+    command stands alone, importable and invocable, and a group adds it with
+    :meth:`click.Group.add_command`. ``text=True`` keeps the parameter-set options as
+    text (a sweep's ranges ``'A..B'``).
+    """
+    if group is None:
+        return click.command(name, cls=LawCommand, text=text, default_law=default_law)
     return group.command(name, cls=LawCommand, text=text, default_law=default_law)
 
 
 class OutPath(click.Path):
     """A path to write to: as :class:`click.Path`, and an empty one is refused.
 
-    ``--out ''`` was read as no option at all (a sweep wrote ``results/sweep.nc``),
-    ``--store ''`` as the current folder, and ``reproduce --out ''`` failed naming
-    no folder.
+    click alone reads ``--out ''`` as no option at all (a sweep would write
+    ``results/sweep.nc``), ``--store ''`` as the current folder, and ``reproduce --out ''``
+    would fail naming no folder.
     """
 
     def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
@@ -451,7 +455,7 @@ def params_of(opts: dict[str, Any]) -> dict[str, Any]:
         name, sep, value = str(item).partition("=")
         if not sep or not name.strip() or not value.strip():
             raise click.UsageError(f"--param {item!r}: expected NAME=VALUE, e.g. 'c=3.8' or 'a=160 s/m'")
-        if name.strip() in out:  # the second silently replaced the first
+        if name.strip() in out:  # a second value would replace the first silently
             raise click.UsageError(
                 f"--param {item!r}: {name.strip()} is already given ({name.strip()}={out[name.strip()]}); "
                 "give each parameter once"
@@ -551,13 +555,10 @@ def _registered(
                 raise click.UsageError(f"give --mu-s or {opt(alias)}, not both")
             o["mu_s"] = o[alias]
             static_name = alias
-    if preset == "zv":
-        _zv_defaults(o)
-        if law == "weakening":
-            o["mu_s"] = ZV_MU0 if o.get("mu_s") is None else o["mu_s"]
-            o["a"] = ZV_A if o.get("a") is None else o["a"]
-    # physical options alone (--v0 "20 um/s") are not the zv set-up the command runs with none
-    # (the simulate audit): say how to take it for the rest
+    if preset:
+        o = PRESETS[preset].fill(o, law)
+    # physical options alone (--v0 "20 um/s") are not the zv set-up the command runs with none:
+    # say how to take it for the rest
     rest = "" if preset else " (or add --preset zv: the paper's set-up for the options not given)"
     _require(o, ("mu_s",), f"a physical set-up of --law {law}", rest)
     _require(o, [p.name for p in spec.physical if p.default is None], f"--law {law}", rest)
@@ -570,18 +571,6 @@ def _registered(
     _setup_mass(o, plaw.mu_s)
     _require(o, SETUP, "a physical set-up", rest)
     return PhysicalParameters(mass=o["mass"], stiffness=o["stiffness"], load=o["load"], v0=o["v0"], law=plaw)
-
-
-def _zv_defaults(o: dict[str, Any]) -> None:
-    base = zv_parameters()
-    for key, value in (
-        ("v0", "10 um/s"),
-        ("mass", base.mass),
-        ("stiffness", ZV_STIFFNESS),
-        ("load", ZV_LOAD),
-    ):
-        if o.get(key) is None and not (key == "mass" and o.get("beta") is not None):
-            o[key] = value
 
 
 def _setup_mass(o: dict[str, Any], mu_s: Any) -> None:
@@ -599,8 +588,8 @@ def _setup_mass(o: dict[str, Any], mu_s: Any) -> None:
 
 def _physical_setup(opts: dict[str, Any], what: str) -> dict[str, Any]:
     o = dict(opts)
-    if o.get("preset") == "zv":
-        _zv_defaults(o)
+    if o.get("preset"):
+        o = PRESETS[o["preset"]].fill(o)
     dim_given, phys_given = _law_values_given(o)
     # a registered law's options (--a, --mu-s, --mu0, ...) set nothing here: refused, not dropped
     stray = [k for k in dim_given if k != "nu"] + [k for k in phys_given if k not in (*SETUP, "beta")]
@@ -716,7 +705,7 @@ def parse_axis(p: Parameter, name: str, text: str, num: int, log: bool) -> Any:
     example = p.example or f"1 {p.unit}"
     if ".." in text:
         parts = [t.strip() for t in text.split("..")]
-        # 'A...B' split as 'A', '.B': read as A..0.1B once, silently
+        # 'A...B' splits as 'A', '.B' and would read as A..0.1B, silently: refused
         if len(parts) != 2 or not all(parts) or "..." in text:
             raise ValueError(f"{name}={text!r}: expected a range 'A..B' (two dots)")
         if num < 2:
@@ -746,7 +735,7 @@ def parse_axis(p: Parameter, name: str, text: str, num: int, log: bool) -> Any:
     items = [t.strip() for t in text.split(",")]
     if not any(items):
         raise ValueError(f"{name}={text!r}: expected values separated by commas")
-    if not all(items):  # '0.1,,0.2' dropped the empty one without a word: a typo is said
+    if not all(items):  # an empty value ('0.1,,0.2') is a typo: said, not dropped
         i = items.index("")
         raise ValueError(
             f"{name}={text!r}: value {i + 1} of {len(items)} is empty: expected values separated by "

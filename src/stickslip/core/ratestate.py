@@ -81,6 +81,12 @@ EV_DOWN = 2
 EV_VELOCITY_PEAK = 3
 EV_RUNAWAY = 4
 
+# the rows integrate_qs writes; ``y`` is its state of ``nvar`` values, ``(mu_s, theta_1..n)``
+# then the N_QUAD quadratures (read by name through stickslip.core.results)
+EVC_KIND, EVC_T, EVC_U, EVC_Y = 0, 1, 2, 3  # events: (kind, t, u, y...)
+RECC_T, RECC_U, RECC_Y = 0, 1, 2  # records of accepted steps: (t, u, y...)
+# samples: (y..., u), u in the column after y
+
 
 @njit(cache=True)
 def psi(y, S, off, n):  # type: ignore[no-untyped-def]
@@ -146,7 +152,7 @@ def qs_lnv(mu_s, ps, P):  # type: ignore[no-untyped-def]
         step = fv / d
         un = u - step
         # converged: the step is at u's rounding, or the residual at the sum's rounding. Taken
-        # before the bracket's guard, which moved an update equal to a bracket's end by 1
+        # before the bracket's guard, which would move an update equal to a bracket's end by 1
         if abs(step) <= 1e-15 * max(1.0, abs(u)) or abs(fv) <= 1e-15 * (abs(mu_s) + abs(f) + eta * vr * ev):
             u = un
             break
@@ -438,11 +444,11 @@ def _locate(kind, P, S, n, v_lp, level, F, y, ga, gb, nvar, ytmp, ftmp):  # type
 def _record(ev, nev, kind, t, u, yv, nvar):  # type: ignore[no-untyped-def]
     if nev >= ev.shape[0]:
         return nev
-    ev[nev, 0] = kind
-    ev[nev, 1] = t
-    ev[nev, 2] = u
+    ev[nev, EVC_KIND] = kind
+    ev[nev, EVC_T] = t
+    ev[nev, EVC_U] = u
     for c in range(nvar):
-        ev[nev, 3 + c] = yv[c]
+        ev[nev, EVC_Y + c] = yv[c]
     return nev + 1
 
 
@@ -454,8 +460,25 @@ def _peak_fn(K, S, n, row):  # type: ignore[no-untyped-def]
 
 @njit(cache=True)
 def integrate_qs(  # type: ignore[no-untyped-def]
-    P, S, n, seg_end, seg_v, y0, t0, samples, rtol, atol, h_max, max_steps,
-    v_cap, v_event, peaks, sample_out, ev, rec, rec_every,
+    P,
+    S,
+    n,
+    seg_end,
+    seg_v,
+    y0,
+    t0,
+    samples,
+    rtol,
+    atol,
+    h_max,
+    max_steps,
+    v_cap,
+    v_event,
+    peaks,
+    sample_out,
+    ev,
+    rec,
+    rec_every,
 ):
     """Integrate the quasi-static (or quasi-dynamic) slider through a load-point history.
 
@@ -526,10 +549,10 @@ def integrate_qs(  # type: ignore[no-untyped-def]
         sample_out[js, nvar] = u
         js += 1
     if rec.shape[0] > 0:
-        rec[0, 0] = t
-        rec[0, 1] = u
+        rec[0, RECC_T] = t
+        rec[0, RECC_U] = u
         for c in range(nvar):
-            rec[0, 2 + c] = y[c]
+            rec[0, RECC_Y + c] = y[c]
         nrec = 1
     if kseg >= nseg:
         return RS_OK, t, js, nev, nrec, steps, rejected
@@ -616,7 +639,7 @@ def integrate_qs(  # type: ignore[no-untyped-def]
             status = RS_RUNAWAY
             stop = True
             for c in range(nvar):
-                y[c] = ev[min(nev, ev.shape[0]) - 1, 3 + c] if nev > 0 else y[c]
+                y[c] = ev[min(nev, ev.shape[0]) - 1, EVC_Y + c] if nev > 0 else y[c]
         if stop:
             break
         if nev >= ev.shape[0]:
@@ -642,10 +665,10 @@ def integrate_qs(  # type: ignore[no-untyped-def]
         t = t_new
         u = u_new
         if rec_every > 0 and accepted % rec_every == 0 and nrec < rec.shape[0]:
-            rec[nrec, 0] = t
-            rec[nrec, 1] = u
+            rec[nrec, RECC_T] = t
+            rec[nrec, RECC_U] = u
             for c in range(nvar):
-                rec[nrec, 2 + c] = y[c]
+                rec[nrec, RECC_Y + c] = y[c]
             nrec += 1
         if status != RS_OK:
             break

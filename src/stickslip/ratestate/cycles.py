@@ -33,6 +33,13 @@ import xarray as xr
 from scipy.integrate import solve_ivp
 
 from ..core import ratestate as core
+from ..core.results import (
+    RateStateEvent,
+    RateStateEventRows,
+    RateStateRecordRows,
+    RateStateSampleRows,
+    RateStateStatus,
+)
 from ..units import check_number, parse_quantity
 from .model import MAX_DURATION, YEAR, check_dc
 
@@ -40,6 +47,7 @@ __all__ = ["BP1", "CycleRun", "SpringSliderFault", "earthquake_cycles", "recurre
 
 FloatArray = npt.NDArray[np.float64]
 CHUNK = 1e7  # s: the integrations restart their clocks this often (the step stays resolved)
+EVENT_CAPACITY = 200_000  # events one quasi-dynamic run locates
 
 
 @dataclass(frozen=True)
@@ -273,7 +281,7 @@ def earthquake_cycles(
     t_end = float(parse_quantity(duration, "duration", "[time]", "3000 yr").to("s").magnitude)
     if not t_end <= MAX_DURATION:  # 1e308 yr is infinite in seconds
         raise ValueError(f"duration={duration!r}: expected a simulated time of at most 1e9 yr")
-    # checked here: a nan tolerance once made the compiled loop spin without end
+    # checked here: a nan tolerance would make the compiled loop spin without end
     if isinstance(rtol, bool) or not (isinstance(rtol, float | int) and 1e-13 <= rtol <= 1e-3):
         raise ValueError(f"rtol={rtol!r}: expected a relative tolerance between 1e-13 and 1e-3")
     if isinstance(atol, bool) or not (isinstance(atol, float | int) and 0 < atol <= 1e-3):
@@ -291,14 +299,14 @@ def earthquake_cycles(
     y0 = _initial(fault, P, S, inertial)
     started = time.perf_counter()
     if inertial:
-        t, yv, ev, steps, rejected = _inertial(fault, P, S, y0, t_end, ve, rtol, atol, max_steps)
+        rec, ev, steps, rejected = _inertial(fault, P, S, y0, t_end, ve, rtol, atol, max_steps)
     else:
-        t, yv, ev, steps, rejected = _quasi_dynamic(fault, P, S, y0, t_end, ve, rtol, atol, max_steps)
+        rec, ev, steps, rejected = _quasi_dynamic(fault, P, S, y0, t_end, ve, rtol, atol, max_steps)
     seconds = time.perf_counter() - started
-    series = _series(fault, P, S, t, yv, inertial)
+    series = _series(fault, P, rec, inertial)
     catalog = _catalog(fault, ev)
     return CycleRun(
-        series, catalog, _budget(fault, P, yv, t, inertial), steps, rejected, seconds,
+        series, catalog, _budget(fault, P, rec, inertial), steps, rejected, seconds,
         "inertial" if inertial else "quasi-dynamic", fault,
     )  # fmt: skip
 
@@ -306,18 +314,19 @@ def earthquake_cycles(
 def _quasi_dynamic(
     fault: SpringSliderFault, P: FloatArray, S: FloatArray, y0: FloatArray, t_end: float, ve: float,
     rtol: float, atol: float, max_steps: int,
-) -> tuple[FloatArray, FloatArray, FloatArray, int, int]:  # fmt: skip
+) -> tuple[RateStateRecordRows, RateStateEventRows, int, int]:  # fmt: skip
     """Run the compiled DOP853 in spans of :data:`CHUNK`, each on its own clock from 0.
 
-    One clock over the whole run lost the resolution of an event's millisecond steps
-    after about 2.6e4 years (the spacing of doubles at 8e11 s is 1e-4 s); the state and
-    the quadratures carry over from span to span, and times are offset back.
+    One clock over the whole run would lose the resolution of an event's millisecond
+    steps after about 2.6e4 years (the spacing of doubles at 8e11 s is 1e-4 s); the state
+    and the quadratures carry over from span to span, and times are offset back.
     """
     vpl = float(fault.plate_rate.to("m/s").magnitude)
     nvar = y0.size + core.N_QUAD
     cap = 400_000
-    rec = np.zeros((cap, 2 + nvar))
-    ev = np.zeros((200_000, 3 + nvar))
+    rec = RateStateRecordRows.empty(cap, 1, nvar)
+    ev = RateStateEventRows.empty(EVENT_CAPACITY, 1, nvar)
+    no_samples = RateStateSampleRows.empty(0, 1, nvar)
 
     def run(every: int) -> tuple[int, int, int, int, bool]:
         y = np.concatenate([y0, np.zeros(core.N_QUAD)])
@@ -326,15 +335,16 @@ def _quasi_dynamic(
             offset = k * CHUNK
             span = min(CHUNK, t_end - offset)
             first = 0 if k == 0 else nrec - 1  # a span's first row is the last one's end
-            status, t, _, k_ev, k_rec, k_steps, k_rej = core.integrate_qs(
+            code, t, _, k_ev, k_rec, k_steps, k_rej = core.integrate_qs(
                 P, S, 1, np.array([span]), np.array([vpl]), y, 0.0, np.zeros(0), rtol, atol, math.inf,
-                max_steps - steps, 0.0, ve, False, np.zeros((0, nvar + 1)), ev[nev:], rec[first:], every,
+                max_steps - steps, 0.0, ve, False, no_samples.raw, ev.raw[nev:], rec.raw[first:], every,
             )  # fmt: skip
-            rec[first : first + k_rec, 0] += offset
-            ev[nev : nev + k_ev, 1] += offset
+            rec[first : first + k_rec].time += offset
+            ev[nev : nev + k_ev].time += offset
             nrec, nev = first + k_rec, nev + k_ev
             steps, rejected = steps + k_steps, rejected + k_rej
-            if status != core.RS_OK:
+            status = RateStateStatus.from_code(code)
+            if status is not RateStateStatus.OK:
                 _stopped(status, offset + t, steps, max_steps)
             _say_too_many_events(ev, nev, offset + span, t_end)
         return nrec, nev, steps, rejected, nrec >= cap
@@ -342,45 +352,40 @@ def _quasi_dynamic(
     nrec, nev, steps, rejected, full = run(1)
     if full:  # more steps than the record holds: run again keeping every k-th step
         nrec, nev, _, _, _ = run(steps // cap + 1)
-    r = rec[:nrec]
-    # columns of the events and the series: t, u, mu_s, theta, slip, W_fric, E_rad, W_load
-    return r[:, 0], r[:, 1:], ev[:nev], steps, rejected
+    return rec[:nrec], ev[:nev], steps, rejected
 
 
-def _say_too_many_events(ev: FloatArray, nev: int, done: float, t_end: float) -> None:
+def _say_too_many_events(ev: RateStateEventRows | FloatArray, nev: int, done: float, t_end: float) -> None:
     """Refuse a run that will locate more events than ``ev`` holds, from its first thousand or more.
 
     The rate is that of the later half of the events so far (past the first cycles'
-    transient: from the first hundred, SEAS BP1's interval came out 6 % short); the
+    transient: from the first hundred, SEAS BP1's interval comes out 6 % short); the
     run is refused where it would end 5 % or more beyond the capacity, said within
-    seconds (10^6 yr of BP1 failed at 944 612 yr once, after 110 s).
+    seconds (10^6 yr of BP1 would otherwise fill the capacity at 944 612 yr, after 110 s).
     """
     if nev < 1000:
         return
+    rows = ev if isinstance(ev, RateStateEventRows) else RateStateEventRows(ev)
+    capacity = len(rows)
     half = nev // 2
-    rate = (nev - half) / (done - ev[half, 1])
+    rate = (nev - half) / (done - rows.time[half])
     expected = nev + rate * (t_end - done)
-    if expected > 1.05 * ev.shape[0]:
+    if expected > 1.05 * capacity:
         raise RuntimeError(
             f"the quasi-dynamic integration would locate about {expected:.3g} events ({nev} in the "
             f"first {done / YEAR:.4g} yr, one every {1.0 / rate / YEAR:.3g} yr), more than one run "
-            f"locates ({ev.shape[0]}): give a duration of at most about "
-            f"{(done + (ev.shape[0] - nev) / rate) / YEAR:.3g} yr"
+            f"locates ({capacity}): give a duration of at most about "
+            f"{(done + (capacity - nev) / rate) / YEAR:.3g} yr"
         )
 
 
-def _stopped(status: int, t: float, steps: int, max_steps: int) -> None:
+def _stopped(status: RateStateStatus, t: float, steps: int, max_steps: int) -> None:
     """Raise the quasi-dynamic integrator's stop, in words."""
-    why = {
-        core.RS_MAX_STEPS: f"the bound of {max_steps} steps (max_steps): a larger one, or a shorter run",
-        core.RS_STEP_TOO_SMALL: (
-            "the step size fell below the precision of the clock: a Dc too small to resolve, or "
-            "a slip rate that changes faster than the model holds"
-        ),
-        core.RS_EVENTS_FULL: "more events than one run locates (200000): give a shorter duration",
-        core.RS_NONFINITE: "the slip rate overflowed (faster than the model holds)",
-        core.RS_RUNAWAY: "the slip rate ran away",
-    }.get(status, "the integrator failed")
+    why = status.message
+    if status is RateStateStatus.MAX_STEPS:
+        why = f"the bound of {max_steps} steps (max_steps): a larger one, or a shorter run"
+    elif status is RateStateStatus.EVENTS_FULL:
+        why = f"more events than one run locates ({EVENT_CAPACITY}): give a shorter duration"
     raise RuntimeError(
         f"the quasi-dynamic integration stopped at t = {t / YEAR:.6g} yr after {steps} steps: {why}"
     )
@@ -389,8 +394,11 @@ def _stopped(status: int, t: float, steps: int, max_steps: int) -> None:
 def _inertial(
     fault: SpringSliderFault, P: FloatArray, S: FloatArray, y0: FloatArray, t_end: float, ve: float,
     rtol: float, atol: float, max_steps: int,
-) -> tuple[FloatArray, FloatArray, FloatArray, int, int]:  # fmt: skip
-    """Radau on ``(mu_s, u = ln(V/V_0), theta)`` and the quadratures (the slip rate stays positive)."""
+) -> tuple[RateStateRecordRows, RateStateEventRows, int, int]:  # fmt: skip
+    """Radau on ``(mu_s, u = ln(V/V_0), theta)`` and the quadratures (the slip rate stays positive).
+
+    Its steps and events come back as the quasi-dynamic integrator's rows.
+    """
     vpl = float(fault.plate_rate.to("m/s").magnitude)
     vr = float(P[core.P_VR])
     lnve = math.log(ve / vr)
@@ -451,7 +459,8 @@ def _inertial(
     atol_v = np.array([atol, atol, atol, 1e-9, atol, atol, atol])
     # the system is autonomous: restart the clock every CHUNK seconds, so that the steps through
     # an event are not limited by the spacing of doubles near a large t (1e-8 s at 3 years)
-    rows: list[list[float]] = []
+    kinds: list[int] = []
+    found: list[tuple[float, FloatArray]] = []  # (time, z) of each event
     ts: list[FloatArray] = []
     zs: list[FloatArray] = []
     offset = 0.0
@@ -466,9 +475,14 @@ def _inertial(
             raise RuntimeError(
                 f"the inertial integration stopped at t = {(offset + sol.t[-1]) / YEAR:.6g} yr: {sol.message}"
             )
-        for kind, k_ev in ((core.EV_UP, 0), (core.EV_DOWN, 1), (core.EV_VELOCITY_PEAK, 2)):
+        for kind, k_ev in (
+            (RateStateEvent.UP, 0),
+            (RateStateEvent.DOWN, 1),
+            (RateStateEvent.VELOCITY_PEAK, 2),
+        ):
             for te, ze in zip(sol.t_events[k_ev], sol.y_events[k_ev], strict=True):
-                rows.append([kind, offset + te, ze[1], ze[0], ze[2], *ze[3:]])
+                kinds.append(kind.code)
+                found.append((offset + te, ze))
         keep = slice(None) if not ts else slice(1, None)
         ts.append(offset + sol.t[keep])
         zs.append(sol.y[:, keep])
@@ -479,116 +493,96 @@ def _inertial(
                 f"the inertial integration stopped at t = {offset / YEAR:.6g} yr after {nfev} evaluations "
                 f"(slip rate {vr * math.exp(z[1]):.3g} m/s)"
             )
-    ev = np.array(sorted(rows, key=lambda r: r[1])) if rows else np.zeros((0, 9))
+    ze = np.array([z_e for _, z_e in found]).reshape(-1, z.size)
+    ev = RateStateEventRows.stack(_qd_state(ze.T), 1, kind=kinds, time=[t_e for t_e, _ in found], u=ze[:, 1])
+    ev = ev[np.argsort(ev.time, kind="stable")]
     zz = np.concatenate(zs, axis=1)
-    yv = np.column_stack([zz[1], zz[0], zz[2], zz[3:].T])
     t_all = np.concatenate(ts)
-    return t_all, yv, ev, int(t_all.size), 0
+    rec = RateStateRecordRows.stack(_qd_state(zz), 1, time=t_all, u=zz[1])
+    return rec, ev, int(t_all.size), 0
 
 
-def _series(
-    fault: SpringSliderFault, P: FloatArray, S: FloatArray, t: FloatArray, yv: FloatArray, inertial: bool
-) -> xr.Dataset:
+def _qd_state(z: FloatArray) -> FloatArray:
+    """Return the states ``(mu_s, theta, quadratures)`` (a row each) of Radau's ``z`` (a column each)."""
+    return np.column_stack([z[0], z[2], z[3:].T])
+
+
+def _series(fault: SpringSliderFault, P: FloatArray, rec: RateStateRecordRows, inertial: bool) -> xr.Dataset:
     vr = float(P[core.P_VR])
-    dc = float(S[0, 1])
-    v = vr * np.exp(yv[:, 0])
+    dc = float(fault.dc.to("m").magnitude)
+    v = vr * np.exp(rec.u)
     return xr.Dataset(
         {
             "slip_rate": ("time", v, {"units": "m/s", "long_name": "slip rate"}),
             "shear_stress": (
                 "time",
-                yv[:, 1] * fault.sigma,
+                rec.spring * fault.sigma,
                 {"units": "Pa", "long_name": "spring (shear) stress"},
             ),
-            "state": ("time", np.exp(yv[:, 2]) * dc / vr, {"units": "s", "long_name": "state theta"}),
-            "slip": ("time", yv[:, 3], {"units": "m", "long_name": "slip"}),
+            "state": ("time", np.exp(rec.theta[:, 0]) * dc / vr, {"units": "s", "long_name": "state theta"}),
+            "slip": ("time", rec.slip, {"units": "m", "long_name": "slip"}),
         },
-        coords={"time": ("time", t, {"units": "s", "long_name": "time"})},
+        coords={"time": ("time", rec.time, {"units": "s", "long_name": "time"})},
         attrs={"model": "inertial" if inertial else "quasi-dynamic", "fault": repr(fault)},
     )
 
 
-def _catalog(fault: SpringSliderFault, ev: FloatArray) -> xr.Dataset:
+def _catalog(fault: SpringSliderFault, ev: RateStateEventRows) -> xr.Dataset:
     """Pair each upward crossing of the event velocity with the next downward one."""
     vr = float(fault.v0.to("m/s").magnitude)
-    ups = ev[ev[:, 0] == core.EV_UP]
-    downs = ev[ev[:, 0] == core.EV_DOWN]
-    peaks = ev[ev[:, 0] == core.EV_VELOCITY_PEAK]
+    ups, downs, peaks = (
+        ev.of_kind(kind) for kind in (RateStateEvent.UP, RateStateEvent.DOWN, RateStateEvent.VELOCITY_PEAK)
+    )
     rows = []
-    for u_row in ups:
-        later = downs[downs[:, 1] > u_row[1]]
-        if later.size == 0:
+    for i in range(len(ups)):
+        t_up = ups.time[i]
+        later = downs[downs.time > t_up]
+        if len(later) == 0:
             break
-        d_row = later[0]
-        inside = peaks[(peaks[:, 1] >= u_row[1]) & (peaks[:, 1] <= d_row[1])]
-        if inside.size:
-            p_row = inside[np.argmax(inside[:, 2])]
-            t_peak, v_peak = p_row[1], vr * math.exp(p_row[2])
+        t_down = later.time[0]
+        inside = peaks[(peaks.time >= t_up) & (peaks.time <= t_down)]
+        if len(inside):
+            k = int(np.argmax(inside.u))
+            t_peak, v_peak = inside.time[k], vr * math.exp(inside.u[k])
         else:
             t_peak, v_peak = math.nan, math.nan
-        # columns: kind, t, u, mu_s, theta, slip, ...
-        rows.append(
-            (
-                u_row[1],
-                d_row[1],
-                t_peak,
-                v_peak,
-                d_row[5] - u_row[5],
-                (u_row[3] - d_row[3]) * fault.sigma,
-                u_row[5],
-            )
-        )
+        drop = (ups.spring[i] - later.spring[0]) * fault.sigma
+        rows.append((t_up, t_down, t_peak, v_peak, later.slip[0] - ups.slip[i], drop, ups.slip[i]))
     arr = np.array(rows) if rows else np.zeros((0, 7))
     rec = np.concatenate([[math.nan], np.diff(arr[:, 0])]) if len(arr) else np.zeros(0)
+    columns = {
+        "t_start": (arr[:, 0], "s", "slip rate rises above the event velocity"),
+        "t_end": (arr[:, 1], "s", "slip rate falls below the event velocity"),
+        "t_peak": (arr[:, 2], "s", "time of the peak slip rate"),
+        "peak_slip_rate": (arr[:, 3], "m/s", "peak slip rate"),
+        "slip": (arr[:, 4], "m", "slip during the event"),
+        "duration": (arr[:, 1] - arr[:, 0], "s", "event duration"),
+        "recurrence": (rec, "s", "time since the previous event started"),
+        "stress_drop": (arr[:, 5], "Pa", "shear stress drop over the event"),
+        "cumulative_slip": (arr[:, 6], "m", "slip since t = 0 at the start"),
+    }
     return xr.Dataset(
         {
-            "t_start": (
-                "event",
-                arr[:, 0],
-                {"units": "s", "long_name": "slip rate rises above the event velocity"},
-            ),
-            "t_end": (
-                "event",
-                arr[:, 1],
-                {"units": "s", "long_name": "slip rate falls below the event velocity"},
-            ),
-            "t_peak": ("event", arr[:, 2], {"units": "s", "long_name": "time of the peak slip rate"}),
-            "peak_slip_rate": ("event", arr[:, 3], {"units": "m/s", "long_name": "peak slip rate"}),
-            "slip": ("event", arr[:, 4], {"units": "m", "long_name": "slip during the event"}),
-            "duration": ("event", arr[:, 1] - arr[:, 0], {"units": "s", "long_name": "event duration"}),
-            "recurrence": (
-                "event",
-                rec,
-                {"units": "s", "long_name": "time since the previous event started"},
-            ),
-            "stress_drop": (
-                "event",
-                arr[:, 5],
-                {"units": "Pa", "long_name": "shear stress drop over the event"},
-            ),
-            "cumulative_slip": (
-                "event",
-                arr[:, 6],
-                {"units": "m", "long_name": "slip since t = 0 at the start"},
-            ),
+            name: ("event", values, {"units": units, "long_name": long_name})
+            for name, (values, units, long_name) in columns.items()
         }
     )
 
 
 def _budget(
-    fault: SpringSliderFault, P: FloatArray, yv: FloatArray, t: FloatArray, inertial: bool
+    fault: SpringSliderFault, P: FloatArray, rec: RateStateRecordRows, inertial: bool
 ) -> dict[str, float]:
     """Slip and energy budgets from the quadratures (per unit area, J/m^2 and m)."""
     sigma = fault.sigma
     kw = float(P[core.P_KW])
     vpl = float(fault.plate_rate.to("m/s").magnitude)
-    mu0, mu1 = yv[0, 1], yv[-1, 1]
-    slip = yv[-1, 3]
+    mu0, mu1 = rec.spring[0], rec.spring[-1]
+    slip = rec.slip[-1]
     # the spring's stretch: mu_s / kw (m); slip = V_pl t - change of stretch
-    slip_from_spring = vpl * (t[-1] - t[0]) - (mu1 - mu0) / kw
-    w_fric, e_rad, w_load = yv[-1, 4] * sigma, yv[-1, 5] * sigma, yv[-1, 6] * sigma
+    slip_from_spring = vpl * (rec.time[-1] - rec.time[0]) - (mu1 - mu0) / kw
+    w_fric, e_rad, w_load = rec.friction_work[-1] * sigma, rec.radiated[-1] * sigma, rec.load_work[-1] * sigma
     d_elastic = (mu1**2 - mu0**2) / (2 * kw) * sigma
-    v0, v1 = (float(P[core.P_VR]) * math.exp(yv[i, 0]) for i in (0, -1))
+    v0, v1 = (float(P[core.P_VR]) * math.exp(rec.u[i]) for i in (0, -1))
     d_kinetic = 0.5 * fault.mass_si * (v1**2 - v0**2) if inertial else 0.0
     return {
         "slip": slip,

@@ -140,9 +140,9 @@ def velocity_steps(v: FloatArray) -> npt.NDArray[np.intp]:
     """Return the samples at which the load-point velocity steps (into or out of a hold too).
 
     A logged velocity is noisy (a servo's 1e-4), and one computed from a displacement
-    column differs in its last bits from row to row: ``np.diff(v) != 0`` called every
-    row a step (the rate-and-state audit: a = b = 0.032, Dc = 3e-10 m with tiny error
-    bars, for a = 0.008, b = 0.012, Dc = 20 um). A step is a change of ``ln v`` beyond
+    column differs in its last bits from row to row: ``np.diff(v) != 0`` would call every
+    row a step (and fit a = b = 0.032, Dc = 3e-10 m with tiny error bars to a record of
+    a = 0.008, b = 0.012, Dc = 20 um). A step is a change of ``ln v`` beyond
     :data:`STEP_MIN_LOG` and beyond ten times the noise, the median change between
     neighbours (steps are rare among the rows; 1.4826 turns it into a standard deviation).
     """
@@ -354,7 +354,7 @@ def fit_rate_state(
         sigma = 1e-6
     # a record without noise (the package's own, written to 17 digits) has residuals at the
     # model's integration accuracy: weighted by a noise of 7.5e-13 they read as a misfit
-    # (reduced chi-square 7.9 with the parameters exact: the rate-and-state audit)
+    # (reduced chi-square 7.9 with the parameters exact)
     floor = NOISE_FLOOR * float(np.median(np.abs(mu)))
     floored = sigma < floor
     sigma = max(sigma, floor)
@@ -484,8 +484,8 @@ def fit_rate_state(
             f"it is weighted by a noise floor of {sigma:.2g}, and the errors are that small"
         )
     elif chi2 < CHI2_LOW and read and dof >= 10:  # (with fewer, chance gives 0.25 often: 22 % at 2)
-        # the README's own 1 s record: noise 1.3e-5 read off its curvature, chi-square 3.8e-14,
-        # errors 5e6 times too large without a word (the docs audit)
+        # e.g. the README's 1 s record: noise 1.3e-5 read off its curvature, chi-square 3.8e-14,
+        # errors 5e6 times too large unless this is said
         warnings.append(
             f"reduced chi-squared {chi2:.2g} < {CHI2_LOW:g}: the record fits far better than the noise "
             f"read off it ({sigma:.2g}, from its second differences, which on a record sampled coarsely "

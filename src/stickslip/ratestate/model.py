@@ -162,7 +162,7 @@ class RateStateParameters:
             check_number(c, "nagata_c", allow_zero=True, what="a non-negative Nagata coefficient c")
             for c in cs
         ]
-        # a coefficient that reaches no Nagata state variable did nothing, without a word (one value
+        # a coefficient that reaches no Nagata state variable would do nothing, without a word (one value
         # is shared by all, and reaches those that are Nagata's; one each must be 0 for the others)
         if "nagata" not in self.laws and any(c != 0 for c in cs):
             raise ValueError(

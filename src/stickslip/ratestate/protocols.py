@@ -8,15 +8,15 @@ inertial (see :mod:`stickslip.core.ratestate`). The quasi-static slider is
 integrated by the compiled DOP853 of :func:`stickslip.core.ratestate.integrate_qs`;
 the inertial one, stiff (the velocity depends exponentially on friction), by the
 compiled Radau IIA of :func:`stickslip.core.radau.integrate_in` with the analytic
-Jacobian (SciPy's algorithm, step for step). A case the solver
-cannot handle fails with a message after a bounded number of steps or seconds,
-never hangs.
+Jacobian (SciPy's algorithm, step for step), both driven by
+:mod:`~stickslip.ratestate.solvers`; :mod:`~stickslip.ratestate.series` makes the
+dataset of a run. A case the solver cannot handle fails with a message after a
+bounded number of steps or seconds, never hangs.
 """
 
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -26,11 +26,19 @@ import numpy.typing as npt
 import pint
 import xarray as xr
 
-from ..core import radau
 from ..core import ratestate as core
 from ..units import Q_, parse_quantity
 from ..userwarnings import warn
 from .model import MAX_DURATION, RateStateParameters, jacobian, steady_state
+from .series import PEAK_FLOOR as PEAK_FLOOR
+from .series import _above_steady as _above_steady
+from .series import _dataset, _with_peaks
+from .series import _record_velocity as _record_velocity
+from .solvers import STOP_REASONS as STOP_REASONS
+from .solvers import RateStateStopped, _dop853, _radau
+from .solvers import _history_velocity as _history_velocity
+from .solvers import _segments as _segments
+from .solvers import _status_message as _status_message
 
 __all__ = [
     "RateStateStopped",
@@ -57,7 +65,7 @@ def _history(history: Any) -> list[tuple[float, float]]:
         d = parse_quantity(dur, f"history[{i}] duration", "[time]", "10 s")
         v = parse_quantity(vel, f"history[{i}] velocity", "[length] / [time]", "1 um/s", allow_zero=True)
         seconds = float(d.to("s").magnitude)
-        if not seconds <= MAX_DURATION:  # '1e308 s' ran out of steps, 'too stiff'
+        if not seconds <= MAX_DURATION:  # '1e308 s' would only run out of steps ('too stiff')
             raise ValueError(
                 f"history[{i}] duration={seconds:.4g} s: expected at most 1e9 yr "
                 f"({MAX_DURATION:.3g} s) a stage"
@@ -253,363 +261,6 @@ def _log_form(P: FloatArray) -> FloatArray:
     return out
 
 
-def _segments(hist: list[tuple[float, float]]) -> tuple[FloatArray, FloatArray]:
-    return np.cumsum([d for d, _ in hist]), np.array([v for _, v in hist])
-
-
-def _history_velocity(hist: list[tuple[float, float]], t: FloatArray) -> FloatArray:
-    """Return the load-point velocity of ``hist`` at the times ``t`` (a change's own time: the new one)."""
-    seg_end, seg_v = _segments(hist)
-    return seg_v[np.clip(np.searchsorted(seg_end, t, side="right"), 0, len(hist) - 1)]
-
-
-def _record_velocity(ds: xr.Dataset, t: float) -> float:
-    """Return the load-point velocity of the record ``ds`` at ``t`` (held from each row to the next)."""
-    t_s = ds.time.values
-    return float(ds.load_point_velocity.values[max(0, int(np.searchsorted(t_s, t, side="right")) - 1)])
-
-
-class RateStateStopped(RuntimeError):
-    """The integration stopped before the end of the history.
-
-    ``reason`` says why, in a word: ``"runaway"`` (the slider accelerates without
-    bound), ``"max-steps"`` (the bound on the work), ``"step-too-small"`` or
-    ``"not-finite"``; ``time`` (s) is where it stopped and ``velocity`` (m/s) the slip
-    velocity it passed there (a runaway's cap; NaN otherwise); the message says it in full.
-    """
-
-    def __init__(self, message: str, reason: str, time: float = math.nan, velocity: float = math.nan) -> None:
-        super().__init__(message)
-        self.reason = reason
-        self.time = time
-        self.velocity = velocity
-
-
-#: the compiled integrator's codes, in words
-STOP_REASONS = {
-    core.RS_RUNAWAY: "runaway",
-    core.RS_MAX_STEPS: "max-steps",
-    core.RS_STEP_TOO_SMALL: "step-too-small",
-    core.RS_NONFINITE: "not-finite",
-    core.RS_EVENTS_FULL: "events-full",
-}
-
-
-def _status_message(status: int, t: float, v_cap: float, steps: int, seconds: float) -> str:
-    if status == core.RS_RUNAWAY:
-        return (
-            f"at t = {t:.6g} s the slip velocity passed {v_cap:.3g} m/s and was still rising: the "
-            "quasi-static slider accelerates without bound (an instability: below the critical "
-            "stiffness, or with the slip law after a large perturbation). Give the slider a mass "
-            "to follow the slip event with inertia, or radiation damping (quasi-dynamic)."
-        )
-    if status == core.RS_MAX_STEPS:
-        return (
-            f"stopped after {steps} steps / {seconds:.1f} s at t = {t:.6g} s without finishing; the "
-            "case is too stiff at this tolerance (try a larger rtol, or a larger max_steps)"
-        )
-    if status == core.RS_NONFINITE:
-        return f"at t = {t:.6g} s the solution overflowed: the slider accelerates without bound"
-    return (
-        f"at t = {t:.6g} s the step size fell below the precision of t: the solution changes "
-        "faster than the clock resolves (an instability, or a Dc very small for this history)"
-    )
-
-
-def _dop853(
-    params: RateStateParameters,
-    hist: list[tuple[float, float]],
-    y: FloatArray,
-    t_s: FloatArray,
-    rtol: float,
-    atol: float,
-    max_steps: int,
-    max_seconds: float,
-) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, dict[str, list[tuple[float, FloatArray]]]]:
-    P, S = params.core_arrays()
-    n = params.n_states
-    vr = float(P[core.P_VR])
-    seg_end, seg_v = _segments(hist)
-    v_scale = max([v for _, v in hist if v > 0], default=vr)
-    v_cap = 1e6 * max(v_scale, vr)
-    y0 = np.concatenate([y, np.zeros(core.N_QUAD)])
-    nvar = y0.size
-    out = np.full((t_s.size, nvar + 1), np.nan)
-    ev = np.zeros((4096, 3 + nvar))
-    rec = np.zeros((0, 2 + nvar))
-    events: list[FloatArray] = []
-    started = time.monotonic()
-    t, js, steps_total = 0.0, 0, 0
-    chunk = 50_000
-    status = core.RS_OK
-    while True:
-        status, t, nsamp, nev, _, steps, _ = core.integrate_qs(
-            P,
-            S,
-            n,
-            seg_end,
-            seg_v,
-            y0,
-            t,
-            t_s[js:],
-            rtol,
-            atol,
-            math.inf,
-            min(chunk, max_steps - steps_total),
-            v_cap,
-            0.0,
-            True,
-            out[js:],
-            ev,
-            rec,
-            0,
-        )
-        events.append(ev[:nev].copy())
-        js += nsamp
-        steps_total += steps
-        if status == core.RS_EVENTS_FULL:
-            continue
-        if (
-            status == core.RS_MAX_STEPS
-            and steps_total < max_steps
-            and time.monotonic() - started < max_seconds
-        ):
-            continue
-        break
-    if status == core.RS_STEP_TOO_SMALL:
-        # a slider already far faster than its drive when the step collapses is running away
-        # (a formula law's runaway read "step size fell below the precision of t" at 6.5 m/s, on its
-        # way past 10 m/s: the rate-and-state audit)
-        v_end = float(core.qs_velocity(y0[0], y0, S, n, P))
-        if not v_end < 1e-3 * v_cap:
-            status, v_cap = core.RS_RUNAWAY, v_end  # the message says the speed it reached
-    if status != core.RS_OK:
-        message = _status_message(status, t, v_cap, steps_total, time.monotonic() - started)
-        reason = STOP_REASONS.get(status, "step-too-small")
-        raise RateStateStopped(message, reason, float(t), float(v_cap) if reason == "runaway" else math.nan)
-    evs = np.concatenate(events) if events else np.zeros((0, 3 + nvar))
-    peaks = {
-        "spring": [(float(r[1]), r[3 : 3 + 1 + n].copy()) for r in evs if int(r[0]) == core.EV_SPRING_PEAK],
-        "velocity": [],
-    }
-    t_out = t_s[:js]
-    return t_out, out[:js, : 1 + n].T, out[:js, nvar], _history_velocity(hist, t_out), peaks
-
-
-def _radau(
-    params: RateStateParameters,
-    hist: list[tuple[float, float]],
-    y: FloatArray,
-    t_s: FloatArray,
-    rtol: float,
-    atol: float | None,
-    max_steps: int,
-    max_seconds: float,
-) -> tuple[FloatArray, FloatArray, FloatArray, dict[str, list[tuple[float, FloatArray]]]]:
-    """Radau IIA (SciPy's algorithm, compiled: :func:`stickslip.core.radau.integrate_in`) per segment."""
-    P, S = params.core_arrays()
-    n = params.n_states
-    nv = y.size
-    vr = float(P[core.P_VR])
-    v_scale = max([v for _, v in hist if v > 0], default=vr)
-    a_mu, a_theta = (1e-12, 1e-10) if atol is None else (atol, atol)
-    atols = np.concatenate([[a_mu, a_mu * v_scale], np.full(n, a_theta)])
-    started = time.monotonic()
-    steps_total = 0
-    times: list[FloatArray] = []
-    states: list[FloatArray] = []
-    # the spring force peaks where v crosses v_lp upward; the slider's velocity where the
-    # spring force falls below friction (both located on the solver's dense output)
-    peaks: dict[str, list[tuple[float, FloatArray]]] = {"spring": [], "velocity": []}
-    names = {radau.EV_SPRING_PEAK: "spring", radau.EV_VELOCITY_PEAK: "velocity"}
-    ev = np.zeros((1024, 2 + nv))
-    y = np.array(y, dtype=float)
-    t0 = 0.0
-    for k, (dur, v_lp) in enumerate(hist):
-        t1 = t0 + dur
-        sel = ((t_s > t0) | (k == 0)) & (t_s >= t0) & (t_s <= t1)
-        wanted = t_s[sel]
-        extra = wanted.size == 0 or wanted[-1] < t1
-        t_eval = np.append(wanted, t1) if extra else wanted
-        out = np.full((t_eval.size, nv), np.nan)
-        ws = radau.workspace(nv, t0)
-        js = 0
-        while True:
-            # at most 20 000 steps per call, and never past the bound on the whole run
-            budget = min(20_000, max_steps - steps_total - int(ws.st[radau.ST_STEPS]))
-            status, nsamp, nev = radau.integrate_in(
-                P, S, n, float(v_lp), y, t1, rtol, atols, t_eval[js:], out[js:], ev, max(budget, 0), *ws
-            )
-            js += nsamp
-            for r in ev[:nev]:
-                peaks[names[int(r[0])]].append((float(r[1]), r[2:].copy()))
-            if status == radau.RD_DONE:
-                break
-            if status == radau.RD_EVENTS_FULL:
-                continue
-            steps = steps_total + int(ws.st[radau.ST_STEPS])
-            if status == radau.RD_MAX_STEPS:
-                if steps < max_steps and time.monotonic() - started < max_seconds and np.all(np.isfinite(y)):
-                    continue
-                raise RateStateStopped(
-                    f"segment {k} (v_lp = {v_lp:g} m/s for {dur:g} s): stopped after "
-                    f"{steps} steps / {time.monotonic() - started:.1f} s without "
-                    "finishing; the case is too stiff at this tolerance (try a larger rtol or a "
-                    "smaller step)",
-                    "max-steps",
-                )
-            raise RuntimeError(
-                f"segment {k} (v_lp = {v_lp:g} m/s): the solver stopped at "
-                f"t = {ws.st[radau.ST_T]:.6g} s: the required step size is less than spacing "
-                "between numbers"
-            )
-        steps_total += int(ws.st[radau.ST_STEPS])
-        if not np.all(np.isfinite(out)) or not np.all(np.isfinite(y)):
-            raise RuntimeError(f"segment {k} (v_lp = {v_lp:g} m/s): the solution overflowed")
-        y = out[-1].copy()  # as solve_ivp: the next segment starts from the dense output at t1
-        keep = slice(0, -1) if extra else slice(None)
-        times.append(t_eval[keep])
-        states.append(out[keep].T)
-        t0 = t1
-    t_out = np.concatenate(times)
-    # a sample at a change of the load-point velocity carries the new velocity, as the
-    # quasi-static record's does: the record holds each row's velocity until the next row, and
-    # the old one put every change a sample late (a fit of it ran away: the rate-and-state audit)
-    return t_out, np.concatenate(states, axis=1), _history_velocity(hist, t_out), peaks
-
-
-#: a spring-force maximum less than this above steady sliding's spring force is rounding, not a peak
-PEAK_FLOOR = 1e-9
-
-
-def _above_steady(
-    ds: xr.Dataset, params: RateStateParameters, spring: list[tuple[float, FloatArray]]
-) -> list[tuple[float, FloatArray]]:
-    """Drop spring-force 'maxima' within ``PEAK_FLOOR`` of steady sliding at the load-point velocity.
-
-    On steady sliding the slip velocity wiggles about the load point's at rounding level, and
-    each upward crossing was reported as a maximum (7 of them 3e-14 above steady sliding after
-    a velocity step settled: the rate-and-state audit).
-    """
-    if not spring:
-        return spring
-    eta = 0.0 if params.radiation_damping is None else float(params.radiation_damping.to("s/m").magnitude)
-    kept = []
-    for t, y in spring:
-        v_lp = _record_velocity(ds, t)
-        if not v_lp > 0:
-            kept.append((t, y))
-            continue
-        steady = float(params.steady_state_friction(Q_(v_lp, "m/s"))) + eta * v_lp
-        if float(y[0]) - steady > PEAK_FLOOR:
-            kept.append((t, y))
-    return kept
-
-
-def _with_peaks(
-    ds: xr.Dataset, params: RateStateParameters, peaks: dict[str, list[tuple[float, FloatArray]]]
-) -> xr.Dataset:
-    """Add the located extrema: spring-force peaks and, with inertia, slip-velocity peaks."""
-    P, S = params.core_arrays()
-    n = params.n_states
-    sp = _above_steady(ds, params, peaks["spring"])
-    ds["spring_peak_time"] = (
-        "spring_peak",
-        np.array([t for t, _ in sp]),
-        {"units": "s", "long_name": "time of a spring-force maximum (event on the dense output)"},
-    )
-    ds["spring_peak_friction"] = (
-        "spring_peak",
-        np.array([float(y[0]) for _, y in sp]),
-        {"units": "1", "long_name": "spring force / W at its maximum (the friction, quasi-statically)"},
-    )
-    v_at = [float(y[1]) if params.inertial else core.qs_velocity(y[0], y, S, n, P) for _, y in sp]
-    ds["spring_peak_velocity"] = (
-        "spring_peak",
-        np.array(v_at),
-        {"units": "m/s", "long_name": "slip velocity at the spring-force maximum (= load-point velocity)"},
-    )
-    if params.inertial:
-        # a 'maximum' of the slip velocity within 1e-8 of the load point's, on steady sliding, is
-        # rounding (four of them at v = 1.0000000000e-4 in a settled start: the rate-and-state audit)
-        vp = []
-        for t, y in peaks["velocity"]:
-            v_lp = _record_velocity(ds, t)
-            if not abs(float(y[1]) - v_lp) <= 1e-8 * v_lp:
-                vp.append((t, y))
-        ds["velocity_peak_time"] = (
-            "velocity_peak",
-            np.array([t for t, _ in vp]),
-            {"units": "s", "long_name": "time of a slip-velocity maximum (event on the dense output)"},
-        )
-        ds["velocity_peak"] = (
-            "velocity_peak",
-            np.array([float(y[1]) for _, y in vp]),
-            {"units": "m/s", "long_name": "slip velocity at its maximum"},
-        )
-        ds["velocity_peak_friction"] = (
-            "velocity_peak",
-            np.array([core.in_friction(float(y[1]), y, S, n, P) for _, y in vp]),
-            {"units": "1", "long_name": "friction at the slip-velocity maximum"},
-        )
-    return ds
-
-
-def _dataset(
-    params: RateStateParameters,
-    t: FloatArray,
-    y: FloatArray,
-    u: FloatArray | None,
-    vlp: FloatArray,
-    hist: list[tuple[float, float]],
-) -> xr.Dataset:
-    P, S = params.core_arrays()
-    n = params.n_states
-    vr, kw, eta = float(P[core.P_VR]), float(P[core.P_KW]), float(P[core.P_ETA])
-    # load-point displacement: integral of the piecewise-constant velocity
-    bounds = np.concatenate([[0.0], np.cumsum([d for d, _ in hist])])
-    disp = np.concatenate([[0.0], np.cumsum([d * v for d, v in hist])])
-    seg = np.clip(np.searchsorted(bounds, t, side="right") - 1, 0, len(hist) - 1)
-    x_lp = disp[seg] + (t - bounds[seg]) * np.array([v for _, v in hist])[seg]
-    if params.inertial:
-        spring, v, theta = y[0], y[1], y[2:]
-        mu = np.array([core.in_friction(y[1, i], y[:, i], S, n, P) for i in range(t.size)])
-    else:
-        spring, theta = y[0], y[1:]
-        assert u is not None
-        v = vr * np.exp(u)
-        mu = spring - eta * v
-    x = x_lp - spring / kw
-    data: dict[str, Any] = {
-        "friction": ("time", mu, {"units": "1", "long_name": "friction coefficient"}),
-        "slip_velocity": ("time", v, {"units": "m/s", "long_name": "slider velocity"}),
-        "slider_displacement": ("time", x - x[0], {"units": "m", "long_name": "slider displacement"}),
-        "load_point_displacement": ("time", x_lp, {"units": "m", "long_name": "load-point displacement"}),
-        "load_point_velocity": ("time", vlp, {"units": "m/s", "long_name": "load-point velocity"}),
-        "spring_friction": ("time", spring, {"units": "1", "long_name": "spring force / W"}),
-    }
-    for i in range(n):
-        name = "state" if i == 0 else f"state_{i + 1}"
-        data[name] = (
-            "time",
-            np.exp(theta[i]) * params.state_scale(i) / vr,
-            {
-                "units": "s",
-                "long_name": f"state Phi{'' if n == 1 else f'_{i + 1}'} ({params.laws[i]} law)",
-            },
-        )
-    return xr.Dataset(
-        data,
-        coords={"time": ("time", t, {"units": "s", "long_name": "time"})},
-        attrs={
-            "model": "inertial" if params.inertial else ("quasi-dynamic" if eta > 0 else "quasi-static"),
-            "state_law": ",".join(params.laws),
-            "state_variables": n,
-            "parameters": repr(params),
-        },
-    )
-
-
 def step_history(
     velocities: Sequence[Any],
     *,
@@ -759,8 +410,8 @@ def slide_hold_slide(
     bounds = np.concatenate([[0.0], np.cumsum([_history([h])[0][0] for h in hist])])
     # the spring force on both sides (what a machine measures): the peak is the spring
     # force's; the rate-and-state friction before the hold differs from it by eta v with
-    # radiation damping, which the healing took in whole (+0.01 of 0.015 at 1000 s/m, 10 um/s:
-    # the rate-and-state audit), and with a mass where the slide has not settled
+    # radiation damping, which would enter the healing in whole (+0.01 of 0.015 at 1000 s/m,
+    # 10 um/s), and with a mass where the slide has not settled
     spring = ds.spring_friction.values
     t_peak = ds.spring_peak_time.values
     mu_peak = ds.spring_peak_friction.values
@@ -774,8 +425,8 @@ def slide_hold_slide(
         lo, hi = bounds[2 * j + 2], bounds[2 * j + 3]
         sel = (t_peak > lo) & (t_peak <= hi)
         if not sel.any():
-            # no healing to measure (b = 0, a hold of nanoseconds): said, and the run kept (it
-            # stopped the whole run without output: the rate-and-state audit)
+            # no healing to measure (b = 0, a hold of nanoseconds): said, and the run kept with
+            # its other holds (one such hold must not cost the whole output)
             warn(
                 f"hold {j} ({hold_s[j]:g} s): no spring-force peak on reloading within the slide (no "
                 "healing to measure: b = 0, or a hold too short to age the contact); its peak "
@@ -786,7 +437,7 @@ def slide_hold_slide(
             continue
         peaks.append(float(mu_peak[np.flatnonzero(sel)[0]] - before))
         off = before - steady
-        if abs(off) > UNSETTLED * abs(peaks[-1]):  # k near k_c rings for many Dc (the audit)
+        if abs(off) > UNSETTLED * abs(peaks[-1]):  # k near k_c rings for many Dc
             warn(
                 f"hold {j} ({hold_s[j]:g} s): the slide before it has not settled: the spring force / W "
                 f"is {before:.6g} at its end, {off:+.2g} from steady sliding's {steady:.6g}, so the "
