@@ -97,6 +97,14 @@ def _as_array(name: str, x: Any, unit: Any = None) -> npt.NDArray[np.float64]:
     return a
 
 
+def check_confidence(confidence: Any) -> None:
+    """Raise unless ``confidence`` is a confidence level in [0.5, 1) (a number, not a bool)."""
+    if isinstance(confidence, bool) or not isinstance(confidence, float | int):
+        raise ArgumentTypeError(f"confidence={confidence!r}: expected a level in [0.5, 1), e.g. 0.95")
+    if not 0.5 <= confidence < 1:
+        raise ValueError(f"confidence={confidence!r}: expected a level in [0.5, 1), e.g. 0.95")
+
+
 def classify(
     velocity: npt.ArrayLike,
     amplitude: npt.ArrayLike,
@@ -141,7 +149,7 @@ def classify(
         raise ValueError(f"velocity: units {velocity.units}: expected a velocity, e.g. um/s")
     v = _as_array("velocity", velocity)
     a = _as_array("amplitude", amplitude)
-    # the errors in the amplitudes' unit: 10 mN beside amplitudes in N was read as 10 N
+    # the errors are converted to the amplitudes' unit: 10 mN beside amplitudes in N is 0.01 N, not 10 N
     a_unit = amplitude.units if isinstance(amplitude, pint.Quantity) else None
     if (a_unit is None) != (not isinstance(amplitude_err, pint.Quantity)) and amplitude_err is not None:
         raise ArgumentTypeError("amplitude and amplitude_err: give both with units, or neither")
@@ -153,10 +161,7 @@ def classify(
     if np.any(a <= 0):
         i = int(np.argmax(a <= 0))
         raise ValueError(f"amplitude[{i}]={float(a[i])!r}: amplitudes must be positive")
-    if isinstance(confidence, bool) or not isinstance(confidence, float | int):
-        raise ArgumentTypeError(f"confidence={confidence!r}: expected a level in [0.5, 1), e.g. 0.95")
-    if not 0.5 <= confidence < 1:
-        raise ValueError(f"confidence={confidence!r}: expected a level in [0.5, 1), e.g. 0.95")
+    check_confidence(confidence)
     if isinstance(min_points, bool) or not isinstance(min_points, numbers.Integral):
         raise ArgumentTypeError(f"min_points={min_points!r}: expected an integer >= 3")
     if min_points < 3:
@@ -169,8 +174,8 @@ def classify(
         if np.any(e < 0):
             i = int(np.argmax(e < 0))
             raise ValueError(f"amplitude_err[{i}]={float(e[i])!r}: errors must be non-negative")
-        # 1e-320 overflowed the weights (a / err)**2: 'SVD did not converge' (a noise-free
-        # record's 1e-15 of its amplitude is fine)
+        # an error of 1e-320 overflows the weights (a / err)**2 ('SVD did not converge'); a
+        # noise-free record's 1e-15 of its amplitude is fine
         tiny = (e > 0) & (e < 1e-100 * a)
         if np.any(tiny):
             i = int(np.argmax(tiny))
@@ -246,7 +251,7 @@ def _polyfit(
     sw = np.ones(n) if sigma is None else 1.0 / sigma
     # least squares on the design scaled by sqrt(w), by its SVD: the normal matrix X^T W X
     # squares the condition number, and with errors that differ by 1e9 (noise-free records:
-    # 1e-15 next to 1e-5) pinv truncated it, and a rising half read falling (the data audit)
+    # 1e-15 next to 1e-5) its pseudo-inverse truncates it, and a rising half reads falling
     u, sv, vt = np.linalg.svd(X * sw[:, None], full_matrices=False)
     keep = sv > sv[0] * max(X.shape) * np.finfo(float).eps
     inv = np.where(keep, 1.0 / np.where(keep, sv, 1.0), 0.0)

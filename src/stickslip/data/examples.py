@@ -27,7 +27,7 @@ import numpy as np
 
 from ..io.output import OutputFolder, text_writer
 from ..io.records import format_record
-from .records import synthetic_record
+from .synthetic import synthetic_record
 
 __all__ = ["EXAMPLE_FILES", "write_examples"]
 

@@ -39,24 +39,33 @@ from typing import Any, NamedTuple
 
 import numpy as np
 import numpy.typing as npt
-from scipy.optimize import least_squares
 
-from ..core.api import run_attractors, run_trajectory
 from ..core.noise import noise_level
-from ..core.results import AttractorRows, EventKind, Regime, Status
 from ..errors import ArgumentTypeError
 from ..io.errors import DataError
 from ..io.records import Record
 from ..laws import PhysicalWeakeningLaw
-from ..laws.weakening import WEAKENING
 from ..models.parameters import PhysicalParameters
 from ..units import Q_, check_number
-from .records import CycleTable, RecordSummary, clean_force, measure_record
+
+# the fit's model, solver and stages are imported from this module too, where the fit is
+# made: a name imported as itself is re-exported
+from .cleaning import clean_force
+from .fit_model import FEATURES, _first_breakaway, _model_features, _values, model_waveform
+from .fit_model import _cycle as _cycle
+from .fit_model import _fall_time_model as _fall_time_model
+from .fit_model import _physical as _physical
+from .fit_model import _time_of_max as _time_of_max
+from .fit_solver import _covariance
+from .fit_solver import _Jacobian as _Jacobian
+from .fit_solver import _minimise as _minimise
+from .fit_stages import MAX_WAVEFORM_SAMPLES as MAX_WAVEFORM_SAMPLES
+from .fit_stages import _Features, _Fit, _fit_features, _fit_waveform, _peaks_drift_error
+from .records import CycleTable, RecordSummary, measure_record
 
 __all__ = ["FitResult", "fit_record"]
 
 FloatArray = npt.NDArray[np.float64]
-FEATURES = ("peak_force", "trough_force", "period", "rise_slope", "drop_time")
 UNITS = {"mu_s": "", "a": "s/m", "b": "s/m", "k": "N/m", "m": "kg"}
 
 
@@ -185,90 +194,11 @@ class FitResult:
         }
 
 
-def _cycle(c: float, p: float, nu: float, rtol: float = 1e-10) -> AttractorRows:
-    """Return the steady stick-slip cycle of the paper's law (``c``, ``p``) at ``nu``, from breakaway."""
-    return run_attractors(
-        WEAKENING.kernel(),
-        [c, p],
-        [nu],
-        from_breakaway=True,
-        rtol=rtol,
-        atol=1e-12,
-        max_slip_time=1e4,
-        conv_tol=1e-8,
-    )
-
-
-def _fall_time_model(c: float, p: float, nu: float, t_slip: float, time_scale: float) -> float:
-    """90%-10% fall time (s) of the model's force drop, from a dense trajectory of the slip."""
-    tau = np.linspace(0.0, t_slip, 600)
-    y, _, _, status = run_trajectory(WEAKENING.kernel(), [c, p], nu, 1.0, 0.0, tau, rtol=1e-9, atol=1e-12)
-    if status != Status.OK:
-        return math.nan
-    s = y[:, 0]
-    i_max = int(np.argmax(s))
-    seg, tt = s[i_max:], tau[i_max:]
-    hi, lo = s[i_max], float(seg.min())
-    a, b = lo + 0.9 * (hi - lo), lo + 0.1 * (hi - lo)
-    ta = np.interp(a, seg[::-1], tt[::-1])
-    tb_idx = int(np.argmax(seg < b))
-    tb = np.interp(b, [seg[tb_idx], seg[tb_idx - 1]], [tt[tb_idx], tt[tb_idx - 1]]) if tb_idx else tt[0]
-    return float(max(tb - ta, 0.0) * time_scale)
-
-
-def _values(theta: FloatArray, names: tuple[str, ...], fixed_b: float = 0.0) -> dict[str, float]:
-    """Return the physical parameters (SI) from the fit's log-coordinates ``names``.
-
-    With ``b`` fitted, the coordinate is ``d = a - b`` instead of ``a``: near breakaway
-    F2 is ``f(w) = 1 - (c - p) w + ...``, so a record pins down ``a - b`` far better than
-    ``a`` and ``b`` apart, and in ``(a, b)`` the cost is a long curved valley.
-    """
-    vals = {"b": fixed_b}
-    # an optimiser's wild trial step must not overflow: exp(700) is absurd enough to fail the model
-    vals.update({n: math.exp(min(float(x), 700.0)) for n, x in zip(names, theta, strict=True)})
-    if "d" in vals:
-        vals["a"] = vals.pop("d") + vals["b"]
-    return vals
-
-
-def _model_features(
-    theta: FloatArray, names: tuple[str, ...], fixed: dict[str, float], v0: float, load: float
-) -> FloatArray:
-    vals = dict(fixed)
-    vals.update(_values(theta, names, fixed.get("b", 0.0)))
-    mu_s, a, b, k, m = vals["mu_s"], vals["a"], vals.get("b", 0.0), vals["k"], vals["m"]
-    force = mu_s * load
-    if not (force > 0 and k * m > 0 and math.isfinite(k * m / force)):  # an absurd trial step
-        return np.full(len(FEATURES), np.nan)
-    beta = math.sqrt(k * m) / force
-    nu = beta * v0
-    c, p = a / beta, b / beta
-    try:
-        out = _cycle(c, p, nu, rtol=1e-9)
-    except ValueError:  # a trial step beyond the engine's range (lp[0]=2e23 ended the fit once)
-        return np.full(len(FEATURES), np.nan)
-    if not out.is_regime(Regime.STICK_SLIP)[0]:
-        return np.full(len(FEATURES), np.nan)
-    ts = math.sqrt(m / k)
-    t_slip = float(out.period[0] - out.stick_time[0])
-    return np.array(
-        [
-            force * out.s_max[0],
-            force * out.s_min[0],
-            out.period[0] * ts,
-            k * v0,
-            _fall_time_model(c, p, nu, t_slip, ts),
-        ]
-    )
-
-
 #: b below this fraction of a is at its bound b = 0 (F1)
 B_AT_BOUND = 1e-4
 #: rise of the chi-square that bounds a parameter at a bound from above at 95% (one-sided: the
 #: 90% quantile of chi-square with one degree of freedom)
 DCHI2_95_ONE_SIDED = 2.706
-#: largest number of samples the waveform fit uses (a window of whole cycles)
-MAX_WAVEFORM_SAMPLES = 200_000
 #: reduced chi-square below which the waveform fit warns that the noise it read is too large
 CHI2_LOW = 0.25
 #: reduced chi-square above which the fit warns that the model does not describe the record
@@ -341,6 +271,55 @@ def fit_record(
         When the fit does not converge.
 
     """
+    given_noise = _check_arguments(record, fit_b, method, noise)
+    prep = _prepare(record)
+    names = ("mu_s", "a", "k", "m", "b") if fit_b else ("mu_s", "a", "k", "m")
+    guess = _check_guess(guess, names)
+    coords = ("mu_s", "d", "k", "m", "b") if fit_b else names  # see _values
+    start = _features_fit(record, prep, coords, guess)
+    noise_ = noise_level(record.force) if given_noise is None else given_noise
+    if method == "waveform":
+        fitted = _waveform_stage(record, prep, coords, start.theta, guess, noise_)
+    else:
+        fitted = _features_stage(record, prep, coords, start)
+    vals = _values(fitted.theta, coords)
+    if fit_b and vals["b"] < B_AT_BOUND * vals["a"]:
+        # b ran to its bound 0 (in log coordinates it runs away towards -infinity with an error
+        # shrinking with it): refit without it and give b an upper limit instead of an error
+        return _with_b_at_bound(record, guess, method, vals, given_noise)
+    values, errors, corr, rel = _uncertainties(vals, names, fitted.cov, fitted.chi2, fit_b)
+    warnings = [
+        *_chi2_warnings(method, fitted.chi2, given_noise, noise_, prep.dt),
+        *_drift_warnings(record, method, fitted, prep, errors["mu_s"]),
+        # what was done to the force before it was fitted (outliers excluded, turned the right
+        # way up) and a rail that clipped its peaks (mu_s from them is the rail's): said as for
+        # analyze
+        *prep.force_notes,
+        *_record_warnings(fit_b, prep.summary, prep.dt),
+        *_identifiability_warnings(names, rel, corr),
+    ]
+    return FitResult(
+        values,
+        errors,
+        corr,
+        names,
+        _feature_table(names, values, start, prep),
+        tuple(warnings),
+        _fitted_parameters(record, values),
+        prep.summary,
+        fitted.chi2,
+        method,
+        noise_,
+        fitted.samples,
+        fitted.breakaway,
+        fitted.drift,
+        fitted.drift_origin,
+        drift_error=fitted.drift_error,
+    )
+
+
+def _check_arguments(record: Any, fit_b: Any, method: Any, noise: Any) -> float | None:
+    """Check :func:`fit_record`'s arguments; return the noise level given (N), or None."""
     if not isinstance(record, Record):
         raise TypeError(f"record={record!r}: expected a Record (read_record(path) reads one)")
     if not isinstance(method, str):
@@ -357,68 +336,145 @@ def fit_record(
         )
     if not isinstance(fit_b, bool | np.bool_):
         raise ArgumentTypeError(f"fit_b={fit_b!r}: expected True or False")
-    if given_noise is not None:  # 1e-320 N weighed the fit into overflow, 1e308 N into a chi-square of 0
+    if given_noise is not None:  # 1e-320 N weighs the fit into overflow, 1e308 N into a chi-square of 0
         span = float(np.ptp(record.force))
         if not 1e-9 * span <= given_noise <= span:
             raise ValueError(
                 f"noise={noise!r}: expected a noise level between 1e-9 and 1 times the record's force "
                 f"range ({span:.3g} N)"
             )
+    return given_noise
+
+
+class _Prepared(NamedTuple):
+    """A record measured for a fit.
+
+    Its cycles and their summary, its force as measured and what was done to it (for the
+    warnings), its driving velocity (m/s) and normal load (N), and its sample interval (s).
+    """
+
+    table: CycleTable
+    summary: RecordSummary
+    force: FloatArray
+    force_notes: list[str]
+    v0: float
+    load: float
+    dt: float
+
+
+def _prepare(record: Record) -> _Prepared:
+    """Measure the record's cycles, and its force as measured once for every fit of it."""
     table, summary = measure_record(record)
-    # the force as measured (outliers out, the right way up), once for every waveform fit below,
+    # the force as measured (outliers out, the right way up), once for every waveform fit,
     # and what was done to it, for the warnings
     force, force_notes, _ = clean_force(record)
-    v0 = float(record.v0.to("m/s").magnitude)
-    load = float(record.load.to("N").magnitude)
-    names = ("mu_s", "a", "k", "m", "b") if fit_b else ("mu_s", "a", "k", "m")
-    guess = _check_guess(guess, names)
-    coords = ("mu_s", "d", "k", "m", "b") if fit_b else names  # see _values
-    theta, jac, chi2, data_a, err_a = _fit_features(record, table, summary, coords, v0, load, guess)
-    cov = _covariance(jac)
-    noise_ = noise_level(record.force) if given_noise is None else given_noise
-    samples = len(FEATURES)
-    drift, drift_origin = float(summary.drift), float(record.time[0])
-    drift_error = _peaks_drift_error(table)
+    v0 = float(record.v0.to("m/s").magnitude)  # type: ignore[union-attr]
+    load = float(record.load.to("N").magnitude)  # type: ignore[union-attr]
     dt = float(np.median(np.diff(record.time)))  # the sample interval (s)
-    if method == "waveform":
-        fitted = _fit_waveform(record, force, table, summary, coords, theta, v0, load, noise_)
-        if fitted.chi2 > CHI2_WARN and summary.drop_time < 3.0 * dt and (guess is None or "m" not in guess):
-            # the drop falls between samples: the features cannot place m (nor a, along the a-m
-            # valley), and from a poor start the waveform fit wanders off (2 Hz: reduced chi2 900
-            # from the features' m = 3.6 kg, 0.86 from 0.3 kg); start again from the features
-            # refitted with m held at values down to a hundredth and up to three times, keep the best
-            free = tuple(x for x in coords if x != "m")
-            m_features = _values(theta, coords)["m"]
-            for factor in (0.01, 0.03, 0.1, 0.3, 3.0):
-                m = m_features * factor
-                try:
-                    th, _, _, _, _ = _fit_features(record, table, summary, free, v0, load, guess, {"m": m})
-                    start = np.insert(th, coords.index("m"), math.log(m))
-                    other = _fit_waveform(record, force, table, summary, coords, start, v0, load, noise_)
-                except (RuntimeError, DataError):
-                    continue
-                if other.cost < fitted.cost:
-                    fitted = other
-        theta, cov, chi2, samples, breakaway = (
-            fitted.theta,
-            fitted.cov,
-            fitted.chi2,
-            fitted.samples,
-            fitted.breakaway,
-        )
-        drift, drift_error, drift_origin = (
-            fitted.drift,
-            fitted.drift_error * math.sqrt(max(1.0, chi2)),
-            fitted.drift_origin,
-        )
-    else:
-        chi2 = chi2 / max(1, len(FEATURES) - len(names))
-        breakaway = _first_breakaway(theta, coords, v0, load, float(table.peak_time[0]))
-    vals = _values(theta, coords)
-    if fit_b and vals["b"] < B_AT_BOUND * vals["a"]:
-        # b ran to its bound 0 (in log coordinates it runs away towards -infinity with an error
-        # shrinking with it): refit without it and give b an upper limit instead of an error
-        return _with_b_at_bound(record, guess, method, vals, given_noise)
+    return _Prepared(table, summary, force, force_notes, v0, load, dt)
+
+
+def _features_fit(
+    record: Record,
+    prep: _Prepared,
+    coords: tuple[str, ...],
+    guess: dict[str, float] | None,
+    fixed: dict[str, float] | None = None,
+) -> _Features:
+    """Fit the prepared record's cycle features (:func:`~.fit_stages._fit_features`)."""
+    return _fit_features(record, prep.table, prep.summary, coords, prep.v0, prep.load, guess, fixed)
+
+
+def _waveform_fit(
+    record: Record,
+    prep: _Prepared,
+    coords: tuple[str, ...],
+    theta: FloatArray,
+    noise: float,
+    fixed_b: float = 0.0,
+) -> _Fit:
+    """Fit the prepared record's waveform from ``theta`` (:func:`~.fit_stages._fit_waveform`)."""
+    return _fit_waveform(
+        record, prep.force, prep.table, prep.summary, coords, theta, prep.v0, prep.load, noise, fixed_b
+    )
+
+
+def _features_stage(record: Record, prep: _Prepared, coords: tuple[str, ...], start: _Features) -> _Fit:
+    """Stop at the fit on cycle features: the drift from the peaks, a breakaway on the first peak."""
+    return _Fit(
+        theta=start.theta,
+        cov=_covariance(start.jac),
+        chi2=start.chi2 / max(1, len(FEATURES) - len(coords)),
+        samples=len(FEATURES),
+        breakaway=_first_breakaway(start.theta, coords, prep.v0, prep.load, float(prep.table.peak_time[0])),
+        drift=float(prep.summary.drift),
+        drift_error=_peaks_drift_error(prep.table),
+        drift_origin=float(record.time[0]),
+        cost=start.chi2,
+    )
+
+
+def _waveform_stage(
+    record: Record,
+    prep: _Prepared,
+    coords: tuple[str, ...],
+    theta: FloatArray,
+    guess: dict[str, float] | None,
+    noise: float,
+) -> _Fit:
+    """Fit the force waveform from the features' parameters ``theta``.
+
+    Where the drop falls between samples and the fit misses the record, it is restarted in
+    ``m`` (:func:`_restart_in_m`), unless ``m`` was given a starting value. The drift's
+    error is scaled as the parameters' are, by the square root of the reduced chi-square
+    when it exceeds 1.
+    """
+    fitted = _waveform_fit(record, prep, coords, theta, noise)
+    unresolved = prep.summary.drop_time < 3.0 * prep.dt
+    if fitted.chi2 > CHI2_WARN and unresolved and (guess is None or "m" not in guess):
+        fitted = _restart_in_m(record, prep, coords, theta, guess, noise, fitted)
+    return fitted._replace(drift_error=fitted.drift_error * math.sqrt(max(1.0, fitted.chi2)))
+
+
+def _restart_in_m(
+    record: Record,
+    prep: _Prepared,
+    coords: tuple[str, ...],
+    theta: FloatArray,
+    guess: dict[str, float] | None,
+    noise: float,
+    best: _Fit,
+) -> _Fit:
+    """Return the best of ``best`` and waveform fits started with ``m`` away from the features' value.
+
+    With the drop between samples the features cannot place m (nor a, along the a-m valley),
+    and from a poor start the waveform fit wanders off (2 Hz: reduced chi2 900 from the
+    features' m = 3.6 kg, 0.86 from 0.3 kg). Each start is the features refitted with m held
+    at a hundredth of their value up to three times it; the fit of least cost is kept.
+    """
+    free = tuple(x for x in coords if x != "m")
+    m_features = _values(theta, coords)["m"]
+    for factor in (0.01, 0.03, 0.1, 0.3, 3.0):
+        m = m_features * factor
+        try:
+            th, _, _, _, _ = _features_fit(record, prep, free, guess, {"m": m})
+            start = np.insert(th, coords.index("m"), math.log(m))
+            other = _waveform_fit(record, prep, coords, start, noise)
+        except (RuntimeError, DataError):
+            continue
+        if other.cost < best.cost:
+            best = other
+    return best
+
+
+def _uncertainties(
+    vals: dict[str, float], names: tuple[str, ...], cov: FloatArray, chi2: float, fit_b: bool
+) -> tuple[dict[str, float], dict[str, float], FloatArray, FloatArray]:
+    """Return the fitted values, their errors, their correlations and their relative errors.
+
+    ``cov`` is the covariance of the fit's coordinates; the errors are scaled by the square
+    root of the reduced chi-square ``chi2`` when it exceeds 1.
+    """
     values = {x: float(vals[x]) for x in names}
     # covariance of the log-parameters from that of the coordinates: log a = log(d + b)
     to_log = np.eye(len(names))
@@ -427,13 +483,17 @@ def fit_record(
         to_log[ia, ia] = (values["a"] - values["b"]) / values["a"]
         to_log[ia, ib] = values["b"] / values["a"]
     cov_log = to_log @ cov @ to_log.T * max(1.0, chi2)
-    theta = np.log([values[x] for x in names])
     rel = np.sqrt(np.clip(np.diag(cov_log), 0, None))
     errors = {x: values[x] * float(r) for x, r in zip(names, rel, strict=True)}
     d = np.sqrt(np.clip(np.diag(cov_log), 1e-300, None))
     corr = cov_log / np.outer(d, d)
+    return values, errors, corr, rel
+
+
+def _chi2_warnings(method: str, chi2: float, given_noise: float | None, noise: float, dt: float) -> list[str]:
+    """Say what the reduced chi-square tells of the fit, and of the noise that weights it."""
     warnings = []
-    if method == "features" and given_noise is not None:  # it was dropped without a word
+    if method == "features" and given_noise is not None:  # the features do not use it: say so
         warnings.append(
             "the noise given weights the waveform fit only: the features are weighted by their "
             "cycle-to-cycle spread"
@@ -449,39 +509,56 @@ def fit_record(
     elif chi2 > CHI2_WARN:
         warnings.append(
             f"reduced chi-square {chi2:.2f} > {CHI2_WARN:g}: the model does not describe the record "
-            f"to within its noise ({1e3 * noise_:.3g} mN); errors scaled up by its square root"
+            f"to within its noise ({1e3 * noise:.3g} mN); errors scaled up by its square root"
         )
     elif method == "waveform" and given_noise is None and chi2 < CHI2_LOW:
         # the noise read off the record is larger than the misfit: the errors scale with it
-        # (0.045 and errors 4.8 times too large, without a word: the measured-data audit)
+        # (a reduced chi-square of 0.045 comes with errors 4.8 times too large)
         warnings.append(
             f"reduced chi-square {chi2:.2g} < {CHI2_LOW:g}: the record fits better than the noise read "
-            f"off it ({1e3 * noise_:.3g} mN), so that estimate is too large and the errors with it, by "
+            f"off it ({1e3 * noise:.3g} mN), so that estimate is too large and the errors with it, by "
             f"about {1.0 / math.sqrt(max(chi2, 1e-300)):.2g} times; give the noise if you know it "
             "(--noise '0.4 mN', noise= in Python)"
         )
+    return warnings
+
+
+def _drift_warnings(
+    record: Record, method: str, fitted: _Fit, prep: _Prepared, mu_s_error: float
+) -> list[str]:
+    """Say where the record's drift moves ``mu_s`` by more than its error over the fitted window.
+
+    A drift the record shows (significant) that moves mu_s by more than its error between
+    the window's middle and its ends: where the sensor read true decides mu_s. (Compared
+    with the noise instead, a drift of 2 uN/s over 200 s that moves mu_s by 44 of its errors
+    would pass unsaid: mu_s, fitted on every sample, is known far better than one sample's
+    noise.)
+    """
+    drift, drift_error = fitted.drift, fitted.drift_error
     half_window = (
-        0.5 * samples * dt if method == "waveform" else 0.5 * float(record.time[-1] - record.time[0])
+        0.5 * fitted.samples * prep.dt
+        if method == "waveform"
+        else 0.5 * float(record.time[-1] - record.time[0])
     )
-    # a drift the record shows (significant) that moves mu_s by more than its error between the
-    # window's middle and its ends: where the sensor read true decides mu_s. (Compared with the
-    # noise instead, a drift of 2 uN/s over 200 s moved mu_s by 44 of its errors unannounced:
-    # mu_s, fitted on every sample, is known far better than one sample's noise.)
-    shift = abs(drift) * half_window / load
-    if abs(drift) > DRIFT_SIGNIFICANT * drift_error and shift > errors["mu_s"]:
-        warnings.append(
-            f"the force drifts ({1e3 * drift:+.3g} +- {1e3 * drift_error:.2g} mN/s, "
-            f"{1e3 * abs(drift) * half_window:.3g} mN from the fitted window's middle to its ends, "
-            f"{shift / errors['mu_s']:.3g} times mu_s's error): mu_s and a describe the force at t = "
-            f"{drift_origin:.6g} s, where the drift term is zero; if the force sensor read true "
-            "at another time t', the static friction coefficient is about mu_s + drift x (t' - t) / "
-            "load, and a moves with it (refit the record with the drift removed from t')"
-        )
-    # what was done to the force before it was fitted (outliers excluded, turned the right way
-    # up) and a rail that clipped its peaks (mu_s from them is the rail's): said as for analyze
-    warnings += force_notes
+    shift = abs(drift) * half_window / prep.load
+    if not (abs(drift) > DRIFT_SIGNIFICANT * drift_error and shift > mu_s_error):
+        return []
+    return [
+        f"the force drifts ({1e3 * drift:+.3g} +- {1e3 * drift_error:.2g} mN/s, "
+        f"{1e3 * abs(drift) * half_window:.3g} mN from the fitted window's middle to its ends, "
+        f"{shift / mu_s_error:.3g} times mu_s's error): mu_s and a describe the force at t = "
+        f"{fitted.drift_origin:.6g} s, where the drift term is zero; if the force sensor read true "
+        "at another time t', the static friction coefficient is about mu_s + drift x (t' - t) / "
+        "load, and a moves with it (refit the record with the drift removed from t')"
+    ]
+
+
+def _record_warnings(fit_b: bool, summary: RecordSummary, dt: float) -> list[str]:
+    """Say what in the record keeps the model from describing it: no stick, or a drop between samples."""
+    warnings = []
     if not fit_b and summary.stick_fraction == 0.0:
-        # k and m came with errors of 0.06 % for values half the truth (the measured-data audit)
+        # fitted to a pure-slip record, F1 gives k and m with errors of 0.06 % for values half
+        # the truth
         warnings.append(
             "the record never sticks (stick fraction 0, from its velocity): a pure-slip oscillation, "
             "which the F1 law (friction falling at every speed) cannot make, so these parameters are "
@@ -495,6 +572,12 @@ def fit_record(
             "their errors are local (sample faster than the drop, or start elsewhere with fit_record's "
             "guess= and compare the chi-square)"
         )
+    return warnings
+
+
+def _identifiability_warnings(names: tuple[str, ...], rel: FloatArray, corr: FloatArray) -> list[str]:
+    """Name the parameters the record does not determine, alone or as a correlated pair."""
+    warnings = []
     for x, r in zip(names, rel, strict=True):
         if r > 0.5:
             warnings.append(
@@ -517,9 +600,21 @@ def fit_record(
                     f"(to {100 * rel[i]:.2g}% and {100 * rel[j]:.2g}%), but their errors move together; "
                     "propagate them with the correlation matrix"
                 )
-    model = _model_features(theta, names, {"b": 0.0}, v0, load)
-    feats = {k: (float(data_a[i]), float(err_a[i]), float(model[i])) for i, k in enumerate(FEATURES)}
-    params = PhysicalParameters(
+    return warnings
+
+
+def _feature_table(
+    names: tuple[str, ...], values: dict[str, float], start: _Features, prep: _Prepared
+) -> dict[str, tuple[float, float, float]]:
+    """Return each cycle feature: its measured value, its standard error, the fitted model's value."""
+    theta = np.log([values[x] for x in names])
+    model = _model_features(theta, names, {"b": 0.0}, prep.v0, prep.load)
+    return {k: (float(start.data[i]), float(start.err[i]), float(model[i])) for i, k in enumerate(FEATURES)}
+
+
+def _fitted_parameters(record: Record, values: dict[str, float]) -> PhysicalParameters:
+    """Return the fitted set-up: the record's load and driving velocity with the fitted values."""
+    return PhysicalParameters(
         mass=Q_(values["m"], "kg"),
         stiffness=Q_(values["k"], "N/m"),
         load=record.load,
@@ -528,24 +623,6 @@ def fit_record(
             mu_s=values["mu_s"], a=Q_(values["a"], "s/m"), b=Q_(values.get("b", 0.0), "s/m")
         ),
     )
-    return FitResult(
-        values,
-        errors,
-        corr,
-        names,
-        feats,
-        tuple(warnings),
-        params,
-        summary,
-        chi2,
-        method,
-        noise_,
-        samples,
-        breakaway,
-        drift,
-        drift_origin,
-        drift_error=drift_error,
-    )
 
 
 def _relative(r: float) -> str:
@@ -553,30 +630,6 @@ def _relative(r: float) -> str:
     if not math.isfinite(r):
         return "unbounded: the residuals do not depend on it"
     return f"{r:.0%}" if r < 10 else f"{r:.2g} times its value"
-
-
-def _covariance(jac: FloatArray) -> FloatArray:
-    """Inverse of the normal matrix ``J^T J``: the parameters' covariance (weighted residuals).
-
-    Inverted with its columns scaled to unit norm, so parameters of very different
-    sensitivity do not make it look singular; a direction it does not constrain at all (an
-    eigenvalue of the scaled matrix below 1e-14 of the largest, or a parameter the residuals
-    do not depend on) gives the parameters along it an infinite variance. (A pseudo-inverse
-    gives that direction zero variance: a parameter the record does not constrain came out
-    with an error of 1e-19 s/m.)
-    """
-    normal = jac.T @ jac
-    scale = np.sqrt(np.diag(normal))
-    unit = np.where(scale > 0, scale, 1.0)
-    w, v = np.linalg.eigh(normal / np.outer(unit, unit))
-    null = w <= 1e-14 * max(float(w.max()), 0.0)
-    inv_w = np.where(null, 0.0, 1.0 / np.where(null, 1.0, w))
-    cov = (v * inv_w) @ v.T / np.outer(unit, unit)
-    free = np.any(np.abs(v[:, null]) > 1e-8, axis=1) | (scale == 0)
-    cov[free, :] = np.nan
-    cov[:, free] = np.nan
-    cov[free, free] = np.inf
-    return np.asarray(cov, dtype=float)
 
 
 def _noise(value: Any) -> float:
@@ -603,19 +656,14 @@ def _with_b_at_bound(
     """
     f1_guess = None if guess is None else {k: v for k, v in guess.items() if k != "b"}
     f1 = fit_record(record, fit_b=False, guess=f1_guess, method=method, noise=noise)
-    v0 = float(record.v0.to("m/s").magnitude)  # type: ignore[union-attr]
-    load = float(record.load.to("N").magnitude)  # type: ignore[union-attr]
     theta = np.log([f1.values[n] for n in f1.names])
-    table, summary = measure_record(record)
-    force = clean_force(record)[0]
+    prep = _prepare(record)
     scale = max(1.0, f1.reduced_chi2)
 
     def profile(b: float) -> float:
         if method == "waveform":
-            fit = _fit_waveform(record, force, table, summary, f1.names, theta, v0, load, f1.noise, fixed_b=b)
-            return fit.cost
-        _, _, cost, _, _ = _fit_features(record, table, summary, f1.names, v0, load, f1.values, {"b": b})
-        return cost
+            return _waveform_fit(record, prep, f1.names, theta, f1.noise, fixed_b=b).cost
+        return _features_fit(record, prep, f1.names, f1.values, {"b": b}).chi2
 
     c0 = profile(0.0)
     # sqrt(delta chi2) is about linear in b: a secant on it, from a thousandth of a
@@ -643,359 +691,3 @@ def _with_b_at_bound(
         warnings=(*f1.warnings, note),
         upper_limits={"b": upper},
     )
-
-
-def _fit_features(
-    record: Record,
-    table: CycleTable,
-    summary: RecordSummary,
-    names: tuple[str, ...],
-    v0: float,
-    load: float,
-    guess: dict[str, float] | None,
-    fixed: dict[str, float] | None = None,
-) -> tuple[FloatArray, FloatArray, float, FloatArray, FloatArray]:
-    """Fit on cycle features; return log-parameters, Jacobian, chi-square, features and their errors."""
-    n = summary.n_cycles
-    data, err = [], []
-    dt = float(np.median(np.diff(record.time)))
-    for key, arr in (
-        ("peak_force", table.peak_force),
-        ("trough_force", table.trough_force),
-        ("period", table.period),
-        ("rise_slope", table.rise_slope),
-        ("drop_time", table.drop_time),
-    ):
-        med = float(np.median(arr))
-        se = 1.2533 * float(np.std(arr, ddof=1)) / math.sqrt(n) if n > 1 else math.nan
-        floor = {"period": dt / math.sqrt(n), "drop_time": dt / math.sqrt(n)}.get(key, 0.0)
-        data.append(med)
-        err.append(max(se, floor, 1e-6 * abs(med)))
-    data_a, err_a = np.array(data), np.array(err)
-    k0 = summary.rise_slope / v0
-    mu_s0 = summary.peak_force / load
-    m0 = k0 * (summary.drop_time / (0.6 * math.pi)) ** 2
-    start = {"mu_s": mu_s0, "a": 100.0, "k": k0, "m": max(m0, 1e-9), "b": 10.0}
-    start.update(guess or {})
-    start["d"] = start["a"] - start["b"]
-    if not all(math.isfinite(start[x]) and start[x] > 0 for x in names):
-        raise DataError(f"{record.name}: cannot start the fit from the features {start}")
-
-    held = {"b": 0.0, **(fixed or {})}
-
-    def residuals(theta: FloatArray) -> FloatArray:
-        model = _model_features(theta, names, held, v0, load)
-        r = (model - data_a) / err_a
-        return np.where(np.isfinite(r), r, 1e6)
-
-    best = None
-    for a_start in (30.0, 100.0, 300.0, 1000.0):
-        s0 = dict(start)
-        if guess is None or "a" not in guess:
-            s0["a"] = a_start
-            s0["d"] = a_start - s0["b"]
-        theta0 = np.log([s0[x] for x in names])
-        res = least_squares(residuals, theta0, method="trf", x_scale=1.0, diff_step=1e-6, max_nfev=400)
-        if best is None or res.cost < best.cost:
-            best = res
-    assert best is not None
-    if not best.success:
-        raise RuntimeError(f"{record.name}: the fit did not converge ({best.message})")
-    return best.x, best.jac, 2.0 * best.cost, data_a, err_a
-
-
-def _physical(
-    theta: FloatArray, names: tuple[str, ...], v0: float, load: float, fixed_b: float = 0.0
-) -> dict[str, float]:
-    vals = _values(theta, names, fixed_b)
-    force = vals["mu_s"] * load
-    beta = math.sqrt(vals["k"] * vals["m"]) / force
-    return {
-        "force": force,
-        "nu": beta * v0,
-        "c": vals["a"] / beta,
-        "p": vals["b"] / beta,
-        "time": math.sqrt(vals["m"] / vals["k"]),
-    }
-
-
-def model_waveform(
-    theta: FloatArray,
-    names: tuple[str, ...],
-    t0: float,
-    t: FloatArray,
-    v0: float,
-    load: float,
-    fixed_b: float = 0.0,
-) -> FloatArray:
-    """Return the spring force (N) of the model's steady cycle at times ``t``, breakaway at ``t0``.
-
-    ``theta`` are the log-parameters ``names`` (``mu_s, a, k, m`` and ``b``; without ``b`` in
-    ``names`` it is ``fixed_b``, s/m). The stick phase
-    is the exact ramp ``s_stop + nu (tau - t_slip)``; the slip phase from breakaway
-    ``(1, 0)`` is sampled on the engine's dense output. NaN where the model does not stick.
-    """
-    try:
-        ph = _physical(theta, names, v0, load, fixed_b)
-    except (ZeroDivisionError, OverflowError, ValueError):  # an optimiser's absurd trial step
-        return np.full(t.shape, np.nan)
-    nu, c, p = ph["nu"], ph["c"], ph["p"]
-    if not all(math.isfinite(x) and x >= 0.0 for x in (nu, c, p)) or nu == 0.0:
-        return np.full(t.shape, np.nan)
-    try:
-        row = _cycle(c, p, nu)
-    except ValueError:  # a trial step beyond the engine's range (nu above 1e12, c above 1e15)
-        return np.full(t.shape, np.nan)
-    if not row.is_regime(Regime.STICK_SLIP)[0]:
-        return np.full(t.shape, np.nan)
-    period = float(row.period[0])
-    t_slip = period - float(row.stick_time[0])
-    tau = np.mod((t - t0) / ph["time"], period)
-    s = float(row.s_stop[0]) + nu * (tau - t_slip)
-    slip = tau < t_slip
-    if slip.any():
-        idx = np.flatnonzero(slip)
-        order = np.argsort(tau[idx], kind="stable")
-        y, _, _, status = run_trajectory(
-            WEAKENING.kernel(), [c, p], nu, 1.0, 0.0, tau[idx[order]], rtol=1e-10, atol=1e-12
-        )
-        if status != Status.OK:
-            return np.full(t.shape, np.nan)
-        s[idx[order]] = y[:, 0]
-    return ph["force"] * s
-
-
-class _Waveform(NamedTuple):
-    """A waveform fit of :func:`_fit_waveform`.
-
-    The log-parameters, their covariance (phase and drift marginalised, not scaled by the
-    chi-square), the reduced chi-square, the samples used, a breakaway time (s), the drift
-    (N/s) and its standard error (not scaled), the time the drift term is zero at (s), and the
-    total chi-square.
-    """
-
-    theta: FloatArray
-    cov: FloatArray
-    chi2: float
-    samples: int
-    breakaway: float
-    drift: float
-    drift_error: float
-    drift_origin: float
-    cost: float
-
-
-def _peaks_drift_error(table: CycleTable) -> float:
-    """Return the standard error (N/s) of the peaks' trend, from their scatter about it.
-
-    The record's drift is the slope of its peaks against time (:func:`measure_record`); the
-    peaks in ``table`` have it removed, which changes the slope but not the scatter.
-    """
-    t, f = np.asarray(table.peak_time, dtype=float), np.asarray(table.peak_force, dtype=float)
-    if t.size < 3 or np.ptp(t) <= 0:
-        return math.nan
-    from scipy.stats import linregress
-
-    return float(linregress(t, f).stderr)
-
-
-def _fit_waveform(
-    record: Record,
-    force: FloatArray,
-    table: CycleTable,
-    summary: RecordSummary,
-    names: tuple[str, ...],
-    theta0: FloatArray,
-    v0: float,
-    load: float,
-    noise: float,
-    fixed_b: float = 0.0,
-) -> _Waveform:
-    """Fit the force waveform over a window of whole cycles (``b`` held at ``fixed_b`` unless fitted).
-
-    ``force`` is the record's force as measured (:func:`clean_force`: outliers out, the right
-    way up), computed once by the caller: the refits and the profile call this many times.
-    """
-    t = record.time
-    f = force
-    # a window of whole cycles, from one peak to a later one, at most MAX_WAVEFORM_SAMPLES long
-    peaks = np.searchsorted(t, table.peak_time)
-    last = int(np.searchsorted(peaks, peaks[0] + MAX_WAVEFORM_SAMPLES, side="right")) - 1
-    i0, i1 = int(peaks[0]), int(peaks[max(1, last)]) if len(peaks) > 1 else len(t)
-    if i1 - i0 < 20:
-        i0, i1 = 0, len(t)
-    tw, fw = t[i0:i1], f[i0:i1]
-    if not noise > 0:
-        raise DataError(
-            f"{record.name}: the record has no measurable noise (its second differences are all "
-            "zero), so nothing weights a waveform fit; give the noise level (--noise '0.4 mN', "
-            "or noise= in Python)"
-        )
-    # first breakaway: where the model's first peak falls on the data's first peak
-    ph = _physical(theta0, names, v0, load, fixed_b)
-    tau_peak = _time_of_max(ph, _cycle(ph["c"], ph["p"], ph["nu"]))
-    # the phase is anchored at the peak in the middle of the window: every drop sits at
-    # t_ref + j T, and with j centred the phase and the period are not correlated (as a
-    # regression centres its abscissa); anchored at the first drop they are, and the cost
-    # becomes a long curved valley that the optimisers crawl along
-    inside = table.peak_time[(table.peak_time >= tw[0]) & (table.peak_time <= tw[-1])]
-    t_peak = float(inside[len(inside) // 2]) if inside.size else float(table.peak_time[0])
-    t_ref = t_peak - tau_peak * ph["time"]
-    scale_t = max(float(summary.drop_time), 5.0 * float(np.median(np.diff(tw))))
-    t_mid = 0.5 * (tw[0] + tw[-1])
-    # the drift of the force (a sensor's, say) is a parameter too: estimated from a few noisy
-    # peaks and subtracted beforehand, it would bias the others; in units of noise per window
-    span = max(tw[-1] - tw[0], 1e-300)
-    drift_unit = noise / span
-
-    def residuals(x: FloatArray) -> FloatArray:
-        model = model_waveform(x[:-2], names, t_ref + x[-2] * scale_t, tw, v0, load, fixed_b)
-        r = (fw - model - x[-1] * drift_unit * (tw - t_mid)) / noise
-        return np.where(np.isfinite(r), r, 1e3)
-
-    x0 = np.concatenate([theta0, [0.0, summary.drift / drift_unit]])
-    # align the phase first (the parameters from the features are close; the drop's time is not)
-    offsets = np.linspace(-2.0, 2.0, 21)
-    costs = [float(np.sum(residuals(np.concatenate([theta0, [o, x0[-1]]])) ** 2)) for o in offsets]
-    x0[-2] = offsets[int(np.argmin(costs))]
-    x, jac, cost = _minimise(residuals, x0, record.name)
-    dof = max(1, tw.size - x.size)
-    chi2 = cost / dof
-    # the parameters' covariance with the nuisance parameters (phase, drift) marginalised:
-    # the inverse of the full normal matrix, restricted to the parameters
-    full = _covariance(jac)
-    n_p = len(names)
-    cov = np.asarray(full[:n_p, :n_p], dtype=float)
-    return _Waveform(
-        theta=x[:n_p],
-        cov=cov,
-        chi2=chi2,
-        samples=int(tw.size),
-        breakaway=t_ref + float(x[-2]) * scale_t,
-        drift=float(x[-1] * drift_unit),
-        drift_error=float(np.sqrt(full[-1, -1])) * drift_unit,
-        drift_origin=float(t_mid),
-        cost=cost,
-    )
-
-
-class _Jacobian:
-    """Central-difference Jacobian of ``fun`` (``n`` residuals), each step one conditional standard error.
-
-    Forward differences are not enough here: near the minimum the gradient's components
-    are large and nearly cancel along the Newton step (the cost is very stiff in the peak
-    force and the period), and their O(h) error flips its sign. Nor is a fixed step: moved
-    alone, a parameter changes the cost by 1 (one standard error, all others held) over
-    ``1 / |J_i|``, which is 1e-7 in log mu_s for 60 cycles at 100 Hz, and a step of 1e-6
-    there spans ten of them: the residuals of the samples on the drops are far from linear
-    over it, the gradient came out with the wrong sign and the search stopped 20 standard
-    errors from the minimum with no warning (the data audit). So each step is
-    ``1 / |J_i|`` from the previous Jacobian (first 1e-6), between 1e-10 and 1e-6 of
-    ``max(1, |x_i|)``: the model's own error (rtol 1e-10) over such a step is still far
-    below the derivative.
-    """
-
-    def __init__(self, fun: Any, n: int) -> None:
-        self.fun, self.n = fun, n
-        self.steps: FloatArray | None = None
-
-    def __call__(self, x: FloatArray) -> FloatArray:
-        scale = np.maximum(1.0, np.abs(x))
-        steps = 1e-6 * scale if self.steps is None else self.steps
-        jac = np.empty((self.n, x.size))
-        for i in range(x.size):
-            e = np.zeros_like(x)
-            e[i] = steps[i]
-            jac[:, i] = (self.fun(x + e) - self.fun(x - e)) / (2.0 * steps[i])
-        norm = np.linalg.norm(jac, axis=0)
-        with np.errstate(divide="ignore"):
-            one_error = np.where(norm > 0, 1.0 / norm, np.inf)
-        self.steps = np.clip(one_error, 1e-10 * scale, 1e-6 * scale)
-        return jac
-
-
-def _minimise(fun: Any, x0: FloatArray, name: str) -> tuple[FloatArray, FloatArray, float]:
-    """Minimise ``sum(fun(x)**2)``: Levenberg-Marquardt, then a quasi-Newton check of the minimum.
-
-    The Jacobian is by central differences: near the minimum the gradient's components
-    are large and nearly cancel along the step (the cost is very stiff in the peak force
-    and the period), and forward differences make the methods stop early. With noise on
-    every sample the residuals do not vanish at the minimum, and the curvature that
-    Gauss-Newton leaves out (sum of residual times second derivative) is not small along
-    the poorly determined combination of parameters; BFGS updates of the Gauss-Newton
-    matrix pick it up where Levenberg-Marquardt stops short. Stops when the predicted or
-    the achieved decrease of the cost is below 1e-4 (a ten-thousandth of the change that
-    moves a parameter by one standard error), or when five steps gain less than 0.5
-    together (a flat direction).
-
-    Returns the minimiser, the Jacobian of the residuals there and the cost.
-    """
-    n = fun(x0).size
-    jacobian = _Jacobian(fun, n)
-    jacobian(x0)  # the first steps: one standard error of each parameter at the start
-    res = least_squares(fun, x0, jac=jacobian, method="lm", x_scale="jac", max_nfev=1000)
-    x = res.x
-    r = fun(x)
-    jac = jacobian(x)
-    g = 2.0 * jac.T @ r
-    hess = 2.0 * jac.T @ jac
-    cost = float(r @ r)
-    history = [cost]
-    for _ in range(200):
-        # a flat direction (a parameter the record does not determine) is crawled along forever,
-        # each step gaining a few hundredths: five steps together gaining less than 0.5 (the
-        # points are within a standard error of each other) end the search
-        if len(history) > 5 and history[-6] - history[-1] < 0.5:
-            break
-        try:
-            step = -np.linalg.solve(hess, g)
-        except np.linalg.LinAlgError:
-            step = -np.linalg.lstsq(hess, g, rcond=None)[0]
-        decrement = float(-g @ step)
-        if decrement < 1e-4:
-            break
-        t = 1.0
-        while True:
-            x_new = x + t * step
-            r_new = fun(x_new)
-            cost_new = float(r_new @ r_new)
-            if cost_new <= cost - 1e-4 * t * decrement or t < 1e-6:
-                break
-            t *= 0.5
-        if cost_new > cost - 1e-4:
-            # no descent along the step (at the minimum to the precision of the model), or a
-            # flat direction (a parameter the record does not determine: the warnings say so)
-            if cost_new < cost:
-                x, r, cost = x_new, r_new, cost_new
-                jac = jacobian(x)
-            break
-        jac_new = jacobian(x_new)
-        g_new = 2.0 * jac_new.T @ r_new
-        sv, yv = x_new - x, g_new - g
-        if sv @ yv > 0:
-            hs = hess @ sv
-            hess = hess - np.outer(hs, hs) / (sv @ hs) + np.outer(yv, yv) / (sv @ yv)
-        x, r, jac, g, cost = x_new, r_new, jac_new, g_new, cost_new
-        history.append(cost)
-    else:
-        raise RuntimeError(f"{name}: the waveform fit did not converge in 200 quasi-Newton steps")
-    return x, jac, cost
-
-
-def _first_breakaway(
-    theta: FloatArray, names: tuple[str, ...], v0: float, load: float, t_peak: float
-) -> float:
-    """Breakaway time (s) that puts the model's force maximum on a measured peak at ``t_peak``."""
-    ph = _physical(theta, names, v0, load)
-    return t_peak - _time_of_max(ph, _cycle(ph["c"], ph["p"], ph["nu"])) * ph["time"]
-
-
-def _time_of_max(ph: dict[str, float], row: AttractorRows) -> float:
-    """Dimensionless time from breakaway to the spring-force maximum (w = nu, on the dense output)."""
-    t_slip = float(row.period[0] - row.stick_time[0])
-    tau = np.linspace(0.0, t_slip, 2001)
-    _, _, ev, _ = run_trajectory(
-        WEAKENING.kernel(), [ph["c"], ph["p"]], ph["nu"], 1.0, 0.0, tau[-1:], rtol=1e-10, atol=1e-12
-    )
-    hit = ev[ev[:, 1] == EventKind.FORCE_MAXIMUM.code]
-    return float(hit[0, 0]) if hit.size else 0.0

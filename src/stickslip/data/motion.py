@@ -73,6 +73,7 @@ from ..core.noise import noise_level
 from ..core.tv import tv_denoise
 from ..io.errors import DataError
 from ..io.records import Record
+from .cleaning import exclude_outliers
 
 __all__ = [
     "OBSERVED_OF",
@@ -359,8 +360,6 @@ def measure_motion(
     check_memory(n * BYTES_PER_SAMPLE, f"{name} ({n} samples)", "cut the record into parts")
     dt = float(np.median(np.diff(t)))
     notes: list[str] = []
-    from .records import exclude_outliers
-
     # a sensor's glitch (1e308, a dropped bit) first, as every measurement of a record does
     raw, _ = exclude_outliers(record.force)
     sigma = noise_level(raw)

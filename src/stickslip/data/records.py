@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
-from scipy.ndimage import median_filter, uniform_filter1d
+from scipy.ndimage import uniform_filter1d
 from scipy.signal import find_peaks
 
 from ..core.memory import check_memory
@@ -37,6 +37,22 @@ from ..core.noise import noise_level
 from ..errors import ArgumentTypeError
 from ..io.errors import DataError
 from ..io.records import Record
+
+# the cleaning of the force, the slider's rests and the synthetic records are imported from
+# this module too, where a record is measured: a name imported as itself is re-exported
+from .cleaning import MAX_COEFFICIENT as MAX_COEFFICIENT
+from .cleaning import OUTLIER_SIGMAS as OUTLIER_SIGMAS
+from .cleaning import _dominant_period as _dominant_period
+from .cleaning import _inverted as _inverted
+from .cleaning import clean_force
+from .cleaning import exclude_outliers as exclude_outliers
+from .cleaning import saturation as saturation
+from .rests import OBSERVED as OBSERVED
+from .rests import REST_RUN as REST_RUN
+from .rests import UNRESOLVED as UNRESOLVED
+from .rests import _at_rest, _load_point_column, _rest_velocity, _rests, _stick, observed_regime
+from .rests import observed_line as observed_line
+from .synthetic import synthetic_record as synthetic_record
 
 __all__ = ["CycleTable", "RecordSummary", "clean_force", "measure_record"]
 
@@ -98,158 +114,11 @@ def _median(x: FloatArray) -> float:
     return float(np.median(x)) if x.size else math.nan
 
 
-def _dominant_period(t: FloatArray, f: FloatArray) -> float:
-    n = f.size
-    dt = (t[-1] - t[0]) / (n - 1)
-    x = f - np.polyval(np.polyfit(t, f, 1), t)
-    spec = np.abs(np.fft.rfft(x * np.hanning(n)))
-    freqs = np.fft.rfftfreq(n, dt)
-    lo = 2.5 / (t[-1] - t[0])  # at least 2.5 cycles in the record
-    ok = freqs >= lo
-    if not ok.any():
-        return math.nan
-    return float(1.0 / freqs[ok][np.argmax(spec[ok])])
-
-
 #: working memory of the measurement per sample (filters, spectrum, copies), measured on a
 #: 2e7-sample record (1.8 GB) and rounded up
 BYTES_PER_SAMPLE = 120.0
 #: a record's cycles must stand this many times above its noise to be measured
 SIGNAL_TO_NOISE = 10.0
-#: a force beyond this many times the normal load is named as a likely unit error (friction
-#: coefficients of rubber and adhesive contacts reach 2 to 3)
-MAX_COEFFICIENT = 5.0
-#: a sample this many robust standard deviations from the median of its neighbours is an outlier
-OUTLIER_SIGMAS = 20.0
-
-
-def exclude_outliers(force: FloatArray) -> tuple[FloatArray, npt.NDArray[np.int64]]:
-    """Replace isolated outlier samples by the mean of their neighbours; return the force and their indices.
-
-    A sample is an outlier when it is not finite, or when it lies more than
-    :data:`OUTLIER_SIGMAS` robust standard deviations (of the deviations from a running
-    median of 5) from that median *and* more than half the record's range (1st to 99th
-    percentile) from it: a glitch (a sensor's 1e308, a dropped bit), not a sharp corner
-    of the sawtooth, which the running median follows.
-    """
-    f = np.asarray(force, dtype=float).copy()
-    bad = ~np.isfinite(f)
-    if bad.any():
-        f[bad] = np.interp(np.flatnonzero(bad), np.flatnonzero(~bad), f[~bad]) if (~bad).any() else 0.0
-    if f.size >= 5:
-        med = median_filter(f, size=5, mode="nearest")
-        dev = f - med
-        scale = 1.4826 * float(np.median(np.abs(dev - np.median(dev))))
-        span = float(np.percentile(f, 99) - np.percentile(f, 1))
-        out = (np.abs(dev) > OUTLIER_SIGMAS * scale) & (np.abs(dev) > 0.5 * span)
-        bad |= out
-        if out.any():
-            good = ~bad
-            f[out] = np.interp(np.flatnonzero(out), np.flatnonzero(good), f[good])
-    return f, np.flatnonzero(bad)
-
-
-def clean_force(record: Record) -> tuple[FloatArray, list[str], float]:
-    """Return the record's force as it is measured (and fitted), what was done to it, and its period.
-
-    Isolated outliers are replaced by the mean of their neighbours (their times named), and
-    an inverted sawtooth (fast rises, slow falls) is turned the right way up.
-
-    Raises
-    ------
-    DataError
-        When the record shows no oscillation.
-
-    """
-    t = record.time
-    notes: list[str] = []
-    f, excluded = exclude_outliers(record.force)
-    if excluded.size:
-        # by time, which a record keeps (a row number depends on the file's header and comment lines)
-        at = ", ".join(f"{t[i]:.9g}" for i in excluded[:10]) + (" ..." if excluded.size > 10 else "")
-        notes.append(
-            f"{excluded.size} outlier sample(s) excluded (at t = {at} s: "
-            "far from their neighbours against the record's noise; replaced by the mean of their neighbours)"
-        )
-    period = _dominant_period(t, f)
-    if not math.isfinite(period):
-        raise DataError(f"{record.name}: no oscillation found (fewer than 2.5 cycles?)")
-    clipped = saturation(f)  # outliers out: a spike is not the rail
-    if clipped:
-        notes.append(clipped)
-    per_n = max(4, round(period / ((t[-1] - t[0]) / (t.size - 1))))
-    if _inverted(f, per_n):
-        f = -f
-        notes.append(
-            "the force column is inverted (it falls slowly and rises fast; stick-slip rises slowly and "
-            "drops fast): measured as -force"
-        )
-    if record.load is not None:
-        # mN written as N: amplitudes of 1000 N against a load of 2 N, no word, and a verdict
-        # turned to pure-slip by three such files (the measured-data audit)
-        load = float(record.load.to("N").magnitude)
-        top = float(np.percentile(np.abs(f), 99))
-        if load > 0 and top > MAX_COEFFICIENT * load:
-            notes.append(
-                f"the force reaches {top:.4g} N, {top / load:.3g} times the normal load {load:.4g} N: a "
-                f"friction coefficient above {MAX_COEFFICIENT:g} is not plausible; check the force column's "
-                "unit (mN written as N?) and the load's"
-            )
-    return f, notes, period
-
-
-def saturation(force: FloatArray) -> str | None:
-    """Say whether the force sits at a rail (a saturated sensor or ADC clips its peaks), or None.
-
-    Samples pile up at the record's largest (or smallest) value: at least 3 of them, two in a
-    row, and more than twice as many as at the next value below it. A force with continuous
-    values reaches its extreme once; a quantized one (an ADC's steps) has fewer samples at
-    its top step than at the one below, the tail of the noise.
-
-    Parameters
-    ----------
-    force : array
-        The force as recorded (N).
-
-    Returns
-    -------
-    str or None
-        The note: where the force is clipped and what it does to the measurements.
-
-    """
-    f = np.asarray(force, dtype=float)
-    for side, x in (("largest", f), ("smallest", -f)):
-        top = float(x.max())
-        at = x == top
-        n_top = int(at.sum())
-        below = x[~at]
-        n_next = int(np.sum(below == below.max())) if below.size else 0
-        if n_top < max(3, 2 * n_next + 1) or not np.any(at[1:] & at[:-1]):
-            continue
-        value = top if side == "largest" else -top
-        what = "peaks" if side == "largest" else "troughs"
-        return (
-            f"the force sits at its {side} value, {value:.6g} N, for {n_top} samples ({n_next} at the next "
-            f"value): the sensor or its ADC saturated there and clipped the {what}; amplitude, {what} "
-            "and what is fitted to them are short by what was cut off (record with a range that holds them)"
-        )
-    return None
-
-
-def _inverted(force: FloatArray, per_n: int) -> bool:
-    """Whether a record rises fast and falls slowly (an inverted stick-slip sawtooth).
-
-    On a lightly smoothed record, stick-slip rises for most of each period and drops in a
-    short time; inverted, it falls for most of it. A symmetric oscillation (pure slip)
-    rises about half the time and is left as it is.
-    """
-    smooth = uniform_filter1d(force, size=max(3, per_n // 50), mode="nearest")
-    d = np.diff(smooth)
-    moving = np.abs(d) > 0
-    if moving.sum() < 10:
-        return False
-    rising = float(np.mean(d[moving] > 0))
-    return rising < 0.3
 
 
 def _side_fit(t: FloatArray, f: FloatArray, i: int, w: int, side: int) -> float:
@@ -328,7 +197,7 @@ def measure_record(record: Record, *, min_cycles: int = 3) -> tuple[CycleTable, 
     stage = _load_point_column(record, speed)
     at_rest = None if stage or velocity is None or math.isnan(rest) else _at_rest(velocity, rest)
     if velocity is not None and not np.any(np.abs(velocity) > 0):
-        # it gave a stick fraction of 1 for a record whose force dropped every cycle (the data audit)
+        # such a column would give a stick fraction of 1 to a record whose force drops every cycle
         column = "velocity" if record.velocity is not None else "displacement"
         still = "is zero (or missing)" if column == "velocity" else "does not change"
         notes.append(f"the {column} column {still} throughout: no stick fraction from it")
@@ -421,276 +290,6 @@ def _fall_time(t: FloatArray, f: FloatArray, p: int, q: int, hi: float, lo: floa
     ta = tt[ia] if ia == 0 else np.interp(a, [seg[ia], seg[ia - 1]], [tt[ia], tt[ia - 1]])
     tb = tt[ib] if ib == 0 else np.interp(b, [seg[ib], seg[ib - 1]], [tt[ib], tt[ib - 1]])
     return float(max(tb - ta, 0.0))
-
-
-def _load_point_column(record: Record, speed: FloatArray | None) -> str:
-    """Say so where the velocity or displacement column is the load point's, not the slider's.
-
-    A scratch tester logs its stage: a speed steady (5-95 % spread within 10 % of its
-    median) at the driving velocity (within 20 %). Its stick fraction would be 0 for a
-    record that sticks 99 % of the time.
-    """
-    if speed is None or record.v0 is None or not np.any(np.isfinite(speed)):
-        return ""
-    v0 = float(record.v0.to("m/s").magnitude)
-    med = float(np.nanmedian(speed))
-    lo, hi = (float(x) for x in np.nanpercentile(speed, [5.0, 95.0]))
-    if not (med > 0 and hi - lo < 0.1 * med and abs(med / v0 - 1.0) < 0.2):
-        return ""
-    column = "velocity" if record.velocity is not None else "displacement"
-    return (
-        f"the {column} column moves steadily at {med * 1e6:.4g} um/s, the driving velocity: it is "
-        "the load point's (a stage), not the slider's; no stick fraction from it"
-    )
-
-
-def _rest_velocity(record: Record) -> tuple[FloatArray | None, float]:
-    """Return the slider's velocity and the speed below which it is at rest (None, NaN if neither).
-
-    The velocity is the velocity column, or the gradient of the displacement column. At
-    rest means at most four standard deviations of the velocity's noise, which comes from
-    the median absolute fourth difference (white noise: variance 70 sigma^2; it passes none
-    of a smooth cubic, so the slow start of a slip is not taken for noise, as a fixed share
-    of the largest speed took it). A noise-free record keeps a floor of 1e-9 of its largest
-    speed. NaN when that limit is a quarter of the largest speed or more (rest cannot be
-    told from slip).
-    """
-    if record.velocity is not None:
-        signed = record.velocity
-    elif record.displacement is not None:
-        signed = np.gradient(record.displacement, record.time)
-    else:
-        return None, math.nan
-    v = np.abs(signed)
-    vmax = float(np.nanmax(v)) if np.any(np.isfinite(v)) else math.nan
-    if not vmax > 0:  # a column that never moves (a sensor not read) tells no rest from slip
-        return signed, math.nan
-    d4 = np.diff(signed, 4)
-    d4 = d4[np.isfinite(d4)]
-    sigma = 1.4826 * float(np.median(np.abs(d4))) / math.sqrt(70.0) if d4.size else 0.0
-    limit = max(4.0 * sigma, 1e-9 * vmax)
-    return signed, (limit if limit < 0.25 * vmax else math.nan)
-
-
-def _at_rest(velocity: FloatArray, limit: float) -> FloatArray:
-    """Return 1 where the slider is at rest, 0 where it slips, NaN where its velocity is missing.
-
-    A slip is a run of samples faster than ``limit`` (four noise deviations), grown on both
-    sides over the samples that still move its way: a slip's slow start and end lie below
-    four deviations, and were counted as rest (the measured-data audit: 0.904 for 0.847
-    with velocity noise of v0 at 5 mm/s, now +0.017 at 0.8 v0). A sample moves the slip's
-    way when its velocity, less the rest's median (an offset, a creep), is beyond a
-    twentieth of ``limit`` that way; a slip grows by at most its own length on each side,
-    so that no bias of the rest carries it through a stick.
-    """
-    finite = np.isfinite(velocity)
-    fast = finite & (np.abs(velocity) > limit)
-    rest = velocity[finite & ~fast]
-    v = velocity - (float(np.median(rest)) if rest.size else 0.0)
-    moving = fast.copy()
-    step = np.diff(fast.astype(np.int8))
-    starts = np.flatnonzero(step == 1) + 1
-    ends = np.flatnonzero(step == -1) + 1
-    if fast[0]:
-        starts = np.r_[0, starts]
-    if fast[-1]:
-        ends = np.r_[ends, fast.size]
-    grow = 0.05 * limit
-    n = velocity.size
-    for a_, b_ in zip(starts, ends, strict=True):
-        a, b = int(a_), int(b_)
-        way = 1.0 if velocity[a] > 0 else -1.0
-        reach = b - a
-        i = a - 1
-        while i >= max(0, a - reach) and way * v[i] > grow:
-            moving[i] = True
-            i -= 1
-        j = b
-        while j < min(n, b + reach) and way * v[j] > grow:
-            moving[j] = True
-            j += 1
-    return np.where(finite, (~moving).astype(float), np.nan)
-
-
-def _stick(at_rest: FloatArray | None, i0: int, i1: int) -> float:
-    """Fraction of the samples in [i0, i1) at rest, of those with a velocity (NaN without one)."""
-    if at_rest is None:
-        return math.nan
-    part = at_rest[i0:i1]
-    return float(np.nanmean(part)) if np.any(np.isfinite(part)) else math.nan
-
-
-#: consecutive samples at rest that make a rest of the slider (a stick), not a velocity that
-#: passes through the noise band about zero
-REST_RUN = 3
-#: ``CycleTable.rests`` of a cycle whose only samples at rest are runs shorter than REST_RUN
-UNRESOLVED = 0.5
-
-
-def _rests(at_rest: FloatArray | None, i0: int, i1: int) -> float:
-    """Whether the slider rests in the samples [i0, i1): 1, 0, :data:`UNRESOLVED`, or NaN (unknown).
-
-    1 where :data:`REST_RUN` samples in a row are at rest; 0 where none is; unresolved
-    where only shorter runs are (a stick of a sample or two, as a stick of 1 % of the
-    cycle sampled 300 times a cycle gives, or a slip's slowest speed dipping into the
-    noise band: the record cannot tell them apart).
-    """
-    if at_rest is None:
-        return math.nan
-    part = at_rest[i0:i1]
-    if not np.any(np.isfinite(part)):
-        return math.nan
-    rest = np.r_[False, part == 1.0, False]
-    edges = np.flatnonzero(np.diff(rest.astype(np.int8)))
-    runs = edges[1::2] - edges[::2]
-    if not runs.size:
-        return 0.0
-    return 1.0 if int(runs.max()) >= REST_RUN else UNRESOLVED
-
-
-def observed_regime(rests: npt.ArrayLike) -> str:
-    """Return the regime a record's velocity shows, from its cycles' rests (``CycleTable.rests``).
-
-    ``stick-slip`` where the slider comes to rest in every cycle (in some cycles for
-    fewer than :data:`REST_RUN` samples at most); ``pure-slip`` where it does in none;
-    ``mixed`` where it clearly does in some cycles and clearly not in others;
-    ``unresolved`` where its only rests are a sample or two (sample faster to tell a
-    short stick from a slip that slows into the noise); ``unknown`` without a velocity
-    or a displacement, or where rest cannot be told from slip. At rest means a
-    velocity within four deviations of its noise of zero: a pure-slip oscillation whose
-    slowest speed stays that close to zero for :data:`REST_RUN` samples or more reads as
-    stick-slip, as the slider is then at rest as far as the record can tell.
-    """
-    r = np.asarray(rests, dtype=float)
-    r = r[np.isfinite(r)]
-    if r.size == 0:
-        return "unknown"
-    rest, none = bool(np.any(r == 1.0)), bool(np.any(r == 0.0))
-    if rest and none:
-        return "mixed"
-    if rest:
-        return "stick-slip"
-    if none and not np.any(r == UNRESOLVED):
-        return "pure-slip"
-    return "unresolved"
-
-
-#: what the velocity can show of a record, in the order said
-OBSERVED = ("stick-slip", "pure-slip", "mixed", "unresolved")
-
-
-def observed_line(table: Any, verdict: Any) -> str | None:
-    """Say what the records' velocities show, set against the criterion's verdict (None: no velocity).
-
-    ``table`` and ``verdict`` are :func:`analyze_records`' results. The records counted are
-    those in the verdict (all measured ones where there is none); the paper's criterion
-    infers the regime from the amplitudes, the velocity shows it where it resolves it,
-    so a record whose velocity clearly shows the other regime is named.
-    """
-    used = table[table["in_verdict"]] if verdict is not None else table[table["n_cycles"] > 0]
-    seen = used[used["observed_regime"].isin(OBSERVED)]
-    if seen.empty:
-        return None
-    counts = seen["observed_regime"].value_counts()
-    parts = [f"{int(counts[r])} {r}" for r in OBSERVED if r in counts]
-    where = "in the verdict" if verdict is not None else "measured"
-    noun = "record" if len(used) == 1 else "records"
-    line = f"observed: of the {len(used)} {noun} {where}, the velocity of {len(seen)} shows " + ", ".join(
-        parts
-    )
-    if "unresolved" in counts:
-        line += " (unresolved: rests of a sample or two only; sample faster)"
-    if verdict is not None and verdict.verdict in ("stick-slip", "pure-slip"):
-        other_regime = "pure-slip" if verdict.verdict == "stick-slip" else "stick-slip"
-        other = seen[seen["observed_regime"] == other_regime]
-        if other.empty:
-            line += f"; none shows {other_regime}, as the criterion's {verdict.verdict} has it"
-        else:
-            names = ", ".join(map(str, other["name"].head(3))) + (" ..." if len(other) > 3 else "")
-            line += f"; {len(other)} {other_regime} where the criterion says {verdict.verdict} ({names})"
-    return line
-
-
-def synthetic_record(
-    params: Any,
-    *,
-    duration: Any,
-    rate: Any,
-    noise: Any = "0 N",
-    drift: Any = "0 N/s",
-    seed: int = 0,
-    name: str = "synthetic",
-    with_velocity: bool = False,
-    start: Any = "0 s",
-) -> Record:
-    """Make a record from the model: uniform samples of the spring force, plus noise and drift.
-
-    Parameters
-    ----------
-    params : PhysicalParameters
-        The set-up (starts at rest; the first cycle is a transient).
-    duration : time
-        Record length, e.g. ``"300 s"``.
-    rate : frequency
-        Sampling rate, e.g. ``"100 Hz"``.
-    noise : force, optional
-        Standard deviation of white noise added to the force.
-    drift : force/time, optional
-        Linear drift added to the force.
-    seed : int, optional
-        Random seed of the noise.
-    name : str, optional
-        Record name.
-    with_velocity : bool, optional
-        Include the (noise-free) slider velocity.
-    start : time, optional
-        Simulated time discarded before the record starts (to skip the transient).
-
-    """
-    from ..core.api import run_trajectory
-    from ..core.memory import check_memory
-    from ..core.results import Status
-    from ..laws import law_arrays
-    from ..models.parameters import PhysicalParameters
-    from ..units import check_seed, parse_quantity
-
-    if not isinstance(params, PhysicalParameters):
-        raise ArgumentTypeError(f"params={params!r}: expected PhysicalParameters")
-    dur = parse_quantity(duration, "duration", "[time]", "300 s").to("s").magnitude
-    fs = parse_quantity(rate, "rate", "1 / [time]", "100 Hz").to("Hz").magnitude
-    sigma = parse_quantity(noise, "noise", "[force]", "1 mN", allow_zero=True).to("N").magnitude
-    import pint
-
-    from ..units import ureg
-
-    per_time = f"drift={drift!r}: expected a force per time such as '0.1 mN/s' (may be negative)"
-    if not isinstance(drift, str | pint.Quantity):  # a plain number has no unit to read
-        raise ArgumentTypeError(per_time)
-    try:
-        dq = ureg.Quantity(drift.strip()) if isinstance(drift, str) else drift
-        ok = dq.check("[force] / [time]") and np.isfinite(float(dq.magnitude))
-    except Exception:
-        ok = False
-    if not ok:
-        raise ValueError(per_time)
-    k_drift = float(dq.to("N/s").magnitude)
-    t0 = parse_quantity(start, "start", "[time]", "100 s", allow_zero=True).to("s").magnitude
-    seed_ = check_seed(seed)
-    n = round(dur * fs) + 1
-    # time, the engine's states, force and velocity: about 8 arrays of n floats
-    check_memory(8.0 * 8 * n, f"duration * rate = {n} samples", "a shorter record or a lower rate")
-    t = t0 + np.arange(n) / fs
-    sc = params.scales
-    d = params.dimensionless()
-    tau = t / sc.time.to("s").magnitude
-    kernel, lp = law_arrays(d.law)
-    y, _, _, status = run_trajectory(kernel, lp, d.nu, 0.0, 0.0, tau, rtol=1e-10, atol=1e-12)
-    if status != Status.OK:
-        raise RuntimeError("synthetic_record: the integration failed")
-    rng = np.random.default_rng(seed_)
-    force = y[:, 0] * sc.force.to("N").magnitude + sigma * rng.standard_normal(n) + k_drift * (t - t0)
-    vel = y[:, 1] * sc.velocity.to("m/s").magnitude if with_velocity else None
-    return Record(name, t - t0, force, None, vel, params.v0, params.load, {}, params.stiffness, params.mass)
 
 
 def _motion_row(rec: Record) -> tuple[dict[str, Any] | None, Any]:
@@ -796,7 +395,7 @@ def analyze_records(
     """
     import pandas as pd
 
-    from .criterion import classify
+    from .criterion import check_confidence, classify
 
     if (
         isinstance(records, str | bytes | os.PathLike)
@@ -808,10 +407,7 @@ def analyze_records(
         )
     if not records:
         raise ValueError("no records to analyze")
-    if isinstance(confidence, bool) or not isinstance(confidence, float | int):
-        raise ArgumentTypeError(f"confidence={confidence!r}: expected a level in [0.5, 1), e.g. 0.95")
-    if not 0.5 <= confidence < 1:
-        raise ValueError(f"confidence={confidence!r}: expected a level in [0.5, 1), e.g. 0.95")
+    check_confidence(confidence)
     rows = []
     failed = []
     event_frames = []

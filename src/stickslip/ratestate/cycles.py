@@ -32,7 +32,7 @@ import numpy.typing as npt
 import xarray as xr
 from scipy.integrate import solve_ivp
 
-from ..core import ratestate as core
+from ..core import ratestate_api as core
 from ..core.results import (
     RateStateEvent,
     RateStateEventRows,

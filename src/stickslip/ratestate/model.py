@@ -23,7 +23,7 @@ import numpy as np
 import numpy.typing as npt
 import pint
 
-from ..core import ratestate as core
+from ..core import ratestate_api as core
 from ..units import Q_, check_number, parse_quantity
 
 __all__ = ["STATE_LAWS", "RateStateParameters"]

@@ -26,7 +26,7 @@ import numpy.typing as npt
 import pint
 import xarray as xr
 
-from ..core import ratestate as core
+from ..core import ratestate_api as core
 from ..units import Q_, parse_quantity
 from ..userwarnings import warn
 from .model import MAX_DURATION, RateStateParameters, jacobian, steady_state

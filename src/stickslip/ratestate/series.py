@@ -16,7 +16,7 @@ import numpy as np
 import numpy.typing as npt
 import xarray as xr
 
-from ..core import ratestate as core
+from ..core import ratestate_api as core
 from ..units import Q_
 from .model import RateStateParameters
 

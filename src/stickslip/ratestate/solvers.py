@@ -18,8 +18,7 @@ import time
 import numpy as np
 import numpy.typing as npt
 
-from ..core import radau
-from ..core import ratestate as core
+from ..core import ratestate_api as core
 from ..core.results import (
     RadauEvent,
     RadauEventRows,
@@ -210,12 +209,12 @@ def _radau(
         extra = wanted.size == 0 or wanted[-1] < t1
         t_eval = np.append(wanted, t1) if extra else wanted
         out = np.full((t_eval.size, nv), np.nan)
-        ws = radau.workspace(nv, t0)
+        ws = core.workspace(nv, t0)
         js = 0
         while True:
             # at most 20 000 steps per call, and never past the bound on the whole run
             budget = min(20_000, max_steps - steps_total - radau_progress(ws)[1])
-            code, nsamp, nev = radau.integrate_in(
+            code, nsamp, nev = core.integrate_in(
                 P, S, n, float(v_lp), y, t1, rtol, atols, t_eval[js:], out[js:], ev.raw, max(budget, 0), *ws
             )
             status = RadauStatus.from_code(code)

@@ -20,7 +20,7 @@ import numpy as np
 import numpy.typing as npt
 import sympy as sp
 
-from ..core import ratestate as core
+from ..core import ratestate_api as core
 from ..laws.formula import parse_formula
 
 __all__ = ["VARIABLES", "StateLawFormula", "state_law_formula"]
