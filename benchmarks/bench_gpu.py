@@ -48,11 +48,11 @@ from unittest import mock
 import numpy as np
 from bench_cycles import ATOL, RTOL, workload
 
-from stickslip.core import api
 from stickslip.core import cuda as core_cuda
+from stickslip.core import kernel as core_kernel
 from stickslip.core.api import run_attractors, threads
-from stickslip.dynamics.attractors import POLISH_FIELDS
 from stickslip.laws import WeakeningLaw
+from stickslip.orbits.attractors import POLISH_FIELDS
 
 
 def diffrax_phases(nu: np.ndarray, c: np.ndarray) -> tuple[float, float, np.ndarray, str] | None:
@@ -157,7 +157,7 @@ def main() -> None:
     cpu = run_attractors(kernel, lp[:m], nu[:m], **kw)
     t_cpu = time.perf_counter() - t0
     m1 = max(1, m // 10)
-    with mock.patch.object(api, "threads", lambda: 1):
+    with mock.patch.object(core_kernel, "threads", lambda: 1):
         t0 = time.perf_counter()
         run_attractors(kernel, lp[:m1], nu[:m1], **kw)
         t_one = time.perf_counter() - t0

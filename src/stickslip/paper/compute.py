@@ -66,7 +66,7 @@ class PaperConfig:
         Samples of the Fig. 1 time series.
     quick_appendix : bool
         Compute the appendix (rate and state) at its reduced resolution. Default
-        False; :meth:`quick` sets it. (It was chosen, unsaid, by ``n_v0 < 20``.)
+        False; :meth:`quick` sets it (an explicit field, not inferred from ``n_v0``).
 
     """
 
@@ -206,7 +206,7 @@ def compute_paper(
         "mass_for_beta_42": float(zv.mass.to("kg").magnitude),
         "scale_check_spread": _scale_check(),
         # the grid the numbers come from: a quick run's report says so (a crossing read on 8
-        # velocities was 548 um/s where bisection gives 578)
+        # velocities is 548 um/s where bisection gives 578)
         "grid": f"{cfg.n_v0} driving velocities, {cfg.n_load} loads, {cfg.n_time} samples of Fig. 1",
         "quick": int(cfg == PaperConfig.quick()),
         **{f"regimes_{key}": json.dumps(seq) for key, seq in regime_sequences().items()},

@@ -124,7 +124,7 @@ def load_dependence(ds: xr.Dataset) -> Figure:
         plain_log_ticks(ax.xaxis)
         ax.set_ylabel(ylabel)
         ax.legend(frameon=False, fontsize=8)
-    # which law and mass (the reproduction audit could only tell by matching the numbers)
+    # which law and mass: named in the title, not left to be inferred by matching the numbers
     zv = zv_parameters()
     fig.suptitle(
         f"Dependence on the normal load: the zv set-up otherwise (F1, a = {zv.law.params['a']:~P}, "
@@ -196,8 +196,8 @@ def appendix_phase_portraits(ds: xr.Dataset) -> Figure:
             (line,) = ax.plot(x, y, lw=0.8)
             if x.size < 3:
                 continue
-            # where each orbit starts, and which way it runs: the titles alone said whether orbits
-            # spiral in or out (the reproduction audit)
+            # where each orbit starts, and which way it runs: the plot shows whether orbits spiral
+            # in or out, not only the titles
             ax.plot(x[0], y[0], "o", ms=4, color=line.get_color())
             arrow = {"arrowstyle": "-|>", "color": line.get_color(), "lw": 0.8, "mutation_scale": 12}
             for m in (x.size // 8, (3 * x.size) // 4):  # early and late: a spiral in or out shows both

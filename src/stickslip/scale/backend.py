@@ -120,9 +120,9 @@ def local_threads(workers: int) -> int:
 def check_scheduler(scheduler: Any) -> None:
     """Refuse a scheduler that is neither a ``distributed.Client`` nor a well-formed address.
 
-    Before anything is made (a store) or waited for (the 30 s of a connection): a
-    port outside 1..65535 waited 30 s in silence, and ``nonsense`` was "missing port
-    number in address" without saying which argument.
+    Before anything is made (a store) or waited for (the 30 s of a connection): Dask
+    itself waits 30 s in silence on a port outside 1..65535, and says of ``nonsense``
+    only "missing port number in address", without naming the argument.
 
     Raises
     ------
@@ -259,8 +259,8 @@ def _completed(ac: Any, client: Any, backend: str) -> Any:
     """Yield the futures of ``ac`` as they finish.
 
     Stop with an error when the cluster has had no worker for :data:`NO_WORKERS_TIMEOUT`
-    seconds: a job on a scheduler without workers, or whose workers all died, waited without
-    a word until it was killed (the sweep audit, helper-36).
+    seconds: a job on a scheduler without workers, or whose workers all died, would otherwise
+    wait without a word until it is killed.
     """
     idle_since: float | None = None
     checked = 0.0
@@ -434,8 +434,8 @@ def run_job(
     as JSON in its ``run`` attribute.
     """
     check_scheduler(scheduler)  # before the store is made
-    # an address is reached before the store is made, too: an unreachable one left an empty
-    # store behind (the sweep audit, helper-36); the client is then this job's to close
+    # an address is reached before the store is made, too: an unreachable one must not leave
+    # an empty store behind; the client is then this job's to close
     client = _connect(scheduler) if isinstance(scheduler, str) and store is not None else None
     try:
         chunks = ChunkStore.open(store, layout) if store is not None else None
