@@ -28,7 +28,7 @@ from stickslip.ratestate.cycles import BP1, YEAR, earthquake_cycles
 
 # the SciPy reference written from the equations, shared with the tests
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-import bp1_reference as ref
+from reference import bp1 as ref
 
 
 def scipy_bp1(years: float, rtol: float) -> dict[str, float]:

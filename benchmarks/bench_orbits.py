@@ -20,7 +20,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from stickslip import CubicLaw, DimensionlessParameters
-from stickslip.bifurcation.orbits import pure_slip_orbit
+from stickslip.orbits.periodic import pure_slip_orbit
 
 ALPHA, GAMMA = 0.5, 0.5 / 3
 NU = 0.995

@@ -33,8 +33,8 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import newton
 
 from stickslip.core.api import run_attractors, run_return_maps, threads
-from stickslip.dynamics.return_map import return_map_orbit_core
 from stickslip.laws import WeakeningLaw
+from stickslip.orbits.return_map import return_map_orbit_core
 
 TOL = 1e-10
 

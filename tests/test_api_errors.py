@@ -29,6 +29,7 @@ def test_cycle_bad_options(kwargs: dict, message: str) -> None:
         cycle(P, **kwargs)
 
 
+@pytest.mark.fast
 def test_cycle_bad_params() -> None:
     with pytest.raises(ValueError, match="params="):
         cycle("nu=0.1")  # type: ignore[arg-type]
@@ -60,6 +61,7 @@ def test_simulate_physical_duration_needs_time_units() -> None:
         simulate(zv_parameters(), duration=3.0)
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
@@ -96,12 +98,12 @@ def test_core_trajectory_checks_times() -> None:
         run_trajectory(0, [2.0, 0.0, 0.0], 0.1, 0.0, 0.0, np.array([]), rtol=1e-9, atol=1e-12)
 
 
-def test_python_api_audit_findings() -> None:
-    """The Python-API audit (helper-45): a formula with erf took parameters in any unit (the units
-    check gave up on SciPy's erf and read 160 kg as 160 s/m: HIGH); a physical formula's law
-    showed the units of an earlier law of the same formula (MEDIUM); probe='no' ran the probe;
-    a physical start given as quantities was 'expected a pair'; v in a dimensionless formula
-    was 'reserved' without saying that its velocity is w."""
+def test_python_api_units_probe_and_start_are_checked() -> None:
+    """A formula with erf checks its parameters' units (160 kg is not 160 s/m: the check reads
+    through SciPy's erf); a physical formula's law shows its own units, not those of an earlier
+    law of the same formula; probe='no' is refused, not taken as true; a physical start may be
+    given as quantities; v in a dimensionless formula is refused with the word that its
+    velocity is w."""
     from stickslip import Q_, ExpressionLaw
 
     for wrong in ("160 kg", "160 m/s"):
@@ -127,9 +129,9 @@ def test_python_api_audit_findings() -> None:
 
 
 def test_law_classes_show_their_parameters_and_a_sweep_grid_is_a_mapping() -> None:
-    """The Python-API audit (LOW): every law class had the signature (*args, **kwargs), so help(),
-    inspect.signature and a notebook's completion showed no parameter; sweep(d, [('nu', [...])])
-    ended in 'unhashable type: list' from inside the sweep."""
+    """Every law class has its parameters in its signature (not (*args, **kwargs)), for help(),
+    inspect.signature and a notebook's completion; sweep(d, [('nu', [...])]) is refused at once
+    as not a mapping (not 'unhashable type: list' from inside the sweep)."""
     import inspect
 
     from stickslip import CubicLaw, PhysicalWeakeningLaw
@@ -144,8 +146,8 @@ def test_law_classes_show_their_parameters_and_a_sweep_grid_is_a_mapping() -> No
 
 
 def test_a_trajectory_reads_at_a_glance_and_goes_to_xarray_with_its_units() -> None:
-    """The Python-API audit (LOW): a Trajectory's repr dumped its arrays, and it had no xarray
-    export (only CSV), unlike a sweep's results."""
+    """A Trajectory's repr is one line (samples, span, events, units), not its arrays, and it
+    goes to xarray with its units, as a sweep's results do."""
     traj = simulate(zv_parameters(), duration="30 s", n_points=200)
     assert (
         repr(traj) == f"Trajectory({traj.time.size} samples, t = 0..30 s, {traj.event_time.size} events, SI)"
@@ -165,9 +167,8 @@ def test_a_trajectory_reads_at_a_glance_and_goes_to_xarray_with_its_units() -> N
 
 
 def test_a_physical_set_ups_slip_time_bound_may_be_a_time() -> None:
-    """The Python-API audit (MEDIUM, in part): cycle(zv, max_slip_time='10 s') was refused; only
-    the model's units were taken, unlike simulate's duration. A time is converted for physical
-    parameters; a wrong dimension is named."""
+    """cycle(zv, max_slip_time='10 s') takes a time for physical parameters, as simulate's
+    duration does, besides a number in the model's units; a wrong dimension is named."""
     zv = zv_parameters()
     scale = zv.scales.time.to("s").magnitude
     given = cycle(zv, max_slip_time="100 s", probe=False)
@@ -178,8 +179,8 @@ def test_a_physical_set_ups_slip_time_bound_may_be_a_time() -> None:
 
 
 def test_results_can_be_keys_and_trajectories_compare_by_identity() -> None:
-    """The Python-API audit (LOW): hash(CycleResult) failed on its units dict, so results could not
-    be set members or cache keys; a Trajectory's == compared arrays and raised for two equal runs."""
+    """A CycleResult is hashable (its units dict included), so results can be set members or cache
+    keys; a Trajectory's == is identity (comparing arrays would raise for two equal runs)."""
     params = DimensionlessParameters(nu=0.5, law=WeakeningLaw(c=3.8))
     first, second = cycle(params, probe=False), cycle(params, probe=False)
     assert first == second and hash(first) == hash(second) and len({first, second}) == 1
@@ -190,6 +191,7 @@ def test_results_can_be_keys_and_trajectories_compare_by_identity() -> None:
     np.testing.assert_allclose(traj.spring_force, again.spring_force)
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize(
     ("value", "positive", "message"),
     [
@@ -209,6 +211,7 @@ def test_arrays_are_checked_entry_by_entry(value: list, positive: bool, message:
         finite_array("x", value, positive=positive)
 
 
+@pytest.mark.fast
 def test_good_arrays_pass_the_check_unchanged() -> None:
     from stickslip.core.checks import finite_array
 

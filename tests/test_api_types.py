@@ -32,7 +32,6 @@ from stickslip import (
     simulate,
     zv_parameters,
 )
-from stickslip.bifurcation.orbits import pure_slip_orbit
 from stickslip.bifurcation.regime_map import regime_map
 from stickslip.bifurcation.regimes import regimes
 from stickslip.chains import ChainParameters, b_value, chain, chain_ensemble, connected_ruptures
@@ -45,6 +44,7 @@ from stickslip.dynamics.sweep import load_sweep, sweep
 from stickslip.errors import ArgumentTypeError
 from stickslip.io.formats import RecordOptions
 from stickslip.io.records import Record
+from stickslip.orbits.periodic import pure_slip_orbit
 from stickslip.ratestate.model import RateStateParameters
 
 D = DimensionlessParameters(nu=0.01, law=WeakeningLaw(c=3.0))

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 import pytest
-from chain_reference import reference_chain
+from reference.chain import reference_chain
 
 import stickslip as ss
 from stickslip import Q_
@@ -145,9 +145,9 @@ def test_a_chain_that_never_sticks_again_stops_with_a_status() -> None:
 
 @pytest.mark.parametrize("longest", [100.0, 1000.0])
 def test_a_sliding_chain_is_told_when_its_event_passes_max_event_duration(longest: float) -> None:
-    """The chain audit (helper-37): three blocks at c = 0.3 slide for ever from t = 127.6; with
-    max_event_duration 100 the run said so at t = 29 182 (the status was decided between two
-    engine calls of 2e6 units of work). The engine now pauses at the step that passes it."""
+    """Three blocks at c = 0.3 slide for ever from t = 127.6: the engine pauses at the step that
+    passes max_event_duration, so the run says so just after it (decided between two engine
+    calls of 2e6 units of work, it would say so only at t = 29 182 with a bound of 100)."""
     p = ChainParameters(3, WeakeningLaw(c=0.3), 0.01, 1.0)
     start = ss.core.api.ChainState.at_rest(np.array([0.0, 0.3, 0.1]))
     r = chain(p, 50, state=start, progress=False, max_event_duration=longest)
@@ -182,12 +182,12 @@ def test_event_map_is_shift_invariant() -> None:
 
 
 def test_twins_breaking_away_a_moment_apart_do_not_stall_the_engine() -> None:
-    """Regression (docs audit): blocks 0 and 2 of three, at their threshold 4e-16 apart (a
-    companion orbit of the Krakow chain, c = 0.05, rtol 1e-11). Block 0's first step was cut
-    to 6.7e-14 by block 2's breakaway; its speed, pushed forward but within the rounding of
-    its increments, came out -7e-30, so it stopped at once, broke away again at the same
-    time, and the engine stalled ('stopped making progress') after 10000 such steps. The
-    event is now that of the twins started exactly together, to the last digits."""
+    """Blocks 0 and 2 of three, at their threshold 4e-16 apart (a companion orbit of the Krakow
+    chain, c = 0.05, rtol 1e-11): block 0's first step is cut to 6.7e-14 by block 2's
+    breakaway, and its speed, pushed forward but within the rounding of its increments, can
+    come out -7e-30 (a stop at once, a breakaway again at the same time, 10000 times over,
+    until 'stopped making progress'). The event is that of the twins started exactly
+    together, to the last digits."""
     p = ChainParameters(3, WeakeningLaw(c=0.05), 0.01, 1.0)
     u = np.array([-0.9939844744254636, -0.9939844607191958, -0.9939844744254632])
     got = event_map(p, u, rtol=1e-11, atol=1e-13)
@@ -196,6 +196,7 @@ def test_twins_breaking_away_a_moment_apart_do_not_stall_the_engine() -> None:
     assert abs(got[0] - got[2]) < 1e-13 and np.all(got > u)  # the event moved every block on
 
 
+@pytest.mark.fast
 def test_b_value_of_a_gutenberg_richter_sample() -> None:
     rng = np.random.default_rng(1)
     b_true = 1.0
@@ -435,11 +436,11 @@ def test_catalogue_streams_to_netcdf_and_resumes(tmp_path: Path) -> None:
 def test_a_run_stopped_before_its_first_save_begins_again(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """Regression (audit of the stores): a run stopped in the seconds between creating its
-    catalogue and first saving the state (a transient, FLUSH_SECONDS) left a catalogue whose
-    state was netCDF fill values; resuming it ran from x = 9.97e36 and stored the member as
-    'not-finite' for good (a kill -9 left an unreadable 48-byte file instead). Now the
-    catalogue says it holds no state, and resuming starts the run from the beginning."""
+    """A run stopped in the seconds between creating its catalogue and first saving the state
+    (a transient, FLUSH_SECONDS) leaves a catalogue that says it holds no state, and resuming
+    starts the run from the beginning: netCDF's fill values read as a state would run from
+    x = 9.97e36 and store the member as 'not-finite' for good (a kill -9 there leaves an
+    unreadable 48-byte file, treated alike)."""
     import netCDF4
 
     import stickslip.chains.run as run_module
@@ -496,11 +497,11 @@ def test_a_run_stopped_before_its_first_save_begins_again(
 
 @pytest.mark.parametrize("events", [60, 40])
 def test_rows_written_without_the_state_after_them_are_computed_again(tmp_path: Path, events: int) -> None:
-    """Regression: HDF5 may write appended rows before the state after them (a kill or a
-    full disk during a flush). The catalogue held 45 rows and the state after 30; resuming
-    continued from that state after the 45th row, so events 30..44 were there twice. Now the
-    state names the rows it follows: a resumed run writes over the others (the same events),
-    and open_catalog leaves out rows no state follows."""
+    """HDF5 may write appended rows before the state after them (a kill or a full disk during a
+    flush): a catalogue of 45 rows with the state after 30. The state names the rows it
+    follows, so a resumed run writes over the others (the same events) instead of continuing
+    after the 45th row with events 30..44 twice, and open_catalog leaves out rows no state
+    follows."""
     import netCDF4
 
     from stickslip.chains.catalog import COLUMNS, CatalogWriter, read_state
@@ -544,8 +545,9 @@ def test_rows_written_without_the_state_after_them_are_computed_again(tmp_path: 
 
 
 def test_an_ensemble_member_with_a_broken_catalogue_starts_again(tmp_path: Path) -> None:
-    """Regression (audit): a member's catalogue truncated (or left unreadable by a kill -9)
-    failed the member with 'NetCDF: HDF error' on every run: the store could never finish."""
+    """A member's catalogue truncated (or left unreadable by a kill -9) is warned about and its
+    member starts again: failing it with 'NetCDF: HDF error' on every run, the store could
+    never finish."""
     p = ChainParameters(6, WeakeningLaw(c=3.0, p=0.0), 0.01, 2.0)
     ref = chain_ensemble(p, 40, [1, 2], progress=False)
     store = tmp_path / "e.zarr"
@@ -618,6 +620,7 @@ def test_heterogeneous_thresholds_are_seeded() -> None:
     assert r.status == "ok" and r.events == 30
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
@@ -738,8 +741,8 @@ def test_physical_chain_has_units() -> None:
     np.testing.assert_allclose(r.catalog["t_start"].values, d.catalog["t_start"].values * t_unit, rtol=1e-12)
     with pytest.raises(ValueError, match="coupling"):
         ChainParameters.from_physical(phys, blocks=3, coupling="3 m")
-    # a physical chain's times have units (a bare number in units of sqrt(m/k_p) came out in
-    # seconds, 5 times smaller here: chains audit), the dimensionless chain's are numbers
+    # a physical chain's times have units (a bare number, in units of sqrt(m/k_p), is 5 times
+    # smaller in seconds here: refused), the dimensionless chain's are numbers
     half = r.simulated_time / t_unit / 2  # units of sqrt(m/k_p): stops before the 10th event
     by_number = chain(ChainParameters(3, p.law, p.nu, p.ell), 10, t_max=half, progress=False)
     by_units = chain(p, 10, t_max=f"{half * t_unit!r} s", progress=False)
@@ -942,8 +945,8 @@ def test_the_stall_guard_counts_over_calls() -> None:
     st.sc[core_chain.S_STALL] = core_chain.STALL_STEPS - 5  # as if 9995 steps had made no progress
     with_progress = st.copy()
     _, _, code = chain_advance(*args, with_progress, max_events=3, max_steps=3)
-    # kept over the pause (a call used to start it again at 0: a stall that spans calls of
-    # fewer than STALL_STEPS steps was never caught)
+    # kept over the pause (started again at 0 by each call, a stall that spans calls of fewer
+    # than STALL_STEPS steps would never be caught)
     assert code == core_chain.CH_PAUSED and with_progress.sc[core_chain.S_STALL] == core_chain.STALL_STEPS - 5
     # the counter is read at the start of a call: past the guard, the call ends at once
     st.sc[core_chain.S_STALL] = core_chain.STALL_STEPS + 1
@@ -1284,8 +1287,9 @@ def _resumes_to(p: ChainParameters, path: Path, whole: ChainResult) -> None:
 def test_a_signal_while_a_chunk_is_written_waits_for_rows_and_state(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """A SIGTERM between a chunk's rows and its state once left a catalogue whose rows ran ahead of
-    its state: resumed, it simulated those events again (320 duplicated rows in the review's run)."""
+    """A SIGTERM between a chunk's rows and its state waits for both: a catalogue whose rows ran
+    ahead of its state would simulate those events again when resumed (320 duplicated rows in
+    one such run)."""
     import os
     import signal
 
@@ -1363,10 +1367,9 @@ def test_one_command_gives_one_catalogue_bit_for_bit(monkeypatch: pytest.MonkeyP
 
 
 def test_a_catalogue_on_disk_holds_the_slips_recorded_and_no_fill_values(tmp_path: Path) -> None:
-    """Regression (chains audit): the slip dimension is made for record_slip rows (2000), and
-    the rows never written read as netCDF's default fill 9.97e36 (slip.max() 9.97e36); the
-    catalogue on disk now has the recorded rows only, as the one in memory does, and a raw
-    NetCDF reader sees NaN beyond them."""
+    """The slip dimension is made for record_slip rows (2000), but the catalogue on disk has the
+    recorded rows only, as the one in memory does, and a raw NetCDF reader sees NaN beyond
+    them, not netCDF's default fill 9.97e36 (which slip.max() would return)."""
     import netCDF4
 
     p = ChainParameters(4, WeakeningLaw(c=10.0), 0.002, 2.0)
@@ -1382,8 +1385,8 @@ def test_a_catalogue_on_disk_holds_the_slips_recorded_and_no_fill_values(tmp_pat
 
 
 def test_a_state_that_is_not_finite_is_refused() -> None:
-    """Regression (chains audit): a NaN position hung the compiled engine (the breakaway-time
-    tree walked past its leaves), where Ctrl-C cannot stop it; it is refused by name."""
+    """A NaN position is refused by name: in the compiled engine the breakaway-time tree walks
+    past its leaves without end, where Ctrl-C cannot stop it."""
     p = ChainParameters(3, WeakeningLaw(c=1.0), 0.05, 1.0)
     bad = ss.core.api.ChainState.at_rest([0.0, math.nan, 0.0])
     with pytest.raises(ValueError, match=r"state: block 2's position is nan; expected finite"):
@@ -1395,15 +1398,15 @@ def test_a_state_that_is_not_finite_is_refused() -> None:
 
 
 def test_the_event_map_refuses_what_is_not_a_state_and_a_constant_map_is_superstable() -> None:
-    """Regression (chains audit): the event map took 2 positions for 3 blocks (a 2-block map,
-    and an exponent 0.517 for it), called a refused tolerance 'a sliding state of the chain',
-    and eps = 0 was a ZeroDivisionError. One block's map is constant (every cycle starts from
-    the same breakaway): the companion orbit lands within rounding, and the exponent was
-    log(rounding/eps), -13.4 to -27.2 with eps; it is -inf."""
+    """The event map refuses 2 positions for 3 blocks (taken, they make a 2-block map with an
+    exponent 0.517), names a refused tolerance as such (not 'a sliding state of the chain'),
+    and refuses eps = 0. One block's map is constant (every cycle starts from the same
+    breakaway): the companion orbit lands within rounding, and the exponent is -inf, not
+    log(rounding/eps) (-13.4 to -27.2 with eps)."""
     p = ChainParameters(3, WeakeningLaw(c=1.0), 0.05, 1.0)
     with pytest.raises(ValueError, match=r"u: 2 positions, shape \(2,\); expected one per block, 3"):
         event_map(p, [0.0, 0.3])
-    with pytest.raises(ValueError, match=r"rtol=-1: expected a relative tolerance"):
+    with pytest.raises(ValueError, match=r"rtol=-1 must be positive: expected a relative tolerance"):
         event_map(p, [0.0, 0.3, 0.1], rtol=-1)
     # an event longer than max_steps goes on over several calls of the engine (it was called
     # 'a sliding state' after one call): one step per call gives the same map
@@ -1423,14 +1426,14 @@ def test_the_event_map_refuses_what_is_not_a_state_and_a_constant_map_is_superst
     for eps in (1e-9, 1e-5, 1e-3):
         r = lyapunov_exponent(one, [0.05], events=40, transient=2, eps=eps)
         assert r.defined and r.exponent == -math.inf and r.unresolved == 40
-    # a chaotic three-block chain: every stretch resolved (Benettin by hand agrees: chains audit)
+    # a chaotic three-block chain: every stretch resolved (Benettin's method by hand agrees)
     r = lyapunov_exponent(ChainParameters(3, WeakeningLaw(c=2.0), 0.05, 1.0), [0.0, 0.3, 0.1], events=200)
     assert r.unresolved == 0 and r.exponent > 3 * r.error > 0
 
 
 def test_thresholds_and_initial_positions_are_independent() -> None:
-    """Regression (chains audit): both were drawn from default_rng(seed), so the strongest block
-    always started furthest ahead (correlation 1.000000)."""
+    """Thresholds and initial positions come from independent streams: both drawn from
+    default_rng(seed), the strongest block would always start furthest ahead (correlation 1)."""
     from stickslip.chains.model import initial_positions
 
     phi = static_thresholds(2000, 0.3, seed=7)
@@ -1440,8 +1443,8 @@ def test_thresholds_and_initial_positions_are_independent() -> None:
     np.testing.assert_array_equal(phi, static_thresholds(2000, 0.3, seed=7))  # still seeded
 
 
-def test_chain_audit_small_things(tmp_path: Path) -> None:
-    """Regression (chains audit, LOW): what each message said and what it says now."""
+def test_chain_messages_name_the_option_and_its_bound(tmp_path: Path) -> None:
+    """Each bad chain input is refused in words that name the option, its value and its bound."""
     from click.testing import CliRunner
 
     from stickslip.cli import main
@@ -1450,10 +1453,10 @@ def test_chain_audit_small_things(tmp_path: Path) -> None:
     with pytest.raises(
         ValueError, match=r"ell=10000000.0: expected a coupling ell = sqrt\(k_c/k_p\) below 1e\+06"
     ):
-        ChainParameters(3, law, 0.05, 1e7)  # was 'expected a coupling ell >= 0 < 1000000.0'
+        ChainParameters(3, law, 0.05, 1e7)  # the bound in words, not 'ell >= 0 < 1000000.0'
     phys = ss.zv_parameters("100 um/s")
     with pytest.raises(ValueError, match=r"coupling='1e30 N/m': k_c/k_p = 1.613e\+28"):
-        ChainParameters.from_physical(phys, blocks=3, coupling="1e30 N/m")  # named ell=1.3e14
+        ChainParameters.from_physical(phys, blocks=3, coupling="1e30 N/m")  # as given, not ell=1.3e14
     assert ChainParameters.from_physical(phys, blocks=3, coupling="0 N/m").ell == 0.0  # as ell=0 is
     with pytest.raises(ValueError, match="record_slip=-1: expected a whole number >= 0"):
         chain(ChainParameters(3, law, 0.05, 1.0), 5, record_slip=-1, out=tmp_path / "r.nc")  # OverflowError
@@ -1493,8 +1496,8 @@ def test_chain_audit_small_things(tmp_path: Path) -> None:
 
 def test_events_with_backward_moment_are_counted() -> None:
     """With backward slip an event's moment (signed) can be <= 0: no magnitude, so it is not in
-    the b-value; the summary and the text output say how many (the audit found one such event
-    in each of four set-ups, left out without a word)."""
+    the b-value; the summary and the text output say how many (such events are common: one in
+    each of four set-ups tried)."""
     from click.testing import CliRunner
 
     from stickslip.cli import main
@@ -1503,7 +1506,7 @@ def test_events_with_backward_moment_are_counted() -> None:
     assert p.backslip
     r = chain(p, 20, state=ss.core.api.ChainState.at_rest([0.0, 0.4, 0.1]), progress=False)
     moment = r.catalog["moment"].values
-    assert moment[0] == pytest.approx(-0.278, abs=1e-3)  # the audit's set-up H: event 0 slips back
+    assert moment[0] == pytest.approx(-0.278, abs=1e-3)  # event 0 slips back
     assert r.summary()["events_without_magnitude"] == int(np.sum(moment <= 0)) > 0
     assert r.b.n <= int(np.sum(moment > 0))
     cli = [
@@ -1531,12 +1534,11 @@ def test_events_with_backward_moment_are_counted() -> None:
 
 
 def test_a_block_that_starts_beyond_its_backward_threshold_slips_back_at_once() -> None:
-    """Regression (chain audit, helper-37, HIGH): random initial positions with ell = 10 put the
-    middle block's force at -1.463, beyond its backward threshold -1; it was left stuck until a
-    neighbour broke away at 24.4, which wrote a spurious event and put every later event 28.4 early,
-    status ok. Now it slips back at t = 0. The values are the audit's independent SciPy reference
-    (event-driven, exact stick, DOP853 at rtol 1e-12): this suite's own reference starts from rest
-    below the thresholds only."""
+    """Random initial positions with ell = 10 put the middle block's force at -1.463, beyond its
+    backward threshold -1: it slips back at t = 0 (left stuck until a neighbour breaks away at
+    24.4, it would write a spurious event and put every later event 28.4 early, status ok). The
+    values come from an independent SciPy reference (event-driven, exact stick, DOP853 at rtol
+    1e-12), not reference/chain.py, which starts from rest below the thresholds only."""
     r = chain(
         ChainParameters(3, WeakeningLaw(c=3.0), 0.01, 10.0),
         4,
@@ -1557,9 +1559,9 @@ def test_a_block_that_starts_beyond_its_backward_threshold_slips_back_at_once() 
 
 
 def test_a_tables_chain_that_fails_where_its_friction_reaches_zero_says_why() -> None:
-    """The second chain audit (helper-38, LOW): a table whose extrapolation falls to zero friction
-    (at 0.5 m/s, along the tangent at its last row) ended not-finite after a few events without
-    a word; `cycle` names the cause, and a chain now does too."""
+    """A table whose extrapolation falls to zero friction (at 0.5 m/s, along the tangent at its
+    last row) ends not-finite after a few events, and the chain names the cause, as `cycle`
+    does."""
     law = TabulatedLaw(Q_([0.0, 0.1, 0.2, 0.3, 0.4], "m/s"), [0.5, 0.4, 0.3, 0.2, 0.1])
     p = ChainParameters(5, law.nondimensionalize(Q_(1.0, "s/m")), 0.01, 3.0)
     with pytest.warns(
@@ -1590,12 +1592,12 @@ def test_a_tables_chain_that_fails_where_its_friction_reaches_zero_says_why() ->
 def test_every_block_that_starts_beyond_its_backward_threshold_slips_back(
     boundary: str, t_end: list[float], moment: list[float]
 ) -> None:
-    """Regression (second chain audit, helper-38, HIGH): ten blocks at ell = 30 (seed 5) start with
-    forces -1.334, -1.371, -1.749 and -5.156 beyond their backward thresholds beside forward ones;
-    only the worst slipped back, block 1 (-1.334, between stuck neighbours) was left stuck: the
-    first event ended at 0.154692 with moment 1.445e-3 instead of 0.154359 and 1.036e-3, every
-    later one off, status ok. The values are the audit's independent SciPy reference (event-driven,
-    exact stick, every block integrated, DOP853 at rtol 1e-13); its rtol 1e-12 agrees to 1e-13."""
+    """Ten blocks at ell = 30 (seed 5) start with forces -1.334, -1.371, -1.749 and -5.156 beyond
+    their backward thresholds beside forward ones: every one of them slips back, block 1
+    (-1.334, between stuck neighbours) too. The first event ends at 0.154359 with moment
+    1.036e-3 (with block 1 left stuck: 0.154692 and 1.445e-3, every later one off, status ok).
+    The values come from an independent SciPy reference (event-driven, exact stick, every block
+    integrated, DOP853 at rtol 1e-13); its rtol 1e-12 agrees to 1e-13."""
     p = ChainParameters(10, WeakeningLaw(c=3.0), 0.01, 30.0, boundary=boundary)
     r = chain(p, 3, seed=5, amplitude=0.005, rtol=1e-13, atol=1e-15, progress=False)
     cat = r.catalog
@@ -1609,8 +1611,8 @@ def test_every_block_that_starts_beyond_its_backward_threshold_slips_back(
 
 
 def test_events_in_pieces_are_counted_and_warned() -> None:
-    """The chain audit (HIGH, a method): an event runs until every block sticks, so on a long chain
-    slips far apart are one event, and their moments add; nothing said so. Counted exactly on
+    """An event runs until every block sticks, so on a long chain slips far apart are one event,
+    and their moments add: such events are counted and warned. Counted exactly on
     known rows, free and periodic (whose extent cannot tell a stretch across the ends), and on
     Carlson and Langer's 100 blocks, where many are, a warning."""
     from stickslip.chains.statistics import ruptures_in_pieces
@@ -1641,9 +1643,10 @@ def test_events_in_pieces_are_counted_and_warned() -> None:
 
 
 def test_a_damaged_or_foreign_catalogue_is_refused_in_one_line(tmp_path: Path) -> None:
-    """The chain audit (MEDIUM): resuming a foreign NetCDF ended in 'IndexError: state_x not found in
-    /', a truncated one in 'NetCDF: HDF error', an unreadable set-up in 'another set-up ( differ)';
-    open_catalog of a file without 'moment' raised xarray's KeyError without the file's name."""
+    """Resuming a foreign NetCDF, a truncated one or one with an unreadable set-up is refused in
+    one line naming the file and what is wrong (not 'IndexError: state_x not found in /',
+    'NetCDF: HDF error' or 'another set-up ( differ)'); open_catalog of a file without 'moment'
+    names the file (not xarray's bare KeyError)."""
     import netCDF4
     import xarray as xr
 

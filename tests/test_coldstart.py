@@ -98,7 +98,7 @@ def test_blocks_cover_every_row_once_and_stop_at_an_error(monkeypatch: pytest.Mo
     import threading
     import time
 
-    from stickslip.core import api
+    from stickslip.core import kernel as api  # the module whose threads() in_blocks reads
 
     monkeypatch.setattr(api, "threads", lambda: 3)
     seen: list[int] = []

@@ -8,19 +8,24 @@ import numpy as np
 import pytest
 import xarray as xr
 from click.testing import CliRunner
-from reference import forward_branch, pure_slip_orbit_reference, reference_cycle, unstable_orbit_reference
+from reference.one_block import (
+    forward_branch,
+    pure_slip_orbit_reference,
+    reference_cycle,
+    unstable_orbit_reference,
+)
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from stickslip import CoulombLaw, CubicLaw, DimensionlessParameters, WeakeningLaw, cycle
 from stickslip.bifurcation.averaging import averaging_table, thomsen_fidlin
-from stickslip.bifurcation.orbits import pure_slip_orbit, saltation, stick_slip_orbit
 from stickslip.bifurcation.regime_map import criterion_table, criterion_trial, regime_map
 from stickslip.bifurcation.regimes import _fold, _orbits_at, confirm, pure_slip_orbits_at, regimes
 from stickslip.cli import main
 from stickslip.core.api import run_flow
 from stickslip.laws import law_arrays
 from stickslip.laws.expression import ExpressionLaw
+from stickslip.orbits.periodic import pure_slip_orbit, saltation, stick_slip_orbit
 
 CUBIC = CubicLaw(alpha=0.5, gamma=0.5 / 3)  # supercritical Hopf at nu = 1
 F2 = WeakeningLaw(c=3.8, p=0.5)  # subcritical Hopf at nu = 0.4623
@@ -50,7 +55,7 @@ def test_compiled_variational_flow_matches_scipy(law, nu: float, s0: float) -> N
 
     def rhs(_t: float, y: np.ndarray) -> list[float]:
         s, w = y[0], y[1]
-        f = forward_branch(name, params, w)  # tests/reference.py: its own copy of the laws
+        f = forward_branch(name, params, w)  # tests/reference/one_block.py: its own copy of the laws
         df = slope(w)
         p = y[2:6].reshape(2, 2)
         j = np.array([[0.0, -1.0], [1.0, -df]])
@@ -169,9 +174,9 @@ def test_fold_location() -> None:
 
 
 def test_a_fold_of_cycles_is_located_to_1e_9() -> None:
-    """Regression (audit of user laws): a fold of cycles was the vertex of a quadratic through
-    three continuation points, 5.7e-4 short on this N-shaped law (2.2786964 for 2.2792696), so
-    `regime_at(2.279)` said stick-slip only though a stable pure-slip orbit exists there.
+    """A fold of cycles is located to 1e-9, not as the vertex of a quadratic through three
+    continuation points (5.7e-4 short on this N-shaped law: 2.2786964 for 2.2792696), so that
+    `regime_at(2.279)` finds the stable pure-slip orbit that exists there.
 
     Reference: plain SciPy shooting of the stable and the unstable orbit at two velocities below
     the fold; near a saddle-node the squared gap between their amplitudes is linear in the
@@ -203,12 +208,11 @@ def test_a_fold_of_cycles_is_located_to_1e_9() -> None:
 
 
 def test_continuation_does_not_jump_to_another_part_of_its_branch() -> None:
-    """Regression (audit of user laws): on this law's branch from its subcritical Hopf point,
-    near grazing (minimum velocity 0.025), one corrector step landed on the unstable part of
-    the same branch (9.6 away in amplitude for a step of at most 0.2) and retraced it to the
-    Hopf point: the branch ended `hopf`, no grazing point, the unstable part drawn twice.
-    Now the branch ends where the stick-slip onset (located independently, by bisection on the
-    engine) says it grazes."""
+    """On this law's branch from its subcritical Hopf point, near grazing (minimum velocity
+    0.025), a corrector step must not land on the unstable part of the same branch (9.6 away in
+    amplitude for a step of at most 0.2) and retrace it to the Hopf point (the branch ending
+    `hopf`, no grazing point, the unstable part drawn twice): the branch ends where the
+    stick-slip onset (located independently, by bisection on the engine) says it grazes."""
     law = ExpressionLaw("1/(1+3.8*w)+2*w*exp(-w/2)+0.05*w")
     d = regimes(law, 9.0, 16.0)
     (h,) = d.hopf
@@ -279,8 +283,8 @@ def test_regime_map_and_criterion(tmp_path: Path) -> None:
 
 
 def test_a_log_sweep_figure_leaves_steady_sliding_out() -> None:
-    """Regression (sweep audit): on log axes steady sliding's amplitude 0 drew lines off the
-    bottom of the figure; those points are left out of the log plot (the data keep them)."""
+    """On log axes steady sliding's amplitude 0 is left out of the plot (drawn, its lines run off
+    the bottom of the figure); the data keep those points."""
     from stickslip.dynamics.sweep import sweep
     from stickslip.plots.figures import plot_sweep
 
@@ -382,7 +386,7 @@ def test_cli_regimes_physical_and_map(tmp_path: Path) -> None:
     assert [r["regime"] for r in d["criterion"]] == ["stick-slip", "pure-slip", "slip-reversal"]
     for name in ("regime_map.nc", "regime_map.png", "criterion_map.png"):
         assert (tmp_path / name).exists()
-    # (sweep audit) the map of a physical set-up says which: beta stored, v0 on its figures
+    # the map of a physical set-up says which: beta stored, v0 on its figures
     from stickslip.plots.regimes import plot_criterion_map, plot_regime_map
 
     m = xr.load_dataset(tmp_path / "regime_map.nc")
@@ -423,15 +427,15 @@ def test_pure_slip_orbit_from_branch_guess_matches_direct(cubic_diagram) -> None
     [(38.547360389217516, 5.568813990945273, 0.6014472250591165), (50.0, 10.0, 0.8556683749985649)],
 )
 def test_the_slip_reversal_multiplier_is_the_variational_one(c: float, nu: float, exact: float) -> None:
-    """Regression (sweep audit, helper-36, MEDIUM): a slip-reversal orbit's multiplier came from
-    one central difference of the return map at h = 1e-5 and was off by 3.4e-7 and 1.9e-7 here,
-    whatever the tolerance. The exact values come from the audit's independent reference (SciPy
-    DOP853 at rtol 1e-13, the variational equations with the saltation matrices at the crossings
-    of w = 0: det of the monodromy; two reversals a period). Extrapolated: within 1e-8."""
+    """A slip-reversal orbit's multiplier is the variational one, within 1e-8: one central
+    difference of the return map at h = 1e-5 is off by 3.4e-7 and 1.9e-7 here, whatever the
+    tolerance. The exact values come from an independent reference (SciPy DOP853 at rtol
+    1e-13, the variational equations with the saltation matrices at the crossings of w = 0:
+    det of the monodromy; two reversals a period), extrapolated."""
     r = cycle(DimensionlessParameters(nu=nu, law=WeakeningLaw(c=c)), probe=False)
     assert r.regime.value == "slip-reversal" and r.backward_slips > 0
     assert r.multiplier == pytest.approx(exact, abs=1e-8)
-    assert abs(r.multiplier - exact) < 0.1 * 1.9e-7  # the old error, tenfold smaller at least
+    assert abs(r.multiplier - exact) < 0.1 * 1.9e-7  # tenfold below the finite difference's error
 
 
 def test_slip_reversal_is_an_attractor_of_its_own() -> None:
@@ -460,13 +464,12 @@ def test_cubic_law_warns_where_friction_turns_negative() -> None:
 
 
 def test_a_hopf_point_on_a_table_row_starts_its_branch() -> None:
-    """Regression (regime audit, helper-32): a subcritical Hopf point on a pchip row (f'' jumps
-    by J there) got no pure-slip branch at all: the first orbits were guessed from the cubic
-    averaging formula, Newton failed, and the branch was dropped without a word. Near a kink the
-    small cycle grows linearly, f'(nu) = -2 J a / (3 pi); started there, the branch is followed
-    (in scaled coordinates: in (A, T, nu) the period took every step). Forward shooting then lost
-    it at multiplier 3200 (a note said where); shot backward in time where unstable, it is now
-    followed to its grazing at the stick-slip onset. Its orbits agree with plain SciPy shooting
+    """A subcritical Hopf point on a pchip row (f'' jumps by J there) starts its pure-slip
+    branch: near a kink the small cycle grows linearly, f'(nu) = -2 J a / (3 pi) (the cubic
+    averaging formula's guess fails Newton there), and the branch is followed in scaled
+    coordinates (in (A, T, nu) the period takes every step). Forward shooting loses it at
+    multiplier 3200; shot backward in time where unstable, it is followed to its grazing at
+    the stick-slip onset. Its orbits agree with plain SciPy shooting
     (forward where that can converge, a backward return map beyond)."""
     from stickslip import PhysicalParameters, TabulatedLaw
     from stickslip.units import Q_
@@ -538,9 +541,9 @@ def test_a_hopf_point_on_a_table_row_starts_its_branch() -> None:
 
 
 def test_a_map_cell_on_a_supercritical_hopf_point_is_steady_sliding() -> None:
-    """Regression (sweep audit, helper-33): on a linear grid the cubic law's map had a cell exactly
-    on its supercritical Hopf point (nu = 1, alpha = 0.5) labelled pure-slip, with no orbit (its
-    amplitude is 0 there). There the attractor is steady sliding; just below, the small cycle."""
+    """A map cell exactly on the cubic law's supercritical Hopf point (nu = 1, alpha = 0.5, on a
+    linear grid) is steady sliding, not pure slip without an orbit (its amplitude is 0 there);
+    just below it, the small cycle."""
     d = regimes(CUBIC, 0.5, 1.5)
     (h,) = d.hopf
     assert h.criticality == "supercritical" and h.nu == pytest.approx(1.0, abs=1e-12)
@@ -553,8 +556,8 @@ def test_a_map_cell_on_a_supercritical_hopf_point_is_steady_sliding() -> None:
 
 
 def test_the_mapped_parameter_need_not_be_given_twice(tmp_path: Path) -> None:
-    """Regression (sweep audit, helper-33): `regimes --law cubic --map alpha=0.3..0.7` asked for
-    --alpha as well; the diagram is now drawn at the map's first value, and the output says so.
+    """`regimes --law cubic --map alpha=0.3..0.7` needs no --alpha: the diagram is drawn at the
+    map's first value, and the output says so.
     The map is the same as with --alpha given."""
     args = ["regimes", "--law", "cubic", "--gamma", "0.1666", "--nu-min", "0.5", "--nu-max", "1.5"]
     args += ["--n", "21", "--map", "alpha=0.3..0.7", "--map-n", "3", "--json"]

@@ -38,6 +38,7 @@ def cubic_pure_slip_data() -> tuple[np.ndarray, np.ndarray]:
     return nu / beta * 1e6, ds.amplitude.values
 
 
+@pytest.mark.fast
 def test_stick_slip_model_data(tmp_path: Path) -> None:
     v, a = f1_data()
     path = write_csv(tmp_path / "f1.csv", "velocity [um/s],amplitude [mN]", list(zip(v, a, strict=True)))
@@ -65,6 +66,7 @@ def test_units_do_not_change_the_slope(tmp_path: Path) -> None:
     assert classify_file(p1).slope == pytest.approx(classify_file(p2).slope, rel=1e-12)
 
 
+@pytest.mark.fast
 def test_noisy_data() -> None:
     """Noise well below the trend keeps the verdict; noise as large as the trend gives inconclusive."""
     v, a = f1_data()
@@ -105,6 +107,7 @@ def test_errors_weight_the_fit(tmp_path: Path) -> None:
         classify(Q_(v, "N"), a)
 
 
+@pytest.mark.fast
 def test_too_few_points() -> None:
     r = classify([5.0, 50.0, 500.0], [1.0, 1.5, 2.0])
     assert r.verdict == "inconclusive"
@@ -113,6 +116,7 @@ def test_too_few_points() -> None:
     assert r.verdict == "inconclusive"
 
 
+@pytest.mark.fast
 def test_non_monotonic() -> None:
     v = np.geomspace(1, 1000, 15)
     a = np.exp(-((np.log(v) - np.log(30)) ** 2) / 4)
@@ -121,6 +125,7 @@ def test_non_monotonic() -> None:
     assert "non-monotonic" in r.reason
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize(
     ("content", "message"),
     [
@@ -176,6 +181,7 @@ def test_tsv_and_comments(tmp_path: Path) -> None:
     assert classify_file(path).verdict == "stick-slip"
 
 
+@pytest.mark.fast
 def test_classify_cli_json(tmp_path: Path) -> None:
     v, a = f1_data()
     path = write_csv(tmp_path / "f1.csv", "velocity [um/s],amplitude [mN]", list(zip(v, a, strict=True)))
@@ -188,6 +194,7 @@ def test_classify_cli_json(tmp_path: Path) -> None:
     assert "verdict   stick-slip" in res.output
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
@@ -204,6 +211,7 @@ def test_classify_bad_arguments(kwargs: dict, message: str) -> None:
         classify(**kwargs)
 
 
+@pytest.mark.fast
 def test_the_slope_and_its_interval_against_scipy() -> None:
     """The slope's interval is Student's t at n - 2 degrees of freedom times the standard
     error: against scipy.stats.linregress without errors, and against numpy's weighted
@@ -230,13 +238,13 @@ def test_the_slope_and_its_interval_against_scipy() -> None:
         assert r.slope_ci == pytest.approx((coef[0] - t95 * se, coef[0] + t95 * se), rel=1e-10)
 
 
+@pytest.mark.fast
 def test_errors_that_differ_by_1e9_keep_a_rising_trend_rising() -> None:
-    """Regression (measured-data audit, helper-41, HIGH): noise-free records give amplitude
-    errors of 1e-16 next to 1e-5; the normal matrix of the weighted fit squared that spread
-    and pinv truncated it, so the upper half's slope came out -0.0136 (exact: +0.0349) and a
-    monotonic rise was 'inconclusive (non-monotonic: the amplitude rises below and falls
-    above ...)'. The fit is now solved from the scaled design's SVD: the audit's numbers, and
-    the exact weighted slope in closed form."""
+    """Noise-free records give amplitude errors of 1e-16 next to 1e-5: the weighted fit is
+    solved from the scaled design's SVD, since the normal matrix squares that spread and pinv
+    truncates it (the upper half's slope comes out -0.0136 instead of +0.0349, and a monotonic
+    rise reads 'inconclusive (non-monotonic ...)'). Measured-like numbers, and the exact
+    weighted slope in closed form."""
     v = np.array([50, 100, 200, 500, 1000, 2000, 5000]) * 1e-6
     a = np.array([1.002489, 1.005890, 1.012011, 1.027669, 1.050437, 1.090061, 1.187516])
     spread = np.array([1.975e-15, 1.317e-15, 6.584e-16, 9.876e-16, 1.639e-05, 5.097e-05, 6.509e-04])

@@ -60,7 +60,7 @@ def test_periodic_cycles_and_the_estimate(run) -> None:
 
 def _scipy_reference(years: float) -> np.ndarray:
     """Event start times by SciPy's Radau on (slip, state), from the equations (not our code)."""
-    import bp1_reference as ref
+    from reference import bp1 as ref
 
     def event(t: float, y: np.ndarray) -> float:
         return math.log(ref.slip_rate(t, y) / 1e-3)
@@ -115,7 +115,7 @@ def test_cli(tmp_path) -> None:
     assert d["budget"]["energy_error"] < 1e-8
     assert (tmp_path / "cycles.png").stat().st_size > 20_000
     assert (tmp_path / "catalog_quasi-dynamic.csv").read_text().count("\n") > 10
-    # (rate-and-state audit) the catalogue's columns carry their units; the values are SI, as in
+    # the catalogue's columns carry their units; the values are SI, as in
     # cycles.nc (the JSON gives years and MPa)
     import pandas as pd
 
@@ -123,15 +123,15 @@ def test_cli(tmp_path) -> None:
     assert {"t_start [s]", "slip [m]", "stress_drop [Pa]", "recurrence [s]"} <= set(cat.columns)
     recurrence_yr = cat["recurrence [s]"].iloc[2:].mean() / (365.25 * 86400)
     assert recurrence_yr == pytest.approx(d["recurrence_yr"], rel=1e-3)
-    # (rate-and-state audit) the range's top is the events' located peak, not only the samples'
-    # (it was 0.83259 below the peak 0.83291 in the same JSON)
+    # the range's top is the events' located peak, not only the samples' (the samples' top
+    # lies below it: 0.83259 against 0.83291 here)
     assert d["slip_rate_range_m_s"][1] == pytest.approx(cat["peak_slip_rate [m/s]"].max(), rel=1e-12)
     assert d["slip_rate_range_m_s"][1] >= d["peak_slip_rate"]
 
 
 def test_json_has_null_not_nan(tmp_path) -> None:
-    """The rate-and-state audit: cycles.json and --json held bare NaN (one event: no recurrence
-    spread; an inertial run without events), which JSON parsers other than Python's refuse."""
+    """cycles.json and --json write null, never bare NaN (one event: no recurrence spread; an
+    inertial run without events): JSON parsers other than Python's refuse NaN."""
 
     def strict(text: str) -> dict:
         return json.loads(text, parse_constant=lambda c: pytest.fail(f"{c} in JSON"))
@@ -161,9 +161,9 @@ def test_cli_refuses_options_that_would_reach_nothing(args: list[str], message: 
 
 
 def test_v_event_and_stops_are_said_in_words(tmp_path) -> None:
-    """Regression (audit): v_event below the plate rate gave a 3.9 MPa 'stress drop' of the
-    creep itself, and 1 m/s plates 'status 5'; v_event above every peak printed NaN
-    summaries among numpy warnings; a Dc too small said 'status 3'."""
+    """v_event must lie well above the plate rate (below it the creep itself counts as events,
+    with a 3.9 MPa 'stress drop'); a 1 m/s plate, a v_event above every peak and a Dc too small
+    are each said in words, not as a status number or NaN summaries among numpy warnings."""
     with pytest.raises(ValueError, match=r"v_event='1e-12 m/s': .* well above the plate rate"):
         earthquake_cycles(BP1, "10 yr", v_event="1e-12 m/s")
     with pytest.raises(ValueError, match=r"plate rate \(1 m/s"):
@@ -184,9 +184,9 @@ def test_v_event_and_stops_are_said_in_words(tmp_path) -> None:
 
 
 def test_a_run_longer_than_one_clock_holds(run) -> None:
-    """Regression (audit): one clock over the whole run lost an event's millisecond steps
-    after 26627 years ('step size fell below the precision of t'); the integration now
-    restarts its clock every CHUNK seconds. 30000 years: the same cycle as 3000."""
+    """The integration restarts its clock every CHUNK seconds: on one clock an event's
+    millisecond steps fall below the precision of t after about 26627 years. 30000 years give
+    the same cycle as 3000."""
     long = earthquake_cycles(BP1, "30000 yr")
     a, b = long.summary(), run.summary()
     assert a["events"] > 9 * b["events"]
@@ -199,10 +199,9 @@ def test_a_run_longer_than_one_clock_holds(run) -> None:
 
 
 def test_the_estimate_sits_in_the_stress_panel_above_its_curve() -> None:
-    """Regression (rate-and-state audit, helper-34): the spring-slider estimate was the stress
-    panel's title, between the panels, and read as the slip-rate panel's caption. It is inside
-    the stress panel now, in headroom above the curve (a first try at its foot hid three of the
-    four stress drops)."""
+    """The spring-slider estimate sits inside the stress panel, in headroom above the curve:
+    as a title between the panels it reads as the slip-rate panel's caption, and at the
+    panel's foot it hides three of the four stress drops."""
     import matplotlib
 
     matplotlib.use("Agg")

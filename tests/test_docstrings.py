@@ -22,8 +22,8 @@ def test_the_examples_are_found() -> None:
 
 @pytest.mark.parametrize("name", MODULES)
 def test_docstring_examples(name: str) -> None:
-    """Regression: two examples printed a Regime's repr where they showed its name, unnoticed,
-    since no test ran them."""
+    """Every docstring example runs and prints what it shows (a Regime's name, not its repr):
+    an example no test runs drifts unnoticed."""
     module = importlib.import_module(name)
     result = doctest.testmod(module, optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
     assert result.attempted > 0, f"{name}: '>>>' in the source, but no example found"

@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 import pytest
-from reference import coulomb_cycle
+from reference.one_block import coulomb_cycle
 
 from stickslip import (
     CoulombLaw,
@@ -16,6 +16,7 @@ from stickslip import (
 )
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize("nu", [1e-6, 1e-3, 0.05, 0.5, 2.0])
 @pytest.mark.parametrize("fk", [0.05, 0.3, 0.8])
 def test_coulomb_cycle_closed_form(nu: float, fk: float) -> None:
@@ -35,6 +36,7 @@ def test_coulomb_cycle_closed_form(nu: float, fk: float) -> None:
     assert r.backward_slips == 0
 
 
+@pytest.mark.fast
 def test_coulomb_slip_is_a_shifted_harmonic_oscillator() -> None:
     """During slip, s - fk and w - nu rotate rigidly: w = nu - nu cos t + (1 - fk) sin t."""
     nu, fk = 0.2, 0.4
@@ -59,6 +61,7 @@ def test_coulomb_slip_is_a_shifted_harmonic_oscillator() -> None:
     assert stops[0] == pytest.approx(t_break + exact["slip_time"], rel=1e-12)
 
 
+@pytest.mark.fast
 def test_position_is_the_integral_of_the_velocity() -> None:
     """The position, integrated from the velocity samples (Simpson on a fine grid), not by its definition."""
     from scipy.integrate import cumulative_simpson
@@ -72,6 +75,7 @@ def test_position_is_the_integral_of_the_velocity() -> None:
     assert np.ptp(traj.position[stuck & (traj.time < traj.event_time[0])]) == 0.0
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize(
     ("law", "nu", "f_nu"),
     [
@@ -91,6 +95,7 @@ def test_steady_sliding(law: object, nu: float, f_nu: float) -> None:
     assert traj.velocity[-1] == pytest.approx(nu, abs=1e-7)
 
 
+@pytest.mark.fast
 def test_steady_sliding_is_a_fixed_point() -> None:
     """Started exactly on steady sliding, the block stays there."""
     nu, c, pp = 0.7, 2.0, 0.5
@@ -101,6 +106,7 @@ def test_steady_sliding_is_a_fixed_point() -> None:
     np.testing.assert_allclose(traj.spring_force, f_nu, rtol=1e-13)
 
 
+@pytest.mark.fast
 def test_coulomb_amplitude_formula_limits() -> None:
     """Closed form sanity: at small nu the amplitude is 2(1 - fk) (the classic result)."""
     r = cycle(DimensionlessParameters(nu=1e-7, law=CoulombLaw(kinetic=0.25)))

@@ -85,6 +85,7 @@ def test_a_formula_law_and_its_command():
     assert out["amplitude"] == pytest.approx(v.amplitude, rel=1e-12)
 
 
+@pytest.mark.fast
 def test_csv_and_bad_input():
     v = compute(Setup(nu=0.05))
     text = view_csv(v).splitlines()
@@ -106,7 +107,7 @@ def test_csv_and_bad_input():
         slider_range("weakening", "zz", 1.0)
     with pytest.raises(ValueError, match="c=nan: expected a finite value"):
         slider_range("weakening", "c", float("nan"))
-    # audit of 2026-11-24: a formula's nan slider, spaces, None, an unknown built-in parameter
+    # a formula's nan slider, spaces, None, an unknown built-in parameter: each named
     with pytest.raises(ValueError, match="c=inf: expected a finite value"):
         slider_range("expr", "c", float("inf"))
     assert parse_params("c = 3.8 , q= -0.5") == {"c": 3.8, "q": -0.5}
@@ -117,9 +118,9 @@ def test_csv_and_bad_input():
 
 
 def test_a_slider_holds_the_value_given_and_a_negative_parameter_its_diagram():
-    """Audit of 2026-11-24: a value within one step of an excluded bound was moved onto the
-    slider (kinetic 0.999 became 0.9975, c = 0.001 became 0.0025); a negative formula
-    parameter's regime diagram spanned positive values, without the current point."""
+    """A slider holds the value given, even within one step of an excluded bound (kinetic 0.999,
+    not 0.9975; c = 0.001, not 0.0025); a negative formula parameter's regime diagram spans
+    negative values and shows the current point."""
     from stickslip import ExpressionLaw
     from stickslip.explore import regime_diagram
 
@@ -132,9 +133,9 @@ def test_a_slider_holds_the_value_given_and_a_negative_parameter_its_diagram():
     assert q.min() == pytest.approx(-0.15) and q.max() < 0 and codes.shape[0] == q.size
     _, c, _ = regime_diagram(law, "c", 0.1, 3.8)
     assert c.max() == pytest.approx(11.4) and c.min() > 0
-    # review of 2026-11-24: the diagram left out a value near an excluded bound (kinetic 0.999:
-    # rows to 0.958), or a formula parameter at 0 (rows 0.04 .. 1), and the page redrew it
-    # on every change; nan and inf were blamed on the wrong argument, or failed in numpy
+    # the diagram includes a value near an excluded bound (kinetic 0.999, not rows to 0.958)
+    # and a formula parameter at 0 (not rows 0.04 .. 1), and the page does not redraw it on
+    # every change; nan and inf are named by their argument, before numpy sees them
     coulomb = Setup(law="coulomb", params={"kinetic": 0.999}).dimensionless_law()
     _, k, _ = regime_diagram(coulomb, "kinetic", 0.1, 0.999)
     assert k.min() > 0 and k.max() == pytest.approx(0.999)
@@ -158,8 +159,8 @@ def test_a_slider_holds_the_value_given_and_a_negative_parameter_its_diagram():
 
 
 def test_a_diagram_at_the_largest_value_has_a_finite_grid(monkeypatch):
-    """Review of 8494cb7: 3 x 1e308 overflowed, and the grid was nan .. inf (the sweep is
-    stubbed: the engine refuses such a parameter itself, by name)."""
+    """A diagram at the largest value has a finite grid: 3 x 1e308 overflows to a grid of
+    nan .. inf (the sweep is stubbed: the engine refuses such a parameter itself, by name)."""
     import xarray as xr
 
     from stickslip.explore import regime_diagram, session
@@ -175,8 +176,9 @@ def test_a_diagram_at_the_largest_value_has_a_finite_grid(monkeypatch):
 
 
 def test_the_formula_box_keeps_every_digit_and_a_flat_slope_is_flat():
-    """Review of 2026-11-24: the box showed 0.1 + 0.2 as 0.3 (Apply changed the value), and
-    the paper's claim said 'falls x1.00 per decade' for a slope of 0, 'falls xnan' for nan."""
+    """The formula box shows 0.1 + 0.2 with every digit (as 0.3, Apply would change the value),
+    and the paper's claim says a slope of 0 stays flat (not 'falls x1.00 per decade') and nan
+    is not measured (not 'falls xnan')."""
     from stickslip.explore.app import _params_text
     from stickslip.paper.report import _trend
 
@@ -187,6 +189,7 @@ def test_the_formula_box_keeps_every_digit_and_a_flat_slope_is_flat():
     assert _trend(0.30103) == "rises x2.00 per decade" and _trend(-0.30103) == "falls x0.50 per decade"
 
 
+@pytest.mark.fast
 def test_explore_option_errors():
     res = CliRunner().invoke(main, ["explore", "--law", "nonsense", "--no-browser"])
     assert res.exit_code == 2 and "--law" in res.output and "weakening" in res.output
@@ -453,8 +456,8 @@ def test_the_page_in_process_switches_laws_and_shows_errors():
     out = _run_command(ex.command.text)
     assert out["amplitude"] == pytest.approx(ex.view.amplitude, rel=1e-12)
 
-    # audit of 2026-11-24: the set-up's values as given (the sliders moved them), a formula
-    # set-up's own parameters in its box (the default's were shown and applied), nu in range
+    # the set-up's values as given (not moved by the sliders), a formula set-up's own
+    # parameters in its box (not the default formula's), nu in range
     ex = Explorer(Document(), Setup(law="coulomb", params={"kinetic": 0.999}, nu=0.1))
     assert ex.setup.params == {"kinetic": 0.999} and ex.param_sliders[0].value == 0.999
     ex = Explorer(Document(), Setup(law="expr", expression="1/(1 + c*w)", params={"c": 2.0}, nu=0.1))
@@ -468,10 +471,11 @@ def test_the_page_in_process_switches_laws_and_shows_errors():
 
 
 def test_the_page_keeps_its_view_whole_says_its_warnings_and_that_it_computes():
-    """The explorer audit (helper-39): a formula's parameter 'nan' left the page on 'Compiling'
-    for good (a traceback on the server), one the formula lacks left sliders that did not match
-    the plots; a law's warnings reached only the server's terminal; a served page said nothing
-    while it computed (seconds to minutes); log10 nu set past the slider ran minutes."""
+    """The page stays whole: a formula's parameter 'nan' is named on the page (not a traceback
+    on the server with the page stuck on 'Compiling'), and one the formula lacks leaves sliders
+    that match the plots; a law's warnings reach the page, not only the server's terminal; a
+    served page says that it computes (seconds to minutes); log10 nu set past the slider is
+    held to its range (beyond it a run takes minutes)."""
     from bokeh.document import Document
 
     from stickslip.explore import Explorer
@@ -486,7 +490,7 @@ def test_the_page_keeps_its_view_whole_says_its_warnings_and_that_it_computes():
         assert "error" in ex.status.text and why in ex.status.text, ex.status.text
         assert "Compiling" not in ex.status.text and ex.command.text == shown
         assert [s.name for s in ex.param_sliders] == ["param_c", "param_p"]  # the shown view's
-    # an error that quotes a quantity keeps it (its '<Quantity(...)>' was read as a tag)
+    # an error that quotes a quantity keeps it, escaped ('<Quantity(...)>' would read as a tag)
     ex = Explorer(Document(), Setup(nu=0.05))
     ex.scales["mass"].value = "1e300"  # dimensionless: not used yet
     ex.units.active = 1
@@ -517,10 +521,9 @@ def test_the_page_keeps_its_view_whole_says_its_warnings_and_that_it_computes():
 
 
 def test_a_new_physical_scale_holds_v0_and_the_law_in_si():
-    """The explorer audit (helper-39): in physical units the sliders held nu and the law's
-    dimensionless parameters, so a new mass changed v0 and the law's a and b (the command
-    showed them moved). A new scale now holds v0 and the law in SI; nu = beta v0 and the
-    sliders follow, and the command still reproduces the view."""
+    """In physical units a new scale (a new mass) holds v0 and the law in SI (a and b), not nu
+    and the law's dimensionless parameters: nu = beta v0 and the sliders follow, and the
+    command shown still reproduces the view."""
     from bokeh.document import Document
 
     from stickslip.explore import Explorer
@@ -547,7 +550,7 @@ def test_a_new_physical_scale_holds_v0_and_the_law_in_si():
     shown = ex.command.text
     ex.scales["mass"].value = repr(1e6 * mass)
     assert "error" in ex.status.text and "outside the driving-velocity slider" in ex.status.text
-    assert "lower v0" in ex.status.text  # nu above the range; below it, raise (the review)
+    assert "lower v0" in ex.status.text  # nu above the range; below it, raise
     ex.scales["mass"].value = repr(1e-12 * mass)
     assert "raise v0" in ex.status.text and ex.command.text == shown
     assert ex.command.text == shown
@@ -566,9 +569,9 @@ def test_a_new_physical_scale_holds_v0_and_the_law_in_si():
 
 
 def test_a_law_switched_back_keeps_one_slider_per_parameter_name():
-    """The explorer audit (helper-39, LOW): each law switch made new sliders, so weakening, cubic,
-    weakening left two 'param_c' models in BokehJS and get_model_by_name found the stale one.
-    A name's slider is now made once and reused, with the new law's range and value."""
+    """A parameter name's slider is made once and reused, with the new law's range and value:
+    new sliders at each law switch (weakening, cubic, weakening) leave two 'param_c' models in
+    BokehJS, and get_model_by_name finds the stale one."""
     from bokeh.document import Document
 
     from stickslip.explore import Explorer

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
-from reference import reference_record
+from reference.one_block import reference_record
 
 import stickslip as S
 from stickslip.cli import main
@@ -118,7 +118,7 @@ def independent_record(
     rate: float = 1000.0,
     phase: float = 0.3,
 ):
-    """Periods of the zv set-up at 100 um/s, ``rate`` Hz, from the SciPy generator in reference.py."""
+    """Periods of the zv set-up at 100 um/s, ``rate`` Hz, by the SciPy generator (reference/one_block.py)."""
     from stickslip.io.records import Record
 
     t, f = reference_record(
@@ -139,8 +139,8 @@ def independent_record(
 
 
 def test_fit_recovers_the_truth_on_independent_records() -> None:
-    """Regression: on these records the feature fit had reduced chi2 4.5-17, a trough biased by
-    5 of its errors and `a` low every time. The waveform fit, over 8 records (32 estimates):
+    """On these records the feature fit has reduced chi2 4.5-17, a trough biased by 5 of its
+    errors and `a` low every time; the waveform fit, over 8 records (32 estimates), has
     every estimate within 2% and within 3 errors, at least 28 of 32 within 2 errors (2 sigma
     covers 95%), pulls centred with unit spread, reduced chi2 near 1, no warning."""
     pulls = {k: [] for k in TRUTH}
@@ -162,12 +162,12 @@ def test_fit_recovers_the_truth_on_independent_records() -> None:
 
 @pytest.mark.parametrize(("rate", "noise"), [(100.0, 1e-3), (50.0, 1e-3), (100.0, 1e-4)])
 def test_fit_at_a_low_sampling_rate_reaches_the_minimum(rate: float, noise: float) -> None:
-    """Regression (data audit): at 20-100 Hz the search stopped short of the minimum, with
-    reduced chi2 1 and no warning: `a` and `m` 18-21 errors off the truth on 4 of 12 records at
-    100 Hz. Its central differences stepped 1e-6 in every log-parameter, ten standard errors
-    of log mu_s moved alone, over which the residuals on the drops are far from linear; the
-    steps are one such error now. Over 6 records at a time: every estimate within 3 errors,
-    pulls centred with about unit spread."""
+    """At 20-100 Hz the search reaches the minimum: its central differences step one standard
+    error in each log-parameter. A step of 1e-6 in every log-parameter is ten standard errors
+    of log mu_s, over which the residuals on the drops are far from linear, and the search stops
+    short with reduced chi2 1 and no warning (`a` and `m` 18-21 errors off the truth on 4 of 12
+    records at 100 Hz). Over 6 records at a time: every estimate within 3 errors, pulls centred
+    with about unit spread."""
     pulls = []
     for seed in range(6):
         f = fit_record(independent_record(seed, noise=noise, rate=rate, phase=(0.137 * seed) % 1))
@@ -243,10 +243,9 @@ def test_feature_fit_still_available() -> None:
 
 
 def test_drift_is_reported_with_the_time_it_is_zero_at(tmp_path: Path) -> None:
-    """Regression (data audit): with a drift the fit gave mu_s at the window's middle (0.4706
-    for 0.46 with 0.02 mN/s from t = 0) and said nothing: neither the drift, nor where it is
-    zero, was in the output. Now both are (JSON, text), and a warning says what mu_s refers to;
-    moved to the time the drift started, mu_s is the truth."""
+    """With a drift, the fit's mu_s is at the window's middle (0.4706 for 0.46 with 0.02 mN/s from
+    t = 0): the drift and the time where it is zero are in the output (JSON, text), and a
+    warning says what mu_s refers to; moved to the time the drift started, mu_s is the truth."""
     rec = independent_record(1, periods=20)
     drift = 2e-5  # N/s, from t = 0
     drifted = type(rec)(rec.name, rec.time, rec.force + drift * rec.time, None, None, rec.v0, rec.load, {})
@@ -277,11 +276,11 @@ def test_drift_is_reported_with_the_time_it_is_zero_at(tmp_path: Path) -> None:
 
 
 def test_a_drift_under_the_noise_that_moves_mu_s_is_warned() -> None:
-    """Regression (usability audit): a drift of 2 uN/s from t = 0 (0.2 mN over the fitted window's
-    half, a fifth of the 1 mN noise) put mu_s 43 of its errors from the force at t = 0 and said
-    nothing: the warning compared the drift with one sample's noise, while mu_s, fitted on every
-    sample, is known to 5 uN. It now asks whether the record shows the drift (beyond 4 of its
-    standard errors) and whether it moves mu_s by more than mu_s's error across the window.
+    """A drift of 2 uN/s from t = 0 (0.2 mN over the fitted window's half, a fifth of the 1 mN
+    noise) puts mu_s 43 of its errors from the force at t = 0, and is warned: mu_s, fitted on
+    every sample, is known to 5 uN, so the warning does not compare the drift with one sample's
+    noise but asks whether the record shows the drift (beyond 4 of its standard errors) and
+    whether it moves mu_s by more than mu_s's error across the window.
     The drift's error is the textbook one for a slope fitted to the whole window (independent of
     the fit: noise x sqrt(12 / n) / span), and the drifts of clean records scatter within it."""
     rec = independent_record(1, periods=20)
@@ -293,7 +292,7 @@ def test_a_drift_under_the_noise_that_moves_mu_s_is_warned() -> None:
     assert f.drift_error == pytest.approx(textbook, rel=0.05)
     assert abs(f.drift - drift) < 4 * f.drift_error
     assert (f.values["mu_s"] - 0.46) / f.errors["mu_s"] > 20  # the force at t_mid, not at t = 0
-    assert abs(f.drift) * 0.5 * span < f.noise  # the case the old test let through
+    assert abs(f.drift) * 0.5 * span < f.noise  # under one sample's noise: that comparison misses it
     warn = [w for w in f.warnings if w.startswith("the force drifts")]
     assert len(warn) == 1, f.warnings
     assert f"{f.drift_origin:.6g} s" in warn[0] and "mu_s's error" in warn[0]
@@ -309,9 +308,9 @@ def test_a_drift_under_the_noise_that_moves_mu_s_is_warned() -> None:
 
 
 def test_a_quantized_record_is_fitted_and_its_noise_can_be_given() -> None:
-    """Regression (data audit): a force quantized in 1 mN steps (an ADC) over 0.3 mN of noise
-    has most second differences exactly zero: the noise came out 0 and the fit refused the
-    record. The noise now comes from their root mean square, or from the user (`noise=`)."""
+    """A force quantized in 1 mN steps (an ADC) over 0.3 mN of noise has most second differences
+    exactly zero, yet its noise is not 0 and the record is fitted: the noise comes from their
+    root mean square, or from the user (`noise=`)."""
     rec = independent_record(2, noise=3e-4, periods=15)
     quantized = type(rec)(
         rec.name, rec.time, np.round(rec.force * 1e3) / 1e3, None, None, rec.v0, rec.load, {}
@@ -330,10 +329,10 @@ def test_a_quantized_record_is_fitted_and_its_noise_can_be_given() -> None:
 
 @pytest.mark.parametrize("sigma", [0.0, 0.05, 0.3, 3.0])
 def test_noise_of_a_slowly_quantized_ramp(sigma: float) -> None:
-    """Regression (data audit): a slow ramp (0.01 step per sample) quantized with noise far
-    below the step has second differences that are mostly 0, and their root mean square gave
-    0.2 of the residual from the smooth signal. The estimate is now at least the rounding
-    error's step/sqrt(12), and within 6% of the residual's standard deviation throughout
+    """A slow ramp (0.01 step per sample) quantized with noise far below the step has second
+    differences that are mostly 0, whose root mean square is 0.2 of the residual from the
+    smooth signal. The estimate is at least the rounding error's step/sqrt(12), and within 6%
+    of the residual's standard deviation throughout
     (0.3 step: the quantized path; 3 steps: the median path)."""
     from stickslip.core.noise import noise_level
 
@@ -345,9 +344,9 @@ def test_noise_of_a_slowly_quantized_ramp(sigma: float) -> None:
 
 
 def test_a_parameter_the_record_does_not_constrain_has_no_error() -> None:
-    """Regression (data audit): on a pure-slip record `a` ran to 3.6e-9 s/m, where the
-    residuals no longer depend on it, and the pseudo-inverse gave it an error of 1e-19 s/m, so
-    'not identifiable' never fired. Its error is now unbounded (null in JSON) and it is flagged."""
+    """On a pure-slip record `a` runs to 3.6e-9 s/m, where the residuals no longer depend on
+    it: its error is unbounded (null in JSON) and it is flagged 'not identifiable' (the
+    pseudo-inverse would give it an error of 1e-19 s/m)."""
     cubic = S.PhysicalCubicLaw(mu_s=0.5, k1="5 s/m", k3=f"{0.5 * 8000 / 6} s**3/m**3")
     p = S.PhysicalParameters(mass="1 kg", stiffness="100 N/m", load="1 N", v0="48.5 mm/s", law=cubic)
     true = S.cycle(p)

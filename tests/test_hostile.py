@@ -46,7 +46,7 @@ def write(path: Path, t: np.ndarray, force_mn: np.ndarray) -> Path:
 
 
 def test_pure_noise_has_no_cycles(tmp_path: Path) -> None:
-    """Regression: a force column of uniform noise was measured as 58k 'cycles' at 0.004 s."""
+    """A force column of uniform noise has no stick-slip structure, not 58k 'cycles' at 0.004 s."""
     t = np.arange(100_000) * 0.004
     path = write(tmp_path / "noise.csv", t, np.random.default_rng(0).uniform(0, 1, t.size))
     with pytest.raises(DataError, match="no stick-slip structure"):
@@ -58,7 +58,7 @@ def test_pure_noise_has_no_cycles(tmp_path: Path) -> None:
 
 
 def test_inverted_force_is_measured_the_right_way_up(clean: Record, tmp_path: Path) -> None:
-    """Regression: an inverted force column gave a negative amplitude."""
+    """An inverted force column is measured the right way up: a positive amplitude."""
     _, ref = measure_record(clean)
     inv = Record("inv", clean.time, -clean.force, None, None, clean.v0, clean.load, {})
     table, s = measure_record(inv)
@@ -69,8 +69,8 @@ def test_inverted_force_is_measured_the_right_way_up(clean: Record, tmp_path: Pa
 
 
 def test_a_fit_says_what_was_done_to_the_force(clean: Record) -> None:
-    """Regression: a fit turned an inverted record the right way up and replaced an outlier
-    without a word (analyze said both): its warnings now carry the record's notes."""
+    """A fit's warnings carry the record's notes, as analyze's do: the record turned the right
+    way up, an outlier replaced."""
     from stickslip.data.fitting import fit_record
 
     force = -clean.force.copy()
@@ -82,7 +82,8 @@ def test_a_fit_says_what_was_done_to_the_force(clean: Record) -> None:
 
 
 def test_an_outlier_is_excluded_and_named(clean: Record, tmp_path: Path) -> None:
-    """Regression: one sample of 1e308 turned 12 cycles at 18.25 s into 3 at 54.75 s, silently."""
+    """One sample of 1e308 is excluded and named: kept, it turns 12 cycles at 18.25 s into 3 at
+    54.75 s."""
     _, ref = measure_record(clean)
     force = clean.force.copy()
     force[5000] = 1e308
@@ -109,7 +110,7 @@ def test_sharp_corners_are_not_outliers() -> None:
 
 
 def test_fit_b_at_its_bound_gets_an_upper_limit(tmp_path: Path) -> None:
-    """Regression: `fit --fit-b` on an F1 record reported b = 5e-24 +- 0."""
+    """`fit --fit-b` on an F1 record gives b at its bound an upper limit, not b = 5e-24 +- 0."""
     rec = synthetic_record(
         P, duration=f"{10 * TRUE.period} s", rate="1 kHz", noise="1 mN", start=f"{TRUE.transient_time} s"
     )
@@ -171,8 +172,9 @@ def _fast(call, exc: type[Exception], match: str) -> None:
 
 
 def test_api_bad_arguments_raise_at_once() -> None:
-    """Regression: NaN budgets or states never returned (and ignored Ctrl-C); 1e300 states ended in
-    ZeroDivisionError or numba's SystemError; regimes(None) raised AttributeError."""
+    """Bad arguments are refused at once, by name: NaN budgets or states (in the compiled loop
+    they never return, deaf to Ctrl-C), 1e300 states (ZeroDivisionError or numba's SystemError
+    there), regimes(None) (not an AttributeError)."""
     base = dict(law=0, lp=[3.8, 0.0, 0.0], nu=[0.1], rtol=1e-10, atol=1e-12, max_slip_time=1e5, conv_tol=1e-8)
     run_attractors(**base, from_breakaway=True)  # compiled before timing
     _fast(
@@ -251,8 +253,8 @@ def test_memory_refusals_fire_before_any_allocation(monkeypatch: pytest.MonkeyPa
 
 
 def test_cli_memory_refusals(tmp_path: Path) -> None:
-    """Regression: `sweep --num 1000000000` died with a numpy MemoryError traceback;
-    `simulate --points 300000000` took all the memory."""
+    """`sweep --num 1000000000` and `simulate --points 300000000` are refused in one line before
+    they allocate (a numpy MemoryError traceback, or all the memory, otherwise)."""
     for args in (
         ["sweep", "--nu", "0.01..0.1", "--c", "3.8", "--num", "1000000000", "--out", str(tmp_path / "s.nc")],
         ["simulate", "--nu", "0.1", "--c", "3", "--points", "300000000", "--out", str(tmp_path)],
@@ -267,11 +269,10 @@ def test_cli_memory_refusals(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("module", ["stickslip", "stickslip.cli"])
 def test_ctrl_c_while_the_command_line_starts_is_one_line(tmp_path: Path, module: str) -> None:
-    """Regression: Ctrl-C in the seconds the command line spends loading numba, pint and
-    xarray printed a KeyboardInterrupt traceback from inside an import (the failure probe
-    found it on a loaded machine). Now: one line, and the process ends by SIGINT (a shell's 130).
-    ``python -m stickslip.cli`` too: its package imported every command family before its
-    ``__main__`` could guard them; it now loads them on first use."""
+    """Ctrl-C in the seconds the command line spends loading numba, pint and xarray gives one
+    line, not a KeyboardInterrupt traceback from inside an import, and the process ends by
+    SIGINT (a shell's 130). ``python -m stickslip.cli`` too: its package loads the command
+    families on first use, so that its ``__main__`` guards them."""
     import signal
     import subprocess
     import sys
@@ -314,9 +315,9 @@ def test_the_failure_probe_finds_nothing() -> None:
 
 
 def test_ctrl_c_while_a_command_runs_is_one_line_and_ends_by_sigint(tmp_path: Path) -> None:
-    """Regression: Ctrl-C in a running command printed click's 'Aborted!' and exited with
-    status 1, so a shell loop over commands (``for v in ...; do stickslip sweep ...; done``)
-    went on to the next one. Now: one line that says how to go on, and the end by SIGINT."""
+    """Ctrl-C in a running command gives one line that says how to go on, and the end by
+    SIGINT: click's 'Aborted!' with status 1 would let a shell loop over commands (``for v in
+    ...; do stickslip sweep ...; done``) go on to the next one."""
     import signal
     import subprocess
     import sys

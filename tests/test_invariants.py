@@ -10,6 +10,14 @@ from hypothesis import strategies as st
 from stickslip import CubicLaw, DimensionlessParameters, WeakeningLaw, cycle, simulate
 from stickslip.core._dop853_unrolled import step2
 from stickslip.core.dop853 import rhs
+from stickslip.core.laws import N_LAW_PARAMS
+
+
+def _coulomb_params(fk: float) -> np.ndarray:
+    """The Coulomb law's parameter vector: the kernels read all N_LAW_PARAMS (8) entries."""
+    lp = np.zeros(N_LAW_PARAMS)
+    lp[0] = fk
+    return lp
 
 
 @given(nu=st.floats(1e-5, 1.0), c=st.floats(0.5, 100.0), p=st.floats(0.0, 0.5))
@@ -40,6 +48,7 @@ def test_energy_balance_pure_slip() -> None:
     assert r2.drive_work == pytest.approx(r2.friction_work, rel=1e-6)
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize(("nu", "c"), [(1e-3, 3.8), (0.05, 10.0), (1.0, 3.8)])
 def test_simulated_cycles_repeat_the_computed_cycle(nu: float, c: float) -> None:
     """One slip integration from breakaway gives the cycle: simulation agrees cycle by cycle."""
@@ -63,7 +72,7 @@ def test_simulated_cycles_repeat_the_computed_cycle(nu: float, c: float) -> None
 
 
 def _slip_fixed_step(h: float, t_end: float, nu: float, fk: float) -> np.ndarray:
-    law, lp = 2, np.array([fk, 0.0, 0.0])
+    law, lp = 2, _coulomb_params(fk)
     y = np.array([1.0, 0.0])
     K = np.empty((16, 2))
     y_new = np.empty(2)
@@ -75,6 +84,7 @@ def _slip_fixed_step(h: float, t_end: float, nu: float, fk: float) -> np.ndarray
     return y
 
 
+@pytest.mark.fast
 def test_dop853_convergence_order_is_eight() -> None:
     """Fixed-step error on the harmonic slip phase falls as h**8."""
     nu, fk, t_end = 0.1, 0.3, 4.0
@@ -113,7 +123,7 @@ def test_the_unrolled_step_the_engine_runs_has_order_eight() -> None:
     from stickslip.core.laws import params, slip_accel
 
     nu, fk, t_end = 0.1, 0.3, 4.0
-    law, lp = 2, params(np.array([fk, 0.0, 0.0]))
+    law, lp = 2, params(_coulomb_params(fk))
     exact_w = nu - nu * math.cos(t_end) + (1 - fk) * math.sin(t_end)
     errs = []
     hs = np.array([1.0, 0.8, 0.5, 0.4])

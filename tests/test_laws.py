@@ -3,7 +3,7 @@
 Each test runs on every law of the registry: the built-in ones and the Stribeck law of
 ``tests/laws_for_tests.py``, which no module of the package knows. Expected values come
 from the law's formula read by sympy on its own (``sympy.sympify``), from the map
-formulas likewise, from ``tests/reference.py`` (an independent SciPy integration) and
+formulas likewise, from ``tests/reference/one_block.py`` (an independent SciPy integration) and
 from closed forms; never from the code under test.
 """
 
@@ -17,7 +17,7 @@ import pytest
 import sympy as sp
 from click.testing import CliRunner
 from laws_for_tests import STRIBECK, PhysicalStribeckLaw, StribeckLaw
-from reference import reference_cycle
+from reference.one_block import reference_cycle
 
 import stickslip as ss
 from stickslip.bifurcation.regimes import regimes
@@ -108,6 +108,7 @@ def test_physical_form_is_mu_s_times_f_of_beta_v(name: str) -> None:
     assert back == law or all(back.params[k] == pytest.approx(x, rel=1e-13) for k, x in law.params.items())
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize("name", NAMES)
 def test_validation_names_the_parameter(name: str) -> None:
     e = registry.get(name)
@@ -142,6 +143,7 @@ def test_stick_slip_cycle_against_the_reference(name: str) -> None:
     assert r.drive_work == pytest.approx(r.friction_work, rel=1e-8)
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize("name", NAMES)
 def test_laws_pickle_by_value(name: str) -> None:
     law = _example(name)
@@ -150,6 +152,7 @@ def test_laws_pickle_by_value(name: str) -> None:
     assert pickle.loads(pickle.dumps(plaw)) == plaw
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize("name", NAMES)
 def test_command_line_options_come_from_the_registry(name: str) -> None:
     help_text = CliRunner().invoke(main, ["cycle", "--help"]).output

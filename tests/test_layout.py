@@ -8,7 +8,7 @@ import sys
 from importlib.metadata import version
 
 import pytest
-from reference import coulomb_cycle
+from reference.one_block import coulomb_cycle
 
 import stickslip
 
@@ -23,7 +23,7 @@ def test_python_dash_m_stickslip() -> None:
     )
     assert res.returncode == 0, res.stderr
     out = json.loads(res.stdout)
-    exact = coulomb_cycle(0.05, 0.5)  # the closed-form Coulomb cycle (tests/reference.py)
+    exact = coulomb_cycle(0.05, 0.5)  # the closed-form Coulomb cycle (tests/reference/one_block.py)
     assert out["amplitude"] == pytest.approx(exact["amplitude"], rel=1e-9)
     help_res = _python("-m", "stickslip.cli", "regimes", "--help")
     assert help_res.returncode == 0 and "--nu-min" in help_res.stdout
@@ -87,3 +87,27 @@ def test_importing_chooses_no_matplotlib_backend() -> None:
     res = _python("-c", code)
     assert res.returncode == 0, res.stderr
     assert res.stdout.strip() == "False"
+
+
+def test_moved_modules_warn_at_their_old_paths_and_are_the_new_ones() -> None:
+    """A module that moved keeps its old path for one release, with a DeprecationWarning naming both."""
+    import importlib
+    import sys
+    import warnings
+
+    moved = {
+        "stickslip.bifurcation.orbits": "stickslip.orbits.periodic",
+        "stickslip.bifurcation.stability": "stickslip.orbits.stability",
+        "stickslip.dynamics.return_map": "stickslip.orbits.return_map",
+        "stickslip.dynamics.attractors": "stickslip.orbits.attractors",
+    }
+    for old, new in moved.items():
+        sys.modules.pop(old, None)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            shim = importlib.import_module(old)
+        said = [str(w.message) for w in caught if issubclass(w.category, DeprecationWarning)]
+        assert said and f"{old} is now {new}" in said[0], (old, said)
+        target = importlib.import_module(new)
+        for name in target.__all__:
+            assert getattr(shim, name) is getattr(target, name), (old, name)

@@ -2,18 +2,18 @@
 
 import numpy as np
 import pytest
-from reference import cubic_orbit_reference
+from reference.one_block import cubic_orbit_reference
 
 from stickslip import CubicLaw, DimensionlessParameters, WeakeningLaw, simulate
-from stickslip.bifurcation.orbits import pure_slip_orbit
-from stickslip.bifurcation.stability import averaged_amplitude
+from stickslip.orbits.periodic import pure_slip_orbit
+from stickslip.orbits.stability import averaged_amplitude
 
 LAW = CubicLaw(alpha=0.5, gamma=0.5 / 3)  # supercritical Hopf at nu = 1
 
 
 @pytest.mark.parametrize("nu", [0.995, 0.97, 0.95])
 def test_shooting_matches_the_scipy_reference(nu: float) -> None:
-    """Compiled shooting against plain SciPy shooting (tests/reference.py), which shares no code."""
+    """Compiled shooting against plain SciPy shooting (tests/reference/one_block.py), which shares no code."""
     o = pure_slip_orbit(DimensionlessParameters(nu=nu, law=LAW))
     ref = cubic_orbit_reference(nu, LAW.alpha, LAW.gamma)
     assert o.amplitude == pytest.approx(ref.amplitude, rel=1e-8)
@@ -114,7 +114,7 @@ def test_compiled_return_maps_equal_the_python_secant_bit_for_bit() -> None:
     the secant in Python around the engine's trajectories (a cycle's, which compiles nothing more)."""
     from stickslip.core.api import run_attractors, run_return_maps
     from stickslip.core.results import ReturnMapStatus
-    from stickslip.dynamics.return_map import return_map_orbit_core
+    from stickslip.orbits.return_map import return_map_orbit_core
 
     kernel = WeakeningLaw(c=1.0).kernel
     rng = np.random.default_rng(3)
@@ -134,7 +134,7 @@ def test_compiled_return_maps_equal_the_python_secant_bit_for_bit() -> None:
 
 def test_a_return_map_that_sticks_says_so() -> None:
     from stickslip.core.api import run_return_maps
-    from stickslip.dynamics.return_map import return_map_orbit
+    from stickslip.orbits.return_map import return_map_orbit
 
     law = WeakeningLaw(c=3.8)  # the Python secant and the compiled one say the same
     said = r"return map from s = 1: the motion sticks \(not a non-sticking orbit\)"
@@ -150,7 +150,7 @@ def test_a_sweeps_polish_is_the_same_with_its_return_maps_compiled_or_in_python(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     from stickslip.core.api import run_attractors
-    from stickslip.dynamics import attractors
+    from stickslip.orbits import attractors
 
     kernel = WeakeningLaw(c=1.0).kernel
     c, nu = np.linspace(2.0, 10.0, 40), np.geomspace(1.0, 20.0, 40)
@@ -170,7 +170,7 @@ def test_return_maps_refuse_what_the_python_secant_refuses() -> None:
     """The flow's tolerances (tol / 100) and an iterate beyond the states: the same on both paths."""
     from stickslip.core.api import run_return_maps
     from stickslip.core.results import ReturnMapStatus
-    from stickslip.dynamics.return_map import return_map_orbit_core
+    from stickslip.orbits.return_map import return_map_orbit_core
 
     kernel = WeakeningLaw(c=1.0).kernel
     with pytest.raises(ValueError, match=r"rtol=1e-15: expected a relative tolerance between 1e-14"):

@@ -65,8 +65,8 @@ def test_kill_during_a_write_leaves_the_previous_file(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("delay", [0.2, 1.0, 2.5])
 def test_sigkill_of_a_sweep_never_leaves_a_partial_file(tmp_path: Path, delay: float) -> None:
-    """Regression: a SIGKILL while `sweep` wrote left a 0-byte sweep.nc where a good file stood.
-    Killed at any moment, the file is the old complete sweep or the new one."""
+    """Killed (SIGKILL) at any moment while `sweep` writes, sweep.nc is the previous complete
+    sweep or the new one, never a 0-byte file where a good one stood."""
     out = tmp_path / "sweep.nc"
     first = _run([*SWEEP, "--out", str(out), "--no-plot"])
     assert first.returncode == 0, first.stderr
@@ -87,9 +87,10 @@ def test_sigkill_of_a_sweep_never_leaves_a_partial_file(tmp_path: Path, delay: f
         assert now.amplitude.size == 5 and np.isfinite(now.amplitude.values).all()
 
 
+@pytest.mark.fast
 def test_foreign_file_is_not_overwritten(tmp_path: Path) -> None:
-    """Regression: `sweep --out afile.txt` silently turned a text file into NetCDF (a user's CSV now:
-    a name other than .nc or .csv is refused as such)."""
+    """`sweep --out` never turns a user's file into NetCDF: a user's CSV is not overwritten, and a
+    name other than .nc or .csv is refused as such."""
     target = tmp_path / "afile.csv"
     target.write_text("my notes\n")
     res = CliRunner().invoke(main, [*SWEEP, "--out", str(target), "--no-plot"])
@@ -114,7 +115,7 @@ def test_own_outputs_are_replaced_without_asking(tmp_path: Path) -> None:
     files = manifest["runs"]["simulate"]["files"]
     assert set(files) == {"trajectory.csv", "spring_force.png", "spring_force.svg"}
     # what made the folder: the command, its options, the source's commit where it runs from a
-    # checkout (the reproduction audit: 'stickslip 0.1.0' alone, which many commits share)
+    # checkout ('stickslip 0.1.0' alone is shared by many commits)
     run = manifest["runs"]["simulate"]
     assert run["command"] == "stickslip simulate"
     assert run["options"]["nu"] == 0.1 and run["options"]["c"] == 3.0
@@ -199,6 +200,7 @@ def test_envelope_keeps_every_extremum_to_the_end() -> None:
     assert np.max(np.diff(xs)) <= 100
 
 
+@pytest.mark.fast
 def test_a_figure_is_laid_out_once_for_all_its_formats(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -277,10 +279,9 @@ def test_the_spring_force_legend_hides_no_data() -> None:
 
 
 def test_outputs_have_the_mode_a_plain_open_gives(tmp_path: Path) -> None:
-    """Regression (usability audit): every file stickslip wrote was 0600, readable by its owner
-    only (tempfile.mkstemp's mode, kept through the rename into place), and a store's folder
-    0700; a lab sharing results by group could not read them. They now get 0666 / 0777 less the
-    umask, as open() and mkdir() give."""
+    """Files stickslip writes get 0666, folders 0777, less the umask, as open() and mkdir() give:
+    not tempfile.mkstemp's 0600 kept through the rename into place (nor 0700 for a store's
+    folder), which a lab sharing results by group cannot read."""
     import os
     import stat
 
@@ -306,9 +307,9 @@ def test_outputs_have_the_mode_a_plain_open_gives(tmp_path: Path) -> None:
 
 
 def test_the_same_figure_is_the_same_svg_and_errors_speak_the_callers_language(tmp_path: Path) -> None:
-    """The reproduction audit (LOW): two identical runs wrote different SVGs (their date, and ids
-    from a random salt); a foreign file's error said '--overwrite (overwrite=True)' to both a
-    command's user and a Python caller."""
+    """Two identical runs write the same SVG bytes (no date, no ids from a random salt); a
+    foreign file's error names --overwrite to a command's user and overwrite=True to a Python
+    caller, each only the one they can give."""
     import matplotlib.pyplot as plt
 
     from stickslip.io.output import ForeignFileError, check_target
@@ -334,10 +335,11 @@ def test_the_same_figure_is_the_same_svg_and_errors_speak_the_callers_language(t
 
 
 def test_provenance_is_stickslips_own_command_line_only(tmp_path: Path) -> None:
-    """The review of the manifest's provenance (helper-44): under `python -m stickslip` the command
-    read 'stickslip -m stickslip simulate'; another click app calling the Python API was taken for
-    stickslip's command line ('give --overwrite', and its command in the manifest); an install
-    inside a user's own git repository recorded the user's commit."""
+    """The manifest's provenance is stickslip's own: under `python -m stickslip` the command reads
+    'stickslip simulate' (not 'stickslip -m stickslip simulate'); another click app calling the
+    Python API is not taken for stickslip's command line (no 'give --overwrite', not its
+    command in the manifest); an install inside a user's own git repository does not record
+    the user's commit."""
     import click
 
     import stickslip as ss

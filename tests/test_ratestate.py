@@ -29,6 +29,7 @@ def params(**kw):
     return RateStateParameters(**{**BASE, "stiffness_per_load": "1 1/mm", **kw})
 
 
+@pytest.mark.fast
 def test_divergence_equals_the_paper() -> None:
     d = derive()
     assert sp.simplify(d.divergence - paper_divergence()) == 0
@@ -62,6 +63,7 @@ def test_dulac_cli_json() -> None:
     assert "divergence = " in res.output and "LaTeX" in res.output
 
 
+@pytest.mark.fast
 def test_excluded_values() -> None:
     assert excluded(0.01, 0.015, 0.006)
     assert not excluded(0.01, 0.015, 0.005)
@@ -140,11 +142,10 @@ def _damped_critical_kw(a: float, bs: list[float], dcs: list[float], eta: float,
 
 
 def test_critical_stiffness_with_damping_and_mass() -> None:
-    """Regression (audit of rate and state, helper-28): with radiation damping the critical
-    stiffness was (B - A)/Dc whatever the damping (steady sliding was linearised about a point
-    that left out the damping stress), and with a mass it was the quasi-static value, though
-    both docstrings say steady sliding is unstable below it. Now critical_kw_at(v0) takes both,
-    critical_kw refuses them, and linear_stability takes a mass."""
+    """Steady sliding is unstable below the critical stiffness, with radiation damping and with
+    a mass too: critical_kw_at(v0) takes both (linearised about the point that includes the
+    damping stress; (B - A)/Dc holds without them only), critical_kw refuses them, and
+    linear_stability takes a mass."""
     one = RateStateParameters(
         a=0.01, b=0.015, dc="10 um", v_ref="1 um/s", mu0=0.6, stiffness_per_load="450 1/m",
         radiation_damping="1000 s/m",
@@ -280,6 +281,7 @@ def test_inertial_model_takes_the_absolute_tolerance() -> None:
     assert abs(default.friction - loose.friction).max() > 1e-6
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
@@ -343,7 +345,7 @@ def test_bad_protocol_input() -> None:
     for bad in ({"max_steps": 0}, {"max_steps": 1.5}, {"max_seconds": float("nan")}, {"max_seconds": -1}):
         with pytest.raises(ValueError, match=f"{next(iter(bad))}="):
             simulate_rate_state(p, [("10 s", "1 um/s")], **bad)
-    # a mass is the inertial model (it was refused): three eigenvalues
+    # a mass is the inertial model: three eigenvalues
     st = linear_stability(RateStateParameters(**BASE, stiffness="1e4 N/m", load="1 N", mass="1 kg"), "1 um/s")
     assert len(st.eigenvalues) == 3
     with pytest.raises(ValueError, match="v0="):
@@ -437,9 +439,9 @@ def test_dulac_cli_errors(args: list[str], message: str) -> None:
 
 
 def test_peaks_are_located_not_sampled() -> None:
-    """Regression: the slide-hold-slide peak and the inertial peak velocity were read off output
-    samples and came out up to 1.5e-3 low. They are solver events now: at the located peak the
-    extremum condition holds, and no sample exceeds it."""
+    """The slide-hold-slide peak and the inertial peak velocity are solver events, not read off
+    output samples (up to 1.5e-3 low): at the located peak the extremum condition holds, and
+    no sample exceeds it."""
     from stickslip.ratestate.model import RateStateParameters
     from stickslip.ratestate.protocols import slide_hold_slide
 
@@ -635,12 +637,12 @@ def test_inertial_work_bound_is_reported() -> None:
 @pytest.mark.parametrize("form", ["log", "regularized"])
 @pytest.mark.parametrize("eta", [0.0, 1e-3, 1.0])
 def test_damped_and_regularized_sliders_against_an_independent_reference(form: str, eta: float) -> None:
-    """Regression (audit): the regularized form without damping ran 1 in ln v off (e times
-    the velocity; friction off by -a) from its first step, and a small radiation damping
-    made an easy velocity step fail as 'too stiff': the Newton iteration for ln v moved a
-    converged update by 1 when it equalled its bracket's end. Against a reference in plain
-    SciPy (brentq for v at every right-hand side, LSODA)."""
-    from rsf_generator import damped
+    """The regularized form without damping, and a small radiation damping, against a reference
+    in plain SciPy (brentq for v at every right-hand side, LSODA). The Newton iteration for
+    ln v keeps a converged update that equals its bracket's end (moved by 1, the run is e times
+    the velocity, friction off by -a, from its first step; with damping an easy velocity step
+    fails as 'too stiff')."""
+    from reference.rsf_generator import damped
 
     times = np.arange(0.0, 41.0)
     ref_mu, ref_v = damped(a=0.005, b=0.01, dc=1e-5, k=1e3, eta=eta, form=form,
@@ -673,9 +675,9 @@ def test_the_slip_rate_solves_the_friction_equation_to_rounding() -> None:
 
 
 def test_history_file_ends_and_starts_said(tmp_path) -> None:
-    """Regression (audit): a --history whose last row changes the velocity ran without a
-    word (the change has no duration); one starting in a hold asked for an initial= the
-    command line does not have."""
+    """A --history whose last row changes the velocity is warned about (the change has no
+    duration); one starting in a hold is refused with what to do on the command line (start
+    with a slide), not with Python's initial=."""
     args = ["ratestate", "--a", "0.005", "--b", "0.01", "--dc", "10 um", "--v-ref", "1 um/s", "--mu0", "0.6",
             "--stiffness-per-load", "1e-3 1/um", "--out", str(tmp_path / "o"), "--overwrite"]  # fmt: skip
     last = tmp_path / "last.csv"
@@ -691,11 +693,10 @@ def test_history_file_ends_and_starts_said(tmp_path) -> None:
 
 
 def test_steady_sliding_has_no_spring_force_maxima() -> None:
-    """Regression (rate-and-state audit, helper-34): after a velocity step settled, the slip
-    velocity's rounding-level wiggles about the load point's were reported as spring-force
-    maxima (7 for the aging law, 10 for the slip law, 3e-14 above steady sliding). A maximum
-    must stand 1e-9 above steady sliding's spring force; the step's own peak and a soft
-    spring's decaying oscillation keep all theirs."""
+    """A spring-force maximum must stand 1e-9 above steady sliding's spring force: after a
+    velocity step settles, the slip velocity's rounding-level wiggles about the load point's
+    make maxima 3e-14 above it (7 for the aging law, 10 for the slip law), which are not
+    peaks. The step's own peak and a soft spring's decaying oscillation keep all theirs."""
     from stickslip import Q_
     from stickslip.ratestate.protocols import velocity_steps
 
@@ -710,11 +711,10 @@ def test_steady_sliding_has_no_spring_force_maxima() -> None:
 
 
 def test_an_inertial_record_changes_velocity_at_the_change_as_a_quasi_static_one() -> None:
-    """Regression (rate-and-state audit, helper-35, HIGH): with a mass, the sample exactly at a
-    change of the load-point velocity kept the old velocity (the quasi-static record gives it the
-    new one), so the record, which holds each row's velocity until the next, put every change one
-    sample late; a fit of any inertial record then ran away. Now both label it alike, and the
-    inertial record read back as a history gives the same friction."""
+    """With a mass, the sample exactly at a change of the load-point velocity has the new
+    velocity, as in the quasi-static record: the record holds each row's velocity until the
+    next, so the old one would put every change one sample late (and a fit of any inertial
+    record would run away). The inertial record read back as a history gives the same friction."""
     common = dict(a=0.005, b=0.01, dc="10 um", v_ref="1 um/s", mu0=0.6, stiffness="1e4 N/m", load="10 N")
     for mass in (None, "1000 kg"):
         p = RateStateParameters(**common, mass=mass)
@@ -736,11 +736,10 @@ def test_an_inertial_record_changes_velocity_at_the_change_as_a_quasi_static_one
 
 
 def test_the_healing_with_radiation_damping_is_spring_to_spring() -> None:
-    """Regression (rate-and-state audit, helper-35, HIGH): with radiation damping the peak
-    friction change subtracted the rate-and-state friction before the hold (the spring force
-    less eta v) from the spring force's peak after it: 0.0248316 for a 10 s hold where the
-    healing is 0.0148316, too high by eta v = 0.01. The audit's independent SciPy reference
-    (spring force, log-states; rtol 1e-12) gives 0.0148316 and 0.0363487."""
+    """With radiation damping the peak friction change is spring force to spring force: taken
+    from the rate-and-state friction before the hold (the spring force less eta v) it would be
+    0.0248316 for a 10 s hold, too high by eta v = 0.01. An independent SciPy reference (spring
+    force, log-states; rtol 1e-12) gives 0.0148316 and 0.0363487."""
     p = RateStateParameters(
         a=0.005, b=0.01, dc="10 um", v_ref="1 um/s", mu0=0.6, stiffness="1e4 N/m", load="10 N",
         radiation_damping="1000 s/m",
@@ -750,8 +749,8 @@ def test_the_healing_with_radiation_damping_is_spring_to_spring() -> None:
 
 
 def test_a_hold_without_healing_is_nan_and_said_not_a_stopped_run() -> None:
-    """Regression (rate-and-state audit, helper-35, LOW): with b = 0 a hold heals nothing, no
-    spring-force peak follows it, and the whole run stopped with an error and no output."""
+    """With b = 0 a hold heals nothing and no spring-force peak follows it: its healing is NaN
+    with a warning, and the run goes on (not an error without output)."""
     p = params(b=0.0)
     with pytest.warns(UserWarning, match=r"hold 0 \(10 s\): no spring-force peak on reloading"):
         ds = slide_hold_slide(p, "10 um/s", ["10 s"])
@@ -760,10 +759,9 @@ def test_a_hold_without_healing_is_nan_and_said_not_a_stopped_run() -> None:
 
 
 def test_an_inertial_start_on_steady_sliding_has_no_rounding_level_velocity_peaks() -> None:
-    """Regression (rate-and-state audit, helper-35, LOW): on settled steady sliding the slip
-    velocity's rounding-level wiggles were reported as maxima (v = 1.0000000000e-4 at 0.011 s and
-    later), as the spring force's were before. The first maximum is the step's, at 6.5003341757e-3
-    m/s in the audit's independent SciPy reference (rtol 1e-12)."""
+    """On settled steady sliding the slip velocity's rounding-level wiggles (v = 1.0000000000e-4
+    at 0.011 s and later) are not maxima, as the spring force's are not. The first maximum is
+    the step's, at 6.5003341757e-3 m/s in an independent SciPy reference (rtol 1e-12)."""
     p = RateStateParameters(
         a=0.005, b=0.01, dc="10 um", v_ref="1 um/s", mu0=0.6, stiffness="1e4 N/m", load="10 N",
         mass="0.1 kg", state_law="slip",
@@ -777,10 +775,9 @@ def test_an_inertial_start_on_steady_sliding_has_no_rounding_level_velocity_peak
 
 
 def test_a_formula_laws_runaway_is_called_a_runaway() -> None:
-    """Regression (rate-and-state audit, helper-35, LOW): the PRZ law written as a formula ran away
-    after a 100 s hold, and the run stopped with 'the step size fell below the precision of t'
-    (the built-in PRZ law says runaway). The slider was at 6.5 m/s, rising; the audit's SciPy
-    reference passes 10 m/s at 150.5829 s."""
+    """The PRZ law written as a formula runs away after a 100 s hold: the run says runaway, as
+    the built-in PRZ law does, not 'the step size fell below the precision of t' (the slider
+    at 6.5 m/s, rising). An independent SciPy reference passes 10 m/s at 150.5829 s."""
     from stickslip.ratestate.protocols import RateStateStopped
 
     p = params(a=0.005, b=0.01, state_law="1 - (v*phi/dc)**2", stiffness_per_load="1e-2 1/um")
@@ -790,9 +787,9 @@ def test_a_formula_laws_runaway_is_called_a_runaway() -> None:
 
 
 def test_healing_from_an_unsettled_slide_is_warned() -> None:
-    """The rate-and-state audit (LOW): at k = 2 k_c the default slides (20 Dc) still ring, and the
-    healing of a 10000 s hold was measured from 0.601333, not steady sliding's 0.6 (0.0900 for
-    0.0913), without a word. Longer slides settle and agree with the steady baseline."""
+    """At k = 2 k_c the default slides (20 Dc) still ring: the healing of a 10000 s hold is
+    measured from 0.601333, not steady sliding's 0.6 (0.0900 for 0.0913), and is warned. Longer
+    slides settle and agree with the steady baseline."""
     p = RateStateParameters(
         a=0.01, b=0.015, dc="10 um", v_ref="1 um/s", mu0=0.6, stiffness_per_load="1e-3 1/um"
     )

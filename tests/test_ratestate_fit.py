@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 from click.testing import CliRunner
-from rsf_generator import generate, write_csv
+from reference.rsf_generator import generate, write_csv
 
 from stickslip import Q_
 from stickslip.cli import main
@@ -172,10 +172,9 @@ def test_slide_hold_slide_record(tmp_path) -> None:
 def test_round_trip_of_a_simulated_record(tmp_path, steps: list[str]) -> None:
     """stickslip ratestate writes ratestate.csv as a record; ratestate-fit reads it back to the parameters.
 
-    Regression (audit): with --sample, a change of velocity between two samples was
-    written at the next sample (the record's velocity holds until the next row), and the
-    fit of the noiseless record came out 0.4 % off, reduced chi2 7e14. The record now
-    has a row at each change."""
+    With --sample the record has a row at each change of velocity: the record's velocity
+    holds until the next row, so a change written at the next sample puts the fit of the
+    noiseless record 0.4 % off, reduced chi2 7e14."""
     args = ["ratestate", "--a", "0.008", "--b", "0.012", "--dc", "10 um", "--v-ref", "1 um/s", "--mu0", "0.6"]
     args += ["--stiffness-per-load", "2e-3 1/um", *steps, "--sample", "0.2 s", "--out", str(tmp_path / "run")]
     res = CliRunner().invoke(main, args)
@@ -195,17 +194,17 @@ def test_round_trip_of_a_simulated_record(tmp_path, steps: list[str]) -> None:
     assert p["a"]["value"] == pytest.approx(0.008, rel=1e-6)
     assert p["b"]["value"] == pytest.approx(0.012, rel=1e-6)
     assert p["dc"]["value"] == pytest.approx(1e-5, rel=1e-6)
-    # (rate-and-state audit) a noise-free record is weighted by a floor at the model's accuracy,
-    # and said to be; it is not called a misfit (reduced chi-square 7.9 before, parameters exact)
+    # a noise-free record is weighted by a floor at the model's accuracy, and said to be; it is
+    # not called a misfit (the parameters are exact; unfloored, the reduced chi-square is 7.9)
     if len(steps) == 4:  # (the other's noise estimate, 5e-6, is its own sharp turns)
         assert any(w.startswith("the record has no noise above the model's own") for w in d["warnings"])
     assert not any(w.startswith("reduced chi-squared") for w in d["warnings"]), d["warnings"]
 
 
 def test_a_record_sampled_coarsely_says_its_errors_are_too_large(tmp_path) -> None:
-    """Regression (docs audit): the README's own record, sampled every second, fits to 1e-10, but
-    the noise read off its second differences is its curvature (1.3e-5): reduced chi-squared
-    3.8e-14 and errors some 5e6 times too large were printed without a word."""
+    """The README's own record, sampled every second, fits to 1e-10, but the noise read off its
+    second differences is its curvature (1.3e-5): the reduced chi-squared of 3.8e-14 and errors
+    some 5e6 times too large are said to be so."""
     args = ["ratestate", "--a", "0.012", "--b", "0.0185", "--dc", "5 um", "--b", "0.0088", "--dc", "50 um"]
     args += ["--v-ref", "1 um/s", "--mu0", "0.6", "--stiffness-per-load", "3e-3 1/um"]
     args += ["--steps", "1 um/s,10 um/s", "--durations", "10 s,30 s", "--sample", "1 s"]
@@ -226,11 +225,9 @@ def test_a_record_sampled_coarsely_says_its_errors_are_too_large(tmp_path) -> No
 
 
 def test_a_damped_run_is_written_as_a_load_cell_would_measure_it(tmp_path) -> None:
-    """Regression (rate-and-state audit, helper-34): a run with radiation damping was written as
-    a record with no word of the damping, and its friction column was the rate-and-state part,
-    not the spring force a load cell measures; ratestate-fit then gave Dc 6 % off, unsaid but
-    for a chi-square. The record now holds the spring force / W and a header line for the
-    damping, and the fit warns that it does not model it."""
+    """A run with radiation damping is written as a load cell would measure it: the friction
+    column is the spring force / W (not the rate-and-state part), a header line gives the
+    damping, and ratestate-fit warns that it does not model it (it gives Dc 6 % off)."""
     import xarray as xr
 
     args = ["ratestate", "--a", "0.01", "--b", "0.015", "--dc", "10 um", "--v-ref", "1 um/s", "--mu0", "0.6"]
@@ -256,10 +253,9 @@ def test_a_damped_run_is_written_as_a_load_cell_would_measure_it(tmp_path) -> No
 
 
 def test_records_that_cannot_be_fitted_are_refused_at_once(tmp_path) -> None:
-    """Regression (audit): a record of two rows, or of one velocity throughout, gave a
-    'result' with NaN errors and exit status 0; a reversed window said '0 samples'; a
-    record in um/s under a header in m/s ran for minutes, then suggested options the
-    command does not have."""
+    """A record of two rows, or of one velocity throughout, is refused (not a 'result' with NaN
+    errors and exit status 0); a reversed window is named as such (not '0 samples'); a record in
+    um/s under a header in m/s is refused at once, with options the command has."""
     head = "# mu0 = 0.6\n# v_ref = 1 um/s\n# stiffness_per_load = 2e-3 1/um\n"
     two = tmp_path / "two.csv"
     two.write_text(head + "time [s],load-point velocity [um/s],friction [1]\n0,1,0.6\n0.1,10,0.6\n")
@@ -304,10 +300,9 @@ def test_a_record_that_starts_in_a_hold_names_where_sliding_begins(tmp_path) -> 
 
 
 def test_an_inertial_record_is_fitted_with_the_mass_warning(tmp_path) -> None:
-    """Regression (rate-and-state audit, helper-35, HIGH): every record of a run with a mass put its
-    velocity change a sample late, and ratestate-fit ran away on it ('cannot be simulated at any
-    parameters tried'), so the mass warning was never seen. A 1 kg slider barely biases the fit:
-    a, b and Dc come back within 0.1 %, with the warning that quotes a mass's example."""
+    """A record of a run with a mass is fitted (its velocity changes at the change, not a sample
+    late, where the fit runs away), and the mass warning is seen: a 1 kg slider barely biases
+    the fit, a, b and Dc come back within 0.1 %, with the warning that quotes a mass's example."""
     out = tmp_path / "run"
     args = ["ratestate", "--a", "0.005", "--b", "0.01", "--dc", "10 um", "--v-ref", "1 um/s", "--mu0", "0.6"]
     args += ["--stiffness", "1e4 N/m", "--load", "10 N", "--mass", "1 kg", "--steps", "1 um/s,10 um/s"]
@@ -324,10 +319,9 @@ def test_an_inertial_record_is_fitted_with_the_mass_warning(tmp_path) -> None:
 
 
 def test_a_record_of_a_law_the_fit_lacks_says_so(tmp_path) -> None:
-    """Regression (rate-and-state audit, helper-35, MEDIUM): a Nagata (or formula, or two-law)
-    run's record carried no '# law' line, and ratestate-fit fitted the aging law to it without a
-    word (a = 0.00161 for 0.005). The record now names its law; the fit refuses a law it lacks,
-    naming the header line, and --law still fits one on purpose."""
+    """A Nagata (or formula, or two-law) run's record names its law in a '# law' line, and
+    ratestate-fit refuses a law it lacks, naming the header line (fitted with the aging law it
+    gives a = 0.00161 for 0.005); --law still fits one on purpose."""
     out = tmp_path / "run"
     args = ["ratestate", "--a", "0.005", "--b", "0.01", "--dc", "10 um", "--v-ref", "1 um/s", "--mu0", "0.6"]
     args += ["--law", "nagata", "--nagata-c", "2", "--stiffness-per-load", "1e-3 1/um"]
@@ -345,10 +339,10 @@ def test_a_record_of_a_law_the_fit_lacks_says_so(tmp_path) -> None:
 
 
 def test_a_noisy_velocity_column_or_a_displacement_column_fits_the_truth(tmp_path) -> None:
-    """The rate-and-state audit (HIGH): a logged velocity with 1e-4 relative noise made every row a
-    'step' (np.diff(v) != 0), the starting values absurd (Dc = 1e-9 m), and the fit ended at
-    a = b = 0.032, Dc = 3e-10 m with tiny error bars; the same history as a displacement column
-    (velocities differing in their last bits) failed. Steps are now changes beyond the noise."""
+    """Steps are changes of velocity beyond the noise: with a logged velocity of 1e-4 relative
+    noise, np.diff(v) != 0 makes every row a 'step', the starting values absurd (Dc = 1e-9 m),
+    and the fit ends at a = b = 0.032, Dc = 3e-10 m with tiny error bars; the same history as a
+    displacement column (velocities differing in their last bits) fits too."""
     from stickslip.ratestate.fitting import velocity_steps
 
     t, v, mu = generate(
@@ -373,8 +367,8 @@ def test_a_noisy_velocity_column_or_a_displacement_column_fits_the_truth(tmp_pat
 
 
 def test_a_fit_that_cannot_finish_says_what_to_check_within_its_bound(tmp_path) -> None:
-    """The rate-and-state audit (MEDIUM): a velocity header mislabelled [mm/s] (1000 times too fast)
-    ran past 400 s without a word; the fit has a wall-time bound that names the units to check."""
+    """The fit has a wall-time bound that names the units to check: with a velocity header
+    mislabelled [mm/s] (1000 times too fast) it runs past 400 s otherwise."""
     import time
 
     path = _record(tmp_path, "aging", ONE, STEPS_ONE, ONE["k_per_um"])

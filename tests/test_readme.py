@@ -1,9 +1,11 @@
 """The README's Python example runs as written."""
 
+import math
 import re
 from pathlib import Path
 
 import pytest
+from reference.one_block import cubic_orbit_reference, stick_slip_border
 
 README = Path(__file__).resolve().parents[1] / "README.md"
 
@@ -20,9 +22,19 @@ def test_readme_python_blocks_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatc
     r = spaces[0]["r"]
     diagram = spaces[1]["diagram"]
     assert [iv.regime for iv in diagram.intervals] == ["stick-slip", "bistable", "steady-sliding"]
-    assert [round(iv.nu_max, 4) for iv in diagram.intervals[:2]] == [0.4623, 0.6696]  # as the README says
+    # the borders computed without stickslip: the Hopf point of 1/(1 + c w) + p w, where
+    # f'(nu) = 0, is (sqrt(c/p) - 1)/c; the stick-slip cycle ends where the slip phase from
+    # breakaway no longer stops (SciPy, bisected to 1e-8): 0.46232 and 0.66962 for c = 3.8, p = 0.5
+    c, p = 3.8, 0.5
+    hopf = (math.sqrt(c / p) - 1.0) / c
+    border = stick_slip_border("weakening", {"c": c, "p": p}, 0.47, 1.0)
+    assert [iv.nu_max for iv in diagram.intervals[:2]] == pytest.approx([hopf, border], abs=1e-6)
+    assert f"('bistable', {hopf:.4f}, {border:.4f})" in README.read_text()  # the README's printed line
     assert r.regime == "stick-slip"
-    assert round(spaces[0]["ss"].cycle(spaces[0]["d"]).multiplier, 3) == 0.824  # as the README says
+    # the pure-slip orbit's multiplier by plain SciPy shooting (Liouville's formula): 0.82411
+    multiplier = cubic_orbit_reference(0.97, 0.5, 0.5 / 3).multiplier
+    assert spaces[0]["ss"].cycle(spaces[0]["d"]).multiplier == pytest.approx(multiplier, abs=1e-6)
+    assert f"Floquet multiplier {multiplier:.3f}" in README.read_text()
     assert (tmp_path / "trajectory.csv").exists()
 
 

@@ -39,6 +39,7 @@ def steady_record(p: S.PhysicalParameters, cycles: int, rate: str, **kwargs):  #
     return true, rec
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize(
     ("noise", "drift", "rate"),
     [
@@ -93,9 +94,9 @@ def test_pure_slip_record_measured() -> None:
 
 @pytest.mark.parametrize("v_mm_s", [20.0, 45.0])
 def test_stick_fraction_leaves_out_the_slow_start_of_a_slip(v_mm_s: float) -> None:
-    """Regression (data audit): at rest was below 1% of the largest speed, which took the slow
-    start and end of each slip for rest: 0.155 for 0.120 at 40 mm/s, 0.064 for 0.011 at 45 mm/s
-    (cubic law, noise-free velocity). Now within a sample per cycle (1/323 here)."""
+    """The stick fraction is within a sample per cycle (1/323 here) of the truth (cubic law,
+    noise-free velocity): a rest threshold at 1% of the largest speed would take the slow start
+    and end of each slip for rest (0.155 for 0.120 at 40 mm/s, 0.064 for 0.011 at 45 mm/s)."""
     p = cubic_params(v_mm_s)
     true = S.cycle(p, probe=False)
     assert true.regime == "stick-slip"
@@ -115,10 +116,10 @@ def test_stick_fraction_leaves_out_the_slow_start_of_a_slip(v_mm_s: float) -> No
     ("column", "noise"), [("velocity", 2e-5), ("velocity", 3e-4), ("displacement", 1e-7)]
 )
 def test_stick_fraction_of_a_noisy_velocity(column: str, noise: float) -> None:
-    """Regression (data audit): velocity noise of 20 um/s (0.14% of the 14 mm/s peak) made the
-    stick fraction 0.38 for 0.984; 20 nm on the displacement, 0.51. At rest is now within four
-    standard deviations of the velocity's noise, estimated from its fourth differences: within
-    0.01 up to a noise of three times v0 (m/s), or 0.1 um on the displacement (m)."""
+    """At rest is within four standard deviations of the velocity's noise, estimated from its
+    fourth differences: the stick fraction is within 0.01 up to a noise of three times v0 (m/s),
+    or 0.1 um on the displacement (m). A fixed threshold gives 0.38 for 0.984 with 20 um/s of
+    noise (0.14% of the 14 mm/s peak), and 0.51 with 20 nm on the displacement."""
     from stickslip.io.records import Record
 
     p = S.zv_parameters("100 um/s")
@@ -148,9 +149,9 @@ def test_stick_fraction_of_a_noisy_velocity(column: str, noise: float) -> None:
 
 
 def test_clipped_peaks_are_said() -> None:
-    """Regression (usability audit): a sensor saturating at 97 % of the peak-to-trough range took
-    1.2 % off the amplitude (4 % in the audit's record) and said nothing. Samples piling up at the
-    record's extreme value are a rail: the record's warning and a fit's say so. Neither a
+    """A sensor saturating at 97 % of the peak-to-trough range takes 1.2 % off the amplitude
+    (4 % on a record clipped deeper): samples piling up at the record's extreme value are a
+    rail, and the record's warning and a fit's say so. Neither a
     continuous force, nor one quantized by an ADC (1 and 5 mN steps over 0.5 mN of noise), nor
     a flat-bottomed one without a pile-up, is taken for one."""
     from stickslip.data.fitting import fit_record
@@ -228,7 +229,7 @@ def test_analyze_stick_slip_folder(tmp_path: Path) -> None:
     res = CliRunner().invoke(main, ["analyze", str(folder), "--out", str(tmp_path / "out")])
     assert res.exit_code == 0, res.output
     assert "criterion: stick-slip" in res.output
-    # the printed table in the records' units (usability audit: it printed v0 0.0001 [m/s]);
+    # the printed table in the records' units (um/s, not v0 0.0001 [m/s]);
     # summary.csv stays SI
     head, *rows = res.output.split("v0 [um/s]", 1)[1].splitlines()[:6]
     assert "load [mN]" in head and "amplitude [mN]" in head
@@ -241,7 +242,7 @@ def test_analyze_stick_slip_folder(tmp_path: Path) -> None:
     )
     assert (tmp_path / "out" / "records_vs_v0.png").stat().st_size > 5000
     assert "with a warning above" not in res.output
-    # one file in mN labelled N (the data audit): its warning, and the verdict line counts it
+    # one file in mN labelled N: its warning, and the verdict line counts it
     rec = read_records(folder / "r4.csv")[0]
     write_record(folder / "r4.csv", rec, header="time [s],force [N]")  # the mN values, labelled N
     res = CliRunner().invoke(main, ["analyze", str(folder), "--out", str(tmp_path / "out2"), "--no-plot"])
@@ -252,10 +253,10 @@ def test_analyze_stick_slip_folder(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("index", [True, False])
 def test_a_record_that_cannot_be_read_does_not_stop_the_folder(tmp_path: Path, index: bool) -> None:
-    """Regression (usability audit): three NaN samples in one file of a folder stopped the whole
-    folder (exit 2), and the message named the column stickslip reads ('friction_force'), not the
-    one in the file ('Fx [mN]'). With on_error="warn" (what `analyze` uses) the file is a row
-    of the table saying why, and the verdict comes from the others: the same as without it."""
+    """Three NaN samples in one file of a folder do not stop the folder: with on_error="warn"
+    (what `analyze` uses) the file is a row of the table saying why, naming the column as the
+    file does ('Fx [mN]', not stickslip's 'friction_force'), and the verdict comes from the
+    others: the same as without it."""
     vs = (20, 50, 100, 200)
     folder = make_folder(tmp_path / "f", [S.zv_parameters(f"{v} um/s") for v in vs], index=index)
     _, whole = analyze_records(read_records(folder))
@@ -345,6 +346,7 @@ def test_long_table_and_tsv(tmp_path: Path) -> None:
         read_records(path)
 
 
+@pytest.mark.fast
 def test_header_metadata_and_units(tmp_path: Path) -> None:
     p = S.zv_parameters("100 um/s")
     rec = synthetic_record(p, duration="100 s", rate="20 Hz", with_velocity=True)
@@ -381,6 +383,7 @@ BAD = [
 ]
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize(("content", "message"), BAD)
 def test_malformed_records(tmp_path: Path, content: str, message: str) -> None:
     path = tmp_path / "bad.csv"
@@ -428,9 +431,8 @@ def test_folder_errors(tmp_path: Path) -> None:
 def test_an_instruments_metadata_give_v0_and_load(
     tmp_path: Path, lines: str, v0_um_s: float, load_mn: float | None
 ) -> None:
-    """Regression (usability audit): an export's `v0;200 um/s` metadata line (the file's own
-    separator) was dropped without a word, and the record left the verdict with an empty
-    warning. `;`, tabs and `,` separate a key from its value as `=` and `:` do, and the names
+    """An export's `v0;200 um/s` metadata line (the file's own separator) is read: `;`, tabs and
+    `,` separate a key from its value as `=` and `:` do, and the names
     an index accepts for v0 and load (driving velocity, normal force, ...) are read in the
     header lines too."""
     path = tmp_path / "r.csv"
@@ -525,6 +527,7 @@ def test_too_few_cycles(tmp_path: Path) -> None:
         measure_record(rec)
 
 
+@pytest.mark.fast
 def test_write_record_round_trip(tmp_path: Path) -> None:
     from stickslip.io.output import ForeignFileError
     from stickslip.io.records import write_record
@@ -547,7 +550,7 @@ def test_write_record_round_trip(tmp_path: Path) -> None:
         write_record(rec, tmp_path / "mine.csv")
     with pytest.raises(ValueError, match="force_unit='m/s'"):
         write_record(rec, tmp_path / "x.csv", force_unit="m/s")
-    # as .tsv and .txt too: a rerun was refused, its own file taken for a foreign one
+    # as .tsv and .txt too: a rerun replaces its own file, not taken for a foreign one
     for ext in ("tsv", "txt"):
         for _ in range(2):
             again = write_record(rec, tmp_path / f"r.{ext}")
@@ -555,8 +558,10 @@ def test_write_record_round_trip(tmp_path: Path) -> None:
 
 
 def test_metadata_read_back_as_written(tmp_path: Path) -> None:
-    """Regression: a key with '-' was dropped on reading, 'k:v' read as k = 'v = 1', an empty
-    value as ' '; and write_record(path, record) failed on 'str' object has no .metadata."""
+    """Metadata read back as written: a key with '-' is kept, an empty value stays empty, and a
+    key that would not read back ('k:v', '#x', two that read as one) is refused;
+    write_record(path, record), the arguments swapped, is a TypeError in words (not "'str'
+    object has no .metadata")."""
     from stickslip.io.records import Record, write_record
 
     t = np.linspace(0.0, 1.0, 10)
@@ -582,9 +587,9 @@ def test_metadata_read_back_as_written(tmp_path: Path) -> None:
 
 
 def test_messages_name_the_line_an_editor_shows(tmp_path: Path) -> None:
-    """Regression: positions were data rows counted from the header as row 1 (comment and
-    blank lines left out), or counted within one record of a long table, or from 1 at the
-    first data row: four conventions, none of them the file's line once a header line was there."""
+    """Messages name the file's line, as an editor shows it: not data rows counted from the
+    header as row 1 (comment and blank lines left out), within one record of a long table, or
+    from 1 at the first data row."""
     from stickslip.data.criterion import classify_file
     from stickslip.io.lab import read_lab_record
     from stickslip.io.tables import read_table
@@ -636,10 +641,10 @@ def test_messages_name_the_line_an_editor_shows(tmp_path: Path) -> None:
     path.write_text("velocity [um/s],amplitude [mN]\n1,2\n \t \n  # indented\n3,4\n")
     with pytest.raises(ValueError, match="line 4 has 1 cells"):
         read_table(path, ["velocity", "amplitude"])
-    # review of 8208b08: a line of blanks holding the delimiter is a row for pandas (a TSV's
-    # tab line); interleaved records; a CR-only file lost its first row after a blank line
-    # (pandas' skiprows did not count it); a trailing comment was blamed for a later NaN,
-    # and its commas counted as cells; mixed line ends failed inside the csv module
+    # a line of blanks holding the delimiter is a row for pandas (a TSV's tab line);
+    # interleaved records; a CR-only file keeps its first row after a blank line (pandas'
+    # skiprows does not count it); a trailing comment is not blamed for a later NaN, nor its
+    # commas counted as cells; mixed line ends are read (the csv module fails on them)
     cases = [
         ("time [s]\tforce [N]\n0\t1\n1\t2\n \t \n3\t1\n4\t2\n", read_record, "1 samples at line 4"),
         (
@@ -679,9 +684,9 @@ def test_messages_name_the_line_an_editor_shows(tmp_path: Path) -> None:
 
 
 def test_a_record_made_in_python_is_checked_as_a_file_is() -> None:
-    """Regression (data audit): Record took anything: a 2-D force broadcast into an n x n array
-    (the process ran out of memory at 36k samples), lists failed on .size, a velocity of the
-    wrong length gave a NaN stick fraction, NaN force and repeated times went on silently."""
+    """Record checks its arrays as a file's are checked: a 2-D force is refused (broadcast into
+    an n x n array it exhausts memory at 36k samples), lists are taken as arrays, a velocity of
+    the wrong length, a NaN force and repeated times are refused."""
     from stickslip.io.records import Record
 
     t = np.arange(100) * 0.01
@@ -704,8 +709,8 @@ def test_a_record_made_in_python_is_checked_as_a_file_is() -> None:
 
 
 def test_no_verdict_says_why(tmp_path: Path) -> None:
-    """Regression (data audit): one record with its v0 was told 'records need driving
-    velocities'; the reason was that the criterion needs two."""
+    """No verdict says why: one record with its v0 is told that the criterion needs two driving
+    velocities, not that records need driving velocities."""
     p = S.zv_parameters("100 um/s")
     true = S.cycle(p, probe=False)
     rec = synthetic_record(
@@ -725,7 +730,7 @@ def test_no_verdict_says_why(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("sep", [";", "\t"])
 def test_a_decimal_comma_is_named_whatever_the_delimiter(tmp_path: Path, sep: str) -> None:
-    """Regression (data audit): the decimal-comma hint came only with ',' as the delimiter."""
+    """The decimal-comma hint comes with every delimiter, not only ','."""
     path = tmp_path / "r.csv"
     path.write_text(f"time [s]{sep}force [mN]\n0{sep}10,5\n0.1{sep}11,25\n")
     with pytest.raises(ValueError, match=r"'10,5' is not a number \(a decimal comma\? write a decimal point"):
@@ -752,13 +757,12 @@ def test_an_instruments_export_is_read(tmp_path: Path, sep: str) -> None:
         read_record(mixed)
 
 
-def test_data_audit_low_findings(tmp_path: Path) -> None:
-    """Regressions (audit of the measured-data family, LOW): an index's `driving velocity`
-    column was ignored without a word; an unknown unit in a column stickslip does not read
-    aborted the analysis; an index's bad v0 blamed the data file and printed a Quantity's
-    repr; files left out of the index, and a README.txt in a folder without one, were skipped
-    silently or aborted; two force columns were chosen between silently; the verdict's load
-    was not named; classify took an amplitude in seconds and a negative error without a line."""
+def test_folders_indexes_and_columns_say_what_they_read_and_skip(tmp_path: Path) -> None:
+    """An index's `driving velocity` column is read; an unknown unit in a column stickslip does
+    not read does not stop the analysis; an index's bad v0 is blamed on the index, in words
+    (not a Quantity's repr); files left out of the index, and a README.txt in a folder without
+    one, are named; a choice between two force columns is said; the verdict names its load;
+    classify refuses an amplitude in seconds and a negative error."""
     folder = tmp_path / "f"
     folder.mkdir()
     for i, v in enumerate((50, 100)):
@@ -809,9 +813,9 @@ def test_data_audit_low_findings(tmp_path: Path) -> None:
 
 
 def test_the_features_fit_does_not_blame_the_model_for_its_own_bias() -> None:
-    """Regression (audit of the measured-data family): on a noise-free record the model itself
-    made, `--method features` warned that 'the model does not describe the record'; its
-    chi-square is over features that carry a sampling bias their spread does not show."""
+    """On a noise-free record the model itself made, `--method features` does not warn that 'the
+    model does not describe the record': its chi-square is over features that carry a sampling
+    bias their spread does not show, so a large one is not the model's fault."""
     from stickslip.data.fitting import fit_record
 
     rec = synthetic_record(
@@ -824,8 +828,8 @@ def test_the_features_fit_does_not_blame_the_model_for_its_own_bias() -> None:
 
 
 def test_a_stage_displacement_is_not_taken_for_the_sliders(tmp_path: Path) -> None:
-    """Regression (usability audit): a scratch tester logs its stage, v0 t; read as the slider's
-    it gave a stick fraction of 0 for a record that sticks 99 % of the time. A column moving
+    """A scratch tester logs its stage, v0 t; read as the slider's it would give a stick fraction
+    of 0 for a record that sticks 99 % of the time. A column moving
     steadily at the driving velocity is named as the load point's and gives no stick fraction;
     the slider's displacement gives the stick fraction it has."""
     import dataclasses
@@ -844,8 +848,8 @@ def test_a_stage_displacement_is_not_taken_for_the_sliders(tmp_path: Path) -> No
 
 
 def test_a_header_of_unknown_names_lists_the_names(tmp_path: Path) -> None:
-    """Regression (usability audit): a header of the right shape with names stickslip does not
-    know ('Zeit [s];Reibkraft [N]') got 'a title line? put # before it'; it lists the names."""
+    """A header of the right shape with names stickslip does not know ('Zeit [s];Reibkraft [N]')
+    lists the names it reads, not 'a title line? put # before it' (kept for a real title)."""
     de = tmp_path / "de.csv"
     de.write_text("Zeit [s];Reibkraft [N]\n0;1\n1;2\n2;3\n")
     with pytest.raises(ValueError, match=r"\(columns are named .*friction_force.*time.*rename yours"):
@@ -857,19 +861,19 @@ def test_a_header_of_unknown_names_lists_the_names(tmp_path: Path) -> None:
 
 
 def _f1_setup(v0: str) -> S.PhysicalParameters:
-    """The measured-data audit's set-up: 50 g, 2 kN/m, 2 N, mu_s 0.4, F1 with a = 50 s/m."""
+    """A fast, light set-up: 50 g, 2 kN/m, 2 N, mu_s 0.4, F1 with a = 50 s/m."""
     law = S.PhysicalWeakeningLaw(mu_s=0.4, a="50 s/m")
     return S.PhysicalParameters(mass="50 g", stiffness="2000 N/m", load="2 N", v0=v0, law=law)
 
 
-def test_measured_data_audit_stick_fraction_force_plausibility_and_dead_columns() -> None:
-    """Measured-data audit (helper-41), three HIGH findings on one record each:
+def test_stick_fraction_force_plausibility_and_dead_columns() -> None:
+    """Three checks on one record each:
 
-    * velocity noise of v0 at 5 mm/s (here 0.8 v0), where slip is 15 % of the cycle: the slow start and end
-      of each slip lie below four noise deviations and were counted as rest, 0.904 for 0.847;
-      a slip is now grown over the samples that still move its way;
-    * a velocity column of zeros gave a stick fraction of 1 without a word;
-    * a force column in mN read as N: amplitudes of 1000 N against a 2 N load, no word."""
+    * velocity noise of v0 at 5 mm/s (here 0.8 v0), where slip is 15 % of the cycle: the slow
+      start and end of each slip lie below four noise deviations (counted as rest they give
+      0.904 for 0.847); a slip is grown over the samples that still move its way;
+    * a velocity column of zeros gives no stick fraction (not 1), with a warning;
+    * a force column in mN read as N (amplitudes of 1000 N against a 2 N load) is warned."""
     from stickslip.io.records import Record
 
     true, rec = steady_record(_f1_setup("5 mm/s"), 12, "1 kHz", with_velocity=True)
@@ -880,7 +884,7 @@ def test_measured_data_audit_stick_fraction_force_plausibility_and_dead_columns(
     )
     s = measure_record(noisy)[1]
     assert true.stick_fraction == pytest.approx(0.8466, abs=1e-4)
-    assert s.stick_fraction == pytest.approx(true.stick_fraction, abs=0.02)  # +0.017; it was +0.046
+    assert s.stick_fraction == pytest.approx(true.stick_fraction, abs=0.02)  # +0.017; ungrown slips: +0.046
     assert measure_record(rec)[1].stick_fraction == pytest.approx(true.stick_fraction, abs=2e-3)  # noise-free
     dead = Record(rec.name, rec.time, rec.force, None, np.zeros(rec.time.size), rec.v0, rec.load)
     s = measure_record(dead)[1]
@@ -892,11 +896,11 @@ def test_measured_data_audit_stick_fraction_force_plausibility_and_dead_columns(
 
 
 def test_the_noise_of_a_quantized_fast_record_and_a_fit_better_than_its_noise() -> None:
-    """Measured-data audit (helper-41, MEDIUM): 1 mN ADC steps over 0.3 mN of noise (0.41 mN of
-    error) on a record of 136 samples a cycle read 1.98 mN of noise: the RMS of the second
-    differences kept the fast drops (only their largest 1 % was left out); they are now clipped
-    at four deviations until none is left. A fit whose reduced chi-square falls below 0.25
-    says that the noise it read, and the errors with it, are too large."""
+    """1 mN ADC steps over 0.3 mN of noise (0.41 mN of error) on a record of 136 samples a cycle:
+    the second differences are clipped at four deviations until none is left, since their RMS
+    with the fast drops kept (only their largest 1 % left out) reads 1.98 mN. A fit whose
+    reduced chi-square falls below 0.25 says that the noise it read, and the errors with it,
+    are too large."""
     from stickslip.core.noise import noise_level
     from stickslip.data.fitting import fit_record
     from stickslip.io.records import Record
@@ -914,9 +918,9 @@ def test_the_noise_of_a_quantized_fast_record_and_a_fit_better_than_its_noise() 
 
 
 def test_a_decimal_point_among_decimal_commas_is_named_at_its_line(tmp_path: Path) -> None:
-    """Measured-data audit (helper-41, MEDIUM): a file of decimal commas with one row written
-    with a point far down (line 5001) was refused at line 4, a good row, with the advice to
-    write decimal points. The row is now named, and what is wrong with it."""
+    """A file of decimal commas with one row written with a point far down is refused at that
+    row, named with what is wrong with it (not at a good row near the top, with the advice to
+    write decimal points)."""
     rows = [f"{i},0;{10 + i % 7},25" for i in range(60)]
     rows[57] = "57.0;12.25"
     path = tmp_path / "r.csv"
@@ -928,9 +932,9 @@ def test_a_decimal_point_among_decimal_commas_is_named_at_its_line(tmp_path: Pat
 
 
 def test_an_f1_fit_of_a_record_that_never_sticks_says_so() -> None:
-    """Measured-data audit (helper-41, MEDIUM): the F1 fit of a pure-slip record gave k and m
-    to 0.06 % for half their true values (only m/k is set), with only a chi-square warning.
-    A record whose velocity shows no rest now says that F1 cannot make its motion."""
+    """A record whose velocity shows no rest says that F1 cannot make its motion: the F1 fit of
+    a pure-slip record gives k and m to 0.06 % for half their true values (only m/k is set),
+    with no more than a chi-square warning."""
     from stickslip.data.fitting import fit_record
 
     _, rec = steady_record(cubic_params(48.5), 10, "500 Hz", with_velocity=True)
@@ -940,8 +944,8 @@ def test_an_f1_fit_of_a_record_that_never_sticks_says_so() -> None:
 
 
 def test_a_folder_of_title_lines_says_why_none_is_a_record(tmp_path: Path) -> None:
-    """Measured-data audit (helper-41, LOW): exports that open with a title line were 'none of
-    its 2 files is a record' and no more; the first file's reason now comes with it."""
+    """A folder of exports that open with a title line says 'none of its 2 files is a record'
+    with the first file's reason."""
     for name in ("a.csv", "b.csv"):
         (tmp_path / name).write_text("Pin-on-disc test PMMA/steel\ntime [s],force [N]\n0,1\n0.1,2\n")
     with pytest.raises(
@@ -951,10 +955,11 @@ def test_a_folder_of_title_lines_says_why_none_is_a_record(tmp_path: Path) -> No
 
 
 def test_slips_grow_the_same_from_any_start_through_gaps_and_over_an_offset() -> None:
-    """The review of the slip growth (helper-42): a record that starts mid-slip paired the runs'
-    starts and ends wrongly (half the slips were not grown, 0.700 for 0.660 from rest); a rest
-    biased one way (an offset of 2 noise deviations) let a slip grow through the stick (0.225
-    for 0.61); missing samples counted as rest. Slip shapes sin^2 over 40 of 100 samples."""
+    """Slips grow the same whatever the record's start: one that starts mid-slip pairs the runs'
+    starts and ends rightly (paired wrongly, half the slips are not grown: 0.700 for 0.660 from
+    rest); a rest biased one way (an offset of 2 noise deviations) does not let a slip grow
+    through the stick (0.225 for 0.61); missing samples are not rest. Slip shapes sin^2 over 40
+    of 100 samples."""
     from stickslip.data.records import _at_rest
 
     one = np.zeros(100)
@@ -1027,9 +1032,9 @@ def test_the_velocity_shows_the_regime_of_each_record(tmp_path: Path) -> None:
     ("rate", "seen"), [("200 Hz", "unresolved"), ("300 Hz", "unresolved"), ("1 kHz", "stick-slip")]
 )
 def test_a_stick_of_a_sample_or_two_is_unresolved_not_pure_slip(rate: str, seen: str) -> None:
-    """Review (helper-3, HIGH): the cubic law's stick of 1 % of the cycle, sampled 300 times a
-    cycle, is a rest of a sample or two, and read pure-slip (mixed at 400 Hz); analyze then named
-    it against a criterion that was right. Rests shorter than 3 samples are now unresolved."""
+    """The cubic law's stick of 1 % of the cycle, sampled 300 times a cycle, is a rest of a sample
+    or two: rests shorter than 3 samples are unresolved, not pure slip (read as pure slip, or
+    mixed at 400 Hz, analyze would set the record against a criterion that is right)."""
     p = cubic_params(45.0)
     true, rec = steady_record(p, 12, rate, noise="0.5 mN", with_velocity=True)
     assert true.regime == "stick-slip" and true.stick_fraction < 0.011

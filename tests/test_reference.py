@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
-from reference import reference_cycle
+from reference.one_block import reference_cycle
 
 from stickslip import CoulombLaw, CubicLaw, DimensionlessParameters, WeakeningLaw, cycle
 from stickslip.core.api import run_attractors
@@ -124,7 +124,7 @@ def test_the_engines_own_convergence_test_near_a_hopf_point() -> None:
     0.88 at nu = 0.98, 0.994 at 0.999) and a change below conv_tol still leaves up to 1/(1 - r)
     of it to come. Without shooting's polish, the raw kernel against plain SciPy shooting
     (without the tail: 7e-8 and 1.6e-6 off)."""
-    from reference import cubic_orbit_reference
+    from reference.one_block import cubic_orbit_reference
 
     alpha, gamma = 0.5, 0.5 / 3
     for nu in (0.98, 0.999):

@@ -86,10 +86,10 @@ def test_unstable_steady_sliding_is_left() -> None:
 
 
 def test_driving_velocities_below_resolution_and_map_ranges_are_refused(tmp_path) -> None:
-    """Regression (audit of the bifurcation family): nu = 1e-20 gave an amplitude 3e-4 off
-    with status ok, and a subnormal nu hung the compiled loop (SIGTERM could not stop it);
-    regimes over nu < 1e-7 failed with its Hopf window's own bounds; --map took a reversed
-    range, one value, or --map-n 1 (named --num)."""
+    """Driving velocities below NU_MIN = 1e-15 are refused: at nu = 1e-20 the amplitude comes
+    out 3e-4 off with status ok, and a subnormal nu stalls the compiled loop beyond SIGTERM's
+    reach. regimes over nu < 1e-7 works (its Hopf window stays in range); --map refuses a
+    reversed range, one value and --map-n 1, each named by its option."""
     from click.testing import CliRunner
 
     from stickslip.bifurcation.regimes import regimes
@@ -99,7 +99,7 @@ def test_driving_velocities_below_resolution_and_map_ranges_are_refused(tmp_path
     for nu in (1e-20, 5e-324):
         with pytest.raises(ValueError, match="expected a driving velocity of at least 1e-15"):
             DimensionlessParameters(nu=nu, law=law)
-    # 1e-15 is resolved: the amplitude of the small-nu limit (1.20879911609, the audit's reference)
+    # 1e-15 is resolved: the amplitude of the small-nu limit, 1.20879911609 (independent SciPy)
     amplitude = cycle(DimensionlessParameters(nu=1e-15, law=law)).amplitude
     assert amplitude == pytest.approx(1.20879911609, rel=1e-9)
     with pytest.raises(ValueError, match="nu_min=1e-310: expected a driving velocity of at least 1e-15"):
@@ -118,7 +118,7 @@ def test_driving_velocities_below_resolution_and_map_ranges_are_refused(tmp_path
 
 
 def test_a_law_parameter_beyond_the_kernels_range_is_named() -> None:
-    """Regression (audit): c = 1e300 was refused as 'lp[0]=1e+300', a name of the core's."""
+    """A law parameter beyond the kernels' 1e15 is refused by its own name (c), not the core's (lp[0])."""
     with pytest.raises(ValueError, match=r"c=1e\+300 is beyond 1e\+15 in magnitude"):
         WeakeningLaw(c=1e300, p=0.5)
     assert WeakeningLaw(c=1e12, p=0.0).params["c"] == 1e12

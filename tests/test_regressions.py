@@ -1,4 +1,4 @@
-"""Regression tests for defects found in review; each names the bug it guards."""
+"""Regression tests: each docstring names the failure it guards against."""
 
 from pathlib import Path
 
@@ -12,14 +12,14 @@ from stickslip.data.criterion import classify
 
 
 def test_coulomb_is_not_reported_multistable() -> None:
-    """Bug: the neutral orbit around Coulomb steady sliding (f' = 0) was listed as pure slip."""
+    """The neutral orbits around Coulomb steady sliding (f' = 0) are not a pure-slip attractor."""
     r = S.cycle(S.DimensionlessParameters(nu=0.01, law=S.CoulombLaw(kinetic=0.3)))
     assert not r.multistable
     assert [a.regime for a in r.attractors] == ["stick-slip"]
 
 
 def test_unconverged_probe_is_not_an_attractor() -> None:
-    """Bug: a probe that had not converged still made the result 'multistable'."""
+    """A probe that has not converged does not make the result 'multistable'."""
     r = S.cycle(S.DimensionlessParameters(nu=0.1, law=S.WeakeningLaw(c=1e-6)))
     assert all(a.status == "ok" for a in r.attractors)
     assert r.multistable == (len(r.attractors) > 1)
@@ -34,7 +34,7 @@ def test_backward_slips_counted_in_pure_slip() -> None:
 
 
 def test_fixed_beta_holds_at_every_sweep_point(tmp_path: Path) -> None:
-    """Bug: with --beta fixed and --load swept, the mass stayed that of the first load."""
+    """With --beta fixed and --load swept, the mass follows each load (not that of the first)."""
     out = tmp_path / "s.nc"
     res = CliRunner().invoke(
         main,
@@ -62,7 +62,7 @@ def test_fixed_beta_holds_at_every_sweep_point(tmp_path: Path) -> None:
 
 
 def test_unwritable_output_is_a_one_line_error() -> None:
-    """Bug: NotADirectoryError traceback for an output path that cannot be created."""
+    """An output path that cannot be created is one line, not a NotADirectoryError traceback."""
     res = CliRunner().invoke(main, ["simulate", "--nu", "0.1", "--c", "3", "--out", "/dev/null/x"])
     assert res.exit_code == 1
     assert "cannot write" in res.output
@@ -70,18 +70,18 @@ def test_unwritable_output_is_a_one_line_error() -> None:
 
 
 def test_numpy_integers_are_integers() -> None:
-    """Bug: np.int64 was refused as 'expected an integer'."""
+    """np.int64 is an integer wherever an integer is expected."""
     assert classify([1, 2, 3, 4, 5], [1, 2, 3, 4, 5], min_points=np.int64(4)).verdict == "stick-slip"
     p = S.DimensionlessParameters(nu=0.1, law=S.WeakeningLaw(c=2.0))
     assert S.simulate(p, n_points=np.int64(50)).time.size >= 50
 
 
 def test_backward_slip_that_ends_inside_its_first_step() -> None:
-    """Bug: a stop just past the static threshold (s slightly below -1) starts a backward
-    slip so weak that it ends inside its first step; the stop was missed and the slip ran
-    on into the continued law until the step size collapsed (step-size-too-small for
-    c = 3.8, p = 0.05 and 1.005 < nu < 1.04)."""
-    from reference import reference_cycle
+    """A stop just past the static threshold (s slightly below -1) starts a backward slip so
+    weak that it ends inside its first step: that stop is located, or the slip runs on into
+    the continued law until the step size collapses (step-size-too-small for c = 3.8,
+    p = 0.05 and 1.005 < nu < 1.04)."""
+    from reference.one_block import reference_cycle
 
     for nu in (1.006, 1.02):
         r = S.cycle(S.DimensionlessParameters(nu=nu, law=S.WeakeningLaw(c=3.8, p=0.05)), probe=False)

@@ -42,8 +42,8 @@ def test_every_file_is_written_and_not_empty(quick_run: Path) -> None:
 
 
 def test_a_quick_report_says_it_is_quick(quick_run: Path) -> None:
-    """Regression (usability audit): a quick report read like the full one (a crossing read on
-    its 8 velocities was 548 um/s where bisection gives 578)."""
+    """A quick report says that it is quick: its 8 velocities put a crossing at 548 um/s where
+    bisection gives 578, and a reader must not take it for the full one."""
     md = (quick_run / "report.md").read_text()
     assert "A quick run (--quick): the curves are computed on a reduced grid (8 driving velocities" in md
     assert xr.load_dataset(quick_run / "reproduce.nc").attrs["quick"] == 1
@@ -132,6 +132,7 @@ def test_config_and_load_claim_wording() -> None:
     )
 
 
+@pytest.mark.fast
 def test_reproduce_bad_out(tmp_path: Path) -> None:
     f = tmp_path / "file"
     f.write_text("x")
@@ -173,8 +174,8 @@ def test_every_path_a_command_writes_refuses_an_empty_one() -> None:
 
 
 def test_a_foreign_trial_figure_is_refused_before_the_work(tmp_path: Path) -> None:
-    """Audit of 2026-11-24: regimes_<trial>.png was checked only when written, after some
-    20 s of a quick run (hours of a full one); now with every other target, at once."""
+    """regimes_<trial>.png is checked with every other target, before the work: checked when
+    written, a foreign file would stop a quick run after some 20 s (a full one after hours)."""
     import time
 
     (tmp_path / f"regimes_{TRIAL_MAPS[0].key}.png").write_text("a colleague's figure")
@@ -185,9 +186,11 @@ def test_a_foreign_trial_figure_is_refused_before_the_work(tmp_path: Path) -> No
     assert (tmp_path / f"regimes_{TRIAL_MAPS[0].key}.png").read_text() == "a colleague's figure"
 
 
+@pytest.mark.fast
 def test_paper_api_refuses_what_it_dropped() -> None:
-    """Audit of 2026-11-24: unknown trial keys ran nothing; a dict config failed deep;
-    the appendix's resolution followed n_v0 < 20 unsaid; claim 10's verdict was fixed text."""
+    """Unknown trial keys are refused (not a run of nothing); a dict config is refused at once,
+    not deep inside; the appendix's resolution following n_v0 < 20 is said; claim 10's verdict
+    is computed, not fixed text."""
     from stickslip.paper.compute import PaperConfig, compute_paper
     from stickslip.paper.report import _against_measured
     from stickslip.paper.trial import run_trials
@@ -227,7 +230,7 @@ def test_appendix_evidence(quick_run: Path) -> None:
 
 
 def test_no_report_cell_is_cut(quick_run: Path) -> None:
-    """Regression: claim 14's cell was cut mid-word (a message sliced to 160 characters)."""
+    """No report cell is cut mid-word (as by a message sliced to 160 characters)."""
     import html
 
     from stickslip.paper.report import claims
@@ -278,9 +281,9 @@ def test_serial_run_gives_the_same_data(quick_run: Path, tmp_path: Path) -> None
 
 
 def test_the_trial_maps_mark_the_papers_experiment() -> None:
-    """The reproduction audit (LOW): the regime maps did not show where the paper's experiment
-    lies. F1's map marks c = a / beta = 160/42 over nu = beta v0 for 5-1000 um/s; F2's marks
-    p = b / beta = 100/42; the cubic law's, which the paper does not use, marks nothing."""
+    """The regime maps show where the paper's experiment lies. F1's map marks c = a / beta = 160/42
+    over nu = beta v0 for 5-1000 um/s; F2's marks p = b / beta = 100/42; the cubic law's, which
+    the paper does not use, marks nothing."""
     from stickslip.paper.trial import TRIAL_MAPS, _paper_point, run_trials
     from stickslip.plots.regimes import MARK_LABEL, plot_regime_map
 

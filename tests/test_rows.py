@@ -14,8 +14,8 @@ import pytest
 
 from stickslip.core.api import run_attractors
 from stickslip.core.results import AttractorRows
-from stickslip.dynamics.attractors import POLISH_FIELDS, polish_rows
 from stickslip.laws import WeakeningLaw
+from stickslip.orbits.attractors import POLISH_FIELDS, polish_rows
 
 KW: dict[str, Any] = {
     "from_breakaway": True, "rtol": 1e-10, "atol": 1e-12, "max_slip_time": 1e4, "conv_tol": 1e-8,

@@ -1,6 +1,6 @@
 """rsfmodel's published velocity-step tests reproduced to 2e-8, from the API and the command line.
 
-The expected values are quoted from rsfmodel's own test suite (see ``rsfmodel_reference``):
+The expected values are quoted from rsfmodel's own test suite (see ``reference/rsfmodel.py``):
 one and two state variables, the aging (Dieterich), slip (Ruina), Perrin-Rice-Zheng and
 Nagata laws. rsfmodel's units are um, s and 1/um; ours are SI, converted here by hand.
 """
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 import xarray as xr
 from click.testing import CliRunner
-from rsfmodel_reference import CASES
+from reference.rsfmodel import CASES
 
 from stickslip.cli import main
 from stickslip.ratestate.model import RateStateParameters
@@ -62,6 +62,7 @@ def _check(ds: xr.Dataset, case: dict) -> None:
     assert ds.friction.values[10] == pytest.approx(0.6, abs=1e-12)
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_api(name: str) -> None:
     case = CASES[name]
@@ -162,7 +163,7 @@ def test_user_law_from_a_formula(name: str, formula: str, tmp_path) -> None:
         ("agng", "unknown name 'agng'"),
         ("1 - v/dc", "must depend on phi"),
         ("1 + v*phi/dc", "no stable steady state"),
-        # Python's math raised OverflowError / ValueError through the search (audit)
+        # Python's math raises OverflowError / ValueError in the search: caught, said in words
         ("exp(phi) - v*phi/dc", "no stable steady state"),
         ("log(1 - phi) - v*phi/dc", "no stable steady state"),
         ("__import__('os')", "not a formula|not allowed|allowed"),

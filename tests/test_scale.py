@@ -86,6 +86,7 @@ def run_of(ds: xr.Dataset) -> dict[str, Any]:
 # ----------------------------------------------------------------------------- blocks and the store
 
 
+@pytest.mark.fast
 def test_chunk_shape_keeps_trailing_dimensions_whole() -> None:
     assert chunk_shape((24, 10), 50) == (5, 10)
     assert chunk_shape((10**7,), 32768) == (32768,)
@@ -142,10 +143,11 @@ def test_default_run_imports_no_distributed() -> None:
     assert out.stdout.strip() == "[]"
 
 
-def test_a_store_begun_with_the_old_polishing_is_another_job(
+def test_a_store_without_a_polish_key_is_another_job(
     base: Any, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """At other tolerances than the defaults, a store from before 2026-11-24 would mix two polishings."""
+    """A store whose identity has no "polish" key is another job: at other tolerances than the
+    defaults, continuing it would mix two polishings."""
     import stickslip.dynamics.sweep as sw
 
     store = tmp_path / "old.zarr"
@@ -214,14 +216,14 @@ def test_corrupt_truncated_and_missing_chunks_are_recomputed(
     assert_same(reference, load_sweep(store))
 
 
-# ----------------------------------------------------------------------------- the audit of 2026-11-24
+# ----------------------------------------------------------------------------- stores made, shared, refused
 
 
 def test_a_store_made_again_at_the_same_path_is_another_store(
     base: Any, reference: xr.Dataset, tmp_path: Path
 ) -> None:
-    """Regression: the arrays opened for writing were kept per path and job; a store deleted
-    and made again with other blocks got chunks of the old shape, silently (then a reshape
+    """A store deleted and made again at the same path with other blocks is a new store: arrays
+    kept open per path and job would give it chunks of the old shape, silently (then a reshape
     error deep in zarr on loading), in a notebook or on a long-lived cluster."""
     store = tmp_path / "s.zarr"
     sweep(base, _grid(), progress=False, store=store, block_points=20)
@@ -234,8 +236,8 @@ def test_a_store_made_again_at_the_same_path_is_another_store(
 def test_two_runs_making_one_store_at_once_share_it(
     base: Any, reference: xr.Dataset, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """Regression: of two runs of one command started together, the one whose rename came
-    second removed the store the first had just made (and both failed)."""
+    """Two runs of one command started together share the store: the one whose rename comes
+    second does not remove the store the first has just made."""
     from stickslip.scale.store import ChunkStore
 
     made = ChunkStore._create
@@ -255,9 +257,9 @@ def test_two_runs_making_one_store_at_once_share_it(
 def test_lost_coordinates_and_markers_folder_are_made_again(
     base: Any, reference: xr.Dataset, tmp_path: Path
 ) -> None:
-    """Regression: a coordinate's deleted chunk read as zeros (load_sweep gave v0 = 0 at every
-    point), a truncated one raised from inside numcodecs, and a deleted markers' folder failed
-    every run with 'No such file or directory'."""
+    """A coordinate's deleted chunk is made again (read as zeros, load_sweep would give v0 = 0 at
+    every point), as is a truncated one (an error from inside numcodecs) and a deleted
+    markers' folder (not 'No such file or directory' on every run)."""
     store = tmp_path / "s.zarr"
     sweep(base, _grid(), progress=False, store=store, block_points=40)
     (store / "v0" / "c" / "0").unlink()
@@ -272,8 +274,9 @@ def test_lost_coordinates_and_markers_folder_are_made_again(
 def test_an_unfinished_store_is_said_and_read_only_when_asked(
     base: Any, reference: xr.Dataset, tmp_path: Path
 ) -> None:
-    """Regression: load_sweep of an interrupted sweep's store raised KeyError: -1 from inside
-    the labels, and the unfilled points read as -1, a real code ('unknown' regime)."""
+    """load_sweep of an interrupted sweep's store says so, and reads it only when asked, the
+    unfilled points marked as such (not KeyError: -1 from inside the labels, nor -1, the code
+    of the 'unknown' regime)."""
     from stickslip.scale import computed_points
 
     store = tmp_path / "s.zarr"
@@ -650,8 +653,9 @@ def test_cli_regime_map_and_chain_ensemble_resume_from_their_stores(tmp_path: Pa
 
 
 def test_a_bad_scheduler_address_is_refused_before_anything_is_made(base: Any, tmp_path: Path) -> None:
-    """Regression: 'nonsense' said "missing port number in address" without naming the
-    argument, and a port outside 1..65535 waited 30 s in silence (after making the store)."""
+    """A bad scheduler address is refused by name before anything is made: 'nonsense' (not only
+    "missing port number in address"), and a port outside 1..65535 (which would wait 30 s in
+    silence, after making the store)."""
     from click.testing import CliRunner
 
     from stickslip.cli import main
@@ -676,8 +680,8 @@ def test_a_bad_scheduler_address_is_refused_before_anything_is_made(base: Any, t
 def test_an_unreachable_scheduler_makes_no_store(
     base: Any, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """Regression (scale audit, helper-36, LOW): a well-formed address where no scheduler answers
-    made an empty store before it failed; it is reached first now, and the job makes nothing."""
+    """A well-formed address where no scheduler answers is reached first, before any store is
+    made: the job fails and leaves nothing behind (no empty store)."""
     from stickslip.scale import backend
 
     monkeypatch.setattr(backend, "CONNECT_TIMEOUT", "2s")
@@ -690,8 +694,10 @@ def test_an_unreachable_scheduler_makes_no_store(
     assert not (tmp_path / "s.zarr").exists()
 
 
-def test_review_of_the_store_fixes(base: Any, reference: xr.Dataset, tmp_path: Path) -> None:
-    """The review of 50704ac: another job's store of another shape is not called damaged;
+def test_stores_of_other_jobs_copies_and_lost_chunks_are_said(
+    base: Any, reference: xr.Dataset, tmp_path: Path
+) -> None:
+    """Another job's store of another shape is not called damaged;
     a store copied without its hidden markers still loads; a lost chunk of a finished store
     is said, not a KeyError; a lost coordinate is said by load_sweep too; a long value's
     difference is shown where it is."""
@@ -744,10 +750,9 @@ def test_an_ensemble_member_is_taken_by_one_run_at_a_time(tmp_path: Path) -> Non
 
 
 def test_a_cluster_without_workers_is_said_not_waited_on(base: Any, tmp_path: Path, monkeypatch: Any) -> None:
-    """Regression (scale audit, helper-36, MEDIUM): a job on a scheduler without workers (or
-    whose workers had all died) waited without a word until it was killed. Now it stops after
-    NO_WORKERS_TIMEOUT seconds with one message that says what to do; the store stays
-    resumable (nothing in it is damaged)."""
+    """A job on a scheduler without workers (or whose workers have all died) stops after
+    NO_WORKERS_TIMEOUT seconds with one message that says what to do, rather than waiting
+    without a word; the store stays resumable (nothing in it is damaged)."""
     import logging
 
     from distributed import LocalCluster
@@ -771,9 +776,9 @@ def test_a_cluster_without_workers_is_said_not_waited_on(base: Any, tmp_path: Pa
 
 @pytest.mark.slow
 def test_a_scheduler_lost_mid_sweep_is_one_error_line(tmp_path: Path) -> None:
-    """Regression (scale audit, helper-36, MEDIUM): SIGKILL of the scheduler mid-sweep ended in
-    81 lines of traceback (FutureCancelledError, scheduler-connection-lost). Now one Error: line
-    that says what was kept and how to go on; the store is resumable."""
+    """SIGKILL of the scheduler mid-sweep gives one Error: line that says what was kept and how
+    to go on, not 81 lines of traceback (FutureCancelledError, scheduler-connection-lost); the
+    store is resumable."""
     import signal
     import subprocess
     import sys

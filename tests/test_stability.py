@@ -5,7 +5,10 @@ import math
 import pytest
 
 from stickslip import CoulombLaw, CubicLaw, DimensionlessParameters, WeakeningLaw, cycle
-from stickslip.bifurcation.stability import averaged_amplitude, hopf_points, steady_sliding_eigenvalues
+from stickslip.orbits.stability import averaged_amplitude, hopf_points, steady_sliding_eigenvalues
+
+# every test here is quick: all in the fast tier (pytest -m fast)
+pytestmark = pytest.mark.fast
 
 
 def test_cubic_law_hopf_is_supercritical() -> None:

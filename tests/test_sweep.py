@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-from reference import cubic_orbit_reference
+from reference.one_block import cubic_orbit_reference
 
 from stickslip import (
     Q_,
@@ -68,7 +68,7 @@ def test_dimensionless_sweep_equals_single_calls() -> None:
     base = DimensionlessParameters(nu=0.01, law=CubicLaw(alpha=0.5, gamma=0.5 / 3))
     ds = sweep(base, {"nu": [0.3, 0.97, 1.2], "gamma": [0.5 / 3]}, progress=False)
     assert list(ds.regime.values[:, 0]) == ["stick-slip", "pure-slip", "steady-sliding"]
-    # CF: units a UDUNITS string, the scale in its own attribute (the sweep audit)
+    # CF conventions: units a UDUNITS string, the scale in its own attribute
     assert ds.amplitude.attrs["units"] == "1"
     assert ds.amplitude.attrs["scale"].startswith("static friction force")
     assert ds.period.attrs["units"] == "1" and ds.period.attrs["scale"] == "sqrt(m/k)"
@@ -93,6 +93,7 @@ def test_a_sweep_at_loose_tolerances_equals_cycle_on_slip_reversal() -> None:
     assert cycle(p, rtol=1e-4, probe=False).amplitude - cycle(p, probe=False).amplitude > 1e-4
 
 
+@pytest.mark.fast
 def test_netcdf_round_trip(tmp_path: Path) -> None:
     ds = sweep(zv_parameters(), {"v0": Q_([5.0, 50.0, 500.0], "um/s")}, progress=False)
     path = tmp_path / "sub" / "sweep.nc"
@@ -103,9 +104,9 @@ def test_netcdf_round_trip(tmp_path: Path) -> None:
 
 
 def test_a_sweep_to_a_csv_path_is_a_table(tmp_path: Path) -> None:
-    """Regression (sweep audit, helper-33): `sweep --out x.csv` wrote a NetCDF file named .csv.
-    A .csv path is a table: one row per point, units in the column names, regimes by name,
-    every number as in the NetCDF file; it is replaced on a rerun as stickslip's own."""
+    """`sweep --out x.csv` writes a table, not a NetCDF file under a .csv name: one row per
+    point, units in the column names, regimes by name, every number as in the NetCDF file; a
+    rerun replaces it as stickslip's own."""
     import pandas as pd
     from click.testing import CliRunner
 
@@ -150,7 +151,7 @@ def test_unfinished_transients_next_to_a_hopf_point_are_resolved() -> None:
     ds = sweep(base, {"nu": [0.99999, 1.00001]}, max_slip_time=300.0, progress=False)
     assert list(ds.status.values) == ["ok", "ok"]
     assert list(ds.regime.values) == ["pure-slip", "steady-sliding"]
-    ref = cubic_orbit_reference(0.99999, 0.5, 0.5 / 3)  # plain SciPy shooting (tests/reference.py)
+    ref = cubic_orbit_reference(0.99999, 0.5, 0.5 / 3)  # plain SciPy shooting (tests/reference/one_block.py)
     assert float(ds.amplitude[0]) == pytest.approx(ref.amplitude, rel=1e-8)
     assert float(ds.multiplier[0]) == pytest.approx(ref.multiplier, rel=1e-6)
     # near the Hopf point the multiplier is exp(2 pi f'(nu)) to first order, f' = -alpha + 3 gamma nu^2
@@ -170,6 +171,7 @@ def test_progress_bar(capsys: pytest.CaptureFixture[str]) -> None:
     assert capsys.readouterr().err == ""
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize(
     ("grid", "message"),
     [

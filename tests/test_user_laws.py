@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
-from reference import coulomb_cycle
+from reference.one_block import coulomb_cycle
 from sympy import sstr as sympy_str
 
 import stickslip as ss
@@ -144,6 +144,7 @@ def test_static_threshold_in_other_units_rescales_the_formula() -> None:
     np.testing.assert_allclose(law.forward(w), 1 / (1 + 3.0 * w), rtol=1e-14)
 
 
+@pytest.mark.fast
 @pytest.mark.parametrize(
     ("text", "params", "message"),
     [
@@ -280,11 +281,10 @@ def test_table_conventions(tmp_path: Path) -> None:
         TabulatedLaw(ss.Q_([0, 1, 2, 3, 4], "um/s"), [0.5, 0.4, 0.4, 0.4, 0.4], interpolation="linear")
 
 
-def test_user_law_audit_regressions(tmp_path: Path) -> None:
-    """Regressions (audit of user laws, helper-26): a table in '[%]' was read as plain numbers
-    (friction 100 times too high); erf, a documented function, was a traceback (the array
-    evaluation fell back to math.erf); a formula with a complex value was a traceback deep in the
-    engine. Now: '[%]' is hundredths, erf evaluates on arrays, a complex formula is refused."""
+def test_percent_tables_erf_and_complex_formulas(tmp_path: Path) -> None:
+    """A table in '[%]' is read as hundredths (as plain numbers, friction would be 100 times too
+    high); erf, a documented function, evaluates on arrays (math.erf takes scalars only); a
+    formula with a complex value is refused when the law is made, not deep in the engine."""
     rows = "0,50\n1,46\n10,40\n30,37\n100,35\n"
     pct = TabulatedLaw.from_csv(_table(tmp_path, rows, "velocity [um/s],friction coefficient [%]"))
     p = tmp_path / "one"
@@ -303,9 +303,8 @@ def test_user_law_audit_regressions(tmp_path: Path) -> None:
 
 
 def test_a_pole_between_the_checked_velocities_is_an_error_not_a_traceback() -> None:
-    """Regression (audit of user laws): a pole at w = 0.7, between the velocities the law is
-    checked at, raised ZeroDivisionError from the compiled engine in `regimes`; it is now
-    found when the law is made, with where it is."""
+    """A pole at w = 0.7, between the velocities the law is checked at, is found when the law is
+    made, with where it is (not a ZeroDivisionError from the compiled engine in `regimes`)."""
     f = "1/(1+3.8*w) + 0.001/(w-0.7) + 0.001/0.7"
     res = CliRunner().invoke(main, ["regimes", "--law", "expr", "--f", f, "--nu-min", "0.1", "--nu-max", "2"])
     assert res.exit_code == 2, res.output
@@ -316,7 +315,7 @@ def test_a_pole_between_the_checked_velocities_is_an_error_not_a_traceback() -> 
 @pytest.mark.parametrize(
     ("formula", "at", "zero"),
     [
-        ("1/(w - 0.5) + 3", 0.5, "w - 0.5"),  # the chain audit's: called a compile failure
+        ("1/(w - 0.5) + 3", 0.5, "w - 0.5"),  # a pole, not a compile failure
         ("0.9/(1+w) + 0.001/(w**2 - w + 0.25)", 0.5, "w**2 - w + 0.25"),  # a double root: no sign change
         ("0.9/(1+w) + 1e-6/((w - 0.5)*(w - 0.51))", 0.5, "w - 0.5"),  # two poles between grid points
         ("0.9/(1+w) + 1e-6/(w - 1e-5)**2", 1e-5, "w - 1.0e-5"),
@@ -324,7 +323,7 @@ def test_a_pole_between_the_checked_velocities_is_an_error_not_a_traceback() -> 
         ("0.9 + 0.001*tan(w)", math.pi / 2, "cos(w)"),
         ("0.5 + 0.001/abs(w - 0.3)", 0.3, "Abs(w - 0.3)"),  # a V, no sign change
         ("0.9/(1+w) + 1e-6/(w - 73.1)**2", 73.1, "w - 73.1"),
-        # the review: a double root next to w = 100 (its minimum's neighbour was past the grid)
+        # a double root next to w = 100 (its minimum's neighbour lies past the grid's end)
         ("0.9/(1+w) + 1e-3/(w**2 - 198*w + 9801)", 99.0, "w**2 - 198*w + 9801"),
         ("0.5 + 1e-3/abs(w - 99.5)", 99.5, "Abs(w - 99.5)"),
         # 1/tan jumps through infinity at pi/2 - 0.1, where 1/tan is 0: its pole is at pi - 0.1
@@ -334,10 +333,9 @@ def test_a_pole_between_the_checked_velocities_is_an_error_not_a_traceback() -> 
 def test_a_pole_anywhere_the_block_can_reach_is_found_when_the_law_is_made(
     formula: str, at: float, zero: str
 ) -> None:
-    """Regression (second chain audit, helper-38, LOW): the law's check looked at 46 velocities,
-    so a pole between two of them was accepted; a run then failed or went wrong far from the
-    cause. Each denominator (tan's cos, log's argument) is now searched for a zero on a grid
-    of 6.5 % steps, its sign changes and the minima of its magnitude refined."""
+    """Each denominator (tan's cos, log's argument) is searched for a zero on a grid of 6.5 %
+    steps, its sign changes and the minima of its magnitude refined: a check at 46 velocities
+    accepts a pole between two of them, and a run then fails or goes wrong far from the cause."""
     with pytest.raises(ValueError, match=r"has a pole at w = ([0-9.e+-]+), where (.*) is zero") as err:
         ExpressionLaw(formula, static=1)
     found = re.search(r"has a pole at w = ([0-9.e+-]+), where (.*) is zero", str(err.value))
@@ -358,7 +356,7 @@ def test_poles_of_a_slope_of_a_physical_law_and_of_one_sweep_point() -> None:
         ExpressionLaw(mu="0.4/(1 + a*v) + 0.001/(1 - v/v0)", a="160 s/m", v0="2 cm/s")
     for ok in (
         "0.9/(1+w) + 1e-3/((w - 0.5)**2 + 1e-8)",  # steep but finite
-        "0.9/(1+w) + 0.01/(1 + 1e16*(w - 0.5)**2)",  # at most 0.01: was refused against its neighbours
+        "0.9/(1+w) + 0.01/(1 + 1e16*(w - 0.5)**2)",  # at most 0.01: a bump, not a pole beside its neighbours
         "0.9/(1+w) + 1e-3/(w - 105)",  # beyond w = 100
         "0.9/(1+w) + 0.01*sqrt(w)",
         "0.9/(1+w) + 0.01*abs(w - 0.5)",
@@ -403,19 +401,19 @@ def _f2_table(rows: int) -> ss.laws.DimensionlessLaw:
 
 
 def test_a_hopf_point_on_a_pchip_row_gets_the_type_of_its_kink() -> None:
-    """Regression (audit of user laws): pchip puts the minimum of a tabulated F2 on a row, where
-    mu'' jumps; the type came from the one-sided mu''' (it depended on which side Brent landed)
-    and contradicted the branch (a 'subcritical' point starting a stable branch).
+    """pchip puts the minimum of a tabulated F2 on a row, where mu'' jumps: the Hopf point's type
+    comes from the kink, not the one-sided mu''' (which depends on which side Brent lands, and
+    can contradict the branch: a 'subcritical' point starting a stable branch).
 
     At a kink of f'' first-order averaging gives a' = -(a/2) f'(nu) - (J/(3 pi)) a^2 with J the
     jump: J > 0 is supercritical. Checked against the branch's stability, and the amplitude of
-    the small cycle against plain SciPy shooting (tests/reference.py) and the averaged equation
-    solved with the kink at its place."""
-    from reference import pure_slip_orbit_reference
+    the small cycle against plain SciPy shooting (tests/reference/one_block.py) and the averaged
+    equation solved with the kink at its place."""
+    from reference.one_block import pure_slip_orbit_reference
     from scipy.optimize import brentq
 
     from stickslip.bifurcation.regimes import regimes
-    from stickslip.bifurcation.stability import hopf_points
+    from stickslip.orbits.stability import hopf_points
 
     for rows, kind in ((256, "supercritical"), (512, "subcritical")):
         law = _f2_table(rows)
@@ -456,13 +454,12 @@ def test_a_hopf_point_on_a_pchip_row_gets_the_type_of_its_kink() -> None:
     assert ref.multiplier < 1.0
 
 
-def test_two_hopf_points_closer_than_the_old_grid_are_found() -> None:
-    """Regression (audit of user laws): a weakening band 3.1e-4 wide at w = 1 fell between two
-    points of the 4000-point grid that brackets the Hopf points: steady sliding everywhere,
-    though f'(1) = -2.5. The grid now has 20000 points per decade; the roots are exact,
-    1 +- 1e-4 acosh(sqrt(6)), and the band is not steady sliding."""
+def test_two_hopf_points_3e_4_apart_are_found() -> None:
+    """A weakening band 3.1e-4 wide at w = 1 (f'(1) = -2.5) falls between two points of a
+    4000-point grid over the range: the grid that brackets the Hopf points has 20000 points per
+    decade. The roots are exact, 1 +- 1e-4 acosh(sqrt(6)), and the band is not steady sliding."""
     from stickslip.bifurcation.regimes import regimes
-    from stickslip.bifurcation.stability import hopf_points
+    from stickslip.orbits.stability import hopf_points
 
     law = ExpressionLaw("0.9 + 0.5*w - 0.0003*tanh((w-1)/0.0001)", static=1)
     hs = hopf_points(law, 1e-6, 1e3)
@@ -481,7 +478,7 @@ def test_a_dip_of_f_prime_narrower_than_the_grid_gives_its_two_hopf_points() -> 
     from scipy.optimize import brentq
 
     from stickslip.bifurcation.regimes import regimes
-    from stickslip.bifurcation.stability import hopf_points
+    from stickslip.orbits.stability import hopf_points
 
     law = ExpressionLaw("0.9 + 0.5*w - 0.00003*tanh((w-1)/0.00001)", static=1)
     off = 1e-5 * math.acosh(math.sqrt(6.0))
@@ -502,11 +499,10 @@ def test_a_dip_of_f_prime_narrower_than_the_grid_gives_its_two_hopf_points() -> 
 
 
 def test_a_table_that_ends_falling_names_its_zero_crossing(tmp_path: Path) -> None:
-    """Regression (audit of user laws): a table ending while friction still falls extrapolates
-    to zero friction (here at v = 2.231 mm/s); `cycle` said only 'the friction law is singular or
-    not finite', and `regimes` printed unknown intervals with no word. Both now name the
-    table's end and where its tangent reaches zero, and `regimes` warns when motions go beyond
-    the last row."""
+    """A table ending while friction still falls extrapolates to zero friction (here at v =
+    2.231 mm/s): `cycle` and `regimes` name the table's end and where its tangent reaches zero
+    (not only 'the friction law is singular or not finite', nor unknown intervals without a
+    word), and `regimes` warns when motions go beyond the last row."""
     f2 = ss.WeakeningLaw(c=3.8, p=0.5)
     w = np.concatenate([[0.0], np.geomspace(1e-3, 0.3, 40)])
     mu = 0.46 * np.asarray(f2.forward(w), dtype=float)
@@ -522,7 +518,7 @@ def test_a_table_that_ends_falling_names_its_zero_crossing(tmp_path: Path) -> No
     slope = float(PchipInterpolator(w, mu)(0.3, 1))  # per mm/s: SciPy's pchip on the rows
     zero = 0.3 - mu[-1] / slope  # mm/s
     assert law.zero_velocity() * 1e3 == pytest.approx(zero, rel=1e-12)
-    # said with the law too, not only when a motion fails there (the second chain audit)
+    # said with the law too, not only when a motion fails there
     assert f"the last row's tangent reaches zero friction at {zero:.4g} mm/s" in law.describe()
     setup = ["--law", "table", "--table", str(path), "--beta", "1000 s/m", "--stiffness", "62 N/m"]
     setup += ["--load", "196 mN"]
@@ -537,11 +533,10 @@ def test_a_table_that_ends_falling_names_its_zero_crossing(tmp_path: Path) -> No
     assert res.exit_code == 0 and "beyond the table's last row (300 um/s)" in res.output
 
 
-def test_user_law_audit_small_things() -> None:
-    """Regressions (audit of user laws, LOW): a repeated --param kept the last value silently;
-    sin(w)/w was refused as 'not finite' without saying it is 0/0 with a finite limit; a table's
-    bad mu did not name the argument; a constant law equal to the static threshold gave an
-    unknown diagram with no word."""
+def test_user_law_input_is_refused_or_warned_in_words() -> None:
+    """A repeated --param is refused (not the last value kept silently); sin(w)/w is refused as
+    0/0 with its finite limit named; a table's bad mu names the argument; a constant law equal
+    to the static threshold is warned about, its diagram neutrally stable."""
     runner = CliRunner()
     law = ["--law", "expr", "--f", "1/(1+c*w)"]
     res = runner.invoke(main, ["cycle", *law, "--param", "c=1", "--param", "c=2"])
@@ -565,9 +560,9 @@ def test_user_law_audit_small_things() -> None:
 
 
 def test_a_flat_stretch_of_a_table_is_named(tmp_path: Path) -> None:
-    """Regression (audit of user laws, LOW): equal rows make pchip flat (f' = 0 on a whole
-    interval); the stability change of steady sliding showed only as an attractor boundary.
-    regimes now names the stretch, its ends bisected to the rows (0.6 and 1.5 mm/s here)."""
+    """Equal rows make pchip flat (f' = 0 on a whole interval), where steady sliding's stability
+    changes: regimes names the stretch, its ends bisected to the rows (0.6 and 1.5 mm/s here),
+    rather than showing it only as an attractor boundary."""
     from stickslip.bifurcation.regimes import regimes
 
     rows = "0,0.5\n0.1,0.45\n0.3,0.40\n0.6,0.38\n1,0.38\n1.5,0.38\n2,0.39\n4,0.42\n8,0.5\n"
@@ -580,11 +575,11 @@ def test_a_flat_stretch_of_a_table_is_named(tmp_path: Path) -> None:
 
 
 def test_a_smoothing_table_passes_through_its_first_row() -> None:
-    """Regression (sweep audit, helper-33): a smoothing spline need not pass through the v = 0
-    row, and on a noisy table it put friction just after breakaway 0.02 % (0.22 % in the audit's
-    table) above the static level: the block moved backward at breakaway, status ok, unsaid;
-    below it, an unasked drop at the onset. The first row is now pinned (weight 1e8, then the
-    remaining 1e-10 shifted out), and an interpolant above the static level is refused."""
+    """A smoothing spline need not pass through the v = 0 row: on a noisy table it puts friction
+    just after breakaway 0.02 % (0.22 % on a noisier one) above the static level, where the
+    block moves backward at breakaway, status ok; below it, an unasked drop at the onset. The
+    first row is pinned (weight 1e8, then the remaining 1e-10 shifted out), and an interpolant
+    above the static level is refused."""
     from scipy.interpolate import make_smoothing_spline
 
     w = np.linspace(0.0, 3.0, 31)
@@ -620,11 +615,11 @@ def test_a_continuation_that_sympy_cannot_take_stops_where_it_can() -> None:
 
 
 def test_a_negative_dip_between_probe_points_is_warned_with_its_minimum() -> None:
-    """The regimes audit (MEDIUM): docs/laws.md promises a warning where a formula's friction turns
-    negative, but 1 - 2.9 w + 2 w**2 (negative on 0.565 < w < 0.885 only) fell between the 45 probe
-    points, and 1 - 2 w + w**3 warned as the built-in cubic law does but the formula did not. The
-    minimum is exact: 1 - 2.9**2/8 at w = 2.9/4; mu's own for the physical form, said in m/s. The
-    warning names the user's line (it named expression.py)."""
+    """docs/laws.md promises a warning where a formula's friction turns negative: also for
+    1 - 2.9 w + 2 w**2 (negative on 0.565 < w < 0.885 only, between 45 probe points), and for
+    1 - 2 w + w**3 as for the built-in cubic law. The minimum is exact: 1 - 2.9**2/8 at
+    w = 2.9/4; mu's own for the physical form, said in m/s. The warning names the user's line,
+    not expression.py."""
     with pytest.warns(UserWarning, match=r"turns negative \(minimum -0.0513 at w = 0.725\)") as got:
         ExpressionLaw("1 - 2.9*w + 2*w**2")
     assert got[0].filename == __file__
@@ -644,8 +639,8 @@ def test_a_negative_dip_between_probe_points_is_warned_with_its_minimum() -> Non
 
 
 def test_e_and_pi_are_constants_and_a_parameter_of_that_name_is_refused() -> None:
-    """The regimes audit (MEDIUM): 'e' in a formula was Euler's number without a word, and
-    --param e=75 then said only that the formula had no parameter 'e'."""
+    """'e' and 'pi' in a formula are the constants, and the error for a parameter named 'e'
+    (--param e=75) says so, not only that the formula has no parameter 'e'."""
     law = ExpressionLaw("1/(1 + 3.8*w) + 0.1*e*w")
     assert float(law.forward(1.0)) == pytest.approx(1 / 4.8 + 0.1 * math.e, rel=1e-14)
     assert float(ExpressionLaw("1/(1 + pi*w)").forward(1.0)) == pytest.approx(1 / (1 + math.pi), rel=1e-14)

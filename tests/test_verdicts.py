@@ -8,7 +8,7 @@ import pytest
 from click.testing import CliRunner
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from reference import cubic_orbit_reference
+from reference.one_block import cubic_orbit_reference
 
 from stickslip import CubicLaw, DimensionlessParameters, WeakeningLaw, cycle
 from stickslip.bifurcation.regimes import confirm, regimes
@@ -20,8 +20,9 @@ from stickslip.dynamics.sweep import sweep
 
 @pytest.mark.parametrize(("alpha", "gamma"), [(0.03, 0.5), (0.04, 0.2), (0.05, 1.0)])
 def test_one_pure_slip_interval_up_to_the_hopf_point(alpha: float, gamma: float) -> None:
-    """Regression: an engine-found pure-slip attractor matched to a linearly interpolated branch
-    with a fixed tolerance counted one orbit twice ('bistable', ['pure-slip', 'pure-slip'])."""
+    """One pure-slip orbit is counted once: an engine-found attractor matched to a linearly
+    interpolated branch with a fixed tolerance can count it twice ('bistable', ['pure-slip',
+    'pure-slip'])."""
     res = CliRunner().invoke(
         main,
         [
@@ -102,15 +103,15 @@ CUBIC = CubicLaw(alpha=0.5, gamma=0.5 / 3)  # supercritical Hopf at nu = 1
 
 
 def scipy_shooting(nu: float, alpha: float, gamma: float) -> tuple[float, float]:
-    """Pure-slip orbit of the cubic law by plain SciPy (tests/reference.py): amplitude and period."""
+    """The cubic law's pure-slip orbit by plain SciPy (reference/one_block.py): amplitude, period."""
     ref = cubic_orbit_reference(nu, alpha, gamma)
     return ref.amplitude, ref.period
 
 
 @pytest.mark.parametrize("fraction", [0.98, 0.995, 0.999])
 def test_cycle_near_a_supercritical_hopf_point_is_the_periodic_orbit(fraction: float) -> None:
-    """Regression: the transient stopped while the Floquet multiplier (0.994 at 0.999 nu_H) still
-    carried it, 6e-7 off the orbit with status 'ok'. Now polished by shooting: within 1e-8."""
+    """Near the Hopf point the cycle is polished by shooting, within 1e-8: the transient, which
+    the Floquet multiplier (0.994 at 0.999 nu_H) still carries, stops 6e-7 off the orbit."""
     nu = fraction * 1.0
     amp, period = scipy_shooting(nu, CUBIC.alpha, CUBIC.gamma)
     r = cycle(DimensionlessParameters(nu=nu, law=CUBIC))
@@ -164,9 +165,9 @@ def test_too_close_to_the_hopf_point_is_not_converged_not_wrong() -> None:
 
 
 def test_three_attractors_are_multistable_not_bistable() -> None:
-    """Regression (usability audit): an interval of a table law with steady sliding, a pure-slip
-    orbit and stick-slip was labelled 'bistable' (two). Each count has its own name now, and
-    the regime maps code it (6) and colour it."""
+    """An interval with three attractors (a table law's steady sliding, pure-slip orbit and
+    stick-slip) is 'multistable', not 'bistable' (two): each count has its own name, and the
+    regime maps code it (6) and colour it."""
     from stickslip.bifurcation.regime_map import REGIME_CODES
     from stickslip.bifurcation.regimes import interval_regime
     from stickslip.core.results import Regime
@@ -186,8 +187,8 @@ def test_three_attractors_are_multistable_not_bistable() -> None:
 
 
 def test_the_bifurcation_legend_names_each_kind_once() -> None:
-    """Regression (usability audit): a law with two Hopf points has two pure-slip branches, and
-    the legend said 'pure-slip' twice (and would say it once a branch, more with more)."""
+    """A law with two Hopf points has two pure-slip branches: the legend names 'pure-slip' once,
+    not once a branch."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -204,8 +205,8 @@ def test_the_bifurcation_legend_names_each_kind_once() -> None:
     labels = [t.get_text() for t in legend.get_texts()]
     assert len(labels) == len(set(labels)), labels
     assert "pure-slip" in labels and "regime: pure-slip" in labels
-    # (regime audit, helper-32) a branch's entry took the style of its first piece: steady
-    # sliding read dashed where it is stable; the entries are solid and the styles said once
+    # a branch's entry is solid and the styles are said once: an entry in the style of its
+    # first piece would show steady sliding dashed where it is stable
     styles = dict(zip(labels, (h.get_linestyle() for h in legend.legend_handles), strict=True))
     assert styles["steady-sliding"] == "-" and styles["pure-slip"] == "-"
     assert styles["stable"] == "-" and styles["unstable"] == "--"
@@ -219,15 +220,14 @@ def test_the_bifurcation_legend_names_each_kind_once() -> None:
 
 
 def test_a_stable_orbit_that_a_tables_noise_keeps_from_1e10_is_still_an_attractor() -> None:
-    """Regression (sweep audit, helper-36, HIGH): the weakening law sampled as a 41-row pchip
-    table. Its small stable pure-slip orbits (multiplier 0.97 to 0.998) could not be shot to
-    1e-10 (the flow is good to 1e-10 to 1e-8 across the rows, and 1 / (1 - multiplier)
-    multiplies that), so they were dropped: `cycle` at nu = 0.674 found two attractors and one
-    ulp either side one; `regimes` said stick-slip alone below the Hopf point (and `--check`
-    confirmed it). Now shot again at the noise floor, they are kept; their multipliers agree
-    with plain SciPy shooting and with the audit's independent reference (0.971187)."""
+    """The weakening law sampled as a 41-row pchip table: its small stable pure-slip orbits
+    (multiplier 0.97 to 0.998) cannot be shot to 1e-10 (the flow is good to 1e-10 to 1e-8
+    across the rows, and 1 / (1 - multiplier) multiplies that). Shot again at the noise floor,
+    they are kept as attractors: `cycle` finds two attractors at nu = 0.674 and one ulp either
+    side, and `regimes` finds them below the Hopf point (with `--check`). Their multipliers
+    agree with plain SciPy shooting (0.971187 at nu = 0.674)."""
     import numpy as np
-    from reference import pure_slip_orbit_reference
+    from reference.one_block import pure_slip_orbit_reference
 
     from stickslip import TabulatedLaw
     from stickslip.units import Q_
@@ -258,17 +258,17 @@ def test_a_stable_orbit_that_a_tables_noise_keeps_from_1e10_is_still_an_attracto
 
 
 def test_an_orbit_kept_at_a_tables_noise_floor_says_how_well_it_is_known() -> None:
-    """An orbit shot again at the noise floor (the test above) was reported ok with every digit,
-    though known to a few 1e-8..1e-5 only (carried since the sweep audit). `cycle` now warns,
-    with the estimate: the SciPy reference's amplitude lies within three times it. An orbit
-    pinned to 1e-8 (nu = 0.674, multiplier 0.97) says nothing."""
+    """An orbit shot again at the noise floor (the test above) is known to a few 1e-8..1e-5 only,
+    not to every digit: `cycle` warns, with the estimate, and the SciPy reference's amplitude
+    lies within three times it. An orbit pinned to 1e-8 (nu = 0.674, multiplier 0.97) says
+    nothing."""
     import re
 
     import numpy as np
-    from reference import pure_slip_orbit_reference
+    from reference.one_block import pure_slip_orbit_reference
 
     from stickslip import TabulatedLaw
-    from stickslip.dynamics.attractors import NoisyOrbitWarning
+    from stickslip.orbits.attractors import NoisyOrbitWarning
     from stickslip.units import Q_
 
     v = np.r_[0.0, np.geomspace(10.0, 2e5, 40)]

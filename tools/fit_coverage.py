@@ -1,4 +1,4 @@
-"""Coverage of `stickslip fit` on records from the independent SciPy generator (tests/reference.py).
+"""Coverage of `stickslip fit` on records from the independent SciPy generator (tests/reference/one_block.py).
 
 Usage: python tools/fit_coverage.py FIRST_SEED LAST_SEED [RATE_HZ [NOISE_N]]
 
@@ -18,7 +18,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from reference import reference_record
+from reference.one_block import reference_record
 
 import stickslip as S
 from stickslip.data.fitting import fit_record

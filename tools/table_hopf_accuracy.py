@@ -13,8 +13,8 @@ import warnings
 import numpy as np
 
 import stickslip as ss
-from stickslip.bifurcation.stability import hopf_points
 from stickslip.laws.table import TabulatedLaw
+from stickslip.orbits.stability import hopf_points
 
 
 def main() -> None:

@@ -12,7 +12,7 @@ import os
 import sys
 import warnings
 
-__all__ = ["warn"]
+__all__ = ["moved", "warn"]
 
 _PACKAGE = os.path.dirname(os.path.abspath(__file__)) + os.sep
 
@@ -30,7 +30,28 @@ def warn(message: str | Warning, category: type[Warning] = UserWarning) -> None:
     """
     level = 2  # stacklevel 2 is this function's caller
     frame = sys._getframe(1)
-    while frame is not None and os.path.abspath(frame.f_code.co_filename).startswith(_PACKAGE):
+    while frame is not None and _inside(frame.f_code.co_filename):
+        if not _importing(frame.f_code.co_filename):  # warnings skips the import system's own frames
+            level += 1
         frame = frame.f_back  # type: ignore[assignment]
-        level += 1
     warnings.warn(message, category, stacklevel=level)
+
+
+def _importing(filename: str) -> bool:
+    """Whether a frame is the import system's (``<frozen importlib._bootstrap>``)."""
+    return filename.startswith("<frozen importlib")
+
+
+def _inside(filename: str) -> bool:
+    """Whether a frame is stickslip's own or the import system's: not the user's."""
+    return _importing(filename) or os.path.abspath(filename).startswith(_PACKAGE)
+
+
+def moved(old: str, new: str) -> None:
+    """Warn that the module ``old`` is now ``new``: a :class:`DeprecationWarning` at the user's import.
+
+    A module that moved keeps its old path as a shim for one release; the warning
+    names both paths, so the import line can be changed before the shim goes.
+    """
+    text = f"{old} is now {new}: import it from there (the old path goes in the next release)"
+    warn(text, DeprecationWarning)

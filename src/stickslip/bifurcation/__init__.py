@@ -10,6 +10,44 @@ criterion on trial) and :mod:`~stickslip.bifurcation.averaging` (Thomsen and Fid
 closed forms). Steady sliding's stability, the periodic orbits and the polish of
 attractors are one layer down, in :mod:`stickslip.orbits`, shared with
 :mod:`stickslip.dynamics`, which sits beside this package and imports nothing of it
-(:mod:`~stickslip.bifurcation.stability` and :mod:`~stickslip.bifurcation.orbits` name
+(:mod:`~stickslip.bifurcation.stability` and :mod:`~stickslip.bifurcation.orbits`, deprecated, name
 them here too).
 """
+
+from typing import TYPE_CHECKING, Any
+
+from ..lazy import load_attribute
+
+if TYPE_CHECKING:  # loaded on first use by __getattr__
+    from .branches import Branch, Interval, SpecialPoint
+    from .regimes import RegimeDiagram, confirm
+
+# the functions regimes and regime_map are stickslip.regimes and stickslip.regime_map: here
+# those names are their modules' (importing a submodule sets the package's attribute)
+_HOME = {
+    "RegimeDiagram": "regimes",
+    "confirm": "regimes",
+    "Branch": "branches",
+    "Interval": "branches",
+    "SpecialPoint": "branches",
+}
+
+
+def __getattr__(name: str) -> Any:
+    """Load an exported name on first use (PEP 562): importing the package stays quick."""
+    value = load_attribute(__name__, name, _HOME, ())
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_HOME})
+
+
+__all__ = [
+    "Branch",
+    "Interval",
+    "RegimeDiagram",
+    "SpecialPoint",
+    "confirm",
+]

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from .block_api import (
     BYTES_PER_ROW,
+    MAX_PHASES,
     MAX_TIME,
     FloatArray,
     Trajectories,
@@ -37,6 +38,7 @@ from .kernel import (
 __all__ = [
     "BATCH",
     "BYTES_PER_ROW",
+    "MAX_PHASES",
     "MAX_TIME",
     "SERIAL_ROWS",
     "ChainState",

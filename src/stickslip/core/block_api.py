@@ -26,6 +26,7 @@ from .results import AttractorRows, FlowResult, ReturnMapRows, ShootingRows, Sta
 
 __all__ = [
     "BYTES_PER_ROW",
+    "MAX_PHASES",
     "MAX_TIME",
     "Trajectories",
     "TrajectoryResult",
@@ -37,6 +38,9 @@ __all__ = [
 ]
 
 FloatArray = npt.NDArray[np.float64]
+
+#: the most stick and slip phases one trajectory holds (the engine's bound)
+MAX_PHASES = engine.MAX_PHASES
 
 
 class TrajectoryResult(NamedTuple):

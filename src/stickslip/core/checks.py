@@ -24,6 +24,7 @@ __all__ = [
     "NU_MIN",
     "bound_words",
     "driving_velocity",
+    "finite",
     "finite_array",
     "integer",
     "nu_outside",
@@ -53,6 +54,25 @@ def _real(name: str, value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise ArgumentTypeError(f"{name}={value!r} (type {type(value).__name__}): expected a real number")
     return float(value)
+
+
+def finite(name: str, value: Any, *, what: str = "a finite number", text: bool = False) -> float:
+    """Return ``value`` as a float after checking that it is a real number and finite (of any sign).
+
+    With ``text``, a string of a number (``"0.1"``, as a grid's values come from a command
+    line) is read too. A value that is not a number raises ``ArgumentTypeError`` ("expected a
+    number"); NaN or an infinity raises ``ValueError`` ("expected ``what``").
+    """
+    if text and isinstance(value, str):
+        try:
+            x = float(value)
+        except ValueError:
+            raise ArgumentTypeError(f"{name}={value!r}: expected a number") from None
+    else:
+        x = _real(name, value)
+    if not math.isfinite(x):
+        raise ValueError(f"{name}={value!r}: expected {what}")
+    return x
 
 
 def refusal(x: float, *, allow_zero: bool = False) -> str | None:

@@ -12,3 +12,48 @@ model as a function of the fit's coordinates) and :mod:`~stickslip.data.fit_solv
 least-squares machinery); :mod:`~stickslip.data.model_plane` (a model's regimes on the
 measured plane) and :mod:`~stickslip.data.examples` (the README's example inputs).
 """
+
+from typing import TYPE_CHECKING, Any
+
+from ..lazy import load_attribute
+
+if TYPE_CHECKING:  # loaded on first use by __getattr__
+    from .criterion import CriterionResult, classify
+    from .fitting import FitResult, fit_record
+    from .motion import measure_motion
+    from .records import analyze_records, measure_record
+    from .synthetic import synthetic_record
+
+_HOME = {
+    "analyze_records": "records",
+    "measure_record": "records",
+    "CriterionResult": "criterion",
+    "classify": "criterion",
+    "FitResult": "fitting",
+    "fit_record": "fitting",
+    "measure_motion": "motion",
+    "synthetic_record": "synthetic",
+}
+
+
+def __getattr__(name: str) -> Any:
+    """Load an exported name on first use (PEP 562): importing the package stays quick."""
+    value = load_attribute(__name__, name, _HOME, ())
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_HOME})
+
+
+__all__ = [
+    "CriterionResult",
+    "FitResult",
+    "analyze_records",
+    "classify",
+    "fit_record",
+    "measure_motion",
+    "measure_record",
+    "synthetic_record",
+]

@@ -6,11 +6,27 @@ probes, polished into periodic orbits), :mod:`~stickslip.dynamics.trajectory`
 parameter sets, streamed in chunks). The polish of attractors and the return map
 are one layer down, in :mod:`stickslip.orbits`, shared with :mod:`stickslip.bifurcation`,
 which sits beside this package and imports nothing of it
-(:mod:`~stickslip.dynamics.attractors` and :mod:`~stickslip.dynamics.return_map` name
+(:mod:`~stickslip.dynamics.attractors` and :mod:`~stickslip.dynamics.return_map`, deprecated, name
 them here too).
 """
 
+from typing import TYPE_CHECKING, Any
+
+from ..lazy import load_attribute
 from .cycle import Attractor, CycleResult, cycle
 from .trajectory import Trajectory, simulate
 
-__all__ = ["Attractor", "CycleResult", "Trajectory", "cycle", "simulate"]
+if TYPE_CHECKING:  # loaded on first use (xarray) by __getattr__
+    from .sweep import load_sweep
+
+# the function sweep is stickslip.sweep: here the name is its module's (importing a
+# submodule sets the package's attribute of that name)
+_HOME = {"load_sweep": "sweep"}
+
+
+def __getattr__(name: str) -> Any:
+    """Load :func:`~.sweep.load_sweep` on first use (PEP 562)."""
+    return load_attribute(__name__, name, _HOME, ())
+
+
+__all__ = ["Attractor", "CycleResult", "Trajectory", "cycle", "load_sweep", "simulate"]

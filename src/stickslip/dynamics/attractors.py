@@ -10,5 +10,8 @@ import sys
 from ..orbits import attractors as _attractors
 from ..orbits.attractors import *  # noqa: F403
 from ..orbits.attractors import __all__ as __all__
+from ..userwarnings import moved
 
 sys.modules[__name__] = _attractors
+
+moved("stickslip.dynamics.attractors", "stickslip.orbits.attractors")

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
-import math
 import os
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -32,7 +31,7 @@ import xarray as xr
 
 from .. import defaults
 from ..core.api import Kernel, run_attractors
-from ..core.checks import NU_MAX, NU_MIN, nu_outside
+from ..core.checks import NU_MAX, NU_MIN, finite, nu_outside
 from ..core.cuda import release_buffers, release_idle_buffers, resolve_backend
 from ..core.laws import N_LAW_PARAMS
 from ..core.memory import check_memory
@@ -144,7 +143,7 @@ def _grid_values(p: Parameter, name: str, values: Any) -> tuple[FloatArray, Floa
         items: list[Any] = [values[i] for i in range(len(values.magnitude))]
     else:
         size = len(values) if hasattr(values, "__len__") else None
-        if size is not None:  # range(10**12) was a MemoryError making its list
+        if size is not None:  # range(10**12) refused before its list fills the memory
             check_memory(64.0 * size, f"{name}: {size} values", "a coarser grid, or blocks of it")
         try:
             items = list(values)
@@ -175,13 +174,7 @@ def _number(name: str, v: Any) -> float:
         if not v.dimensionless:
             raise ValueError(f"{name}={v!r}: expected a dimensionless number")
         v = v.to("").magnitude
-    try:
-        x = float(v)
-    except (TypeError, ValueError):
-        raise ArgumentTypeError(f"{name}={v!r}: expected a number") from None
-    if not math.isfinite(x):
-        raise ValueError(f"{name}={x!r}: expected a finite number")
-    return x
+    return finite(name, v, text=True)
 
 
 def sweep(

@@ -13,8 +13,7 @@ import numpy.typing as npt
 import pint
 
 from .. import defaults
-from ..core.api import MAX_TIME, run_attractors, run_trajectory
-from ..core.engine import MAX_PHASES
+from ..core.api import MAX_PHASES, MAX_TIME, run_attractors, run_trajectory
 from ..core.memory import check_memory
 from ..core.results import EventKind, Regime, Status
 from ..errors import ArgumentTypeError

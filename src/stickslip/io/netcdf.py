@@ -24,7 +24,6 @@ import numpy.typing as npt
 from ..errors import ArgumentTypeError
 from . import output
 from .output import OutputFolder, _remove, emit, generator
-from .tables import frame_with_units
 
 __all__ = ["flag_attrs", "labels", "load_dataset", "netcdf_writer", "save_dataset"]
 
@@ -48,6 +47,8 @@ def save_dataset(
     """
     p = os.fspath(path)
     if p.lower().endswith(".csv"):
+        from .tables import frame_with_units  # pandas and pint, loaded only for a table
+
         table = frame_with_units(ds)
 
         def write(target: str) -> None:

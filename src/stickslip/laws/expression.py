@@ -32,6 +32,7 @@ import numpy.typing as npt
 import pint
 import sympy as sp
 
+from ..core.checks import finite
 from ..errors import ArgumentTypeError
 from ..units import Q_, check_number, parse_quantity, ureg
 from ..userwarnings import warn
@@ -687,9 +688,7 @@ def _number(name: str, x: Any) -> float:
         raise ArgumentTypeError(
             f"{name}={x!r}: expected a finite number (or, in the physical form, a quantity)"
         )
-    if not math.isfinite(float(x)):
-        raise ValueError(f"{name}={x!r}: expected a finite number")
-    return float(x)
+    return finite(name, x)
 
 
 def _static_from(expr: sp.Expr, names: list[str]) -> Any:

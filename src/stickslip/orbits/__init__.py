@@ -12,3 +12,46 @@ The layer under both :mod:`stickslip.dynamics` (the motion from given starts, sw
 * :mod:`~stickslip.orbits.attractors`: what identifies an attractor (its kind and orbit),
   and the polish of the engine's rows into periodic orbits.
 """
+
+from typing import TYPE_CHECKING, Any
+
+from ..lazy import load_attribute
+
+if TYPE_CHECKING:  # loaded on first use by __getattr__
+    from .attractors import polish_rows
+    from .periodic import PeriodicOrbit, StickSlipOrbit, pure_slip_orbit, stick_slip_orbit
+    from .stability import Hopf, hopf_points, steady_sliding_eigenvalues
+
+_HOME = {
+    "PeriodicOrbit": "periodic",
+    "StickSlipOrbit": "periodic",
+    "pure_slip_orbit": "periodic",
+    "stick_slip_orbit": "periodic",
+    "Hopf": "stability",
+    "hopf_points": "stability",
+    "steady_sliding_eigenvalues": "stability",
+    "polish_rows": "attractors",
+}
+
+
+def __getattr__(name: str) -> Any:
+    """Load an exported name on first use (PEP 562): importing the package stays quick."""
+    value = load_attribute(__name__, name, _HOME, ())
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_HOME})
+
+
+__all__ = [
+    "Hopf",
+    "PeriodicOrbit",
+    "StickSlipOrbit",
+    "hopf_points",
+    "polish_rows",
+    "pure_slip_orbit",
+    "steady_sliding_eigenvalues",
+    "stick_slip_orbit",
+]

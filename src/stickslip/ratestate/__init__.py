@@ -10,3 +10,49 @@ laboratory records), :mod:`~stickslip.ratestate.cycles` (earthquake cycles on a
 spring-slider), :mod:`~stickslip.ratestate.statelaw` (a state law from a formula) and
 :mod:`~stickslip.ratestate.dulac` (the paper's appendix, derived with sympy).
 """
+
+from typing import TYPE_CHECKING, Any
+
+from ..lazy import load_attribute
+
+if TYPE_CHECKING:  # loaded on first use by __getattr__
+    from .cycles import SpringSliderFault, earthquake_cycles
+    from .fitting import RateStateFit, fit_rate_state
+    from .model import RateStateParameters
+    from .protocols import linear_stability, simulate_rate_state, slide_hold_slide, velocity_steps
+
+_HOME = {
+    "RateStateParameters": "model",
+    "linear_stability": "protocols",
+    "simulate_rate_state": "protocols",
+    "slide_hold_slide": "protocols",
+    "velocity_steps": "protocols",
+    "RateStateFit": "fitting",
+    "fit_rate_state": "fitting",
+    "SpringSliderFault": "cycles",
+    "earthquake_cycles": "cycles",
+}
+
+
+def __getattr__(name: str) -> Any:
+    """Load an exported name on first use (PEP 562): importing the package stays quick."""
+    value = load_attribute(__name__, name, _HOME, ())
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_HOME})
+
+
+__all__ = [
+    "RateStateFit",
+    "RateStateParameters",
+    "SpringSliderFault",
+    "earthquake_cycles",
+    "fit_rate_state",
+    "linear_stability",
+    "simulate_rate_state",
+    "slide_hold_slide",
+    "velocity_steps",
+]

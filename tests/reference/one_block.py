@@ -131,6 +131,41 @@ def reference_cycle(
     raise RuntimeError("reference: no stick after 100 phases")
 
 
+def slip_stops(law: str, params: dict[str, float], nu: float, t_end: float = 50.0) -> bool:
+    """Whether the slip phase from breakaway ``(s, w) = (1, 0)`` comes back to rest (``w = 0``).
+
+    Breakaway is where the velocity has its minimum, 0 (``w' = 1 - f(0) = 0``): within its first
+    turn the flow either crosses ``w = 0`` (a stop: the stick-slip cycle exists) or turns
+    above it, inside the unstable pure-slip orbit of a subcritical Hopf point, and spirals into
+    steady sliding, never stopping (``t_end`` is several turns).
+    """
+
+    def rhs(_t: float, y: np.ndarray) -> list[float]:
+        return [nu - y[1], y[0] - forward_branch(law, params, y[1])]
+
+    def stop(_t: float, y: np.ndarray) -> float:
+        return y[1]
+
+    stop.terminal = True  # type: ignore[attr-defined]
+    stop.direction = -1  # type: ignore[attr-defined]
+    sol = solve_ivp(rhs, (0.0, t_end), [1.0, 0.0], method="DOP853", rtol=1e-12, atol=1e-14, events=[stop])
+    return sol.status == 1
+
+
+def stick_slip_border(law: str, params: dict[str, float], lo: float, hi: float, tol: float = 1e-8) -> float:
+    """The driving velocity where the stick-slip cycle ends: bisection on :func:`slip_stops`.
+
+    The slip phase stops at ``lo`` and not at ``hi``; at the border the unstable pure-slip
+    orbit passes through breakaway. Returned to ``tol``.
+    """
+    if not slip_stops(law, params, lo) or slip_stops(law, params, hi):
+        raise ValueError(f"reference: the border is not bracketed by nu = {lo}, {hi}")
+    while hi - lo > tol:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if slip_stops(law, params, mid) else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
 @dataclass
 class RefOrbit:
     amplitude: float
