@@ -41,8 +41,8 @@ def noise_level(y: npt.NDArray[np.float64]) -> float:
         # the residual from a smooth signal at 0.01 step per sample); the rounding error itself,
         # uniform over a step, is at least step / sqrt(12)
         # the signal's turns are left out by clipping at 4 of the kept ones' deviations until
-        # none is left (the largest 1% alone kept a fast record's drops: 1.98 mN for 0.41 at
-        # 136 samples a cycle, the measured-data audit); white noise loses 6e-5 of its samples
+        # none is left (leaving out the largest 1% alone keeps a fast record's drops: 1.98 mN
+        # for 0.41 at 136 samples a cycle); white noise loses 6e-5 of its samples
         kept = d
         for _ in range(50):
             within = kept[np.abs(kept) <= 4.0 * math.sqrt(float(np.mean(kept**2)))]
