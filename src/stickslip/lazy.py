@@ -8,10 +8,10 @@ Imports nothing but :mod:`importlib`.
 from __future__ import annotations
 
 import importlib
-from collections.abc import Collection, Mapping
+from collections.abc import Callable, Collection, Mapping
 from typing import Any
 
-__all__ = ["load_attribute"]
+__all__ = ["exports", "load_attribute"]
 
 
 def load_attribute(package: str, name: str, homes: Mapping[str, str], modules: Collection[str]) -> Any:
@@ -39,3 +39,22 @@ def load_attribute(package: str, name: str, homes: Mapping[str, str], modules: C
     if name in modules:
         return importlib.import_module(f".{name}", package)
     raise AttributeError(f"module {package!r} has no attribute {name!r}")
+
+
+def exports(package: str, homes: Mapping[str, str]) -> tuple[Callable[[str], Any], Callable[[], list[str]]]:
+    """Return a package's ``__getattr__`` and ``__dir__`` that load its exported names on first use.
+
+    ``homes`` maps each exported name to the submodule that defines it. A name loaded
+    once is kept in the package's namespace, so later uses cost a dictionary lookup.
+    """
+    import sys
+
+    def __getattr__(name: str) -> Any:
+        value = load_attribute(package, name, homes, ())
+        setattr(sys.modules[package], name, value)
+        return value
+
+    def __dir__() -> list[str]:
+        return sorted({*vars(sys.modules[package]), *homes})
+
+    return __getattr__, __dir__

@@ -10,9 +10,9 @@ which sits beside this package and imports nothing of it
 them here too).
 """
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-from ..lazy import load_attribute
+from ..lazy import exports
 from .cycle import Attractor, CycleResult, cycle
 from .trajectory import Trajectory, simulate
 
@@ -24,9 +24,6 @@ if TYPE_CHECKING:  # loaded on first use (xarray) by __getattr__
 _HOME = {"load_sweep": "sweep"}
 
 
-def __getattr__(name: str) -> Any:
-    """Load :func:`~.sweep.load_sweep` on first use (PEP 562)."""
-    return load_attribute(__name__, name, _HOME, ())
-
+__getattr__, __dir__ = exports(__name__, _HOME)
 
 __all__ = ["Attractor", "CycleResult", "Trajectory", "cycle", "load_sweep", "simulate"]

@@ -13,9 +13,9 @@ The layer under both :mod:`stickslip.dynamics` (the motion from given starts, sw
   and the polish of the engine's rows into periodic orbits.
 """
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-from ..lazy import load_attribute
+from ..lazy import exports
 
 if TYPE_CHECKING:  # loaded on first use by __getattr__
     from .attractors import polish_rows
@@ -34,16 +34,7 @@ _HOME = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    """Load an exported name on first use (PEP 562): importing the package stays quick."""
-    value = load_attribute(__name__, name, _HOME, ())
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *_HOME})
-
+__getattr__, __dir__ = exports(__name__, _HOME)
 
 __all__ = [
     "Hopf",

@@ -11,9 +11,9 @@ spring-slider), :mod:`~stickslip.ratestate.statelaw` (a state law from a formula
 :mod:`~stickslip.ratestate.dulac` (the paper's appendix, derived with sympy).
 """
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-from ..lazy import load_attribute
+from ..lazy import exports
 
 if TYPE_CHECKING:  # loaded on first use by __getattr__
     from .cycles import SpringSliderFault, earthquake_cycles
@@ -34,16 +34,7 @@ _HOME = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    """Load an exported name on first use (PEP 562): importing the package stays quick."""
-    value = load_attribute(__name__, name, _HOME, ())
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *_HOME})
-
+__getattr__, __dir__ = exports(__name__, _HOME)
 
 __all__ = [
     "RateStateFit",
