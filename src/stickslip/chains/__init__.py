@@ -3,7 +3,10 @@
 * :mod:`.model`: the set-up (:class:`ChainParameters`), thresholds, initial positions;
 * :mod:`.run`: :func:`chain`, events streamed to a NetCDF catalogue;
 * :mod:`.catalog`: the catalogue on disk;
-* :mod:`.statistics`: b-value and its power-law range, completeness, recurrence, connected ruptures;
+* :mod:`.statistics`: b-value, recurrence, and the names of the three below;
+* :mod:`.magnitudes`: magnitude-frequency counts, completeness, the maximum-likelihood slope;
+* :mod:`.powerlaw`: the range of magnitudes that is a power law, and its tests;
+* :mod:`.ruptures`: connected ruptures, and events whose slips are in pieces;
 * :mod:`.lyapunov`: the event map and its largest Lyapunov exponent;
 * :mod:`.ensemble`: many seeds of one set-up (:func:`chain_ensemble`), on Dask and in a store.
 """

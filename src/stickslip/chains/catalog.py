@@ -30,8 +30,8 @@ import numpy as np
 import numpy.typing as npt
 import xarray as xr
 
-from ..core import chain as ce
 from ..core.api import ChainState
+from ..core.results import ChainScalars, EventRows
 from ..io.errors import DataError
 from ..io.output import generator
 
@@ -39,19 +39,23 @@ __all__ = ["COLUMNS", "RUPTURE_COLUMNS", "CatalogWriter", "open_catalog", "read_
 
 KIND = "chain-catalog"
 
-#: the catalogue's variables: (column of the engine's rows, dtype, units, description)
+_DESCRIBED: dict[str, tuple[str, str, str]] = {
+    "t_start": ("f8", "time", "start of the event: a block breaks away while all stick"),
+    "t_end": ("f8", "time", "end of the event: all blocks stick again"),
+    "epicentre": ("i4", "1", "the block that broke away first (0-based)"),
+    "n_blocks": ("i4", "1", "number of blocks that slipped"),
+    "moment": ("f8", "length", "sum of the blocks' slips during the event"),
+    "peak_velocity": ("f8", "velocity", "largest block speed during the event"),
+    "first_block": ("i4", "1", "lowest index of a block that slipped"),
+    "last_block": ("i4", "1", "highest index of a block that slipped"),
+    "driver_work": ("f8", "energy", "work of the driver on the loading springs"),
+    "friction_work": ("f8", "energy", "energy dissipated by friction"),
+    "elastic_change": ("f8", "energy", "change of the springs' elastic energy"),
+}
+#: the catalogue's variables, each a field of the engine's rows (:class:`~stickslip.core.results.EventRows`):
+#: (its column in the rows, dtype, units, description)
 COLUMNS: dict[str, tuple[int, str, str, str]] = {
-    "t_start": (ce.C_T0, "f8", "time", "start of the event: a block breaks away while all stick"),
-    "t_end": (ce.C_T1, "f8", "time", "end of the event: all blocks stick again"),
-    "epicentre": (ce.C_EPI, "i4", "1", "the block that broke away first (0-based)"),
-    "n_blocks": (ce.C_NB, "i4", "1", "number of blocks that slipped"),
-    "moment": (ce.C_MOMENT, "f8", "length", "sum of the blocks' slips during the event"),
-    "peak_velocity": (ce.C_PEAK, "f8", "velocity", "largest block speed during the event"),
-    "first_block": (ce.C_LO, "i4", "1", "lowest index of a block that slipped"),
-    "last_block": (ce.C_HI, "i4", "1", "highest index of a block that slipped"),
-    "driver_work": (ce.C_WD, "f8", "energy", "work of the driver on the loading springs"),
-    "friction_work": (ce.C_WF, "f8", "energy", "energy dissipated by friction"),
-    "elastic_change": (ce.C_DE, "f8", "energy", "change of the springs' elastic energy"),
+    name: (EventRows.layout()[name], *described) for name, described in _DESCRIBED.items()
 }
 #: the ruptures' variables (``events_as="connected"``): (dtype, units, description)
 RUPTURE_COLUMNS: dict[str, tuple[str, str, str]] = {
@@ -134,7 +138,7 @@ class CatalogWriter:
         ds.createDimension("event", None)
         ds.createDimension("block", blocks)
         ds.createDimension("recorded_event", slip_rows)
-        ds.createDimension("scalar", ce.NSC)
+        ds.createDimension("scalar", ChainScalars.SIZE)
         for name, (_, dtype, unit, desc) in COLUMNS.items():
             var = ds.createVariable(name, dtype, ("event",), zlib=True, complevel=1, chunksizes=(65536,))
             var.units = units.get(unit, unit)
@@ -191,7 +195,7 @@ class CatalogWriter:
         slips: npt.NDArray[np.float64],
         ruptures: dict[str, npt.NDArray[Any]] | None = None,
     ) -> None:
-        """Append catalogue rows (``chain.NCAT`` columns), the slips of the first events, and their ruptures.
+        """Append the engine's rows (:class:`~stickslip.core.results.EventRows`), first slips, ruptures.
 
         ``ruptures``: the :data:`RUPTURE_COLUMNS` of the rows' ruptures (their events numbered
         in the whole catalogue); required where the catalogue keeps ruptures.
@@ -271,21 +275,22 @@ def read_state(path: str) -> tuple[ChainState | None, int, dict[str, Any]]:
     except PermissionError:
         raise  # not damaged: not ours to read (said as a file error)
     except (OSError, RuntimeError, KeyError, IndexError, ValueError, DataError) as exc:
-        # a foreign NetCDF ended in 'IndexError: state_x not found in /', a truncated one in
-        # 'NetCDF: HDF error' (the chain audit)
+        # a foreign NetCDF ends in 'IndexError: state_x not found in /', a truncated one in
+        # 'NetCDF: HDF error': both said as a catalogue that cannot be resumed
         raise DataError(
             f"{path}: cannot be resumed: not a stickslip chain catalogue, or a damaged one ({exc}); "
             "run without resume to start again (with --overwrite), or remove the file"
         ) from None
-    # "state_saved" since 2026-11-24; before, a state never written reads as netCDF fill values.
+    # a catalogue without "state_saved" whose state was never written reads as netCDF fill values.
     # Rows without a state (written by HDF5 before the first state was): computed again
     if not attrs.get("state_saved", 1) or any(np.ma.is_masked(a) for a in raw):
         return None, 0, attrs
     arrays = [np.asarray(a) for a in raw]
-    if arrays[3].shape != (ce.NSC,):
+    if arrays[3].shape != (ChainScalars.SIZE,):
         raise DataError(
             f"{path}: its state was stored by another version of stickslip's chain engine "
-            f"({arrays[3].shape[0]} scalars, expected {ce.NSC}): it cannot be resumed; start the run again"
+            f"({arrays[3].shape[0]} scalars, expected {ChainScalars.SIZE}): it cannot be resumed; start the "
+            "run again"
         )
     state = ChainState(
         arrays[0].astype(np.float64), arrays[1].astype(np.float64), arrays[2].astype(np.int64),

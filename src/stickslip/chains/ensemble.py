@@ -121,8 +121,8 @@ def chain_ensemble(
         raise ArgumentTypeError(f"params={params!r}: expected ChainParameters")
     if isinstance(seeds, str) or not isinstance(seeds, Sequence | np.ndarray | range):
         raise ArgumentTypeError(f"seeds={seeds!r}: expected a sequence of whole numbers")
-    # whole numbers, checked: seeds=[1.7, 2.2] once ran the members of seeds 1 and 2
-    if len(seeds) > MAX_MEMBERS:  # range(10**12) was checked seed by seed, for minutes
+    # whole numbers, checked: seeds=[1.7, 2.2] would run the members of seeds 1 and 2
+    if len(seeds) > MAX_MEMBERS:  # range(10**12), checked seed by seed, would take minutes
         raise ValueError(f"seeds: {len(seeds)} members; expected at most {MAX_MEMBERS} in one ensemble")
     what = "a whole-number seed"
     checked = [check_count(s, f"seeds[{i}]", minimum=0, what=what) for i, s in enumerate(seeds)]
@@ -130,7 +130,7 @@ def chain_ensemble(
     if too_big is not None:  # the store's coordinate is int64
         raise ValueError(f"seeds[{too_big}]={checked[too_big]!r}: expected a whole-number seed <= 2**63 - 1")
     seed_arr = np.array(checked, dtype=np.int64)
-    # before the store is made: events=2.7 once ran 2 events, and events=0 failed in a member
+    # before the store is made: events=2.7 would run 2 events, and events=0 fail in a member
     events, transient = check_events(events, transient)
     rtol, atol = validate_tolerances(rtol, atol)
     if not isinstance(init, str):
@@ -210,15 +210,15 @@ class EnsembleJob:
                 "thresholds": p.thresholds if p.thresholds is not None else "uniform",
                 "seeds": self.seeds,
                 "run": [self.events, self.threshold_spread, self.init, self.amplitude, self.transient],
-                # seeded thresholds are drawn from a stream of their own since 2026-11-25 (they
-                # were the initial positions' draws): members of the two would not mix
+                # seeded thresholds are drawn from a stream of their own (stream 2), apart from the
+                # initial positions' draws: stores of another stream are another job
                 **({"threshold_stream": 2} if self.threshold_spread > 0 else {}),
                 "tolerances": [self.rtol, self.atol],
                 # a store of members' b-values from other statistics is another job: resuming
-                # it would mix the two (the range and the error of b changed in version 2)
+                # it would mix the two (STATISTICS_VERSION says how the range and error of b are made)
                 "statistics": STATISTICS_VERSION,
                 "fit": [self.mc, self.m_max],
-                # members of connected ruptures are another job (whole events: as before, unsaid)
+                # members of connected ruptures are another job (whole events, the default: unsaid)
                 **({"events_as": self.events_as} if self.events_as != "whole" else {}),
             },
             attrs=self._attrs(),

@@ -20,9 +20,8 @@ import numpy as np
 import numpy.typing as npt
 
 from .. import defaults
-from ..core import chain as ce
 from ..core.api import ChainState, chain_advance
-from ..core.results import ChainStatus
+from ..core.results import ChainScalars, ChainStatus
 from ..dynamics.cycle import validate_tolerances
 from ..errors import ArgumentTypeError
 from ..units import check_count
@@ -157,9 +156,10 @@ def _next_event_end(
         )  # fmt: skip
         if cat.shape[0] == 1:
             return state.x - params.nu * state.t
-        if code != ce.CH_PAUSED:
-            raise RuntimeError(f"event map: {ChainStatus.from_code(code).message}")
-        if state.in_event and state.t - state.sc[ce.S_EV_T0] > longest:
+        status = ChainStatus.from_code(code)
+        if status is not ChainStatus.PAUSED:
+            raise RuntimeError(f"event map: {status.message}")
+        if ChainScalars(state.sc).event_longer_than(longest):
             raise EventMapUndefined(
                 f"event map: the event lasted longer than {longest:.6g} (time {state.t:.6g}): "
                 "the blocks never all stick again (a sliding state of the chain)"

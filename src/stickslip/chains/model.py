@@ -204,7 +204,7 @@ def static_thresholds(blocks: int, spread: float, seed: int | None) -> FloatArra
     if s == 0.0:
         return None
     # a stream of its own: drawn from the one of the initial positions (the same seed), the
-    # strongest block always started furthest ahead (correlation 1)
+    # strongest block would always start furthest ahead (correlation 1)
     rng = np.random.default_rng(np.random.SeedSequence(check_seed(seed), spawn_key=(1,)))
     return 1.0 + s * rng.uniform(-1.0, 1.0, blocks)
 

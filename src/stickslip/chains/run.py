@@ -19,10 +19,10 @@ import numpy.typing as npt
 import xarray as xr
 
 from .. import defaults
-from ..core import chain as ce
 from ..core.api import ChainState, chain_advance, check_state
+from ..core.chain_api import stuck_forces
 from ..core.memory import check_memory
-from ..core.results import ChainStatus
+from ..core.results import ChainScalars, ChainStatus, EventRows
 from ..dynamics.cycle import validate_tolerances
 from ..errors import ArgumentTypeError
 from ..io.errors import DataError
@@ -176,11 +176,12 @@ class ChainResult:
         }
 
 
-def _units(params: ChainParameters) -> tuple[dict[str, str], npt.NDArray[np.float64]]:
-    """Units of the catalogue and the factor of each engine column."""
-    factor = np.ones(ce.NCAT)
+def _units(params: ChainParameters) -> tuple[dict[str, str], dict[str, float], npt.NDArray[np.float64]]:
+    """Units of the catalogue, the factor of each unit, and the factor of each column of the engine's rows."""
+    names = ("time", "length", "velocity", "energy")
+    factor = np.ones(len(EventRows.layout()))
     if params.scales is None:
-        return {"time": "1", "length": "1", "velocity": "1", "energy": "1"}, factor
+        return dict.fromkeys(names, "1"), dict.fromkeys(names, 1.0), factor
     sc = params.scales
     conv = {
         "time": sc.time.to("s").magnitude,
@@ -191,7 +192,7 @@ def _units(params: ChainParameters) -> tuple[dict[str, str], npt.NDArray[np.floa
     for _, (col, _, unit, _) in COLUMNS.items():
         if unit in conv:
             factor[col] = conv[unit]
-    return {"time": "s", "length": "m", "velocity": "m/s", "energy": "J"}, factor
+    return {"time": "s", "length": "m", "velocity": "m/s", "energy": "J"}, conv, factor
 
 
 def _setup(
@@ -203,10 +204,10 @@ def _setup(
     atol: float,
     events_as: str = "whole",
 ) -> str:
-    # atol joined the set-up on 2026-11-24: a catalogue resumed at another atol mixed two
-    # tolerances without a word (catalogues written before resume with a warning). A catalogue
-    # of connected ruptures says so (one of whole events, as before: nothing), so that a run is
-    # resumed with the ruptures of every event or of none
+    # atol is part of the set-up: a catalogue resumed at another atol would mix two tolerances
+    # (a catalogue whose set-up lacks atol resumes with a warning). A catalogue of connected
+    # ruptures says so (one of whole events, the default: nothing), so that a run is resumed with
+    # the ruptures of every event or of none
     extra = {"events_as": events_as} if events_as != "whole" else {}
     return json.dumps(
         {
@@ -237,15 +238,15 @@ def _check_same_setup(path: str, saved: str, setup: str) -> None:
         old, new = json.loads(saved), json.loads(setup)
     except ValueError:
         old = None
-    if not isinstance(old, dict):  # a damaged set-up attribute said '( differ)' (the chain audit)
+    if not isinstance(old, dict):  # a damaged set-up attribute: unreadable, not a list of differences
         raise DataError(
             f"{path}: its set-up record is unreadable ({saved[:60]!r}): not a stickslip chain "
             "catalogue, or a damaged one; start again without resume, or remove the file"
         )
     differ = sorted(str(k) for k in old.keys() | new.keys() if old.get(k) != new.get(k))
     if differ == ["atol"] and "atol" not in old:
-        # written before the set-up kept atol: at the default, or, a member of an ensemble, at the
-        # store's own tolerances (its identity holds them)
+        # a set-up without atol: at the default, or, a member of an ensemble, at the store's own
+        # tolerances (its identity holds them)
         warn(
             f"{path}: written before its atol was recorded; resumed assuming atol={new['atol']!r}",
         )
@@ -262,7 +263,7 @@ def _check_same_setup(path: str, saved: str, setup: str) -> None:
 
 
 def _difference(key: str, old: dict[str, Any], new: dict[str, Any]) -> str:
-    """One differing setting, with both values: 'ell 10 in the file, 11 now' (it named 'ell' alone)."""
+    """One differing setting, with both values: 'ell 10 in the file, 11 now' (not the name alone)."""
     was, now = old.get(key), new.get(key)
     if isinstance(was, dict) and isinstance(now, dict):  # the law's parameters: the ones that differ
         return "; ".join(
@@ -287,7 +288,7 @@ def _duration(name: str, value: Any, params: ChainParameters) -> float:
     """Return a time in units of ``sqrt(m/k_p)``: from a number, or (a physical chain) a time with units."""
     if isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool):
         if params.scales is not None and math.isfinite(value):
-            # the catalogue is in seconds: a bare 50 read as 50 sqrt(m/k_p) came out as 10 s
+            # the catalogue is in seconds: a bare 50 read as 50 sqrt(m/k_p) could come out as 10 s
             unit = params.scales.time.to("s").magnitude
             raise ArgumentTypeError(
                 f"{name}={value!r}: a physical chain takes a time with units, e.g. '{value:g} s' (a "
@@ -458,7 +459,7 @@ def chain(
     n = params.blocks
     kernel = params.law.kernel
     lp = params.law.core_params()
-    units, factor = _units(params)
+    units, scale, factor = _units(params)
     setup = _setup(params, init_s, seed, amplitude, rtol, atol, events_as)
     attrs = {"setup": setup, "blocks": n, "law": params.law.name, "nu": params.nu, "ell": params.ell}
     longest = (
@@ -499,7 +500,7 @@ def chain(
             folder = os.path.dirname(os.path.abspath(path))
             if not os.path.isdir(folder):
                 raise ValueError(f"out={path!r}: the folder {folder} does not exist")
-            check_target(path, KIND, overwrite=bool(overwrite))  # a measured record was replaced once
+            check_target(path, KIND, overwrite=bool(overwrite))  # never over a file that is not ours
             writer = CatalogWriter(path, n, attrs, units, slip_rows=record_slip, ruptures=connected)
     phi = params.phi
     args = (
@@ -521,7 +522,7 @@ def chain(
     status = ChainStatus.OK
     ended = False
     bar = progress_bar(events, unit="event", desc="chain", progress=progress)
-    advance = _Advance(args, state, t_max, rtol, atol, bar, factor[ce.C_T0], units["time"], longest)
+    advance = _Advance(args, state, t_max, rtol, atol, bar, scale["time"], units["time"], longest)
     if bar is not None and done:
         bar.update(done)
     try:
@@ -531,10 +532,10 @@ def chain(
             cat, _, code = advance(min(left, EVENTS_PER_CHUNK), 0)
             left -= cat.shape[0]
             advance.show(f"transient {transient - left}/{transient}, ")
-            if code not in (ce.CH_EVENTS, ce.CH_PAUSED):
+            if ChainStatus.from_code(code) not in (ChainStatus.OK, ChainStatus.PAUSED):
                 status = ChainStatus.from_code(code)
                 break
-            if state.in_event and state.t - state.sc[ce.S_EV_T0] > longest:
+            if ChainScalars(state.sc).event_longer_than(longest):
                 status = ChainStatus.SLIDING
                 break
         while status is ChainStatus.OK and done < events:
@@ -542,7 +543,7 @@ def chain(
             chunk = min(events - done, per_call)
             cat, slips, code = advance(chunk, chunk if connected else want_slips)
             cat = cat * factor
-            slips = slips * factor[ce.C_MOMENT]
+            slips = slips * scale["length"]
             rup = _ruptures(slips, done, periodic) if connected else None
             slips = slips[:want_slips]
             if pending is not None:
@@ -558,9 +559,9 @@ def chain(
             if bar is not None:
                 bar.update(cat.shape[0])
             advance.show()
-            if code not in (ce.CH_EVENTS, ce.CH_PAUSED):
+            if ChainStatus.from_code(code) not in (ChainStatus.OK, ChainStatus.PAUSED):
                 status = ChainStatus.from_code(code)
-            elif state.in_event and state.t - state.sc[ce.S_EV_T0] > longest:
+            elif ChainScalars(state.sc).event_longer_than(longest):
                 status = ChainStatus.SLIDING
         ended = True  # not stopped by an exception (a Ctrl-C): the catalogue may be complete
     finally:
@@ -573,7 +574,7 @@ def chain(
                 flushed = True
             finally:  # complete only if every row and the state after them are written
                 pending.writer.close(complete=ended and flushed and status is ChainStatus.OK)
-    t_end = state.t * (factor[ce.C_T0])
+    t_end = state.t * scale["time"]
     if writer is not None and path is not None:
         ds = open_catalog(path)
     else:
@@ -581,10 +582,10 @@ def chain(
     mags = ds["rupture_magnitude" if connected else "magnitude"].values
     fit = b_value(mags, mc=mc, m_max=m_max, block="auto")  # in time order: blocks of events
     # the law's own word where the motion failed or went beyond its range (a measured table
-    # whose extrapolation reaches zero friction): `cycle` said it, a chain did not (the second
-    # chain audit, helper-38: a table's chain ended not-finite after 2 events without a word)
+    # whose extrapolation reaches zero friction), as `cycle` gives it: a table's chain can end
+    # not-finite after 2 events, and the status alone does not say why
     failed = status in (ChainStatus.NONFINITE, ChainStatus.STEP_TOO_SMALL)
-    peaks = np.append(ds["peak_velocity"].values / factor[ce.C_PEAK], np.abs(state.v))
+    peaks = np.append(ds["peak_velocity"].values / scale["velocity"], np.abs(state.v))
     note = params.law.motion_warning(peaks, failed)
     if note:
         warn(f"chain: {note}", UserWarning)
@@ -636,7 +637,7 @@ def _warn_stiff_start(params: ChainParameters, state: ChainState) -> None:
     x, periodic = state.x, str(params.boundary) == "periodic"
     if x.shape[0] < 2:
         return
-    force = [ce.stuck_force(x, j, state.t, params.nu, params.ell2, periodic) for j in range(x.shape[0])]
+    force = stuck_forces(state, params.nu, params.ell2, periodic)
     load = float(np.max(np.abs(force) / params.phi))
     if load > STIFF_START:
         warn(
@@ -650,8 +651,8 @@ def _warn_stiff_start(params: ChainParameters, state: ChainState) -> None:
 def _signals_deferred() -> Iterator[None]:
     """Hold Ctrl-C and SIGTERM over a block; deliver them, to the handlers of before, on leaving.
 
-    A signal between a chunk's rows and its state (or inside either) once closed a
-    catalogue whose rows ran ahead of its state: resumed, it simulated those events
+    A signal between a chunk's rows and its state (or inside either) would close a
+    catalogue whose rows run ahead of its state: resumed, it would simulate those events
     again (duplicated rows). Only in the main thread, where Python runs its handlers.
     """
     if threading.current_thread() is not threading.main_thread():
@@ -780,7 +781,7 @@ def _in_memory(
     fd, tmp = tempfile.mkstemp(suffix=".nc")
     os.close(fd)
     try:
-        allrows = np.concatenate(rows) if rows else np.zeros((0, ce.NCAT))
+        allrows = np.concatenate(rows) if rows else np.zeros((0, len(EventRows.layout())))
         allslips = np.concatenate(slips) if slips else np.zeros((0, n))
         w = CatalogWriter(tmp, n, attrs, units, slip_rows=allslips.shape[0], ruptures=ruptures is not None)
         if ruptures is None:

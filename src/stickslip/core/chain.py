@@ -14,16 +14,12 @@ For ``N = 1`` this is the one-block model of :mod:`.engine` with ``s = nu tau - 
 
 Only the slipping blocks are integrated, by the DOP853 step of :mod:`.dop853`
 (adaptive, 7th-order dense output); the forces of the stuck blocks are known in
-closed form from their neighbours. Events are located by the Illinois iteration
-of :mod:`.dop853` on the dense output:
-
-* stop of a slipping block: ``d_j v_j`` reaches 0 (a dip to zero inside a step
-  included: the minimum of the interpolant is located first);
-* breakaway of a stuck block next to a slipping one: ``e_j`` reaches ``phi_j``
-  (forward) or ``-phi_j`` (backward), maxima inside a step included;
-* breakaway of a stuck block whose neighbours are stuck too: its force grows
-  at the rate ``nu``, so its time is known in closed form; the earliest such time
-  is kept in a binary heap (a segment tree) and a step never passes it.
+closed form from their neighbours. The stops of slipping blocks and the
+breakaways of stuck blocks next to them are located on the dense output
+(:mod:`._chain_step`). A stuck block whose neighbours are stuck too feels a force
+that grows at the rate ``nu``, so its breakaway time is known in closed form; the
+earliest such time is kept in a binary heap (a segment tree) and a step never
+passes it.
 
 When every block sticks, the chain jumps to the next breakaway in closed form.
 Events closer than :data:`SIMULTANEOUS` (in units of a step) are handled
@@ -35,7 +31,10 @@ at once, backward if ``e_j < -phi_j`` (unless backward slip is switched off, the
 convention of Carlson and Langer: friction at rest bounded only from above).
 
 An *event* starts when a block breaks away while all stick and ends when all
-stick again. Each event gives one row of the catalogue (``C_*`` columns).
+stick again. Each event gives one row of the catalogue (``C_*`` columns); the
+rows, the scalar state (``S_*``) and the statuses (``CH_*``) are read above this
+module through :mod:`.results` (:class:`~.results.EventRows`,
+:class:`~.results.ChainScalars`, :class:`~.results.ChainStatus`).
 """
 
 from __future__ import annotations
@@ -45,21 +44,22 @@ import math
 import numpy as np
 from numba import njit
 
-from ._dop853_tableau import C
-from .dop853 import (
-    N_STAGES,
-    N_STAGES_EXTENDED,
-    dense_eval,
-    dense_slope,
-    illinois_propose,
-    illinois_update,
-    vec_advance,
-    vec_dense_coeffs,
-    vec_error,
-    vec_stage,
+from ._chain_step import PROBE_MIN as PROBE_MIN  # the step's constants, importable from here too
+from ._chain_step import ROUND_SPEED as ROUND_SPEED
+from ._chain_step import SIMULTANEOUS as SIMULTANEOUS
+from ._chain_step import (
+    _dense,
+    _find_breakaways,
+    _find_stops,
+    _left,
+    _rhs,
+    _right,
+    _simultaneous,
+    _step,
 )
+from .dop853 import N_STAGES, N_STAGES_EXTENDED, dense_eval
 from .engine import MAX_FACTOR, MIN_FACTOR, SAFETY, _root8
-from .laws import friction_scalar, params
+from .laws import params
 
 # modes of a block
 STUCK = 0
@@ -106,13 +106,6 @@ C_LO = 9
 C_HI = 10
 NCAT = 11
 
-#: events closer than this fraction of a step are simultaneous
-SIMULTANEOUS = 1e-12
-#: the shortest slip from rest sought inside a step (a fraction of the step)
-PROBE_MIN = 2.0**-40
-#: the rounding of a speed integrated over a step, per unit step and unit force (64 ulps): a block
-#: started from rest whose speed stays within it while it is pushed forward has not stopped
-ROUND_SPEED = 64 * 2.220446049250313e-16
 #: steps in a row that end at an event without advancing the time: the engine stops (CH_STALLED)
 STALL_STEPS = 10_000
 #: the cost of a step beside its slipping blocks', in blocks (the work budget of a call)
@@ -122,19 +115,18 @@ WORK_STEP = 8
 BREAK_TOL = 1e-13
 H_FIRST = 1e-3
 
-
-@njit(cache=True, inline="always")
-def _left(j, n, periodic):  # type: ignore[no-untyped-def]
-    if j > 0:
-        return j - 1
-    return n - 1 if periodic else j
-
-
-@njit(cache=True, inline="always")
-def _right(j, n, periodic):  # type: ignore[no-untyped-def]
-    if j < n - 1:
-        return j + 1
-    return 0 if periodic else j
+# The compiled functions take the chain's arrays one by one, and chain_run allocates the work
+# arrays of its steps itself: numba passes an array argument without counting a reference, while
+# taking one out of a tuple counts one at every call, and LLVM knows that arrays allocated in
+# chain_run do not overlap. A segment lasts 1 to 3 steps on chains of 100 to 1000 blocks
+# (benchmarks/bench_chain.py): arrays in tuples, or allocated by a helper, made the engine 5 to
+# 15 % slower there. Tuples hold scalars, and the step's interpolant ``at`` (unpacked only in
+# functions compiled into their caller):
+#   cfg = (nu, ell2, periodic, backward): the drive, the coupling, the ends, backward slip;
+#   at  = (F, y, x, pos, nu, ell2, periodic, t0, h): the interpolant of the step from t0.
+# The arrays: x, v, mode (the blocks), phi (thresholds), sc, ev_x0, ev_flag, ev_list (the
+# scalar state and the event in progress), idx, pos, ws (the slipping blocks: _slip_on), tree,
+# size (the closed-form breakaway times: _tree_set), and the work arrays of chain_run.
 
 
 @njit(cache=True)
@@ -167,6 +159,7 @@ def stuck_force(x, j, t, nu, ell2, periodic):  # type: ignore[no-untyped-def]
 
 @njit(cache=True)
 def _tree_set(tree, size, j, value):  # type: ignore[no-untyped-def]
+    """Set leaf ``j`` of the binary heap of breakaway times (``tree[1]``: the earliest)."""
     i = size + j
     tree[i] = value
     i //= 2
@@ -196,114 +189,28 @@ def _far_time(x, mode, phi, j, nu, ell2, periodic):  # type: ignore[no-untyped-d
 
 
 @njit(cache=True)
+def _far_tree(x, mode, phi, nu, ell2, periodic):  # type: ignore[no-untyped-def]
+    """Return the heap of every block's closed-form breakaway time, and its number of leaves."""
+    n = x.shape[0]
+    size = 1
+    while size < n:
+        size *= 2
+    tree = np.full(2 * size, math.inf)
+    for j in range(n):
+        _tree_set(tree, size, j, _far_time(x, mode, phi, j, nu, ell2, periodic))
+    return tree, size
+
+
+@njit(cache=True)
 def _tree_refresh(tree, size, x, mode, phi, j, nu, ell2, periodic):  # type: ignore[no-untyped-def]
+    """Recompute the closed-form breakaway times of block ``j`` and its neighbours."""
     n = x.shape[0]
     for jj in (_left(j, n, periodic), j, _right(j, n, periodic)):
         _tree_set(tree, size, jj, _far_time(x, mode, phi, jj, nu, ell2, periodic))
 
 
 @njit(cache=True)
-def _rhs(ctx, t, y, out):  # type: ignore[no-untyped-def]
-    """Vector field of the slipping blocks; ``y = (x, v) per slipping block, W_drive, W_friction``.
-
-    ``y`` goes on with the positions of the stuck neighbours of slipping blocks
-    (constant over a segment); ``nbl[k]`` and ``nbr[k]`` index the neighbours'
-    positions of slipping block ``k`` in ``y``, ``dk`` and ``phk`` are its
-    direction and threshold.
-    """
-    law, P, nu, ell2, nbl, nbr, dk, phk, m, s_stuck, n_stuck, t_ref = ctx
-    drive = s_stuck + n_stuck * nu * (t - t_ref)
-    fric = 0.0
-    load = nu * t
-    for k in range(m):
-        xj = y[2 * k]
-        vj = y[2 * k + 1]
-        xl = y[nbl[k]]
-        xr = y[nbr[k]]
-        fr = phk[k] * friction_scalar(law, P, dk[k], vj)
-        out[2 * k] = vj
-        sj = load - xj
-        out[2 * k + 1] = ell2 * ((xl - xj) + (xr - xj)) + sj - fr
-        drive += sj
-        fric += fr * vj
-    out[2 * m] = nu * drive
-    out[2 * m + 1] = fric
-
-
-@njit(cache=True)
-def _force_at(F, y, xs, x, j, nu, ell2, periodic, pos, t0, h):  # type: ignore[no-untyped-def]
-    """Force on stuck block ``j`` at fraction ``xs`` of the step (neighbours from the interpolant)."""
-    n = x.shape[0]
-    jl = _left(j, n, periodic)
-    jr = _right(j, n, periodic)
-    pl = pos[jl]
-    pr = pos[jr]
-    xl = dense_eval(F, y, xs, 2 * pl) if pl >= 0 else x[jl]
-    xr = dense_eval(F, y, xs, 2 * pr) if pr >= 0 else x[jr]
-    xj = x[j]
-    return ell2 * ((xl - xj) + (xr - xj)) + (nu * (t0 + xs * h) - xj)
-
-
-@njit(cache=True)
-def _force_slope(F, xs, x, j, nu, ell2, periodic, pos, h):  # type: ignore[no-untyped-def]
-    """Time derivative of the force on stuck block ``j`` at fraction ``xs`` of the step."""
-    n = x.shape[0]
-    jl = _left(j, n, periodic)
-    jr = _right(j, n, periodic)
-    pl = pos[jl]
-    pr = pos[jr]
-    dl = dense_slope(F, xs, 2 * pl) if pl >= 0 else 0.0
-    dr = dense_slope(F, xs, 2 * pr) if pr >= 0 else 0.0
-    return ell2 * (dl + dr) / h + nu
-
-
-# what a root is sought of, for _root
-G_VEL = 0  # sign * v_k(x)
-G_VEL_SLOPE = 1  # d v_k / dx
-G_FORCE = 2  # sign * (e_j(x) - level)
-G_FORCE_SLOPE = 3  # d e_j / dt
-
-
-@njit(cache=True)
-def _g(what, F, y, xs, k, sign, level, x, j, nu, ell2, periodic, pos, t0, h):  # type: ignore[no-untyped-def]
-    if what == G_VEL:
-        return sign * dense_eval(F, y, xs, 2 * k + 1)
-    if what == G_VEL_SLOPE:
-        return dense_slope(F, xs, 2 * k + 1)
-    if what == G_FORCE:
-        return sign * (_force_at(F, y, xs, x, j, nu, ell2, periodic, pos, t0, h) - level)
-    return _force_slope(F, xs, x, j, nu, ell2, periodic, pos, h)
-
-
-@njit(cache=True)
-def _root(what, F, y, k, sign, level, x, j, nu, ell2, periodic, pos, t0, h, xa, ga, xb, gb):  # type: ignore[no-untyped-def]
-    """Root of ``_g`` on ``[xa, xb]`` (``ga``, ``gb`` of opposite signs) by the shared Illinois iteration."""
-    if ga == 0.0:
-        return xa
-    if gb == 0.0:
-        return xb
-    side = 0
-    xc = xb
-    for _ in range(200):
-        xc = illinois_propose(xa, ga, xb, gb)
-        gc = _g(what, F, y, xc, k, sign, level, x, j, nu, ell2, periodic, pos, t0, h)
-        xa, ga, xb, gb, side, done = illinois_update(xa, ga, xb, gb, side, xc, gc)
-        if done:
-            break
-    return xc
-
-
-@njit(cache=True)
-def _dense(ctx, t, y, y_new, h, K, F, ytmp, nvar):  # type: ignore[no-untyped-def]
-    """Fill ``F`` with the interpolant of the step just taken (3 more stages in ``K``)."""
-    for j in range(N_STAGES + 1, N_STAGES_EXTENDED):
-        vec_stage(y, K, h, j, nvar, ytmp)
-        _rhs(ctx, t + C[j] * h, ytmp, K[j])
-    vec_dense_coeffs(y, y_new, h, K, F, nvar)
-
-
-@njit(cache=True)
-def _event_begin(sc, x, v, t, j, nu, ell2, periodic):  # type: ignore[no-untyped-def]
+def _event_begin(sc, x, t, j, nu, ell2, periodic):  # type: ignore[no-untyped-def]
     sc[S_IN_EVENT] = 1.0
     sc[S_EV_T0] = t
     sc[S_EV_EPI] = j
@@ -348,7 +255,25 @@ def _slip_off(j, x, idx, pos, ws):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def _start_slip(j, d, t, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws):  # type: ignore[no-untyped-def]
+def _slipping_set(x, mode):  # type: ignore[no-untyped-def]
+    """Return the set of slipping blocks of the state: ``idx``, ``pos`` and ``ws`` of :func:`_slip_on`."""
+    n = x.shape[0]
+    idx = np.empty(n, dtype=np.int64)
+    pos = np.full(n, -1, dtype=np.int64)
+    ws = np.zeros(2)  # slipping blocks, sum of the stuck blocks' positions
+    for j in range(n):
+        if mode[j] != STUCK:
+            idx[int(ws[0])] = j
+            pos[j] = int(ws[0])
+            ws[0] += 1.0
+        else:
+            ws[1] += x[j]
+    return idx, pos, ws
+
+
+@njit(cache=True)
+def _start_slip(j, d, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws):  # type: ignore[no-untyped-def]
+    """Set block ``j`` slipping in direction ``d`` from rest; count it in the event in progress."""
     mode[j] = d
     v[j] = 0.0
     _slip_on(j, x, idx, pos, ws)
@@ -366,6 +291,7 @@ def _start_slip(j, d, t, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws):
 
 @njit(cache=True)
 def _event_end(sc, x, t, nu, ell2, periodic, ev_x0, ev_flag, ev_list, cat, row, slips):  # type: ignore[no-untyped-def]
+    """Write the event that ends at ``t`` to row ``row`` of ``cat`` (and its slips, where kept)."""
     nb = int(sc[S_EV_N])
     moment = 0.0
     record = row < slips.shape[0]
@@ -395,28 +321,7 @@ def _event_end(sc, x, t, nu, ell2, periodic, ev_x0, ev_flag, ev_list, cat, row, 
 
 
 @njit(cache=True)
-def _break_near(  # type: ignore[no-untyped-def]
-    j0,
-    t,
-    x,
-    v,
-    mode,
-    phi,
-    nu,
-    ell2,
-    periodic,
-    backward,
-    tree,
-    size,
-    sc,
-    ev_x0,
-    ev_flag,
-    ev_list,
-    idx,
-    pos,
-    ws,
-    stack,
-):
+def _break_near(j0, t, cfg, phi, x, v, mode, tree, size, sc, ev_x0, ev_flag, ev_list, idx, pos, ws, stack):  # type: ignore[no-untyped-def]
     """Break away the stuck blocks at (or within BREAK_TOL of) their threshold around block ``j0``.
 
     A change of block ``j0`` can only bring its neighbours to their threshold; a
@@ -424,6 +329,7 @@ def _break_near(  # type: ignore[no-untyped-def]
     breaks (in index order of the neighbours). Then every closed-form breakaway
     time already reached is taken. Returns the number of blocks that broke away.
     """
+    nu, ell2, periodic, backward = cfg
     n = x.shape[0]
     tol = BREAK_TOL * (1.0 + abs(nu * t))
     count = 0
@@ -445,7 +351,7 @@ def _break_near(  # type: ignore[no-untyped-def]
                 elif backward and e <= -phi[j] + tol:
                     d = -1
                 if d != 0:
-                    _start_slip(j, d, t, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws)
+                    _start_slip(j, d, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws)
                     _tree_refresh(tree, size, x, mode, phi, j, nu, ell2, periodic)
                     count += 1
                     stack[top] = j
@@ -454,7 +360,7 @@ def _break_near(  # type: ignore[no-untyped-def]
             break
         # a closed-form time reached (rounding aside)
         j = _tree_argmin(tree, size)
-        _start_slip(j, 1, t, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws)
+        _start_slip(j, 1, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws)
         _tree_refresh(tree, size, x, mode, phi, j, nu, ell2, periodic)
         count += 1
         stack[0] = j
@@ -463,31 +369,166 @@ def _break_near(  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def chain_run(  # type: ignore[no-untyped-def]
-    law,
-    lp,
-    nu,
-    ell2,
-    periodic,
-    backward,
-    phi,
-    x,
-    v,
-    mode,
-    sc,
-    ev_x0,
-    ev_flag,
-    ev_list,
-    max_events,
-    t_max,
-    rtol,
-    atol,
-    max_steps,
-    max_work,
-    max_event,
-    cat,
-    slips,
+def _backward_at_start(t, cfg, phi, x, ws):  # type: ignore[no-untyped-def]
+    """Return the blocks beyond their backward threshold while every block sticks, their count, the worst.
+
+    While all stick the forces only grow (``nu t``), and the stops of an event check
+    their blocks themselves, so only the start of a call holds such blocks (random
+    positions with a large ``ell``), and they are looked for once a call. Each of them
+    slips back at once: the worst starts the event (its epicentre), the others start
+    with it at the same instant (ten blocks, ``ell = 30``, seed 5 start with two of them
+    far apart); a block left stuck there would make every later event come early.
+    """
+    nu, ell2, periodic, backward = cfg
+    n = x.shape[0]
+    j_back = -1
+    n_back = 0
+    back = np.empty(n, dtype=np.int64)
+    if backward and ws[0] == 0.0:
+        worst = BREAK_TOL * (1.0 + abs(nu * t))
+        for j in range(n):
+            beyond = -phi[j] - stuck_force(x, j, t, nu, ell2, periodic)
+            if beyond > BREAK_TOL * (1.0 + abs(nu * t)):
+                back[n_back] = j
+                n_back += 1
+            if beyond > worst:
+                worst = beyond
+                j_back = j
+    return back, n_back, j_back
+
+
+@njit(cache=True)
+def _event_start(  # type: ignore[no-untyped-def]
+    t, j_back, back, n_back, cfg, phi, x, v, mode, tree, size, sc, ev_x0, ev_flag, ev_list, idx, pos, ws,
+    stack,
+):  # fmt: skip
+    """Start an event while every block sticks; return its time.
+
+    Its epicentre is ``j_back`` slipping backward where there is one (the other
+    blocks of ``back`` beyond their backward threshold start with it: see
+    :func:`_backward_at_start`), else the block of the earliest closed-form breakaway.
+    """
+    nu, ell2, periodic, _ = cfg
+    j0 = j_back
+    d0 = -1 if j_back >= 0 else 1
+    if j0 < 0:
+        tb = tree[1]
+        if tb > t:
+            t = tb
+        j0 = _tree_argmin(tree, size)
+    _event_begin(sc, x, t, j0, nu, ell2, periodic)
+    q = 0
+    while True:
+        _start_slip(j0, d0, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws)
+        _tree_refresh(tree, size, x, mode, phi, j0, nu, ell2, periodic)
+        _break_near(j0, t, cfg, phi, x, v, mode, tree, size, sc, ev_x0, ev_flag, ev_list, idx, pos, ws, stack)
+        # the start's other blocks beyond their backward threshold, at this instant
+        j0 = -1
+        while q < n_back and j0 < 0:
+            jb = back[q]
+            q += 1
+            beyond = -phi[jb] - stuck_force(x, jb, t, nu, ell2, periodic)
+            if mode[jb] == STUCK and beyond > BREAK_TOL * (1.0 + abs(nu * t)):
+                j0 = jb
+        if j0 < 0:
+            break
+        d0 = -1
+    return t
+
+
+@njit(cache=True)
+def _segment_begin(  # type: ignore[no-untyped-def]
+    t, cfg, phi, x, v, mode, idx, pos, m, adj, e_adj, slot, nbl, nbr, dk, phk, y, y_new, ytmp
 ):
+    """Gather a segment's variables (the ``m`` slipping blocks, then their stuck neighbours) into ``y``.
+
+    Fills the watched stuck blocks (``adj``) and their forces (``e_adj``), the places
+    of each slipping block's neighbours in ``y`` (``nbl``, ``nbr``), its direction and
+    threshold (``dk``, ``phk``); returns the number of watched blocks.
+    """
+    nu, ell2, periodic, _ = cfg
+    n = x.shape[0]
+    # stuck blocks next to slipping ones: their forces are watched step by step
+    na = 0
+    for k in range(m):
+        j = idx[k]
+        for jj in (_left(j, n, periodic), _right(j, n, periodic)):
+            if mode[jj] == STUCK and slot[jj] < 0:
+                slot[jj] = na
+                adj[na] = jj
+                na += 1
+    for k in range(m):
+        j = idx[k]
+        y[2 * k] = x[j]
+        y[2 * k + 1] = v[j]
+    nvar = 2 * m + 2
+    y[2 * m] = 0.0
+    y[2 * m + 1] = 0.0
+    for i in range(na):  # constant over the segment: in every stage's state
+        xa = x[adj[i]]
+        y[nvar + i] = xa
+        ytmp[nvar + i] = xa
+        y_new[nvar + i] = xa
+    for k in range(m):
+        j = idx[k]
+        dk[k] = mode[j]
+        phk[k] = phi[j]
+        for side in range(2):
+            jj = _left(j, n, periodic) if side == 0 else _right(j, n, periodic)
+            q = 2 * pos[jj] if pos[jj] >= 0 else nvar + slot[jj]
+            if side == 0:
+                nbl[k] = q
+            else:
+                nbr[k] = q
+    for i in range(na):
+        slot[adj[i]] = -1
+        e_adj[i] = stuck_force(x, adj[i], t, nu, ell2, periodic)
+    return na
+
+
+@njit(cache=True, inline="always")
+def _segment_end(x, v, y, idx, m, sc):  # type: ignore[no-untyped-def]
+    """Copy the ``m`` slipping blocks' positions and velocities from ``y``; add the segment's works."""
+    for k in range(m):
+        x[idx[k]] = y[2 * k]
+        v[idx[k]] = y[2 * k + 1]
+    sc[S_EV_WD] += y[2 * m]
+    sc[S_EV_WF] += y[2 * m + 1]
+
+
+@njit(cache=True)
+def _apply_events(  # type: ignore[no-untyped-def]
+    t, ns, ev_k, ev_kind, cfg, phi, x, v, mode, tree, size, sc, ev_x0, ev_flag, ev_list, idx, pos, ws
+):
+    """Apply the first ``ns`` events (blocks ``ev_k``, kinds ``ev_kind``) at time ``t``, in order.
+
+    A stop (kind 0) leaves the block stuck where its force is within its thresholds,
+    else slipping on (backward below ``-phi``); a breakaway (kind +1 or -1) starts a
+    stuck block slipping in that direction.
+    """
+    nu, ell2, periodic, backward = cfg
+    for i in range(ns):
+        j = ev_k[i]
+        if ev_kind[i] == 0:  # a stop
+            v[j] = 0.0
+            e = stuck_force(x, j, t, nu, ell2, periodic)
+            if backward and e < -phi[j]:
+                mode[j] = -1
+            elif e >= phi[j]:
+                mode[j] = 1
+            else:
+                mode[j] = STUCK
+                _slip_off(j, x, idx, pos, ws)
+        elif mode[j] == STUCK:
+            _start_slip(j, ev_kind[i], x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws)
+        _tree_refresh(tree, size, x, mode, phi, j, nu, ell2, periodic)
+
+
+@njit(cache=True)
+def chain_run(  # type: ignore[no-untyped-def]
+    law, lp, nu, ell2, periodic, backward, phi, x, v, mode, sc, ev_x0, ev_flag, ev_list,
+    max_events, t_max, rtol, atol, max_steps, max_work, max_event, cat, slips,
+):  # fmt: skip
     """Advance the chain until ``max_events`` events are complete, ``t_max``, ``max_steps`` or ``max_work``.
 
     The state (``x``, ``v``, ``mode``, ``sc`` and the event work arrays) is
@@ -503,71 +544,51 @@ def chain_run(  # type: ignore[no-untyped-def]
     seen at the step that passes it); where it pauses changes nothing but the
     rounding of the events' works (summed per segment, and a pause starts a segment).
 
+    The loop has two phases. While every block sticks, the event in progress ends
+    (:func:`_event_end`) and the next one starts at the earliest breakaway
+    (:func:`_event_start`). While some slip, a *segment* (the same blocks slip) is
+    integrated: its variables gathered (:func:`_segment_begin`), then DOP853 steps
+    (:func:`~._chain_step._step`) with the stops and breakaways found in each
+    (:func:`~._chain_step._find_stops`, :func:`~._chain_step._find_breakaways`) until
+    the earliest of them, applied (:func:`_apply_events`), or a closed-form breakaway
+    or the time limit; the blocks it brings to their threshold break away
+    (:func:`_break_near`).
+
     Returns ``(events_written, status)`` with a ``CH_*`` status.
     """
     n = x.shape[0]
     P = params(lp)
-    size = 1
-    while size < n:
-        size *= 2
-    tree = np.full(2 * size, math.inf)
-    for j in range(n):
-        _tree_set(tree, size, j, _far_time(x, mode, phi, j, nu, ell2, periodic))
-    idx = np.empty(n, dtype=np.int64)
-    pos = np.full(n, -1, dtype=np.int64)
+    cfg = (nu, ell2, periodic, backward)
+    tree, size = _far_tree(x, mode, phi, nu, ell2, periodic)
+    idx, pos, ws = _slipping_set(x, mode)
+    # a segment's stuck blocks watched, their forces at the start and at the end of a step, a
+    # stuck neighbour's place in adj; its slipping blocks' neighbours in y, directions, thresholds
     adj = np.empty(n, dtype=np.int64)
-    e_adj = np.empty(n)  # their forces at the start of the step
-    e_end = np.empty(n)  # and at its end
-    slot = np.full(n, -1, dtype=np.int64)  # a stuck neighbour's place in adj
+    e_adj = np.empty(n)
+    e_end = np.empty(n)
+    slot = np.full(n, -1, dtype=np.int64)
     nbl = np.empty(n, dtype=np.int64)
     nbr = np.empty(n, dtype=np.int64)
     dk = np.empty(n, dtype=np.int64)
     phk = np.empty(n)
-    stack = np.empty(n + 1, dtype=np.int64)
-    ws = np.zeros(2)  # slipping blocks, sum of the stuck blocks' positions
-    for j in range(n):
-        if mode[j] != STUCK:
-            idx[int(ws[0])] = j
-            pos[j] = int(ws[0])
-            ws[0] += 1.0
-        else:
-            ws[1] += x[j]
     nv = 2 * n + 2  # (x, v) of m slipping blocks, two works, at most n - m stuck neighbours: <= n + m + 2
     y = np.empty(nv)
     y_new = np.empty(nv)
     ytmp = np.empty(nv)
     K = np.empty((N_STAGES_EXTENDED, nv))
     F = np.empty((7, nv))
-    ev_x = np.empty(2 * n)
+    ev_x = np.empty(2 * n)  # a step's events (fraction of the step, block, kind), its speed maxima
     ev_k = np.empty(2 * n, dtype=np.int64)
     ev_kind = np.empty(2 * n, dtype=np.int64)
     pk_x = np.empty(n)
     pk_v = np.empty(n)
+    stack = np.empty(n + 1, dtype=np.int64)
     written = 0
     steps = 0
     work_start = sc[S_NWORK]
     stalled = int(sc[S_STALL])
     t = sc[S_T]
-    # a block beyond its backward threshold while every block sticks slips back at once. While
-    # all stick the forces only grow (nu t), and the stops of an event check it themselves, so
-    # only a start holds one (random positions with a large ell): looked for once a call, not
-    # at every jump. It was left stuck, and every later event came early (the chain audit);
-    # every such block starts, the worst first (the event's epicentre), the others with it at
-    # the same instant: one far from the first was left stuck until a neighbour moved (the
-    # second chain audit, helper-38: ten blocks, ell 30, seed 5)
-    j_back = -1
-    n_back = 0
-    back = np.empty(n, dtype=np.int64)
-    if backward and ws[0] == 0.0:
-        worst = BREAK_TOL * (1.0 + abs(nu * t))
-        for j in range(n):
-            beyond = -phi[j] - stuck_force(x, j, t, nu, ell2, periodic)
-            if beyond > BREAK_TOL * (1.0 + abs(nu * t)):
-                back[n_back] = j
-                n_back += 1
-            if beyond > worst:
-                worst = beyond
-                j_back = j
+    back, n_back, j_back = _backward_at_start(t, cfg, phi, x, ws)
     while True:
         if stalled > STALL_STEPS:
             sc[S_T] = t
@@ -582,96 +603,23 @@ def chain_run(  # type: ignore[no-untyped-def]
                 sc[S_T] = t
                 sc[S_STALL] = stalled
                 return written, CH_EVENTS
-            j0 = j_back  # a start's block beyond its backward threshold (see above the loop)
-            d0 = -1 if j_back >= 0 else 1
+            if j_back < 0 and tree[1] > t_max:
+                sc[S_T] = t_max
+                return written, CH_T_MAX
+            t = _event_start(
+                t, j_back, back, n_back, cfg, phi, x, v, mode, tree, size, sc, ev_x0, ev_flag, ev_list, idx,
+                pos, ws, stack,
+            )  # fmt: skip
             j_back = -1
-            if j0 < 0:
-                tb = tree[1]
-                if tb > t_max:
-                    sc[S_T] = t_max
-                    return written, CH_T_MAX
-                if tb > t:
-                    t = tb
-                j0 = _tree_argmin(tree, size)
-            _event_begin(sc, x, v, t, j0, nu, ell2, periodic)
-            q = 0
-            while True:
-                _start_slip(j0, d0, t, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws)
-                _tree_refresh(tree, size, x, mode, phi, j0, nu, ell2, periodic)
-                _break_near(
-                    j0,
-                    t,
-                    x,
-                    v,
-                    mode,
-                    phi,
-                    nu,
-                    ell2,
-                    periodic,
-                    backward,
-                    tree,
-                    size,
-                    sc,
-                    ev_x0,
-                    ev_flag,
-                    ev_list,
-                    idx,
-                    pos,
-                    ws,
-                    stack,
-                )
-                # the start's other blocks beyond their backward threshold, at this instant
-                j0 = -1
-                while q < n_back and j0 < 0:
-                    jb = back[q]
-                    q += 1
-                    beyond = -phi[jb] - stuck_force(x, jb, t, nu, ell2, periodic)
-                    if mode[jb] == STUCK and beyond > BREAK_TOL * (1.0 + abs(nu * t)):
-                        j0 = jb
-                if j0 < 0:
-                    break
-                d0 = -1
             n_back = 0
             continue
         s_stuck = n_stuck * nu * t - ws[1]
-        # stuck blocks next to slipping ones: their forces are watched step by step
-        na = 0
-        for k in range(m):
-            j = idx[k]
-            for jj in (_left(j, n, periodic), _right(j, n, periodic)):
-                if mode[jj] == STUCK and slot[jj] < 0:
-                    slot[jj] = na
-                    adj[na] = jj
-                    na += 1
-        for k in range(m):
-            j = idx[k]
-            y[2 * k] = x[j]
-            y[2 * k + 1] = v[j]
+        na = _segment_begin(
+            t, cfg, phi, x, v, mode, idx, pos, m, adj, e_adj, slot, nbl, nbr, dk, phk, y, y_new, ytmp
+        )
         nvar = 2 * m + 2
         nctl = 2 * m
-        y[2 * m] = 0.0
-        y[2 * m + 1] = 0.0
-        for i in range(na):  # constant over the segment: in every stage's state
-            xa = x[adj[i]]
-            y[nvar + i] = xa
-            ytmp[nvar + i] = xa
-            y_new[nvar + i] = xa
-        for k in range(m):
-            j = idx[k]
-            dk[k] = mode[j]
-            phk[k] = phi[j]
-            for side in range(2):
-                jj = _left(j, n, periodic) if side == 0 else _right(j, n, periodic)
-                q = 2 * pos[jj] if pos[jj] >= 0 else nvar + slot[jj]
-                if side == 0:
-                    nbl[k] = q
-                else:
-                    nbr[k] = q
-        for i in range(na):
-            slot[adj[i]] = -1
-            e_adj[i] = stuck_force(x, adj[i], t, nu, ell2, periodic)
-        t_ref = t
-        ctx = (law, P, nu, ell2, nbl, nbr, dk, phk, m, s_stuck, n_stuck, t_ref)
+        ctx = (law, P, nu, ell2, nbl, nbr, dk, phk, m, s_stuck, n_stuck, t)
         _rhs(ctx, t, y, K[0])
         h = sc[S_H] if sc[S_H] > 0.0 else H_FIRST
         done = False
@@ -683,11 +631,7 @@ def chain_run(  # type: ignore[no-untyped-def]
                 or sc[S_NWORK] - work_start >= max_work
                 or (sc[S_IN_EVENT] != 0.0 and t - sc[S_EV_T0] > max_event)
             ):
-                for k in range(m):
-                    x[idx[k]] = y[2 * k]
-                    v[idx[k]] = y[2 * k + 1]
-                sc[S_EV_WD] += y[2 * m]
-                sc[S_EV_WF] += y[2 * m + 1]
+                _segment_end(x, v, y, idx, m, sc)
                 sc[S_T] = t
                 sc[S_H] = h
                 sc[S_STALL] = stalled
@@ -700,12 +644,7 @@ def chain_run(  # type: ignore[no-untyped-def]
                 hit = True
             if h <= 0.0:
                 break  # a closed-form breakaway (or the time limit) now
-            for s in range(1, N_STAGES):
-                vec_stage(y, K, h, s, nvar, ytmp)
-                _rhs(ctx, t + C[s] * h, ytmp, K[s])
-            vec_advance(y, K, h, nvar, y_new)
-            _rhs(ctx, t + h, y_new, K[N_STAGES])
-            err = vec_error(y, y_new, K, h, nctl, rtol, atol)
+            err = _step(ctx, t, h, y, y_new, ytmp, K, nvar, nctl, rtol, atol)
             steps += 1
             sc[S_NSTEP] += 1.0
             sc[S_NWORK] += WORK_STEP + m
@@ -723,192 +662,15 @@ def chain_run(  # type: ignore[no-untyped-def]
                     return written, CH_STEP_TOO_SMALL if math.isfinite(err) else CH_NONFINITE
                 continue
             # ------------------------------------------------- events in the step
-            nev = 0
-            have_dense = False
+            at = (F, y, x, pos, nu, ell2, periodic, t, h)
             peak = sc[S_EV_PEAK]
-            for k in range(m):
-                j = idx[k]
-                d = mode[j]
-                g0 = d * y[2 * k + 1]
-                g1 = d * y_new[2 * k + 1]
-                a0 = d * K[0, 2 * k + 1]
-                a1 = d * K[N_STAGES, 2 * k + 1]
-                xe = -1.0
-                pk_x[k] = 2.0
-                pk_v[k] = 0.0
-                peak_in = a0 > 0.0 and a1 < 0.0  # a speed maximum inside the step
-                dip_in = a0 < 0.0 and a1 > 0.0 and g1 > 0.0  # a speed minimum: a dip to 0?
-                if (peak_in or dip_in or g1 <= 0.0) and not have_dense:
-                    _dense(ctx, t, y, y_new, h, K, F, ytmp, nvar)
-                    have_dense = True
-                xm = 2.0
-                if peak_in or dip_in:
-                    xm = _root(
-                        G_VEL_SLOPE,
-                        F,
-                        y,
-                        k,
-                        1.0,
-                        0.0,
-                        x,
-                        j,
-                        nu,
-                        ell2,
-                        periodic,
-                        pos,
-                        t,
-                        h,
-                        0.0,
-                        d * a0 * h,
-                        1.0,
-                        d * a1 * h,
-                    )
-                if peak_in:
-                    pk_x[k] = xm
-                    pk_v[k] = abs(dense_eval(F, y, xm, 2 * k + 1))
-                if g1 <= 0.0:
-                    if g0 > 0.0:
-                        xe = _root(
-                            G_VEL, F, y, k, d, 0.0, x, j, nu, ell2, periodic, pos, t, h, 0.0, g0, 1.0, g1
-                        )
-                    else:
-                        # started at rest: the stop is where the speed, grown first, returns to 0;
-                        # a slip shorter than half the step is sought closer to its start (a force
-                        # that touches the threshold and turns back: a slip of a few 1e-5 inside a
-                        # step of 4e-4 was taken for none, and the block slipped on at once, again
-                        # and again, at the same time)
-                        xs = 0.5
-                        xb = 1.0
-                        gb_ = g1
-                        gs = d * dense_eval(F, y, xs, 2 * k + 1)
-                        g_low = min(g1, gs)  # the slowest the block went, at the probes
-                        while gs <= 0.0 and xs > PROBE_MIN:
-                            xb = xs
-                            gb_ = gs
-                            xs *= 0.5
-                            gs = d * dense_eval(F, y, xs, 2 * k + 1)
-                            g_low = min(g_low, gs)
-                        if gs > 0.0:
-                            xe = _root(
-                                G_VEL, F, y, k, d, 0.0, x, j, nu, ell2, periodic, pos, t, h, xs, gs, xb, gb_
-                            )
-                        elif a1 > 0.0 and -g_low <= ROUND_SPEED * h * (1.0 + ell2 + abs(nu * t)):
-                            # pushed forward at the end of the step, with a speed that never left
-                            # the rounding of its increments: no stop. Three blocks at threshold
-                            # together (c = 0.05, rtol 1e-11): one's step was cut to 6.7e-14 by its
-                            # twin's breakaway, its speed came out -7e-30 for +2e-29, and it stopped
-                            # at once and broke away again at the same time 10000 times (stalled)
-                            y_new[2 * k + 1] = 0.0
-                        else:
-                            xe = 0.0
-                elif dip_in:
-                    gm = d * dense_eval(F, y, xm, 2 * k + 1)
-                    if gm <= 0.0 and g0 > 0.0:
-                        xe = _root(
-                            G_VEL, F, y, k, d, 0.0, x, j, nu, ell2, periodic, pos, t, h, 0.0, g0, xm, gm
-                        )
-                if xe >= 0.0:
-                    ev_x[nev] = xe
-                    ev_k[nev] = j
-                    ev_kind[nev] = 0
-                    nev += 1
-            for i in range(na):
-                j = adj[i]
-                e0 = e_adj[i]
-                # force at the end of the step: neighbours at y_new
-                jl = _left(j, n, periodic)
-                jr = _right(j, n, periodic)
-                xl = y_new[2 * pos[jl]] if pos[jl] >= 0 else x[jl]
-                xr = y_new[2 * pos[jr]] if pos[jr] >= 0 else x[jr]
-                e1 = ell2 * ((xl - x[j]) + (xr - x[j])) + (nu * (t + h) - x[j])
-                e_end[i] = e1
-                vl0 = y[2 * pos[jl] + 1] if pos[jl] >= 0 else 0.0
-                vr0 = y[2 * pos[jr] + 1] if pos[jr] >= 0 else 0.0
-                vl1 = y_new[2 * pos[jl] + 1] if pos[jl] >= 0 else 0.0
-                vr1 = y_new[2 * pos[jr] + 1] if pos[jr] >= 0 else 0.0
-                de0 = ell2 * (vl0 + vr0) + nu
-                de1 = ell2 * (vl1 + vr1) + nu
-                for sgn in (1.0, -1.0):
-                    if sgn < 0.0 and not backward:
-                        break
-                    ga = sgn * (e0 - sgn * phi[j])
-                    gb = sgn * (e1 - sgn * phi[j])
-                    xe = -1.0
-                    if gb >= 0.0:
-                        if not have_dense:
-                            _dense(ctx, t, y, y_new, h, K, F, ytmp, nvar)
-                            have_dense = True
-                        xe = _root(
-                            G_FORCE,
-                            F,
-                            y,
-                            0,
-                            sgn,
-                            sgn * phi[j],
-                            x,
-                            j,
-                            nu,
-                            ell2,
-                            periodic,
-                            pos,
-                            t,
-                            h,
-                            0.0,
-                            min(ga, 0.0),
-                            1.0,
-                            gb,
-                        )
-                    elif sgn * de0 > 0.0 and sgn * de1 < 0.0:  # an extremum of the force inside
-                        if not have_dense:
-                            _dense(ctx, t, y, y_new, h, K, F, ytmp, nvar)
-                            have_dense = True
-                        xm = _root(
-                            G_FORCE_SLOPE,
-                            F,
-                            y,
-                            0,
-                            1.0,
-                            0.0,
-                            x,
-                            j,
-                            nu,
-                            ell2,
-                            periodic,
-                            pos,
-                            t,
-                            h,
-                            0.0,
-                            de0,
-                            1.0,
-                            de1,
-                        )
-                        gm = sgn * (_force_at(F, y, xm, x, j, nu, ell2, periodic, pos, t, h) - sgn * phi[j])
-                        if gm >= 0.0:
-                            xe = _root(
-                                G_FORCE,
-                                F,
-                                y,
-                                0,
-                                sgn,
-                                sgn * phi[j],
-                                x,
-                                j,
-                                nu,
-                                ell2,
-                                periodic,
-                                pos,
-                                t,
-                                h,
-                                0.0,
-                                min(ga, 0.0),
-                                xm,
-                                gm,
-                            )
-                    if xe >= 0.0:
-                        ev_x[nev] = xe
-                        ev_k[nev] = j
-                        ev_kind[nev] = 1 if sgn > 0.0 else -1
-                        nev += 1
+            nev, have_dense = _find_stops(
+                ctx, at, y_new, ytmp, K, nvar, idx, mode, ev_x, ev_k, ev_kind, pk_x, pk_v
+            )
+            nev, have_dense = _find_breakaways(
+                ctx, at, y_new, ytmp, K, nvar, na, nev, have_dense, phi, backward, adj, e_adj, e_end, ev_x,
+                ev_k, ev_kind,
+            )  # fmt: skip
             xs = 2.0
             for i in range(nev):
                 if ev_x[i] < xs:
@@ -936,7 +698,7 @@ def chain_run(  # type: ignore[no-untyped-def]
                 break  # a closed-form breakaway or the time limit: the controller's size is kept
             # ------------------------------------------------- the earliest events
             if not have_dense:
-                _dense(ctx, t, y, y_new, h, K, F, ytmp, nvar)
+                _dense(ctx, t, h, y, y_new, ytmp, K, F, nvar)
                 have_dense = True
             for c in range(nvar):
                 y[c] = dense_eval(F, y, xs, c) if xs < 1.0 else y_new[c]
@@ -950,100 +712,26 @@ def chain_run(  # type: ignore[no-untyped-def]
             t_was = t
             t = t + xs * h if xs < 1.0 else t + h
             stalled = stalled + 1 if t == t_was else 0
-            for k in range(m):
-                x[idx[k]] = y[2 * k]
-                v[idx[k]] = y[2 * k + 1]
-            sc[S_EV_WD] += y[2 * m]
-            sc[S_EV_WF] += y[2 * m + 1]
+            _segment_end(x, v, y, idx, m, sc)
             done = True
-            # the simultaneous events, in block order (insertion sort: a handful)
-            ns = 0
-            for i in range(nev):
-                if ev_x[i] <= xs + SIMULTANEOUS:
-                    ev_k[ns] = ev_k[i]
-                    ev_kind[ns] = ev_kind[i]
-                    ns += 1
-            for i in range(1, ns):
-                kk = ev_k[i]
-                kd = ev_kind[i]
-                q = i
-                while q > 0 and ev_k[q - 1] > kk:
-                    ev_k[q] = ev_k[q - 1]
-                    ev_kind[q] = ev_kind[q - 1]
-                    q -= 1
-                ev_k[q] = kk
-                ev_kind[q] = kd
-            for i in range(ns):
-                j = ev_k[i]
-                if ev_kind[i] == 0:  # a stop
-                    v[j] = 0.0
-                    e = stuck_force(x, j, t, nu, ell2, periodic)
-                    if backward and e < -phi[j]:
-                        mode[j] = -1
-                    elif e >= phi[j]:
-                        mode[j] = 1
-                    else:
-                        mode[j] = STUCK
-                        _slip_off(j, x, idx, pos, ws)
-                elif mode[j] == STUCK:
-                    _start_slip(j, ev_kind[i], t, x, v, mode, sc, ev_x0, ev_flag, ev_list, idx, pos, ws)
-                _tree_refresh(tree, size, x, mode, phi, j, nu, ell2, periodic)
-            nev = ns
+            nev = _simultaneous(xs, nev, ev_x, ev_k, ev_kind)
+            _apply_events(
+                t, nev, ev_k, ev_kind, cfg, phi, x, v, mode, tree, size, sc, ev_x0, ev_flag, ev_list, idx,
+                pos, ws,
+            )  # fmt: skip
             break
         # the segment ended: events, a closed-form breakaway, or the time limit
         if not done:
-            for k in range(m):
-                x[idx[k]] = y[2 * k]
-                v[idx[k]] = y[2 * k + 1]
-            sc[S_EV_WD] += y[2 * m]
-            sc[S_EV_WF] += y[2 * m + 1]
+            _segment_end(x, v, y, idx, m, sc)
         sc[S_T] = t
         if t >= t_max:
             return written, CH_T_MAX
         if done:
             for i in range(nev):
                 _break_near(
-                    ev_k[i],
-                    t,
-                    x,
-                    v,
-                    mode,
-                    phi,
-                    nu,
-                    ell2,
-                    periodic,
-                    backward,
-                    tree,
-                    size,
-                    sc,
-                    ev_x0,
-                    ev_flag,
-                    ev_list,
-                    idx,
-                    pos,
-                    ws,
+                    ev_k[i], t, cfg, phi, x, v, mode, tree, size, sc, ev_x0, ev_flag, ev_list, idx, pos, ws,
                     stack,
-                )
+                )  # fmt: skip
         else:
-            _break_near(
-                -1,
-                t,
-                x,
-                v,
-                mode,
-                phi,
-                nu,
-                ell2,
-                periodic,
-                backward,
-                tree,
-                size,
-                sc,
-                ev_x0,
-                ev_flag,
-                ev_list,
-                idx,
-                pos,
-                ws,
-                stack,
-            )
+            _break_near(-1, t, cfg, phi, x, v, mode, tree, size, sc, ev_x0, ev_flag, ev_list, idx, pos, ws,
+                        stack)  # fmt: skip

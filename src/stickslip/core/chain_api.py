@@ -18,7 +18,7 @@ from . import chain
 from .kernel import Kernel, pole_is_an_error
 from .laws import N_LAW_PARAMS
 
-__all__ = ["ChainState", "chain_advance", "check_state"]
+__all__ = ["ChainState", "chain_advance", "check_state", "stuck_forces"]
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -92,6 +92,12 @@ def check_state(state: ChainState) -> None:
                 f"state: block {j + 1}'s {name} is {float(values[j])!r}; expected finite positions "
                 "and velocities"
             )
+
+
+def stuck_forces(state: ChainState, nu: float, ell2: float, periodic: bool) -> FloatArray:
+    """Return the elastic force on each block of ``state`` at its time, every position taken as it is."""
+    x = state.x
+    return np.array([chain.stuck_force(x, j, state.t, nu, ell2, periodic) for j in range(x.shape[0])])
 
 
 def chain_advance(

@@ -53,6 +53,7 @@ ENGINE_MODULES = (
     "dop853.py",
     "engine.py",
     "variational.py",
+    "_chain_step.py",
     "chain.py",
 )
 
