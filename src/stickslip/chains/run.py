@@ -27,6 +27,7 @@ from ..dynamics.cycle import validate_tolerances
 from ..errors import ArgumentTypeError
 from ..io.errors import DataError
 from ..io.output import check_target
+from ..models.scales import unit_label
 from ..scale.progress import progress_bar
 from ..units import check_count, check_seed, parse_quantity
 from ..userwarnings import warn
@@ -182,17 +183,11 @@ def _units(params: ChainParameters) -> tuple[dict[str, str], dict[str, float], n
     factor = np.ones(len(EventRows.layout()))
     if params.scales is None:
         return dict.fromkeys(names, "1"), dict.fromkeys(names, 1.0), factor
-    sc = params.scales
-    conv = {
-        "time": sc.time.to("s").magnitude,
-        "length": sc.length.to("m").magnitude,
-        "velocity": sc.velocity.to("m/s").magnitude,
-        "energy": sc.energy.to("J").magnitude,
-    }
+    conv = {kind: params.scales.factor(kind) for kind in names}
     for _, (col, _, unit, _) in COLUMNS.items():
         if unit in conv:
             factor[col] = conv[unit]
-    return {"time": "s", "length": "m", "velocity": "m/s", "energy": "J"}, conv, factor
+    return {kind: unit_label(kind, physical=True) for kind in names}, conv, factor
 
 
 def _setup(
@@ -289,7 +284,7 @@ def _duration(name: str, value: Any, params: ChainParameters) -> float:
     if isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool):
         if params.scales is not None and math.isfinite(value):
             # the catalogue is in seconds: a bare 50 read as 50 sqrt(m/k_p) could come out as 10 s
-            unit = params.scales.time.to("s").magnitude
+            unit = params.scales.factor("time")
             raise ArgumentTypeError(
                 f"{name}={value!r}: a physical chain takes a time with units, e.g. '{value:g} s' (a "
                 f"number would be in units of sqrt(m/k_p) = {unit:.4g} s, its output is in s)"
@@ -300,7 +295,7 @@ def _duration(name: str, value: Any, params: ChainParameters) -> float:
             f"{name}={value!r}: a dimensionless chain takes a number (units of sqrt(m/k_p))"
         )
     q = parse_quantity(value, name, "[time]", "10 s")
-    return float((q / params.scales.time).to("").magnitude)
+    return float(params.scales.from_si("time", q))
 
 
 def check_events_as(events_as: Any) -> None:
