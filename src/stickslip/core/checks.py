@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import numbers
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -28,6 +29,7 @@ __all__ = [
     "finite_array",
     "integer",
     "nu_outside",
+    "number_pair",
     "positive",
     "refusal",
     "state",
@@ -73,6 +75,29 @@ def finite(name: str, value: Any, *, what: str = "a finite number", text: bool =
     if not math.isfinite(x):
         raise ValueError(f"{name}={value!r}: expected {what}")
     return x
+
+
+def number_pair(value: Any, expected: str) -> tuple[float, float]:
+    """Return a pair of numbers as two floats (not yet checked finite).
+
+    A str (which iterates as its characters: '59' as (5, 9)), a scalar, or entries that
+    are not numbers are the wrong type (``ArgumentTypeError``); a sequence of another length
+    than two is a wrong value (``ValueError``). ``expected`` is the whole message
+    (``"guess=...: expected a pair (s0, period) of numbers"``).
+    """
+    if (
+        isinstance(value, str | bytes)
+        or not isinstance(value, Sequence | np.ndarray)
+        or (isinstance(value, np.ndarray) and value.ndim == 0)
+    ):
+        raise ArgumentTypeError(expected)
+    if len(value) != 2:
+        raise ValueError(expected)
+    try:
+        a, b = (float(v) for v in value)
+    except (TypeError, ValueError):  # entries that are not numbers
+        raise ArgumentTypeError(expected) from None
+    return a, b
 
 
 def refusal(x: float, *, allow_zero: bool = False) -> str | None:

@@ -410,7 +410,8 @@ def cycle(
 def _converter(scales: Scales | None) -> Any:
     if scales is None:
         return lambda kind, x: float(x)
-    return lambda kind, x: float(scales.to_si(kind, x))
+    factor = {kind: scales.factor(kind) for kind in UNITS}  # one pint conversion per kind
+    return lambda kind, x: float(x) * factor[kind]
 
 
 def _attractor(o: AttractorRows, start: str, conv: Any, multiplier: float) -> Attractor:

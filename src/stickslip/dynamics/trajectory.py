@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import numbers
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -14,6 +14,7 @@ import pint
 
 from .. import defaults
 from ..core.api import MAX_PHASES, MAX_TIME, run_attractors, run_trajectory
+from ..core.checks import number_pair
 from ..core.memory import check_memory
 from ..core.results import EventKind, Regime, Status
 from ..errors import ArgumentTypeError
@@ -232,20 +233,7 @@ def simulate(
         "units (mu_s W and mu_s W / sqrt(k m)), or, for physical parameters, quantities "
         "('50 mN', '0 m/s')"
     )
-    # a str (which iterates as its characters: '59' as (5, 9)), a scalar, or entries that are
-    # not numbers are the wrong type; a sequence of another length than two is a wrong value
-    if (
-        isinstance(initial, str | bytes)
-        or not isinstance(initial, Sequence | np.ndarray)
-        or (isinstance(initial, np.ndarray) and initial.ndim == 0)
-    ):
-        raise ArgumentTypeError(pair)
-    if len(initial) != 2:
-        raise ValueError(pair)
-    try:
-        s0, w0 = (float(v) for v in initial)
-    except (TypeError, ValueError):
-        raise ArgumentTypeError(pair) from None
+    s0, w0 = number_pair(initial, pair)
     if cycles is not None and duration is not None:  # cycles reached nothing
         raise ValueError(f"cycles={cycles!r} and duration={duration!r}: give one or the other")
     bound = 1e6

@@ -13,16 +13,14 @@ alike; :func:`check_guess` checks the ``(s0, period)`` guesses of shooting too
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from ..core.api import Kernel, Trajectories
-from ..core.checks import MAX_STATE
+from ..core.checks import MAX_STATE, number_pair
 from ..core.results import EventKind, Status
-from ..errors import ArgumentTypeError
 from ..laws import DimensionlessLaw
 
 __all__ = ["ReturnMapOrbit", "check_guess", "next_force_maximum", "return_map_orbit", "return_map_orbit_core"]
@@ -30,19 +28,7 @@ __all__ = ["ReturnMapOrbit", "check_guess", "next_force_maximum", "return_map_or
 
 def check_guess(guess: Any) -> tuple[float, float]:
     """Return ``(s0, period)`` as floats: a finite spring force and a positive period."""
-    pair = f"guess={guess!r}: expected a pair (s0, period) of numbers"
-    if (
-        isinstance(guess, str | bytes)
-        or not isinstance(guess, Sequence | np.ndarray)
-        or (isinstance(guess, np.ndarray) and guess.ndim == 0)
-    ):
-        raise ArgumentTypeError(pair)
-    if len(guess) != 2:
-        raise ValueError(pair)
-    try:
-        s0, period = (float(g) for g in guess)
-    except (TypeError, ValueError):  # entries that are not numbers
-        raise ArgumentTypeError(pair) from None
+    s0, period = number_pair(guess, f"guess={guess!r}: expected a pair (s0, period) of numbers")
     if not (math.isfinite(s0) and math.isfinite(period) and period > 0):
         raise ValueError(f"guess={guess!r}: expected a finite s0 and a positive period")
     return s0, period
