@@ -14,7 +14,7 @@ from typing import Any
 import click
 
 from ..io.output import COMMAND_LINE
-from . import bifurcation, chain, data, dynamics, explore, paper, ratestate
+from . import bifurcation, chain, data, diagram, dynamics, explore, paper, ratestate
 from .options import OnceCommand, build_parameters, describe_parameters
 
 __all__ = ["build_parameters", "describe_parameters", "main"]
@@ -100,5 +100,5 @@ def _one_line_warning(message: Any, category: Any, filename: str, lineno: int, *
 
 
 main.command_class = OnceCommand  # every command refuses a single-valued option given twice
-for _family in (dynamics, paper, ratestate, data, bifurcation, chain, explore):
+for _family in (dynamics, paper, ratestate, data, bifurcation, diagram, chain, explore):
     _family.register(main)

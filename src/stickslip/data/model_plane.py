@@ -34,7 +34,7 @@ from ..laws import PhysicalLaw, PhysicalWeakeningLaw
 from ..models.parameters import PhysicalParameters
 from ..units import Q_
 
-__all__ = ["MAP_POINTS", "MAP_SPAN", "ModelPlane", "model_regimes", "read_model_law"]
+__all__ = ["MAP_POINTS", "MAP_SPAN", "ModelPlane", "model_regimes", "read_model_law", "records_diagram"]
 
 #: grid of the (V, k) map: driving velocities x stiffnesses
 MAP_POINTS = (48, 32)
@@ -231,3 +231,53 @@ def model_regimes(
     )
     plane = sweep(base, {"v0": Q_(v_axis, "um/s"), "stiffness": Q_(k_axis, "N/m")}, progress=None)
     return ModelPlane(cols, plane, mass, load, words, sum(compared), len(compared))
+
+
+def records_diagram(
+    table: Any, law: PhysicalLaw, *, span: float = MAP_SPAN, **diagram_options: Any
+) -> tuple[Any, list[tuple[float, float, str]]]:
+    """Return the model's two-parameter (V, k) diagram around the records, and their measured points.
+
+    The plane spans the records' driving velocities and stiffnesses (stated, else
+    measured), widened by ``span`` on each side, at the records' median mass and load;
+    its curves and regions are those of
+    :func:`~stickslip.bifurcation.diagram.two_parameter_diagram` (``diagram_options``
+    passed on). Each record with a full set-up is a point ``(v0 [um/s], k [N/m],
+    measured regime)``, periodic or irregular stick-slip both named ``stick-slip``.
+
+    Raises
+    ------
+    DataError
+        When no record has a driving velocity, stiffness, mass and load.
+
+    """
+    from ..bifurcation.diagram import two_parameter_diagram
+    from ..bifurcation.planes import Plane
+
+    rows = [dict(zip(table.columns, r, strict=True)) for r in table.itertuples(index=False)]
+    pts, set_ups = [], []
+    for row in rows:
+        v0, load = float(row.get("v0 [m/s]", math.nan)), float(row.get("load [N]", math.nan))
+        k, m = _set_up(row, "stiffness"), _set_up(row, "mass")
+        if not all(math.isfinite(x) and x > 0 for x in (v0, load, k, m)):
+            continue
+        set_ups.append((v0, k, m, load))
+        regime = row.get("regime")
+        name = "stick-slip" if isinstance(regime, str) and regime.endswith("stick-slip") else str(regime)
+        pts.append((v0 * 1e6, k, name))
+    if not set_ups:
+        raise DataError("no record has a driving velocity, a stiffness, a mass and a load: no (V, k) plane")
+    v0s, ks, ms, loads = (np.array(x) for x in zip(*set_ups, strict=True))
+    base = PhysicalParameters(
+        mass=Q_(float(np.median(ms)), "kg"),
+        stiffness=Q_(float(np.median(ks)), "N/m"),
+        load=Q_(float(np.median(loads)), "N"),
+        v0=Q_(float(np.median(v0s)), "m/s"),
+        law=law,
+    )
+    plane = Plane.physical(
+        base,
+        ("v0", (v0s.min() * 1e6 / span, v0s.max() * 1e6 * span)),
+        ("stiffness", (ks.min() / span, ks.max() * span)),
+    )
+    return two_parameter_diagram(plane, **diagram_options), pts

@@ -1,0 +1,300 @@
+"""Two-parameter diagrams: curves against closed forms, codimension-2 points, sweeps, brute force, outputs.
+
+Closed forms used:
+
+- the weakening law ``f = 1/(1 + c w) + p w`` has ``f'(nu) = 0`` at ``nu_H = (sqrt(c/p) - 1)/c``;
+- the law ``f = 1 + w + g w^3 + 0.25 w^5`` has its Hopf curve where ``1 + 3 g nu^2 + 1.25 nu^4 = 0``,
+  i.e. ``g = -(1 + 1.25 nu^4)/(3 nu^2)``, whose largest ``g`` (a turning point of the curve in
+  ``(nu, g)``) is at ``nu^4 = 0.8``; ``f''' = 6 g + 15 nu^2`` vanishes on it at ``nu^2 = 0.4``,
+  ``g = -1``: the Bautin point (``f^(5) = 30 > 0``: the subcritical cycles fold into a stable one).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from stickslip import WeakeningLaw
+from stickslip.bifurcation.arclength import trace
+from stickslip.bifurcation.diagram import two_parameter_diagram
+from stickslip.bifurcation.diagram_check import check_diagram, decode, encode
+from stickslip.bifurcation.diagram_io import diagram_dataset
+from stickslip.bifurcation.planes import Plane
+from stickslip.core.api import run_attractors
+from stickslip.core.results import Regime
+from stickslip.laws.expression import ExpressionLaw
+
+COLAS = Path(__file__).resolve().parents[2] / "shared" / "data" / "colas2019"
+BAUTIN_LAW = "1 + w + g*w**3 + 0.25*w**5"
+
+
+@pytest.fixture(scope="module")
+def weakening():
+    pl = Plane.dimensionless(WeakeningLaw(c=5, p=0.5), ("nu", (0.05, 2.0)), ("c", (2.0, 20.0)))
+    return two_parameter_diagram(pl, raster=150)
+
+
+@pytest.fixture(scope="module")
+def bautin():
+    """The plane reaches g = -1.3, where f < 0 above w = 1.6 (the law says so; no orbit goes there)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        law = ExpressionLaw(BAUTIN_LAW, g=-1.0)
+        pl = Plane.dimensionless(law, ("nu", (0.2, 2.0)), ("g", (-1.3, -0.7)))
+        return two_parameter_diagram(pl, raster=150)
+
+
+def test_arclength_closes_a_circle_and_locates_its_events():
+    c = trace(
+        lambda x: np.array([x[0] ** 2 + x[1] ** 2 - 1]),
+        np.array([1.0, 0.0]),
+        tests={"x": lambda z: z[0]},
+        h_max=0.2,
+    )
+    assert c.end == ("closed", "closed")
+    assert np.allclose(np.hypot(c.x[:, 0], c.x[:, 1]), 1.0, atol=1e-12)
+    ev = sorted(float(e.x[1]) for e in c.events)
+    assert ev == pytest.approx([-1.0, 1.0], abs=1e-12)
+    assert all(abs(e.x[0]) < 1e-12 for e in c.events)
+
+
+def test_weakening_hopf_curve_equals_its_closed_form(weakening):
+    (h,) = weakening.curves_of("hopf")
+    c, nu = h.y, h.x
+    assert np.max(np.abs(nu - (np.sqrt(c / 0.5) - 1) / c)) < 1e-10
+    assert c.min() == pytest.approx(2.0, abs=1e-12) and c.max() == pytest.approx(20.0, abs=1e-12)
+    assert h.ends == ("edge", "edge")
+    # the weakening law's f''' < 0 everywhere: subcritical along the whole curve, no Bautin point
+    assert np.all(h.data["f3"] < 0) and not weakening.points_of("bautin")
+
+
+def test_bautin_point_located_to_1e8_and_curve_through_its_turning_point(bautin):
+    (b,) = bautin.points_of("bautin")
+    assert b.x == pytest.approx(math.sqrt(0.4), abs=1e-8)
+    assert b.y == pytest.approx(-1.0, abs=1e-8)
+    assert b.value == pytest.approx(-30 / 384, rel=1e-9)  # -f^(5)/384
+    (h,) = bautin.curves_of("hopf")
+    assert np.max(np.abs(h.y + (1 + 1.25 * h.x**4) / (3 * h.x**2))) < 1e-10
+    # the curve turns back in g at nu = 0.8**0.25 (g = -2/(3 sqrt(0.8))) and is followed through it
+    i = int(np.argmax(h.y))
+    assert 0 < i < len(h.y) - 1
+    assert h.x[i] == pytest.approx(0.8**0.25, abs=0.02)
+    assert h.y[i] == pytest.approx(-2 / (3 * math.sqrt(0.8)), abs=1e-3)
+    assert h.y[i] < -2 / (3 * math.sqrt(0.8)) + 1e-15
+    assert h.ends == ("edge", "edge")
+    # sub- below the Bautin point (f''' < 0), super- above
+    f3 = h.data["f3"]
+    assert np.all(f3[h.x < b.x - 1e-6] < 0) and np.all(f3[h.x > b.x + 1e-6] > 0)
+
+
+def test_fold_curve_runs_from_the_bautin_point_to_the_fold_grazing_point(bautin):
+    folds = bautin.curves_of("fold")
+    assert len(folds) == 1
+    (f,) = folds
+    (b,) = bautin.points_of("bautin")
+    ends = {p.kind: p for p in bautin.points if p.kind in ("end", "fold-grazing")}
+    assert "end" in ends and "fold-grazing" in ends
+    # the fold orbit shrinks into the Bautin point (to the smallest amplitude followed)
+    assert ends["end"].x == pytest.approx(b.x, abs=1e-4) and ends["end"].y == pytest.approx(b.y, abs=1e-4)
+    # both ways to the fold-grazing point agree: the fold curve's end, the grazing orbit's multiplier 1
+    fg = bautin.points_of("fold-grazing")
+    assert len(fg) >= 2
+    assert max(p.x for p in fg) - min(p.x for p in fg) < 1e-9
+    assert max(p.y for p in fg) - min(p.y for p in fg) < 1e-9
+    assert np.all(f.data["min_velocity"] >= -1e-12)
+
+
+def _sweep(law, nus, push):
+    """The engine along ``nus``, each run from the last one's spring-force maximum: oscillating or not.
+
+    The first run starts ``push`` above steady sliding; after steady sliding the next run starts
+    ``1e-5`` above it (a small disturbance, as a slow ramp leaves).
+    """
+    kernel, lp = law.arrays()
+    out = []
+    s0 = law.at(nus[0]) + push
+    for nu in nus:
+        r = run_attractors(
+            kernel,
+            lp,
+            [nu],
+            [s0],
+            [nu],
+            from_breakaway=False,
+            rtol=1e-10,
+            atol=1e-12,
+            max_slip_time=2e4,
+            conv_tol=1e-7,
+        )
+        moving = not bool(r.is_regime(Regime.STEADY_SLIDING)[0])
+        out.append(moving)
+        s0 = float(r.s_max[0]) if moving else law.at(nu) + 1e-5
+    return np.array(out)
+
+
+@pytest.mark.parametrize("g", [-1.045, -1.03, -1.015])
+def test_fold_curve_matches_the_hysteresis_loop_of_simulated_sweeps(bautin, g):
+    """Down from the oscillation it holds until the fold; up from steady sliding, until the Hopf point."""
+    (f,) = bautin.curves_of("fold")
+    (h,) = bautin.curves_of("hopf")
+    nu_f = float(np.interp(g, f.y[np.argsort(f.y)], f.x[np.argsort(f.y)]))
+    left = h.x < 0.8
+    nu_h = float(np.interp(g, h.y[left][np.argsort(h.y[left])], h.x[left][np.argsort(h.y[left])]))
+    assert nu_f < nu_h
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        law = ExpressionLaw(BAUTIN_LAW, g=g)
+    d = 1e-4
+    nus = np.arange(nu_f - 20 * d, nu_h + 20 * d, d)
+    up = _sweep(law, nus, 1e-5)
+    down = _sweep(law, nus[::-1], 0.5)[::-1]
+    loop = nus[down & ~up]
+    assert loop.size, "no hysteresis between the sweeps"
+    # below the fold the orbit drifts off slowly (a ghost of the two cycles): within 3 steps of it
+    assert np.all(down[nus > nu_f + d]) and not np.any(down[nus < nu_f - 3 * d])
+    assert loop.min() == pytest.approx(nu_f, abs=3 * d)  # the fold of cycles
+    assert loop.max() == pytest.approx(nu_h, abs=3 * d)  # the subcritical Hopf point
+
+
+@pytest.mark.parametrize("which", ["weakening", "bautin"])
+def test_brute_force_agrees_away_from_the_curves(which, request):
+    d = request.getfixturevalue(which)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the Bautin law's plane: f < 0 far above any orbit's velocity
+        chk = check_diagram(d, (30, 30), progress=False)
+    assert chk.scored > 500
+    assert chk.agree >= 0.99, chk.report()
+    assert "agree with the diagram" in chk.report()
+
+
+def test_regions_are_named_by_their_attractors(weakening):
+    regimes = set(weakening.region_regime)
+    assert {"stick-slip", "steady-sliding"} <= regimes
+    assert "stick-slip + steady-sliding" in weakening.region_names  # bistable between Hopf and grazing
+    assert weakening.regime_at(0.1, 10.0) == "stick-slip"
+    assert weakening.regime_at(1.8, 10.0) == "steady-sliding"
+
+
+def test_codes_round_trip():
+    for names in ("stick-slip", "stick-slip + steady-sliding", "pure-slip + pure-slip + steady-sliding"):
+        assert decode(encode(names)) == names
+
+
+def test_netcdf_and_json(weakening, tmp_path):
+    import xarray as xr
+
+    ds = diagram_dataset(weakening)
+    ds.to_netcdf(tmp_path / "d.nc")
+    back = xr.load_dataset(tmp_path / "d.nc")
+    kinds = [str(k) for k in back["curve_kind"].values]
+    assert sorted(kinds) == ["grazing", "hopf"]
+    hopf = back["curve_id"].values == kinds.index("hopf")
+    c, nu = back["curve_y"].values[hopf], back["curve_x"].values[hopf]
+    assert np.max(np.abs(nu - (np.sqrt(c / 0.5) - 1) / c)) < 1e-10
+    assert back["curve_x"].attrs["units"] == "1" and back.attrs["x_name"] == "nu"
+    d = json.loads(weakening.to_json())
+    assert {c["kind"] for c in d["curves"]} == {"hopf", "grazing"}
+
+
+def test_physical_plane_hopf_is_where_dF_dV_vanishes():
+    """In (V, k) the Hopf set of the paper's F2 is the line F'(V) = 0: V = (sqrt(a/b) - 1)/a."""
+    from stickslip.laws import PhysicalWeakeningLaw
+    from stickslip.models.parameters import PhysicalParameters
+
+    law = PhysicalWeakeningLaw(mu_s=0.35, a="30 s/m", b="20 s/m")
+    params = PhysicalParameters(mass="30.7 g", stiffness="168 N/m", load="0.301 N", v0="1 mm/s", law=law)
+    pl = Plane.physical(params, ("v0", (1e3, 3e4)), ("stiffness", (50.0, 500.0)))
+    d = two_parameter_diagram(pl, label=False, raster=20)
+    (h,) = d.curves_of("hopf")
+    v_h = (math.sqrt(30 / 20) - 1) / 30 * 1e6  # um/s
+    assert np.max(np.abs(h.x / v_h - 1)) < 1e-9
+    assert h.y.min() == pytest.approx(50.0) and h.y.max() == pytest.approx(500.0)
+
+
+def test_bad_planes_say_which_argument():
+    law = WeakeningLaw(c=5, p=0.5)
+    with pytest.raises(ValueError, match="axis 'q'"):
+        Plane.dimensionless(law, ("nu", (0.1, 1)), ("q", (1, 2)))
+    with pytest.raises(ValueError, match="c=\\(3, 2\\)"):
+        Plane.dimensionless(law, ("nu", (0.1, 1)), ("c", (3, 2)))
+    with pytest.raises(ValueError, match="give nu="):
+        Plane.dimensionless(law, ("c", (1, 2)), ("p", (0.1, 0.2)))
+
+
+def test_command_writes_the_diagram_and_refuses_a_bad_axis(tmp_path):
+    out = tmp_path / "d"
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "stickslip",
+            "diagram",
+            "--x",
+            "nu=0.05..2",
+            "--y",
+            "c=2..20",
+            "--p",
+            "0.5",
+            "--raster",
+            "60",
+            "--out",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert r.returncode == 0, r.stderr
+    assert "hopf     curve" in r.stdout and "region" in r.stdout
+    assert {"diagram.nc", "diagram.json", "diagram.png", "diagram.svg"} <= {p.name for p in out.iterdir()}
+    bad = subprocess.run(
+        [sys.executable, "-m", "stickslip", "diagram", "--x", "nu=2", "--y", "c=2..20", "--p", "0.5"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert bad.returncode == 2
+    assert "--x='nu=2': expected NAME=A..B" in bad.stderr
+    assert "Traceback" not in bad.stderr
+
+
+@pytest.mark.skipif(not COLAS.is_dir(), reason="the Colas et al. 2019 records are not beside the repository")
+def test_the_real_records_plane(tmp_path):
+    """Colas et al., Phys. Rev. E (2019): three records at k = 168 N/m, V = 42, 1100, 4300 um/s."""
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "stickslip",
+            "diagram",
+            "--records",
+            str(COLAS),
+            "--name-pattern",
+            "k{stiffness}Nm_v{v0}",
+            "--mass",
+            "30.7 g",
+            "--load",
+            "weight",
+            "--model",
+            "mu_s=0.35, a=30 s/m, b=20 s/m",
+            "--raster",
+            "60",
+            "--json",
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert sorted(m["v0_um_per_s"] for m in d["measured"]) == pytest.approx([42.0, 1100.0, 4300.0])
+    assert all(m["stiffness_N_per_m"] > 0 for m in d["measured"])
+    hopf = [c for c in d["curves"] if c["kind"] == "hopf"]
+    assert hopf and np.allclose(hopf[0]["x"], (math.sqrt(1.5) - 1) / 30 * 1e6, rtol=1e-9)
