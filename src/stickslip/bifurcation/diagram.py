@@ -16,8 +16,11 @@
 
 and labels the regions between the curves: a raster of the plane is cut along the
 curves into connected regions, and each region is named by the attractors at its point
-farthest from every curve, from the exact engine's runs from rest and from two pushes off
-steady sliding (the probes of the one-parameter analysis) and the sign of ``f'``.
+farthest from every curve and at four more of its cells, from the exact engine's runs
+from rest and from two pushes off steady sliding (the probes of the one-parameter
+analysis) and the sign of ``f'``. A region whose cells disagree is named
+``undetermined: ...`` with both sets, and a note says a boundary that is not continued
+(slip reversal) crosses it: the diagram does not guess.
 """
 
 from __future__ import annotations
@@ -323,7 +326,7 @@ def two_parameter_diagram(
     _cusps(plane, curves, points)
 
     rx = np.linspace(0.5 / raster, 1 - 0.5 / raster, raster)
-    region, names, regimes = _regions(sysm, curves, rx, label)
+    region, names, regimes = _regions(sysm, curves, rx, label, notes)
     xs, ys = plane.values(np.stack([rx, rx], axis=-1))
     return Diagram(plane, curves, points, region, names, regimes, np.asarray(xs), np.asarray(ys), notes)
 
@@ -596,9 +599,9 @@ def _cusps(plane: Plane, curves: list[Curve], points: list[SpecialPoint2]) -> No
 
 
 def _regions(
-    sysm: OneBlockSystems, curves: list[Curve], rx: np.ndarray, label: bool
+    sysm: OneBlockSystems, curves: list[Curve], rx: np.ndarray, label: bool, notes: list[str]
 ) -> tuple[np.ndarray, list[str], list[str]]:
-    """Cut the raster along the curves; name each region by the attractors at its innermost cell."""
+    """Cut the raster along the curves; name each region by the attractors the engine finds in it."""
     from scipy import ndimage
 
     n = rx.size
@@ -614,7 +617,8 @@ def _regions(
             j = np.clip((pts[:, 0] * n).astype(int), 0, n - 1)
             i = np.clip((pts[:, 1] * n).astype(int), 0, n - 1)
             wall[i, j] = True
-    wall = ndimage.binary_dilation(wall, structure=np.ones((3, 3), dtype=bool))
+    # a curve sampled at four points per cell is an 8-connected wall, which the 4-connected
+    # labelling below does not cross: a band one cell wide between two curves is a region
     lab, count = ndimage.label(~wall)
     region = lab - 1  # -1 on the walls
     names: list[str] = []
@@ -626,12 +630,29 @@ def _regions(
 
     for r in range(count):
         cells = np.argwhere(region == r)
-        best = cells[int(np.argmax(dist[cells[:, 0], cells[:, 1]]))]
-        u = np.array([rx[best[1]], rx[best[0]]])
-        nu, law = sysm.plane.law_at(u)
-        att = _attractor_sets(law, np.array([nu]), [])[0]
-        names.append(" + ".join(str(a) for a in att))
-        regimes.append(str(interval_regime(att)))
+        d = dist[cells[:, 0], cells[:, 1]]
+        # the innermost cell, and four more spread over the region at least two cells from a wall:
+        # a region whose cells disagree holds a boundary that is not continued (slip reversal)
+        inner = cells[d >= min(2.0, float(d.max()))]
+        picks = [cells[int(np.argmax(d))]] + [
+            inner[int(q * (len(inner) - 1))] for q in (0.1, 0.35, 0.65, 0.9)
+        ]
+        found = []
+        for cell in picks:
+            u = np.array([rx[cell[1]], rx[cell[0]]])
+            nu, law = sysm.plane.law_at(u)
+            found.append(_attractor_sets(law, np.array([nu]), [])[0])
+        words = {" + ".join(str(a) for a in att) for att in found}
+        if len(words) == 1:
+            names.append(words.pop())
+            regimes.append(str(interval_regime(found[0])))
+        else:
+            names.append("undetermined: " + " | ".join(sorted(words)))
+            regimes.append(str(Regime.UNKNOWN))
+            notes.append(
+                f"region {r}: the engine finds different attractors in it ({' | '.join(sorted(words))}): "
+                "a boundary that is not continued (slip reversal, or an attractor of its own) crosses it"
+            )
     return region, names, regimes
 
 
