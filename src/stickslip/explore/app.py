@@ -6,7 +6,8 @@ only the new numbers of the plots' data sources over the page's websocket).
 Every change of a widget calls :func:`stickslip.explore.session.compute` in the
 server process, that is the compiled engine, and replaces the data of the four
 plots: the spring force against time, the phase portrait, the amplitude-velocity
-curve with the paper's criterion, and the regime diagram.
+curve with the paper's criterion, and the regime diagram. A fifth, the two-parameter
+bifurcation diagram (:mod:`~.plane_panel`), is computed when its button is pressed.
 
 The page's models carry names (``status``, ``command``, ``force``, ``nu``, ...)
 so that a test or a script can read them from BokehJS.
@@ -27,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from ..models import PhysicalParameters
+from .plane_panel import PlanePanel
 from .session import (
     DEFAULT_EXPRESSION_PARAMS,
     EXPR,
@@ -132,7 +134,7 @@ class Explorer:
         self.apply = Button(label="Compile and apply the formula", name="apply", visible=s.law == EXPR)
         self.param_box = column(name="param_box")
         self.law_si = Div(text="", name="law_si", width=330)  # the law in SI units, in physical units
-        self.diagram_param = Select(title="Regime diagram: vertical axis", name="diagram_param")
+        self.diagram_param = Select(title="The diagrams' vertical axis", name="diagram_param")
         self.nu = Slider(
             title="log10 nu (nu = beta v0)",
             start=-5.0,
@@ -212,6 +214,8 @@ class Explorer:
         self.f_diag.legend.background_fill_alpha = 1.0
         self.f_diag.add_layout(self.f_diag.legend[0], "right")
         self.f_diag.width = 560
+        # the two-parameter diagram, computed on demand in a worker (``_workers`` read at the press)
+        self.plane = PlanePanel(doc, self._plane_setup, lambda: _workers())
 
         self.law.on_change("value", self._on_law)
         self.apply.on_click(self._on_apply)
@@ -244,7 +248,7 @@ class Explorer:
         doc.js_on_event(
             DocumentReady, CustomJS(code="const n = document.getElementById('loading'); if (n) n.remove();")
         )
-        doc.add_root(row(controls, plots))
+        doc.add_root(row(controls, column(plots, self.plane.layout())))
         doc.add_root(self.csv)  # not drawn: the page downloads its text when it changes
         self.update()
 
@@ -462,6 +466,7 @@ class Explorer:
         self.doc.hold("combine")
         try:
             self._push(view, diagram)
+            self.plane.follow(setup, self.diagram_param.value)
             self.last_update_s = time.perf_counter() - t0
             self.updates += 1
             self._set_status(self._summary(view) + _warnings_html(notes))
@@ -542,6 +547,11 @@ class Explorer:
             self.diagram_point.data = {"x": [], "y": []}
 
     _diagram_range: tuple[float, float] = (math.inf, -math.inf)
+
+    def _plane_setup(self) -> tuple[Setup, str]:
+        """Return the set-up shown (the last that could be computed) and the diagrams' vertical axis."""
+        view = getattr(self, "view", None)
+        return (view.setup if view is not None else self.setup), str(self.diagram_param.value)
 
     def _summary(self, v: View) -> str:
         u = v.units

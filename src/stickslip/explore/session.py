@@ -7,7 +7,8 @@ stickslip: :func:`stickslip.cycle` for the steady oscillation (the same call as
 ``stickslip cycle``, so :func:`command` reproduces it), :func:`stickslip.simulate`
 for the motion, :func:`stickslip.dynamics.sweep` for the amplitude-velocity
 curve and the regime diagram, :func:`stickslip.data.classify` for the paper's
-criterion.
+criterion, :func:`stickslip.bifurcation.diagram.two_parameter_diagram` for the
+two-parameter diagram (:func:`two_parameter_view`, computed on demand).
 """
 
 from __future__ import annotations
@@ -15,10 +16,12 @@ from __future__ import annotations
 import csv
 import functools
 import io
+import itertools
 import math
 import re
 import shlex
 import sys
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
@@ -47,8 +50,11 @@ __all__ = [
     "default_params",
     "law_names",
     "parse_params",
+    "plane_key",
+    "plane_window",
     "regime_diagram",
     "slider_range",
+    "two_parameter_view",
     "view_csv",
 ]
 
@@ -64,6 +70,22 @@ CURVE_POINTS = 25
 DIAGRAM_SHAPE = (36, 24)
 #: the regimes in the order of their colour codes
 REGIMES = ("stick-slip", "pure-slip", "slip-reversal", "steady-sliding", "unknown")
+#: the two-parameter diagram's window: decades of nu each side of the current one (within
+#: :data:`NU_RANGE`), and the factor each way of its parameter's value
+PLANE_DECADES = 2
+PLANE_FACTOR = 4.0
+#: cells per axis of the two-parameter diagram's region raster
+PLANE_RASTER = 120
+#: the two-parameter diagram's curves: colour and words (Hopf black, fold blue, grazing red)
+CURVE_COLORS = {"hopf": "#000000", "fold": "#2166ac", "grazing": "#b2182b"}
+CURVE_WORDS = {
+    "hopf": "Hopf (steady sliding)",
+    "fold": "fold of pure-slip cycles",
+    "grazing": "grazing (stick-slip born)",
+}
+#: the codimension-2 points' markers (Bokeh's names) and colours
+POINT_MARKERS = {"bautin": "star", "fold-grazing": "diamond", "cusp": "triangle", "end": "circle"}
+POINT_COLORS = {"bautin": "#fdb863", "fold-grazing": "#000000", "cusp": "#000000", "end": "#ffffff"}
 #: the default physical scales (mass kg, stiffness N/m, load N, mu_s): the paper's zv set-up
 _ZV = zv_parameters()
 ZV_SCALES = (
@@ -408,6 +430,204 @@ def regime_diagram(
     for i, r in enumerate(REGIMES):
         codes[labels == r] = i
     return nus, values, codes
+
+
+def plane_key(setup: Setup, param: str) -> tuple[Any, ...]:
+    """Return what a two-parameter diagram of ``param`` depends on: the law and its other parameters.
+
+    The driving velocity and ``param``'s own value are the diagram's axes: moving them moves
+    the set-up's point across the same diagram.
+    """
+    others = tuple(sorted((k, float(v)) for k, v in setup.params.items() if k != param))
+    return (setup.law, setup.expression if setup.law == EXPR else "", param, others)
+
+
+def plane_window(setup: Setup, param: str) -> tuple[tuple[float, float], tuple[float, float]]:
+    """Return the ranges of ``nu`` and of ``param`` of the two-parameter diagram about ``setup``.
+
+    ``nu`` spans :data:`PLANE_DECADES` decades each side of the set-up's (within
+    :data:`NU_RANGE`); ``param`` from its value divided by :data:`PLANE_FACTOR` to its
+    value times it (mirrored for a negative value; -1 to 1 for a value of 0), held inside
+    the parameter's bounds: an included bound is kept, an excluded one is approached to a
+    quarter of its distance from the value. The range always holds the value.
+
+    Raises
+    ------
+    ValueError
+        For a ``param`` the law does not have, or a value that is not finite.
+
+    """
+    check_nu(setup.nu)
+    law = setup.dimensionless_law()
+    spec = _spec(law.spec.parameters, param, setup.law)
+    value = float(setup.params[param])
+    if not math.isfinite(value):
+        raise ValueError(f"{param}={value!r}: expected a finite value")
+    span = 10.0**PLANE_DECADES
+    nus = (max(setup.nu / span, NU_RANGE[0]), min(setup.nu * span, NU_RANGE[1]))
+    if value == 0.0:
+        lo, hi = -1.0, 1.0
+    else:
+        far = math.copysign(min(abs(value) * PLANE_FACTOR, sys.float_info.max), value)
+        lo, hi = sorted((value / PLANE_FACTOR, far))
+    if math.isfinite(spec.lower):
+        lo = max(lo, spec.lower if spec.lower_inclusive else spec.lower + (value - spec.lower) / 4.0)
+    if math.isfinite(spec.upper):
+        hi = min(hi, spec.upper if spec.upper_inclusive else spec.upper - (spec.upper - value) / 4.0)
+    if not lo < hi:
+        raise ValueError(f"{param}={value!r}: no range about it inside the bounds of the {setup.law} law")
+    return nus, (lo, hi)
+
+
+def two_parameter_view(
+    setup: Setup, param: str | None = None, *, raster: int = PLANE_RASTER
+) -> dict[str, Any]:
+    """Return the two-parameter diagram of ``nu`` and ``param`` about ``setup``, as the page's data.
+
+    The window is :func:`plane_window`'s; the diagram is
+    :func:`~stickslip.bifurcation.diagram.two_parameter_diagram` of the dimensionless law.
+
+    Parameters
+    ----------
+    setup : Setup
+        The set-up: its law and parameters, and its ``nu``, the centre of the window.
+    param : str, optional
+        The vertical axis: a parameter of the law (default its last, as the page's).
+    raster : int, optional
+        Cells per axis of the region raster.
+
+    Returns
+    -------
+    dict
+        ``regions`` (quads: ``left``, ``right``, ``bottom``, ``top``, ``color``, ``regime``,
+        ``attractors``; a run of equal cells of a raster row is one quad, a cell on a curve
+        takes its nearest region's colour), ``curves`` (lines: ``xs``, ``ys``, ``kind``,
+        ``label``, ``color``, ``dash``; a Hopf curve is cut where its criticality changes,
+        dashed where subcritical), ``points`` (``x``, ``y``, ``kind``, ``text``, ``marker``,
+        ``color``), ``current`` (the set-up's point), ``x_range``, ``y_range``, ``x_log``,
+        ``y_log``, ``x_label``, ``y_label``, ``title``, ``notes`` (the diagram's notes and the
+        computation's warnings) and ``key`` (:func:`plane_key`).
+
+    Raises
+    ------
+    ValueError
+        For a ``param`` the law does not have or a plane cannot run over, or a set-up that
+        cannot be computed (the message names the value).
+
+    """
+    from ..bifurcation.diagram import two_parameter_diagram
+    from ..bifurcation.planes import Plane
+
+    names = list(setup.params)
+    if param is None:
+        if not names:
+            raise ValueError(f"law={setup.law!r}: it has no parameter to put on the vertical axis")
+        param = names[-1]
+    if param not in setup.params:
+        raise ValueError(
+            f"two-parameter diagram: {param!r} is not a parameter of the {setup.law} law: expected one of "
+            f"{', '.join(names) or '(none)'}"
+        )
+    nus, values = plane_window(setup, param)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        plane = Plane.dimensionless(setup.dimensionless_law(), ("nu", nus), (param, values))
+        d = two_parameter_diagram(plane, raster=raster)
+    said = [str(w.message) for w in caught if issubclass(w.category, UserWarning)]
+    return {
+        "regions": _region_quads(d),
+        "curves": _curve_lines(d),
+        "points": _special_points(d),
+        "current": {"x": [float(setup.nu)], "y": [float(setup.params[param])]},
+        "x_range": (plane.x.lo, plane.x.hi),
+        "y_range": (plane.y.lo, plane.y.hi),
+        "x_log": plane.x.log,
+        "y_log": plane.y.log,
+        "x_label": "nu (dimensionless driving velocity)",
+        "y_label": param,
+        "title": plane.describe,
+        "notes": list(dict.fromkeys([*d.notes, *said])),
+        "key": plane_key(setup, param),
+    }
+
+
+def _region_quads(d: Any) -> dict[str, list[Any]]:
+    """Return the regions of a diagram as quads: one per run of equal cells along a raster row."""
+    from scipy import ndimage
+
+    from ..plots.regimes import REGIME_COLORS
+
+    region = np.asarray(d.region)
+    ny, nx = region.shape
+    ex = [d.plane.x.to_unit(k / nx) for k in range(nx + 1)]
+    ey = [d.plane.y.to_unit(k / ny) for k in range(ny + 1)]
+    out: dict[str, list[Any]] = {
+        k: [] for k in ("left", "right", "bottom", "top", "color", "regime", "attractors")
+    }
+    if not (region >= 0).any():
+        return out
+    # a cell on a curve (-1) takes its nearest region: the curve is drawn over it
+    idx = ndimage.distance_transform_edt(region < 0, return_distances=False, return_indices=True)
+    region = region[tuple(idx)]
+    for i in range(ny):
+        row = region[i]
+        starts = np.flatnonzero(np.r_[True, row[1:] != row[:-1]])
+        for a, b in zip(starts, [*starts[1:], nx], strict=True):
+            r = int(row[a])
+            regime = str(d.region_regime[r])
+            out["left"].append(ex[a])
+            out["right"].append(ex[b])
+            out["bottom"].append(ey[i])
+            out["top"].append(ey[i + 1])
+            out["color"].append(REGIME_COLORS.get(regime, "#ffffff"))
+            out["regime"].append(regime)
+            out["attractors"].append(str(d.region_names[r]))
+    return out
+
+
+def _curve_lines(d: Any) -> dict[str, list[Any]]:
+    """Return the curves of a diagram as lines, a Hopf curve cut where its criticality changes."""
+    out: dict[str, list[Any]] = {k: [] for k in ("xs", "ys", "kind", "label", "color", "dash")}
+
+    def add(kind: str, x: np.ndarray, y: np.ndarray, label: str, dash: str) -> None:
+        out["xs"].append(np.asarray(x, float).tolist())
+        out["ys"].append(np.asarray(y, float).tolist())
+        out["kind"].append(kind)
+        out["label"].append(label)
+        out["color"].append(CURVE_COLORS.get(kind, "#666666"))
+        out["dash"].append(dash)
+
+    for c in d.curves:
+        words = CURVE_WORDS.get(c.kind, c.kind)
+        if c.kind != "hopf" or "f3" not in c.data or len(c.x) < 2:
+            add(c.kind, c.x, c.y, words, "solid")
+            continue
+        # l1 = -f'''/16: subcritical (dashed) where f''' < 0; each piece overlaps the next by a point
+        sub = np.asarray(c.data["f3"]) < 0
+        cuts = [0, *(np.flatnonzero(sub[1:] != sub[:-1]) + 1).tolist(), len(sub)]
+        for a, b in itertools.pairwise(cuts):
+            end = min(b + 1, len(sub))
+            if sub[a]:
+                add("hopf", c.x[a:end], c.y[a:end], f"{words}, subcritical", "dashed")
+            else:
+                add("hopf", c.x[a:end], c.y[a:end], f"{words}, supercritical", "solid")
+    return out
+
+
+def _special_points(d: Any) -> dict[str, list[Any]]:
+    """Return the codimension-2 points of a diagram, each with its words for the hover."""
+    out: dict[str, list[Any]] = {k: [] for k in ("x", "y", "kind", "text", "marker", "color")}
+    for p in d.points:
+        out["x"].append(float(p.x))
+        out["y"].append(float(p.y))
+        out["kind"].append(p.kind)
+        out["text"].append(
+            f"{p.kind} at nu = {p.nu:.5g}, {d.plane.y.name} = {p.y:.5g}: {p.detail} "
+            f"({p.coefficient} = {p.value:.4g})"
+        )
+        out["marker"].append(POINT_MARKERS.get(p.kind, "circle"))
+        out["color"].append(POINT_COLORS.get(p.kind, "#000000"))
+    return out
 
 
 def compute(setup: Setup) -> View:
