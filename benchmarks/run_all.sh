@@ -16,6 +16,7 @@ python benchmarks/bench_return_maps.py
 python -c "import time; from stickslip import CubicLaw, WeakeningLaw; from stickslip.bifurcation.regimes import regimes
 for law, lo, hi in [(CubicLaw(alpha=0.5, gamma=1/6), 0.5, 1.5), (WeakeningLaw(c=3.8, p=0.5), 0.1, 1.5)]:
     t = time.perf_counter(); regimes(law, lo, hi); print(f'{time.perf_counter() - t:.3f} s')"
+python benchmarks/bench_diagram.py
 python benchmarks/bench_chain.py
 python benchmarks/bench_scale.py --big
 python benchmarks/bench_bp1.py
