@@ -66,7 +66,7 @@ def _axis(text: str | None, option: str) -> tuple[str, tuple[float, float]] | No
 )
 @click.option(
     "--records",
-    "records",
+    "source",
     default=None,
     type=click.Path(exists=True),
     help="A folder of force records (as for 'stickslip analyze'): the model's (V, k) plane around "
@@ -126,7 +126,7 @@ def _axis(text: str | None, option: str) -> tuple[str, tuple[float, float]] | No
 def diagram(
     x_axis: str | None,
     y_axis: str | None,
-    records: str | None,
+    source: str | None,
     model_law: str | None,
     name_pattern: str | None,
     check_n: int | None,
@@ -158,14 +158,14 @@ def diagram(
         raise click.UsageError("--store, --scheduler and --workers go with --check (the brute-force grid)")
     options: dict[str, Any] = {"seed_lines": seed_lines, "step": step, "raster": raster}
     measured: list[tuple[float, float, str]] = []
-    if records is not None:
+    if source is not None:
         if model_law is None:
             raise click.UsageError("--records needs --model (the law whose plane is drawn)")
         if x_axis or y_axis:
             raise click.UsageError(
                 "--records sets the axes (v0 and stiffness around the records): drop --x/--y"
             )
-        d, measured = _records_diagram(records, model_law, name_pattern, opts, options)
+        d, measured = _records_diagram(source, model_law, name_pattern, opts, options)
     else:
         if model_law is not None:
             raise click.UsageError("--model goes with --records")
