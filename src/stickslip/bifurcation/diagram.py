@@ -348,9 +348,16 @@ def _where(plane: Plane, u: tuple[float, float] | np.ndarray) -> str:
     return f"({plane.x.name} = {x:.6g}, {plane.y.name} = {y:.6g})"
 
 
-def _curve(plane: Plane, kind: str, tc: TracedCurve, u: np.ndarray, data: dict[str, np.ndarray]) -> Curve:
+def _curve(
+    plane: Plane,
+    kind: str,
+    tc: TracedCurve,
+    u: np.ndarray,
+    data: dict[str, np.ndarray],
+    ends: tuple[str, str] | None = None,
+) -> Curve:
     xs, ys = plane.values(u)
-    return Curve(kind, np.asarray(xs), np.asarray(ys), u, data, tc.end)
+    return Curve(kind, np.asarray(xs), np.asarray(ys), u, data, ends or tc.end)
 
 
 def _hopf_curve(
@@ -475,6 +482,14 @@ def _fold_curve(
     )
     u = tc.x[:, 2:4]
     meas = [sysm._orbit(float(q[0]), float(q[1]), q[2:4]) for q in tc.x]
+    shrinks = [
+        end == "edge" and q[0] <= FOLD_MIN_AMPLITUDE * 1.01 and _box(q[2:4]) > 1e-6
+        for end, q in zip(tc.end, (tc.x[0], tc.x[-1]), strict=True)
+    ]
+    ends = (
+        "bautin" if shrinks[0] else tc.end[0],
+        "bautin" if shrinks[1] else tc.end[1],
+    )
     curves.append(
         _curve(
             plane,
@@ -487,6 +502,7 @@ def _fold_curve(
                 "period": 2 * math.pi * tc.x[:, 1],
                 "min_velocity": tc.tests["graze"],
             },
+            ends,
         )
     )
     for e in tc.events:
@@ -505,8 +521,8 @@ def _fold_curve(
                     "the fold curve ends on the grazing curve",
                 )
             )
-    for end, q in zip(tc.end, (tc.x[0], tc.x[-1]), strict=True):
-        if end == "edge" and q[0] <= FOLD_MIN_AMPLITUDE * 1.01 and _box(q[2:4]) > 1e-6:
+    for shrink, q in zip(shrinks, (tc.x[0], tc.x[-1]), strict=True):
+        if shrink:
             x, y = plane.values(q[2:4])
             points.append(
                 SpecialPoint2(
@@ -514,9 +530,10 @@ def _fold_curve(
                     float(x),
                     float(y),
                     sysm.point(q[2:4]).nu,
-                    "amplitude",
+                    "spring-force maximum above f(nu)",
                     float(q[0]),
-                    "the fold orbit shrinks to zero amplitude: the fold curve ends at a Bautin point",
+                    "the fold orbit shrinks to zero amplitude (followed down to this size): "
+                    "the fold curve ends at a Bautin point",
                 )
             )
 

@@ -185,7 +185,12 @@ class Plane:
             for py in (ay.lo, ay.hi):
                 _, vals = point(px, py)
                 law.replace(**{k: vals[k] for k in (ax.name, ay.name) if k != "nu"})
-        return cls(ax, ay, law, point, f"{law.describe()} over ({ax.name}, {ay.name})")
+        fixed = ", ".join(f"{k} = {v:.6g}" for k, v in law.params.items() if k not in (ax.name, ay.name))
+        fixed += (", " if fixed else "") + (f"nu = {nu0:.6g}" if "nu" not in (ax.name, ay.name) else "")
+        words = f"{law.name}: f(w) = {law.spec.f}" + (
+            f" with {fixed.strip(', ')}" if fixed.strip(", ") else ""
+        )
+        return cls(ax, ay, law, point, f"{words} over ({ax.name}, {ay.name})")
 
     @classmethod
     def physical(

@@ -104,7 +104,14 @@ def plot_diagram(
         seen.add(c.kind)
         if c.kind == "hopf" and "f3" in c.data:
             sub = np.asarray(c.data["f3"]) < 0
-            ax.plot(np.where(~sub, c.x, np.nan), c.y, label=label, **style)
+            if sub.all():
+                label = None  # no supercritical part: the legend names only the dashed line
+                seen.discard("hopf")
+            sup = ~sub
+            # each part reaches one point into the other: no gap where the criticality changes
+            sup = sup | np.r_[sup[1:], False] | np.r_[False, sup[:-1]]
+            sub = sub | np.r_[sub[1:], False] | np.r_[False, sub[:-1]]
+            ax.plot(np.where(sup, c.x, np.nan), c.y, label=label, **style)
             ax.plot(
                 np.where(sub, c.x, np.nan),
                 c.y,
@@ -143,6 +150,8 @@ def plot_diagram(
     ax.set_ylim(pl.y.lo, pl.y.hi)
     ax.set_xlabel(pl.x.label())
     ax.set_ylabel(pl.y.label())
-    ax.set_title(title or pl.describe, fontsize=9)
+    import textwrap
+
+    ax.set_title("\n".join(textwrap.wrap(title or pl.describe, 90)), fontsize=9)
     ax.legend(fontsize=7, loc="best", framealpha=0.85)
     return fig
