@@ -298,3 +298,44 @@ def test_the_real_records_plane(tmp_path):
     assert all(m["stiffness_N_per_m"] > 0 for m in d["measured"])
     hopf = [c for c in d["curves"] if c["kind"] == "hopf"]
     assert hopf and np.allclose(hopf[0]["x"], (math.sqrt(1.5) - 1) / 30 * 1e6, rtol=1e-9)
+
+
+def test_a_region_whose_cells_disagree_is_undetermined_and_not_scored():
+    """The paper's F1 (p = 0): stick-slip, and slip reversal above nu ~ 4.5 at c = 5; that boundary
+    is not continued, so the one region holds both and the diagram says so instead of guessing."""
+    pl = Plane.dimensionless(WeakeningLaw(c=5, p=0.0), ("nu", (0.05, 5.0)), ("c", (1.0, 20.0)))
+    d = two_parameter_diagram(pl, raster=60)
+    assert d.curves == []
+    assert d.region_names == ["undetermined: slip-reversal | stick-slip"]
+    assert d.region_regime == ["unknown"]
+    assert any("not continued" in n for n in d.notes)
+    chk = check_diagram(d, (10, 10), progress=False)
+    assert chk.scored == 0 and math.isnan(chk.agree)
+    assert "100 cells lie in regions the diagram leaves undetermined" in chk.report()
+
+
+def test_stick_slip_onset_is_found_by_the_engine_where_no_hopf_branch_leads(weakening):
+    """A plane that holds the grazing curve but not the Hopf curve (nu > 0.55 > nu_H for c in 2..3):
+    the engine's onset on the seed lines seeds it, and it is the curve the full plane traces."""
+    pl = Plane.dimensionless(WeakeningLaw(c=5, p=0.5), ("nu", (0.55, 2.0)), ("c", (2.0, 3.0)))
+    d = two_parameter_diagram(pl, raster=40, label=False)
+    assert d.curves_of("hopf") == []
+    (g,) = d.curves_of("grazing")
+    (full,) = weakening.curves_of("grazing")
+    order = np.argsort(full.y)
+    near = np.interp(g.y, full.y[order], full.x[order])
+    assert np.max(np.abs(g.x - near)) < 2e-3  # the full curve's chords: its points are exact
+    on = [float(np.interp(c, g.y, g.x)) for c in full.y[(full.y > 2.05) & (full.y < 2.95)]]
+    assert np.allclose(on, full.x[(full.y > 2.05) & (full.y < 2.95)], atol=2e-3)
+
+
+def test_grazing_curve_is_the_engines_stick_slip_onset():
+    """At three points of the grazing curve, the one-parameter onset (bisected on the engine to 1e-9)."""
+    from stickslip.bifurcation.probes import stick_slip_branch
+
+    pl = Plane.dimensionless(WeakeningLaw(c=5, p=0.5), ("nu", (0.55, 2.0)), ("c", (2.0, 3.0)))
+    (g,) = two_parameter_diagram(pl, raster=20, label=False).curves_of("grazing")
+    for i in (1, len(g.x) // 2, len(g.x) - 2):
+        _, pts = stick_slip_branch(WeakeningLaw(c=float(g.y[i]), p=0.5), np.linspace(0.55, 0.8, 26))
+        (onset,) = [p.nu for p in pts if p.kind == "stick-slip-onset"]
+        assert onset == pytest.approx(g.x[i], rel=1e-8)

@@ -318,10 +318,17 @@ def two_parameter_diagram(
             if p.kind in ("bautin", "fold-grazing"):
                 v = float(plane.y.from_value(p.y))
                 queue += [v + d for d in (-0.03, -0.01, 0.01, 0.03)]
+    # 5. the stick-slip onset seen by the engine on the seed lines (the slip from breakaway stops
+    # on one side, not on the other) where no grazing curve traced so far passes: an onset that no
+    # Hopf-born pure-slip branch reaches, or any onset of a law whose f(0+) is not 1
+    for u2 in lines:
+        for z in _onset_seeds(sysm, float(u2), curves):
+            if not _near(curves, "grazing", z[1:3]):
+                _grazing_curve(sysm, z, curves, points, step, tol, periodic=f0_one)
     if not f0_one:
         notes.append(
-            "f(0+) differs from the static threshold: the grazing of pure-slip orbits and the stick-slip "
-            "onset are not continued for this law"
+            "f(0+) differs from the static threshold: no pure-slip orbit grazes into stick-slip; the "
+            "grazing curves are the onset of stick-slip (the slip from breakaway touches w = 0)"
         )
     _cusps(plane, curves, points)
 
@@ -538,6 +545,55 @@ def _fold_curve(
             )
 
 
+#: points of a seed line where the engine runs from breakaway
+ONSET_SCAN = 61
+
+
+def _onset_seeds(sysm: OneBlockSystems, u2: float, curves: list[Curve]) -> list[np.ndarray]:
+    """Return ``(tau, u1, u2)`` where the slip from breakaway starts or stops stopping on ``y = u2``.
+
+    The engine runs from breakaway at :data:`ONSET_SCAN` points of the line; each change of
+    "it stops" is bisected on the engine to ``1e-9`` of the axis, and the slip's duration
+    there, over ``2 pi``, starts Newton on the grazing system. A change next to a grazing
+    curve already traced is skipped.
+    """
+    from .probes import _engine
+
+    plane = sysm.plane
+    grid = np.linspace(0.0, 1.0, ONSET_SCAN)
+
+    def stops(u1: float) -> tuple[bool, float]:
+        nu, law = plane.law_at((u1, u2))
+        rows = _engine(law, np.array([nu]))
+        ok = bool(rows.is_regime(Regime.STICK_SLIP)[0])
+        return ok, float(rows.period[0] - rows.stick_time[0]) if ok else math.nan
+
+    try:
+        state = [stops(float(g)) for g in grid]
+    except (ValueError, RuntimeError):
+        return []
+    seeds = []
+    for i in range(ONSET_SCAN - 1):
+        if state[i][0] == state[i + 1][0]:
+            continue
+        lo, hi = float(grid[i]), float(grid[i + 1])
+        ok_lo = state[i][0]
+        slip = state[i][1] if ok_lo else state[i + 1][1]
+        while hi - lo > 1e-9:
+            mid = 0.5 * (lo + hi)
+            ok, t = stops(mid)
+            if ok == ok_lo:
+                lo = mid
+            else:
+                hi = mid
+            if ok:
+                slip = t
+        u1 = lo if ok_lo else hi
+        if not _near(curves, "grazing", np.array([u1, u2]), tol=0.02) and math.isfinite(slip):
+            seeds.append(np.array([slip / (2.0 * math.pi), u1, u2]))
+    return seeds
+
+
 def _grazing_curve(
     sysm: OneBlockSystems,
     z: np.ndarray,
@@ -545,6 +601,8 @@ def _grazing_curve(
     points: list[SpecialPoint2],
     step: float,
     tol: float,
+    *,
+    periodic: bool = True,
 ) -> None:
     plane = sysm.plane
     u2 = float(z[2])
@@ -559,7 +617,8 @@ def _grazing_curve(
     def inside(q: np.ndarray) -> float:
         return float(min(_box(q[1:3]), 50.0 - q[0], q[0]))
 
-    tc = trace(g, z0, tests=sysm.grazing_tests(), inside=inside, h0=step / 4, h_max=step, tol=tol)
+    tests = sysm.grazing_tests() if periodic else {}
+    tc = trace(g, z0, tests=tests, inside=inside, h0=step / 4, h_max=step, tol=tol)
     u = tc.x[:, 1:3]
     curves.append(
         _curve(
@@ -570,7 +629,7 @@ def _grazing_curve(
             {
                 "nu": np.array([sysm.point(q).nu for q in u]),
                 "period": 2 * math.pi * tc.x[:, 0],
-                "log_multiplier": tc.tests["fold-grazing"],
+                "log_multiplier": tc.tests["fold-grazing"] if periodic else np.full(len(u), math.nan),
             },
         )
     )

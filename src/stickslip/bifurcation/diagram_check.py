@@ -62,7 +62,8 @@ class DiagramCheck:
     expected, found : ndarray of int, shape (ny, nx)
         Codes of the attractor sets (:func:`decode`): the diagram's and the engine's.
     near : ndarray of bool
-        Cells within one grid step of a curve (not scored).
+        Cells not scored: within one grid step of a curve, or in a region the diagram leaves
+        undetermined (``expected`` is -2 there: it makes no claim).
     agree : float
         Share of the scored cells where both sets are the same.
     disagree : list of dict
@@ -86,11 +87,17 @@ class DiagramCheck:
 
     def report(self) -> str:
         """Return the check in words: the score and each disagreement."""
+        open_cells = int((self.expected == -2).sum())
         lines = [
             f"brute-force check: {self.found.size} cells, {self.scored} scored "
             "(not within one grid step of a "
             f"curve); the engine's attractors agree with the diagram in {100 * self.agree:.2f} %"
         ]
+        if open_cells:
+            lines.append(
+                f"  {open_cells} cells lie in regions the diagram leaves undetermined (a boundary it does "
+                "not continue crosses them): not scored"
+            )
         for d in self.disagree:
             lines.append(
                 f"  ({d['x']:.6g}, {d['y']:.6g}): diagram {d['expected']}, engine {d['found']}; "
@@ -267,8 +274,15 @@ def check_diagram(
     ri = np.clip((uu[:, 1] * n).astype(int), 0, n - 1)
     rj = np.clip((uu[:, 0] * n).astype(int), 0, n - 1)
     reg = diagram.region[ri, rj]
+    # -1: on a curve's wall; -2: a region the diagram leaves undetermined (it makes no claim there)
     expected = np.array(
-        [encode(diagram.region_names[r]) if r >= 0 else -1 for r in reg], dtype=np.int64
+        [
+            (-2 if diagram.region_names[r].startswith("undetermined") else encode(diagram.region_names[r]))
+            if r >= 0
+            else -1
+            for r in reg
+        ],
+        dtype=np.int64,
     ).reshape(ny, nx)
     near |= expected < 0
     xs, ys = np.asarray(ds["x"].values), np.asarray(ds["y"].values)
