@@ -300,18 +300,34 @@ def test_the_real_records_plane(tmp_path):
     assert hopf and np.allclose(hopf[0]["x"], (math.sqrt(1.5) - 1) / 30 * 1e6, rtol=1e-9)
 
 
-def test_a_region_whose_cells_disagree_is_undetermined_and_not_scored():
-    """The paper's F1 (p = 0): stick-slip, and slip reversal above nu ~ 4.5 at c = 5; that boundary
-    is not continued, so the one region holds both and the diagram says so instead of guessing."""
+def test_slip_reversal_curve_of_the_papers_f1():
+    """F1 (p = 0): stick-slip, and above a curve an oscillation that slips backward and never
+    sticks. On the curve the backward slip ends at breakaway: the engine on either side of three
+    of its points (1e-6 of nu away) finds stick-slip below and slip reversal above."""
+    from stickslip.bifurcation.probes import _engine
+
     pl = Plane.dimensionless(WeakeningLaw(c=5, p=0.0), ("nu", (0.05, 5.0)), ("c", (1.0, 20.0)))
     d = two_parameter_diagram(pl, raster=60)
-    assert d.curves == []
-    assert d.region_names == ["undetermined: slip-reversal | stick-slip"]
-    assert d.region_regime == ["unknown"]
-    assert any("not continued" in n for n in d.notes)
+    (r,) = d.curves_of("reversal")
+    assert r.ends == ("edge", "edge")
+    assert sorted(d.region_regime) == ["slip-reversal", "stick-slip"]
+    for i in (1, len(r.x) // 2, len(r.x) - 2):
+        law = WeakeningLaw(c=float(r.y[i]), p=0.0)
+        rows = _engine(law, np.array([r.x[i] * (1 - 1e-6), r.x[i] * (1 + 1e-6)]))
+        assert [str(x) for x in rows.regimes()] == ["stick-slip", "pure-slip"]
+        assert rows.n_backward[1] > 0  # pure slip with backward slip: slip reversal
+    chk = check_diagram(d, (20, 20), progress=False)
+    assert chk.agree >= 0.99, chk.report()
+
+
+def test_a_region_whose_cells_disagree_is_left_unscored(weakening):
+    import dataclasses
+
+    names = ["undetermined: stick-slip | steady-sliding"] * len(weakening.region_names)
+    d = dataclasses.replace(weakening, region_names=names)
     chk = check_diagram(d, (10, 10), progress=False)
     assert chk.scored == 0 and math.isnan(chk.agree)
-    assert "100 cells lie in regions the diagram leaves undetermined" in chk.report()
+    assert "lie in regions the diagram leaves undetermined" in chk.report()
 
 
 def test_stick_slip_onset_is_found_by_the_engine_where_no_hopf_branch_leads(weakening):

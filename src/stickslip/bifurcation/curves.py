@@ -22,6 +22,12 @@ an unstable orbit is shot backward in time (as the one-parameter continuation do
     stick-slip orbit is born or dies. Test ``fold-grazing``: the orbit's ``ln m`` (a stable
     grazing orbit turns into the stick-slip orbit continuously; an unstable one collides
     with it).
+``reversal``  the slip from breakaway stops at ``s1 < -1``, slips backward and stops again
+    exactly at ``s = 1``: no stick is left in the cycle, and beyond it the block oscillates
+    forward and backward without sticking (slip reversal). In ``(tau1, tau2, u)``:
+    ``w(T1) = 0`` forward from ``(1, 0)``; backward from ``(s1, 0)``, ``w(T2) = 0`` and
+    ``s(T2) = 1``. A backward slip is the forward flow of ``(-s, -w)`` at ``-nu`` (friction is
+    odd), so both phases are one compiled flow.
 """
 
 from __future__ import annotations
@@ -200,6 +206,48 @@ class OneBlockSystems:
         """Residual of the tangency of the slip from breakaway with ``w = 0``, ``z = (tau, u1, u2)``."""
         o = self._touch(float(z[0]), np.asarray(z[1:3]))
         return np.array([o["gs"], o["gw"]])
+
+    def reversal(self, z: np.ndarray) -> np.ndarray:
+        """Residual of the cycle with no stick left, ``z = (tau1, tau2, u1, u2)``."""
+        p = self.point(np.asarray(z[2:4]))
+        t1, t2 = 2.0 * math.pi * float(z[0]), 2.0 * math.pi * float(z[1])
+        if not (p.nu > 0 and 0 < t1 < 1e6 and 0 < t2 < 1e6):
+            raise RuntimeError(f"the cycle left the domain (nu={p.nu!r}, T1={t1!r}, T2={t2!r})")
+        lp = p.lp()
+        fwd = run_flow(self.kernel, lp, p.nu, 1.0, 0.0, t1, rtol=self.rtol, checked=False)
+        back = run_flow(self.kernel, lp, -p.nu, -fwd.s, 0.0, t2, rtol=self.rtol, checked=False)
+        return np.array([fwd.w, back.w, back.s + 1.0])
+
+    def first_stop(self, u: np.ndarray, s0: float, backward: bool = False) -> tuple[float, float] | None:
+        """Return ``(T, s)`` where the slip from ``(s0, 0)`` first stops (backward: in ``(-s, -w)``).
+
+        Scanned in steps of 0.05 and bisected to 1e-12; None without a stop before ``T = 200``.
+        A flow that fails past the stop (a law with a pole at negative velocity) counts as
+        stopped there.
+        """
+        p = self.point(u)
+        nu = -p.nu if backward else p.nu
+        lp = p.lp()
+
+        def w_at(t: float) -> float:
+            try:
+                return run_flow(self.kernel, lp, nu, s0, 0.0, t, rtol=self.rtol, checked=False).w
+            except RuntimeError:
+                return -1.0
+
+        t = 0.0
+        while t < 200.0:
+            t += 0.05
+            if w_at(t) <= 0.0:
+                lo, hi = t - 0.05, t
+                while hi - lo > 1e-12 * hi:
+                    mid = 0.5 * (lo + hi)
+                    if w_at(mid) > 0.0:
+                        lo = mid
+                    else:
+                        hi = mid
+                return lo, run_flow(self.kernel, lp, nu, s0, 0.0, lo, rtol=self.rtol, checked=False).s
+        return None
 
     def grazing_tests(self) -> dict[str, Test]:
         """``fold-grazing`` (``ln m`` of the grazing orbit) along a grazing curve."""

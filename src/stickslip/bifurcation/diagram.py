@@ -12,7 +12,11 @@
    touches ``w = 0`` (fold-grazing) or shrinks into a Bautin point, and
 4. the grazing curves (the slip from breakaway returns tangentially to ``w = 0``: the
    stick-slip orbit's birth or death), watching the grazing orbit's multiplier for the
-   fold-grazing point;
+   fold-grazing point, seeded also where the engine's slip from breakaway starts or stops
+   stopping on a seed line;
+5. the slip-reversal curves (the cycle's backward slip ends exactly at breakaway: no stick
+   is left), seeded where the engine's motion from breakaway turns into an oscillation
+   that slips backward and never sticks;
 
 and labels the regions between the curves: a raster of the plane is cut along the
 curves into connected regions, and each region is named by the attractors at its point
@@ -44,7 +48,7 @@ from .planes import Plane, check_positive_int
 __all__ = ["Curve", "Diagram", "SpecialPoint2", "two_parameter_diagram"]
 
 #: kinds of curve, in drawing order
-CURVE_KINDS = ("hopf", "fold", "grazing")
+CURVE_KINDS = ("hopf", "fold", "grazing", "reversal")
 #: kinds of codimension-2 point and end
 POINT_KINDS = ("bautin", "fold-grazing", "cusp", "end")
 #: the smallest amplitude of a fold orbit followed (a fold curve shrinking into a Bautin point)
@@ -325,6 +329,9 @@ def two_parameter_diagram(
         for z in _onset_seeds(sysm, float(u2), curves):
             if not _near(curves, "grazing", z[1:3]):
                 _grazing_curve(sysm, z, curves, points, step, tol, periodic=f0_one)
+    for u2 in lines:
+        for z in _reversal_seeds(sysm, float(u2), curves):
+            _reversal_curve(sysm, z, curves, step, tol)
     if not f0_one:
         notes.append(
             "f(0+) differs from the static threshold: no pure-slip orbit grazes into stick-slip; the "
@@ -559,39 +566,102 @@ def _onset_seeds(sysm: OneBlockSystems, u2: float, curves: list[Curve]) -> list[
     """
     from .probes import _engine
 
+    seeds = []
+    for u1, _ in _engine_changes(sysm, u2, lambda rows: rows.is_regime(Regime.STICK_SLIP)):
+        if _near(curves, "grazing", np.array([u1, u2]), tol=0.02):
+            continue
+        nu, law = sysm.plane.law_at((u1, u2))
+        rows = _engine(law, np.array([nu]))
+        slip = float(rows.period[0] - rows.stick_time[0])
+        if math.isfinite(slip) and slip > 0:
+            seeds.append(np.array([slip / (2.0 * math.pi), u1, u2]))
+    return seeds
+
+
+def _engine_changes(
+    sysm: OneBlockSystems, u2: float, flag: Callable[[Any], np.ndarray]
+) -> list[tuple[float, bool]]:
+    """Return where ``flag`` of the engine's run from breakaway changes on ``y = u2`` (bisected to 1e-9).
+
+    Each change is ``(u1, side)``: ``u1`` on the side where ``flag`` holds is ``side``.
+    """
+    from .probes import _engine
+
     plane = sysm.plane
     grid = np.linspace(0.0, 1.0, ONSET_SCAN)
 
-    def stops(u1: float) -> tuple[bool, float]:
+    def holds(u1: float) -> bool:
         nu, law = plane.law_at((u1, u2))
-        rows = _engine(law, np.array([nu]))
-        ok = bool(rows.is_regime(Regime.STICK_SLIP)[0])
-        return ok, float(rows.period[0] - rows.stick_time[0]) if ok else math.nan
+        return bool(flag(_engine(law, np.array([nu])))[0])
 
     try:
-        state = [stops(float(g)) for g in grid]
+        state = [holds(float(g)) for g in grid]
     except (ValueError, RuntimeError):
         return []
-    seeds = []
+    out = []
     for i in range(ONSET_SCAN - 1):
-        if state[i][0] == state[i + 1][0]:
+        if state[i] == state[i + 1]:
             continue
         lo, hi = float(grid[i]), float(grid[i + 1])
-        ok_lo = state[i][0]
-        slip = state[i][1] if ok_lo else state[i + 1][1]
         while hi - lo > 1e-9:
             mid = 0.5 * (lo + hi)
-            ok, t = stops(mid)
-            if ok == ok_lo:
+            if holds(mid) == state[i]:
                 lo = mid
             else:
                 hi = mid
-            if ok:
-                slip = t
-        u1 = lo if ok_lo else hi
-        if not _near(curves, "grazing", np.array([u1, u2]), tol=0.02) and math.isfinite(slip):
-            seeds.append(np.array([slip / (2.0 * math.pi), u1, u2]))
+        out.append((lo if state[i] else hi, True))
+    return out
+
+
+def _is_reversal(rows: Any) -> np.ndarray:
+    return np.asarray(rows.ok & (rows.regime == Regime.PURE_SLIP.code) & (rows.n_backward > 0))
+
+
+def _reversal_seeds(sysm: OneBlockSystems, u2: float, curves: list[Curve]) -> list[np.ndarray]:
+    """Return ``(tau1, tau2, u1, u2)`` where slip reversal begins on ``y = u2`` (no curve there yet)."""
+    seeds = []
+    for u1, _ in _engine_changes(sysm, u2, _is_reversal):
+        if _near(curves, "reversal", np.array([u1, u2]), tol=0.02):
+            continue
+        u = np.array([u1, u2])
+        first = sysm.first_stop(u, 1.0)
+        if first is None or first[1] >= -1.0:
+            continue
+        second = sysm.first_stop(u, -first[1], backward=True)
+        if second is None:
+            continue
+        seeds.append(np.array([first[0] / (2 * math.pi), second[0] / (2 * math.pi), u1, u2]))
     return seeds
+
+
+def _reversal_curve(
+    sysm: OneBlockSystems, z: np.ndarray, curves: list[Curve], step: float, tol: float
+) -> None:
+    plane = sysm.plane
+    u2 = float(z[3])
+    res = newton(lambda q: sysm.reversal(np.array([q[0], q[1], q[2], u2])), z[:3].copy(), tol=tol)
+    if res is None:
+        return
+    z0 = np.array([*res[0], u2])
+
+    def inside(q: np.ndarray) -> float:
+        return float(min(_box(q[2:4]), q[0], q[1], 50.0 - q[0]))
+
+    tc = trace(sysm.reversal, z0, inside=inside, h0=step / 4, h_max=step, tol=tol)
+    u = tc.x[:, 2:4]
+    curves.append(
+        _curve(
+            plane,
+            "reversal",
+            tc,
+            u,
+            {
+                "nu": np.array([sysm.point(q).nu for q in u]),
+                "forward_slip_time": 2 * math.pi * tc.x[:, 0],
+                "backward_slip_time": 2 * math.pi * tc.x[:, 1],
+            },
+        )
+    )
 
 
 def _grazing_curve(

@@ -29,11 +29,13 @@ _CURVE_STYLE = {
     "hopf": {"color": "k", "lw": 1.6},
     "fold": {"color": "#2166ac", "lw": 1.6},
     "grazing": {"color": "#b2182b", "lw": 1.6},
+    "reversal": {"color": "#762a83", "lw": 1.6, "ls": "-."},
 }
 _CURVE_WORDS = {
     "hopf": "Hopf (steady sliding)",
     "fold": "fold of pure-slip cycles",
     "grazing": "grazing (stick-slip born)",
+    "reversal": "slip reversal (no stick left)",
 }
 _POINT_STYLE = {"bautin": ("*", 12), "fold-grazing": ("D", 7), "cusp": ("^", 8), "end": ("o", 5)}
 _MEASURED = {
