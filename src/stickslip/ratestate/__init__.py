@@ -18,6 +18,7 @@ from ..lazy import exports
 if TYPE_CHECKING:  # loaded on first use by __getattr__
     from .cycles import SpringSliderFault, earthquake_cycles
     from .fitting import RateStateFit, fit_rate_state
+    from .inertia import BautinPoint, InertialSlider
     from .model import RateStateParameters
     from .protocols import linear_stability, simulate_rate_state, slide_hold_slide, velocity_steps
 
@@ -31,12 +32,16 @@ _HOME = {
     "fit_rate_state": "fitting",
     "SpringSliderFault": "cycles",
     "earthquake_cycles": "cycles",
+    "InertialSlider": "inertia",
+    "BautinPoint": "inertia",
 }
 
 
 __getattr__, __dir__ = exports(__name__, _HOME)
 
 __all__ = [
+    "BautinPoint",
+    "InertialSlider",
     "RateStateFit",
     "RateStateParameters",
     "SpringSliderFault",
