@@ -243,6 +243,11 @@ def check_diagram(
 
     if not isinstance(diagram, Diagram):
         raise ArgumentTypeError(f"diagram={diagram!r}: expected a Diagram (two_parameter_diagram)")
+    if not isinstance(diagram.plane, Plane):
+        raise ValueError(
+            f"diagram of {diagram.plane.describe}: the brute-force check runs the one-block engine; "
+            "this diagram's model is not the one-block model"
+        )
     try:
         nx, ny = grid
     except (TypeError, ValueError):

@@ -30,7 +30,7 @@ from ..errors import ArgumentTypeError
 from ..laws import DimensionlessLaw, require_dimensionless_law
 from ..models.parameters import PhysicalParameters
 
-__all__ = ["Axis", "LawPoint", "Plane"]
+__all__ = ["Axes", "Axis", "LawPoint", "Plane"]
 
 #: the physical quantities a plane's axis may be, besides the law's parameters, and their SI units
 PHYSICAL_AXES = {"v0": "m/s", "stiffness": "N/m", "mass": "kg", "load": "N"}
@@ -108,7 +108,26 @@ def _axis(name: Any, rng: Any, log: Any, unit: str = "1", factor: float = 1.0) -
     return Axis(name, lo, hi, bool(log), unit, factor)
 
 
-class Plane:
+class Axes:
+    """Two axes of a plane and the plane in words: what a diagram's figure and files need.
+
+    :class:`Plane` adds the one-block model at each point; another model (the inertial
+    rate-and-state slider) draws its diagram on bare axes.
+    """
+
+    def __init__(self, x: Axis, y: Axis, describe: str) -> None:
+        self.x, self.y, self.describe = x, y, describe
+
+    def values(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Return the axis values (axis units) at unit-square points ``u`` (shape (..., 2))."""
+        u = np.asarray(u, dtype=float)
+        return (
+            np.vectorize(self.x.to_unit)(u[..., 0]) if u.size else u[..., 0],
+            np.vectorize(self.y.to_unit)(u[..., 1]) if u.size else u[..., 1],
+        )
+
+
+class Plane(Axes):
     """Two axes and the one-block model at each point of the plane (build with a classmethod)."""
 
     def __init__(
@@ -120,10 +139,10 @@ class Plane:
         describe: str,
         physical: PhysicalParameters | None = None,
     ) -> None:
-        self.x, self.y, self.law = x, y, law
+        super().__init__(x, y, describe)
+        self.law = law
         self.spec = law.spec
         self._point = point
-        self.describe = describe
         self.setup = physical
         self._names = tuple(p.name for p in self.spec.parameters)
 
@@ -259,14 +278,6 @@ class Plane:
         """Return ``nu`` and the (checked) law at the unit-square point ``u``."""
         p = self.at(u)
         return p.nu, self.law.replace(**dict(zip(self._names, p.values, strict=True)))
-
-    def values(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Return the axis values (axis units) at unit-square points ``u`` (shape (..., 2))."""
-        u = np.asarray(u, dtype=float)
-        return (
-            np.vectorize(self.x.to_unit)(u[..., 0]) if u.size else u[..., 0],
-            np.vectorize(self.y.to_unit)(u[..., 1]) if u.size else u[..., 1],
-        )
 
 
 def _si_unit(params: PhysicalParameters, name: str) -> str:

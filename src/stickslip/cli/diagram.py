@@ -84,6 +84,14 @@ def _axis(text: str | None, option: str) -> tuple[str, tuple[float, float]] | No
     help="With --records: the paper's law 'mu_s=0.35, a=30 s/m, b=20 s/m' or a fit.json.",
 )
 @click.option(
+    "--ratestate",
+    default=None,
+    metavar="SPEC",
+    help="The inertial rate-and-state slider instead of a friction law: 'law=aging, a=0.01, b=0.015, "
+    "dc=10 um, sigma=10 MPa, mass=1e5 kg/m^2' (per unit area); its Hopf curve over --x V=LO..HI (m/s) "
+    "and --y k=LO..HI (Pa/m), with its Bautin points.",
+)
+@click.option(
     "--check",
     "check_n",
     type=click.IntRange(min=2, max=2000),
@@ -129,6 +137,7 @@ def diagram(
     source: str | None,
     model_law: str | None,
     name_pattern: str | None,
+    ratestate: str | None,
     check_n: int | None,
     step: float,
     seed_lines: int,
@@ -158,7 +167,13 @@ def diagram(
         raise click.UsageError("--store, --scheduler and --workers go with --check (the brute-force grid)")
     options: dict[str, Any] = {"seed_lines": seed_lines, "step": step, "raster": raster}
     measured: list[tuple[float, float, str]] = []
-    if source is not None:
+    if ratestate is not None:
+        if source is not None or model_law is not None:
+            raise click.UsageError("--ratestate draws the slider's own (V, k) plane: drop --records/--model")
+        if check_n is not None:
+            raise click.UsageError("--check runs the one-block engine: not for --ratestate")
+        d = _ratestate_diagram(ratestate, x_axis, y_axis, options)
+    elif source is not None:
         if model_law is None:
             raise click.UsageError("--records needs --model (the law whose plane is drawn)")
         if x_axis or y_axis:
@@ -219,6 +234,37 @@ def diagram(
     _print(d, chk, measured)
     if out_dir is not None:
         click.echo(f"wrote {out_dir}/diagram.nc, diagram.json and diagram.png/.svg")
+
+
+def _ratestate_diagram(spec: str, x_axis: str | None, y_axis: str | None, options: dict[str, Any]) -> Any:
+    from ..ratestate.inertia import InertialSlider
+    from ..ratestate.inertia_diagram import inertial_diagram
+
+    values: dict[str, str] = {}
+    for item in spec.split(","):
+        name, sep, value = item.partition("=")
+        if not sep or name.strip() not in ("law", "a", "b", "dc", "sigma", "mass") or name.strip() in values:
+            raise click.UsageError(
+                f"--ratestate={spec!r}: expected 'law=aging, a=0.01, b=0.015, dc=10 um, sigma=10 MPa, "
+                "mass=1e5 kg/m^2' (each once)"
+            )
+        values[name.strip()] = value.strip()
+    missing = [k for k in ("a", "b", "dc", "sigma", "mass") if k not in values]
+    if missing:
+        raise click.UsageError(f"--ratestate={spec!r}: give {', '.join(missing)}")
+    x = _axis(x_axis, "--x") or ("V", (1e-6, 1e-1))
+    y = _axis(y_axis, "--y")
+    if x[0] != "V" or y is None or y[0] != "k":
+        raise click.UsageError("--ratestate: the axes are --x V=LO..HI (m/s) and --y k=LO..HI (Pa/m)")
+    try:
+        slider = InertialSlider(
+            a=float(values["a"]), b=float(values["b"]), dc=values["dc"], sigma=values["sigma"],
+            mass=values["mass"], law=values.get("law", "aging"),
+        )  # fmt: skip
+    except ValueError as exc:
+        raise click.UsageError(f"--ratestate: {exc}") from None
+    return inertial_diagram(slider, x[1], y[1], step=options["step"], raster=options["raster"],
+                            seed_lines=options["seed_lines"])  # fmt: skip
 
 
 def _records_diagram(
