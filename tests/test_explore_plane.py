@@ -125,6 +125,7 @@ def test_the_p_axis_and_its_closed_form():
     assert p.min() == pytest.approx(0.125, abs=1e-12) and p.max() == pytest.approx(2.0, abs=1e-12)
 
 
+@pytest.mark.slow  # 30 s: the explorer's window spans three decades of nu and a factor 16 in g
 def test_a_bautin_point_cuts_the_hopf_curve_and_has_its_words():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the formula turns negative far out (the view keeps it as a note)

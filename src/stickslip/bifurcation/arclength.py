@@ -75,7 +75,7 @@ def newton(
             gn = float(np.max(np.abs(g)))
             j = jac(x) if jac is not None else fd_jacobian(fun, x, g)
             dx = np.linalg.solve(j, -g)
-        except (RuntimeError, ValueError, np.linalg.LinAlgError, FloatingPointError):
+        except (RuntimeError, ValueError, ArithmeticError, np.linalg.LinAlgError):
             return None
         dn = float(np.max(np.abs(dx)))
         if gn <= tol and dn <= 1e3 * tol:
@@ -88,7 +88,7 @@ def newton(
             return None
     try:
         g = fun(x)
-    except (RuntimeError, ValueError, FloatingPointError):
+    except (RuntimeError, ValueError, ArithmeticError):
         return None
     return (x, max_iter) if float(np.max(np.abs(g))) <= tol else None
 
@@ -144,6 +144,14 @@ class _Walk:
     vals: list[dict[str, float]]
     events: list[Event]
     end: str = "points"
+
+
+def _tested(test: Callable[[np.ndarray], float], x: np.ndarray) -> float:
+    """Return ``test(x)``, NaN where it cannot be evaluated (a NaN watches for no sign change)."""
+    try:
+        return float(test(x))
+    except (RuntimeError, ValueError, ArithmeticError):
+        return math.nan
 
 
 def _tangent(j: np.ndarray) -> np.ndarray:
@@ -209,7 +217,7 @@ def trace(
         return jac(x) if jac is not None else fd_jacobian(fun, x)
 
     def values(x: np.ndarray) -> dict[str, float]:
-        return {k: float(t(x)) for k, t in tests.items()}
+        return {k: _tested(t, x) for k, t in tests.items()}
 
     t0 = _tangent(jacobian(x0))
     if direction is not None and float(np.dot(t0, direction)) < 0:
@@ -283,7 +291,7 @@ def _walk(
         xn, its = res
         try:
             tn = _tangent(jacobian(xn))
-        except (RuntimeError, ValueError, np.linalg.LinAlgError):
+        except (RuntimeError, ValueError, ArithmeticError, np.linalg.LinAlgError):
             h *= 0.5
             if h < h_min:
                 walk.end = "failed"

@@ -221,32 +221,35 @@ class OneBlockSystems:
     def first_stop(self, u: np.ndarray, s0: float, backward: bool = False) -> tuple[float, float] | None:
         """Return ``(T, s)`` where the slip from ``(s0, 0)`` first stops (backward: in ``(-s, -w)``).
 
-        Scanned in steps of 0.05 and bisected to 1e-12; None without a stop before ``T = 200``.
-        A flow that fails past the stop (a law with a pole at negative velocity) counts as
-        stopped there.
+        Stepped in pieces of 0.05 (each from where the last ended) and bisected in the piece
+        where ``w`` reaches 0, to 1e-12; None without a stop before ``T = 200``. A flow that
+        fails past the stop (a law with a pole at negative velocity) counts as stopped there.
         """
         p = self.point(u)
         nu = -p.nu if backward else p.nu
         lp = p.lp()
+        dt = 0.05
 
-        def w_at(t: float) -> float:
+        def flow(s: float, w: float, t: float) -> tuple[float, float]:
             try:
-                return run_flow(self.kernel, lp, nu, s0, 0.0, t, rtol=self.rtol, checked=False).w
+                fl = run_flow(self.kernel, lp, nu, s, w, t, rtol=self.rtol, checked=False)
+                return fl.s, fl.w
             except RuntimeError:
-                return -1.0
+                return math.nan, -1.0
 
-        t = 0.0
+        t, s, w = 0.0, s0, 0.0
         while t < 200.0:
-            t += 0.05
-            if w_at(t) <= 0.0:
-                lo, hi = t - 0.05, t
-                while hi - lo > 1e-12 * hi:
+            s1, w1 = flow(s, w, dt)
+            if not w1 > 0.0:
+                lo, hi = 0.0, dt
+                while hi - lo > 1e-12 * max(t, 1.0):
                     mid = 0.5 * (lo + hi)
-                    if w_at(mid) > 0.0:
+                    if flow(s, w, mid)[1] > 0.0:
                         lo = mid
                     else:
                         hi = mid
-                return lo, run_flow(self.kernel, lp, nu, s0, 0.0, lo, rtol=self.rtol, checked=False).s
+                return t + lo, flow(s, w, lo)[0] if lo > 0 else s
+            t, s, w = t + dt, s1, w1
         return None
 
     def grazing_tests(self) -> dict[str, Test]:

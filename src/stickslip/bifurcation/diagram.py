@@ -38,12 +38,14 @@ from typing import Any
 
 import numpy as np
 
+from .. import defaults
+from ..core.api import run_attractors
 from ..core.results import Regime
 from ..io.jsonable import json_clean
 from .arclength import TracedCurve, newton, trace
 from .branches import interval_regime
 from .curves import OneBlockSystems
-from .planes import Plane, check_positive_int
+from .planes import Axes, Plane, check_positive_int
 
 __all__ = ["Curve", "Diagram", "SpecialPoint2", "two_parameter_diagram"]
 
@@ -131,7 +133,9 @@ class Diagram:
 
     Attributes
     ----------
-    plane : Plane
+    plane : Axes
+        The :class:`~.planes.Plane` of a one-block diagram (its model at each point), or bare
+        :class:`~.planes.Axes` (the inertial rate-and-state slider's diagram).
     curves : list of Curve
     points : list of SpecialPoint2
     region : ndarray of int, shape (ny, nx)
@@ -146,7 +150,7 @@ class Diagram:
 
     """
 
-    plane: Plane
+    plane: Axes
     curves: list[Curve]
     points: list[SpecialPoint2]
     region: np.ndarray
@@ -326,12 +330,14 @@ def two_parameter_diagram(
     # on one side, not on the other) where no grazing curve traced so far passes: an onset that no
     # Hopf-born pure-slip branch reaches, or any onset of a law whose f(0+) is not 1
     for u2 in lines:
-        for z in _onset_seeds(sysm, float(u2), curves):
-            if not _near(curves, "grazing", z[1:3]):
+        onsets, reversals = _line_changes(sysm, float(u2))
+        for z in onsets:
+            if not _near(curves, "grazing", z[1:3], tol=0.02):
                 _grazing_curve(sysm, z, curves, points, step, tol, periodic=f0_one)
-    for u2 in lines:
-        for z in _reversal_seeds(sysm, float(u2), curves):
-            _reversal_curve(sysm, z, curves, step, tol)
+        for u1 in reversals:
+            rz = _reversal_seed(sysm, u1, float(u2), curves)
+            if rz is not None:
+                _reversal_curve(sysm, rz, curves, step, tol)
     if not f0_one:
         notes.append(
             "f(0+) differs from the static threshold: no pure-slip orbit grazes into stick-slip; the "
@@ -552,86 +558,70 @@ def _fold_curve(
             )
 
 
-#: points of a seed line where the engine runs from breakaway
+#: points of a seed line where the engine runs from breakaway, and of the refinement of a change
 ONSET_SCAN = 61
+ONSET_REFINE = 41
 
 
-def _onset_seeds(sysm: OneBlockSystems, u2: float, curves: list[Curve]) -> list[np.ndarray]:
-    """Return ``(tau, u1, u2)`` where the slip from breakaway starts or stops stopping on ``y = u2``.
-
-    The engine runs from breakaway at :data:`ONSET_SCAN` points of the line; each change of
-    "it stops" is bisected on the engine to ``1e-9`` of the axis, and the slip's duration
-    there, over ``2 pi``, starts Newton on the grazing system. A change next to a grazing
-    curve already traced is skipped.
-    """
-    from .probes import _engine
-
-    seeds = []
-    for u1, _ in _engine_changes(sysm, u2, lambda rows: rows.is_regime(Regime.STICK_SLIP)):
-        if _near(curves, "grazing", np.array([u1, u2]), tol=0.02):
-            continue
-        nu, law = sysm.plane.law_at((u1, u2))
-        rows = _engine(law, np.array([nu]))
-        slip = float(rows.period[0] - rows.stick_time[0])
-        if math.isfinite(slip) and slip > 0:
-            seeds.append(np.array([slip / (2.0 * math.pi), u1, u2]))
-    return seeds
-
-
-def _engine_changes(
-    sysm: OneBlockSystems, u2: float, flag: Callable[[Any], np.ndarray]
-) -> list[tuple[float, bool]]:
-    """Return where ``flag`` of the engine's run from breakaway changes on ``y = u2`` (bisected to 1e-9).
-
-    Each change is ``(u1, side)``: ``u1`` on the side where ``flag`` holds is ``side``.
-    """
-    from .probes import _engine
-
-    plane = sysm.plane
-    grid = np.linspace(0.0, 1.0, ONSET_SCAN)
-
-    def holds(u1: float) -> bool:
-        nu, law = plane.law_at((u1, u2))
-        return bool(flag(_engine(law, np.array([nu])))[0])
-
-    try:
-        state = [holds(float(g)) for g in grid]
-    except (ValueError, RuntimeError):
-        return []
-    out = []
-    for i in range(ONSET_SCAN - 1):
-        if state[i] == state[i + 1]:
-            continue
-        lo, hi = float(grid[i]), float(grid[i + 1])
-        while hi - lo > 1e-9:
-            mid = 0.5 * (lo + hi)
-            if holds(mid) == state[i]:
-                lo = mid
-            else:
-                hi = mid
-        out.append((lo if state[i] else hi, True))
-    return out
+def _breakaway_rows(sysm: OneBlockSystems, u: np.ndarray) -> Any:
+    """Run the engine from breakaway at the plane points ``u`` (shape (n, 2)) in one batched call."""
+    pts = [sysm.point(q) for q in u]
+    lp = np.array([p.lp() for p in pts])
+    return run_attractors(
+        sysm.kernel, lp, np.array([p.nu for p in pts]), from_breakaway=True, rtol=defaults.RTOL,
+        atol=defaults.ATOL, max_slip_time=defaults.MAX_SLIP_TIME, conv_tol=defaults.CONV_TOL,
+    )  # fmt: skip
 
 
 def _is_reversal(rows: Any) -> np.ndarray:
     return np.asarray(rows.ok & (rows.regime == Regime.PURE_SLIP.code) & (rows.n_backward > 0))
 
 
-def _reversal_seeds(sysm: OneBlockSystems, u2: float, curves: list[Curve]) -> list[np.ndarray]:
-    """Return ``(tau1, tau2, u1, u2)`` where slip reversal begins on ``y = u2`` (no curve there yet)."""
-    seeds = []
-    for u1, _ in _engine_changes(sysm, u2, _is_reversal):
-        if _near(curves, "reversal", np.array([u1, u2]), tol=0.02):
-            continue
-        u = np.array([u1, u2])
-        first = sysm.first_stop(u, 1.0)
-        if first is None or first[1] >= -1.0:
-            continue
-        second = sysm.first_stop(u, -first[1], backward=True)
-        if second is None:
-            continue
-        seeds.append(np.array([first[0] / (2 * math.pi), second[0] / (2 * math.pi), u1, u2]))
-    return seeds
+def _line_changes(sysm: OneBlockSystems, u2: float) -> tuple[list[np.ndarray], list[float]]:
+    """Where the engine's motion from breakaway changes on ``y = u2``: onsets and reversals.
+
+    The engine runs at :data:`ONSET_SCAN` points of the line; where "the slip stops" or
+    "it slips backward and never sticks" changes, :data:`ONSET_REFINE` more points across the
+    step narrow it to ``1/2400`` of the axis, enough for Newton on the defining system.
+    Returns the stick-slip onsets as ``(tau, u1, u2)`` seeds of the grazing system (the
+    slip's duration on the stick-slip side, over ``2 pi``) and the reversals as ``u1``.
+    """
+    grid = np.linspace(0.0, 1.0, ONSET_SCAN)
+    try:
+        rows = _breakaway_rows(sysm, np.stack([grid, np.full_like(grid, u2)], axis=-1))
+    except (ValueError, RuntimeError):
+        return [], []
+    onsets: list[np.ndarray] = []
+    reversals: list[float] = []
+    flags = {"onset": rows.is_regime(Regime.STICK_SLIP), "reversal": _is_reversal(rows)}
+    for name, flag in flags.items():
+        for i in np.flatnonzero(flag[:-1] != flag[1:]):
+            fine = np.linspace(grid[i], grid[i + 1], ONSET_REFINE)
+            r2 = _breakaway_rows(sysm, np.stack([fine, np.full_like(fine, u2)], axis=-1))
+            f2 = r2.is_regime(Regime.STICK_SLIP) if name == "onset" else _is_reversal(r2)
+            j = int(np.flatnonzero(f2 != f2[0])[0]) if np.any(f2 != f2[0]) else 1
+            if name == "reversal":
+                reversals.append(float(0.5 * (fine[j - 1] + fine[j])))
+                continue
+            k = j - 1 if f2[0] else j  # the stick-slip side
+            slip = float(r2.period[k] - r2.stick_time[k])
+            if math.isfinite(slip) and slip > 0:
+                onsets.append(np.array([slip / (2.0 * math.pi), float(fine[k]), u2]))
+    return onsets, reversals
+
+
+def _reversal_seed(sysm: OneBlockSystems, u1: float, u2: float, curves: list[Curve]) -> np.ndarray | None:
+    """Return ``(tau1, tau2, u1, u2)`` of the reversal system at ``(u1, u2)`` (None on a curve or without)."""
+    if _near(curves, "reversal", np.array([u1, u2]), tol=0.02):
+        return None
+    u = np.array([u1, u2])
+    first = sysm.first_stop(u, 1.0)
+    if first is None or first[1] >= -1.0:
+        return None
+    second = sysm.first_stop(u, -first[1], backward=True)
+    if second is None:
+        return None
+    return np.array([first[0] / (2 * math.pi), second[0] / (2 * math.pi), u1, u2])
 
 
 def _reversal_curve(
