@@ -25,12 +25,25 @@ INTERRUPTED = (
 )
 
 
+#: the line printed on Ctrl-C while the command line loads
+STARTING = "stickslip: interrupted while starting"
+
+
 def main() -> None:
     """Load the command line, then run it (the ``stickslip`` console script)."""
+    # Ctrl-C during the imports ends the process from the handler itself: a KeyboardInterrupt
+    # raised there can land in importlib's weakref callbacks, where Python prints it as an
+    # "Exception ignored" traceback and goes on importing. A shell that started this process
+    # with SIGINT ignored (a background job) keeps it ignored.
+    previous = signal.getsignal(signal.SIGINT)
+    if previous is not signal.SIG_IGN:
+        signal.signal(signal.SIGINT, _interrupted_while_starting)
     try:
         from .cli.commands import main as command_line
     except KeyboardInterrupt:
-        _end_by_sigint("stickslip: interrupted while starting")
+        _end_by_sigint(STARTING)
+    if previous is not signal.SIG_IGN:
+        signal.signal(signal.SIGINT, previous)
     import click
 
     try:
@@ -46,6 +59,11 @@ def main() -> None:
     except KeyboardInterrupt:  # while click reported something
         _end_by_sigint(INTERRUPTED)
     raise SystemExit(code if isinstance(code, int) else 0)
+
+
+def _interrupted_while_starting(signum: int, frame: object) -> None:
+    """End the loading command line on SIGINT: one line, then end by SIGINT."""
+    _end_by_sigint(STARTING)
 
 
 def _end_by_sigint(message: str) -> NoReturn:
