@@ -118,29 +118,35 @@ def test_csv_and_bad_input():
 
 
 def test_a_slider_holds_the_value_given_and_a_negative_parameter_its_diagram():
-    """A slider holds the value given, even within one step of an excluded bound (kinetic 0.999,
-    not 0.9975; c = 0.001, not 0.0025); a negative formula parameter's regime diagram spans
-    negative values and shows the current point."""
+    """A slider holds the value given, even within one step of an excluded bound (sigma 0.999,
+    not 0.9975; c = 0.001, not 0.0025) and reaches an included one (kinetic 1: equal static and
+    kinetic friction); a negative formula parameter's regime diagram spans negative values and
+    shows the current point."""
     from stickslip import ExpressionLaw
     from stickslip.explore import regime_diagram
 
-    for law, name, value in (("coulomb", "kinetic", 0.999), ("weakening", "c", 0.001)):
+    for law, name, value in (("carlson-langer", "sigma", 0.999), ("weakening", "c", 0.001)):
         start, end, step = slider_range(law, name, value)
         assert start <= value <= end and step > 0
-    assert slider_range("coulomb", "kinetic", 0.5)[1] == pytest.approx(1.0 - 1.0 / 400)  # as before
+    assert slider_range("carlson-langer", "sigma", 0.5)[1] == pytest.approx(1.0 - 1.0 / 400)
+    assert slider_range("coulomb", "kinetic", 0.5)[1] == 1.0
     law = ExpressionLaw("1/(1 + c*w) + q*w", c=3.8, q=-0.05)
     _, q, codes = regime_diagram(law, "q", 0.1, -0.05)
     assert q.min() == pytest.approx(-0.15) and q.max() < 0 and codes.shape[0] == q.size
     _, c, _ = regime_diagram(law, "c", 0.1, 3.8)
     assert c.max() == pytest.approx(11.4) and c.min() > 0
-    # the diagram includes a value near an excluded bound (kinetic 0.999, not rows to 0.958)
-    # and a formula parameter at 0 (not rows 0.04 .. 1), and the page does not redraw it on
-    # every change; nan and inf are named by their argument, before numpy sees them
+    # the diagram includes a value near an excluded bound (sigma 0.999, not rows to 0.958),
+    # reaches an included one (kinetic 1), and a formula parameter at 0 (not rows 0.04 .. 1),
+    # and the page does not redraw it on every change; nan and inf are named by their
+    # argument, before numpy sees them
+    near = Setup(law="carlson-langer", params={"alpha": 2.5, "sigma": 0.999}).dimensionless_law()
+    _, k, _ = regime_diagram(near, "sigma", 0.1, 0.999)
+    assert k.min() >= 0 and k.max() == pytest.approx(0.999)
+    _, k, _ = regime_diagram(near, "sigma", 0.1, 0.5)
+    assert k.max() == pytest.approx(1.0 - 1.0 / 24)  # one 24th inside the excluded bound
     coulomb = Setup(law="coulomb", params={"kinetic": 0.999}).dimensionless_law()
-    _, k, _ = regime_diagram(coulomb, "kinetic", 0.1, 0.999)
-    assert k.min() > 0 and k.max() == pytest.approx(0.999)
     _, k, _ = regime_diagram(coulomb, "kinetic", 0.1, 0.5)
-    assert k.max() == pytest.approx(1.0 - 1.0 / 24)  # as before: one 24th inside the bound
+    assert k.max() == 1.0
     with pytest.warns(UserWarning, match="turns negative"):  # q = -1 is the formula's own choice
         _, q, _ = regime_diagram(ExpressionLaw("1/(1 + c*w) + q*w", c=3.8, q=0.0), "q", 0.1, 0.0)
     assert q.min() == -1.0 and q.max() == 1.0

@@ -53,10 +53,13 @@ def test_the_window_about_the_set_up_and_bad_axes():
     assert plane_window(F2, "p") == ((0.003, 10.0), (0.125, 2.0))
     assert plane_window(Setup(nu=1e-5), "c")[0] == (1e-5, 1e-3)
     # p = 0 (F1): from the included bound 0 to 1; an excluded bound approached to a quarter of
-    # its distance from the value (kinetic < 1, sigma < 1); a negative value mirrored
+    # its distance from the value (sigma < 1), an included one reached (kinetic <= 1); a
+    # negative value mirrored
     assert plane_window(Setup(params={"c": 3.8, "p": 0.0}), "p")[1] == (0.0, 1.0)
     coulomb = Setup(law="coulomb", params={"kinetic": 0.999})
-    assert plane_window(coulomb, "kinetic")[1] == pytest.approx((0.999 / 4, 1.0 - 0.001 / 4), rel=1e-15)
+    assert plane_window(coulomb, "kinetic")[1] == pytest.approx((0.999 / 4, 1.0), rel=1e-15)
+    near = Setup(law="carlson-langer", params={"alpha": 2.5, "sigma": 0.999})
+    assert plane_window(near, "sigma")[1] == pytest.approx((0.999 / 4, 1.0 - 0.001 / 4), rel=1e-15)
     cl = Setup(law="carlson-langer", params={"alpha": 2.5, "sigma": 0.5})
     assert plane_window(cl, "sigma")[1] == (0.125, 0.875)
     expr = Setup(law="expr", params={"c": 3.8, "q": -0.5})

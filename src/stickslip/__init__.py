@@ -11,7 +11,8 @@ Layers, each importing only from those below it (checked by import-linter):
 * :mod:`stickslip.models`: parameter sets with units;
 * :mod:`stickslip.orbits`: steady sliding's stability, periodic orbits, attractors polished into them;
 * :mod:`stickslip.bifurcation`, :mod:`stickslip.dynamics`: branches and regimes, cycles and sweeps;
-* :mod:`stickslip.data`, :mod:`stickslip.ratestate`: measured records, rate and state;
+* :mod:`stickslip.data`, :mod:`stickslip.ratestate`, :mod:`stickslip.chains`, :mod:`stickslip.forced`:
+  measured records, rate and state, chains of blocks, forced oscillators;
 * :mod:`stickslip.plots`, :mod:`stickslip.paper`: figures, the paper's reproduction;
 * :mod:`stickslip.cli`: the command line.
 

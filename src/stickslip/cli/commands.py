@@ -14,7 +14,7 @@ from typing import Any
 import click
 
 from ..io.output import COMMAND_LINE
-from . import bifurcation, chain, data, diagram, dynamics, explore, paper, ratestate
+from . import bifurcation, chain, data, diagram, dynamics, explore, forced, paper, ratestate
 from .options import OnceCommand, build_parameters, describe_parameters
 
 __all__ = ["build_parameters", "describe_parameters", "main"]
@@ -25,9 +25,10 @@ SECTIONS = (
     ("The paper", ("reproduce", "examples", "explore")),
     ("One block", ("cycle", "simulate", "sweep")),
     ("Measured records", ("analyze", "fit", "classify")),
-    ("Bifurcation", ("regimes",)),
+    ("Bifurcation", ("regimes", "diagram")),
     ("Rate and state", ("ratestate", "ratestate-fit", "earthquake-cycles", "dulac")),
     ("Chains of blocks", ("chain",)),
+    ("Forced oscillators", ("forced",)),
 )
 
 
@@ -100,5 +101,5 @@ def _one_line_warning(message: Any, category: Any, filename: str, lineno: int, *
 
 
 main.command_class = OnceCommand  # every command refuses a single-valued option given twice
-for _family in (dynamics, paper, ratestate, data, bifurcation, diagram, chain, explore):
+for _family in (dynamics, paper, ratestate, data, bifurcation, diagram, forced, chain, explore):
     _family.register(main)

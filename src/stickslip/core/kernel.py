@@ -21,7 +21,7 @@ import numba
 import numpy as np
 import numpy.typing as npt
 
-from . import chain, engine, variational
+from . import chain, engine, forced, variational
 from .laws import BUILTIN_LAWS
 
 __all__ = [
@@ -59,6 +59,9 @@ class Kernel:
     chain : module or None
         The chain engine (:mod:`stickslip.core.chain` or its copy); None: the
         built-in one.
+    forced : module or None
+        The forced oscillator's engine (:mod:`stickslip.core.forced` or its copy);
+        None: the built-in one.
 
     """
 
@@ -67,11 +70,17 @@ class Kernel:
     variational: ModuleType
     name: str = ""
     chain: ModuleType | None = None
+    forced: ModuleType | None = None
 
     @property
     def chain_engine(self) -> ModuleType:
         """The chain engine compiled with this law."""
         return self.chain if self.chain is not None else chain
+
+    @property
+    def forced_engine(self) -> ModuleType:
+        """The forced oscillator's engine compiled with this law."""
+        return self.forced if self.forced is not None else forced
 
 
 _BUILTIN_NAMES = {0: "weakening", 1: "cubic", 2: "coulomb", 3: "carlson-langer"}
@@ -79,7 +88,7 @@ _BUILTIN_NAMES = {0: "weakening", 1: "cubic", 2: "coulomb", 3: "carlson-langer"}
 
 def builtin_kernel(law_id: int) -> Kernel:
     """Return the kernel of a built-in law (id ``LAW_*`` of :mod:`stickslip.core.laws`)."""
-    return Kernel(int(law_id), engine, variational, _BUILTIN_NAMES.get(int(law_id), ""), chain)
+    return Kernel(int(law_id), engine, variational, _BUILTIN_NAMES.get(int(law_id), ""), chain, forced)
 
 
 def as_kernel(law: Kernel | int | npt.ArrayLike) -> Kernel:

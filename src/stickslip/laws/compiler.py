@@ -55,6 +55,7 @@ ENGINE_MODULES = (
     "variational.py",
     "_chain_step.py",
     "chain.py",
+    "forced.py",
 )
 
 _LOCK = threading.Lock()
@@ -325,6 +326,7 @@ def compile_kernel(law_source: str, name: str, law_id: int = 0, *, check: bool =
             importlib.import_module(f"{pkg}.variational"),
             name,
             importlib.import_module(f"{pkg}.chain"),
+            importlib.import_module(f"{pkg}.forced"),
         )
         _LOADED[key] = kernel
         return kernel
