@@ -2,7 +2,8 @@
 
 Checks that the engine's source compiles for CUDA as it is (numba-cuda's typing and
 NVVM) and that the PTX assembles and links for the target (nvJitLink, ptxas), law by
-law (and the small kernel that gathers the columns a caller keeps), where no GPU can
+law, the forced oscillator's kernel with each (and the small kernel that gathers the
+columns a caller keeps), where no GPU can
 run it: the simulator of the test suite runs the engine as Python and cannot tell.
 (A table of 1700 rows does not link: its constant memory; the backend refuses tables
 over ``MAX_TABLE_ROWS``, 1600, in one line.) Needs numba-cuda with the CUDA toolkit's
@@ -80,6 +81,16 @@ def main() -> None:
         print(
             f"{name:34s} PTX for sm_{cc[0]}{cc[1]}: {len(lines):6d} lines, {fma} fma.rn.f64, "
             f"{div} div.rn.f64, compiled in {time.perf_counter() - t0:.1f} s; {_link(ptx, cc)}"
+        )
+        # the forced oscillator's kernel (stroboscopic sections and Lyapunov exponents)
+        forced = _cuda_kernel.make_forced(kernel.forced_engine.strobe_one)
+        f3 = types.float64[:, :, ::1]
+        fsig = (i, f2, f2, f, f2, i, i, f, f, i, b, f3, f2, f2, f1, f2)
+        t0 = time.perf_counter()
+        fptx, _ = compile_ptx(forced.py_func, fsig, cc=cc)
+        print(
+            f"{'':34s} the forced kernel: {len(fptx.splitlines())} lines, compiled in "
+            f"{time.perf_counter() - t0:.1f} s; {_link(fptx, cc)}"
         )
         if name.startswith("F1"):
             queue = _cuda_kernel.make(kernel.engine.attractor_ws, persistent=True)

@@ -18,24 +18,17 @@ _PHYSICAL = ("mass", "beta", "stiffness", "load", "preset", "mu", "v0")
 
 
 def _range(text: str | None, physical: bool, default: tuple[str, float, float]) -> tuple[str, float, float]:
-    """Parse ``NAME=A..B`` (``frequency=1..5`` in Hz for a physical set-up)."""
-    if text is None:
+    """Parse ``NAME=A..B`` as the diagram command's axes (``frequency=1..5`` in Hz, physical set-ups)."""
+    from .diagram import _axis
+
+    axis = _axis(text, "--range")
+    if axis is None:
         return default
-    name, sep, rng = text.partition("=")
-    parts = rng.split("..")
-    if not sep or len(parts) != 2:
-        raise click.UsageError(f"--range={text!r}: expected NAME=A..B, e.g. 'omega=0.5..2.5'")
-    try:
-        lo, hi = float(parts[0]), float(parts[1])
-    except ValueError:
-        raise click.UsageError(f"--range={text!r}: A and B must be numbers") from None
+    name, (lo, hi) = axis
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise click.UsageError(f"--range={text!r}: expected finite A < B")
-    name = name.strip()
     if name == "frequency" and not physical:
-        raise click.UsageError(
-            "--range frequency=A..B (Hz) needs a physical set-up (--mass, --stiffness, ...)"
-        )
+        raise click.UsageError("--range frequency=A..B (Hz) needs --mass, --stiffness, --load")
     return name, lo, hi
 
 
@@ -188,6 +181,13 @@ def _start(text: str) -> tuple[float, float]:
 @click.option(
     "--lyapunov", "with_lyapunov", is_flag=True, help="Diagram: the largest Lyapunov exponent per value."
 )
+@click.option(
+    "--backend",
+    type=click.Choice(["cpu", "cuda", "auto"]),
+    default="cpu",
+    show_default=True,
+    help="Diagram: numba's threads, a CUDA GPU (a thread per value), or the GPU where one is usable.",
+)
 @click.option("--start", default="0,0", show_default=True, help="Start state 'S,W' at the first section.")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.option(
@@ -219,6 +219,7 @@ def forced(
     record: int,
     resp_period: int,
     with_lyapunov: bool,
+    backend: str,
     start: str,
     as_json: bool,
     out_dir: str | None,
@@ -241,8 +242,8 @@ def forced(
 
     if out_dir is None:
         warn_unwritten(("overwrite",), "without --out")
-    if mode != "diagram" and (store or scheduler or workers):
-        raise click.UsageError("--store, --scheduler and --workers go with --mode diagram")
+    if mode != "diagram" and (store or scheduler or workers or backend != "cpu"):
+        raise click.UsageError("--store, --scheduler, --workers and --backend go with --mode diagram")
     forcing = {
         "omega": omega,
         "q": q,
@@ -270,9 +271,10 @@ def forced(
         result.update(
             stops=st.stops, reversals=st.reversals, stick_time=st.stick_time, s_min=st.s_min, s_max=st.s_max
         )
+        unit = "N" if physical else "mu_s W"
         lines.append(
             f"{dp.describe()}: {periods:g} periods after {transient}: {st.stops} stops, "
-            f"{st.reversals} reversals, spring force {tr.s.min():.6g}..{tr.s.max():.6g}"
+            f"{st.reversals} reversals, spring force {tr.s.min():.6g}..{tr.s.max():.6g} {unit}"
         )
         dataset = tr.to_dataset()
         if out_dir is not None:
@@ -353,6 +355,7 @@ def forced(
                 record=record,
                 start=s0w0,
                 lyapunov=with_lyapunov,
+                backend=backend,
                 store=store,
                 scheduler=scheduler,
                 workers=workers,

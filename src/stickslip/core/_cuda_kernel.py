@@ -10,7 +10,7 @@ from typing import Any
 
 from numba import cuda, float64, int64
 
-from . import engine
+from . import engine, forced
 from .laws import N_LAW_PARAMS
 
 
@@ -67,6 +67,51 @@ def make(one: Any, width: int = 2, options: dict[str, Any] | None = None, persis
                 max_steps, out[r], k, f, y_new, ytmp, y, trk, t_eval, out_y, out_mode, evbuf, evn,
             )  # fmt: skip
             i = cuda.atomic.add(next_row, 0, 1) if persistent else nu_a.shape[0]
+
+    return cuda.jit(rows, **(options or {}))
+
+
+def make_forced(one: Any, options: dict[str, Any] | None = None) -> Any:
+    """Return the CUDA kernel running the forced engine's per-row function ``one`` (``forced.strobe_one``).
+
+    Thread ``i`` runs row ``i``: its law parameters ``lp_a[i]`` (or ``lp_a[0]`` for
+    all rows where ``lp_a`` has one row), its forcing ``fp_a[i]`` and its start
+    ``x0_a[i]`` (or ``x0_a[0]``); its sections into ``out[i]``, its Lyapunov
+    exponents into ``lyap[i]``, its statistics into ``stats[i]``. The work arrays
+    are the thread's own local arrays; ``ts`` and ``samples`` are empty.
+    """
+    # sizes as closure constants: numba-cuda's local arrays need literal shapes
+    npar = N_LAW_PARAMS
+    nwork = forced.N_STAGES_EXTENDED + 10
+    width = forced.NVAR_TRACK
+    nstate = forced.NSTATE
+    nfp = forced.NFP
+
+    def rows(  # type: ignore[no-untyped-def]
+        law, lp_a, fp_a, t0, x0_a, n_transient, n_record, rtol, atol, max_steps, track, out, lyap, stats,
+        ts, samples,
+    ):  # fmt: skip
+        work = cuda.local.array((nwork, width), float64)
+        st = cuda.local.array(nstate, float64)
+        phi = cuda.local.array(4, float64)
+        qm = cuda.local.array(4, float64)
+        m = cuda.local.array(4, float64)
+        lp = cuda.local.array(npar, float64)
+        fp = cuda.local.array(nfp, float64)
+        i = cuda.grid(1)
+        if i < fp_a.shape[0]:
+            rl = i if lp_a.shape[0] > 1 else 0
+            rx = i if x0_a.shape[0] > 1 else 0
+            for j in range(npar):
+                lp[j] = lp_a[rl, j]
+            for j in range(nfp):
+                fp[j] = fp_a[i, j]
+            s0 = x0_a[rx, 0]
+            w0 = x0_a[rx, 1]
+            one(
+                law, lp, fp, t0, s0, w0, n_transient, n_record, rtol, atol, max_steps, track, out[i], lyap[i],
+                stats[i], work, st, phi, qm, m, ts, samples,
+            )  # fmt: skip
 
     return cuda.jit(rows, **(options or {}))
 

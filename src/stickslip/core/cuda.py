@@ -305,23 +305,27 @@ def _batch_rows(n: int, per_row: int) -> int:
 #: memory (64 KB a module), 40 bytes a row in one array (``tools/cuda_ptx.py``: 1600 rows
 #: link for sm_90, 1700 do not; 700 when each function held its own copies, 88 bytes a row)
 MAX_TABLE_ROWS = 1600
+#: the same for the forced oscillator's kernel, which reads the table in more places
+#: (``tools/cuda_ptx.py``: 1500 rows link for sm_90, 1600 do not)
+FORCED_MAX_TABLE_ROWS = 1500
 
 
-def check_kernel(one: Any) -> None:
+def check_kernel(one: Any, max_rows: int = MAX_TABLE_ROWS) -> None:
     """Refuse, in one line, a law whose engine cannot build for a GPU (a table too long).
 
     Raises
     ------
     ValueError
-        For a tabulated law of more than :data:`MAX_TABLE_ROWS` rows.
+        For a tabulated law of more than ``max_rows`` rows (:data:`MAX_TABLE_ROWS` for the
+        attractor kernel, :data:`FORCED_MAX_TABLE_ROWS` for the forced oscillator's).
 
     """
     package = sys.modules.get(getattr(one, "__module__", "").rsplit(".", 1)[0] + ".laws")
     table = getattr(package, "_TABLE", None)  # five numbers a piece, the table's rows its pieces' ends
     rows = 0 if table is None else table.size // 5 + 1
-    if rows > MAX_TABLE_ROWS:
+    if rows > max_rows:
         raise ValueError(
-            f"a table of {rows} rows: the GPU kernel holds at most {MAX_TABLE_ROWS} "
+            f"a table of {rows} rows: the GPU kernel holds at most {max_rows} "
             "(its constant memory); thin the table, or use backend='cpu'"
         )
 
@@ -658,3 +662,78 @@ def run_attractors_cuda(
         TIMES["span"] = max((b for _, b in busy), default=0.0)
         TIMES["gpu"] = time.perf_counter() - t_locked
     TIMES["total"] = time.perf_counter() - t0
+
+
+_FORCED_KERNELS: dict[tuple[int, str], Any] = {}
+
+
+def forced_kernel(one: Any) -> Any:
+    """Return the CUDA kernel running the forced engine's per-row function ``one`` (``strobe_one``)."""
+    options = {} if simulator() else dict(JIT_OPTIONS)
+    key = (id(one), repr(sorted(options.items())))
+    if key not in _FORCED_KERNELS:
+        from . import _cuda_kernel
+
+        _load_registries_without_row_stack()
+        _FORCED_KERNELS[key] = (one, _cuda_kernel.make_forced(one, options))
+    return _FORCED_KERNELS[key][1]
+
+
+def run_forced_strobe_cuda(
+    one: Any,
+    law: int,
+    lp: np.ndarray,
+    fp: np.ndarray,
+    x0: np.ndarray,
+    t0: float,
+    n_transient: int,
+    n_record: int,
+    rtol: float,
+    atol: float,
+    max_steps: int,
+    track: bool,
+    out: np.ndarray,
+    lyap: np.ndarray,
+    stats: np.ndarray,
+    on_rows: Callable[[int], None] | None = None,
+) -> None:
+    """Fill ``out``, ``lyap`` and ``stats`` as the CPU's ``strobe_rows``, one GPU thread a row.
+
+    ``lp`` and ``x0`` have one row for all or one a row; ``fp`` one a row. The rows go
+    in launches that use at most a quarter of the free device memory for their
+    sections (one stream, ordinary copies: the forced diagrams' results are their
+    sections, ``8 n_record`` bytes a row per state variable, which dwarf the inputs).
+    """
+    from numba import cuda
+    from numba.core.errors import NumbaPerformanceWarning
+
+    check_kernel(one, FORCED_MAX_TABLE_ROWS)
+    kern = forced_kernel(one)
+    n = fp.shape[0]
+    per_row = 8 * (2 * n_record + 2 + stats.shape[1] + fp.shape[1] + lp.shape[1] + 2)
+    batch = _batch_rows(n, per_row)
+    ts = np.zeros(0)
+    samples = np.zeros((0, 3))
+    with warnings.catch_warnings():
+        # a small launch (the simulator's, a short diagram) leaves the GPU mostly idle: not an error
+        warnings.simplefilter("ignore", NumbaPerformanceWarning)
+        d_ts = cuda.to_device(ts)
+        d_samples = cuda.to_device(samples)
+        for lo in range(0, n, batch):
+            hi = min(n, lo + batch)
+            lp_b = lp if lp.shape[0] == 1 else lp[lo:hi]
+            x0_b = x0 if x0.shape[0] == 1 else x0[lo:hi]
+            d_out = cuda.device_array((hi - lo, n_record, 2))
+            d_lyap = cuda.device_array((hi - lo, 2))
+            d_stats = cuda.device_array((hi - lo, stats.shape[1]))
+            blocks = -(-(hi - lo) // THREADS_PER_BLOCK)
+            d_lp, d_fp, d_x0 = (cuda.to_device(np.ascontiguousarray(a)) for a in (lp_b, fp[lo:hi], x0_b))
+            kern[blocks, THREADS_PER_BLOCK](
+                law, d_lp, d_fp, float(t0), d_x0, int(n_transient), int(n_record), float(rtol), float(atol),
+                int(max_steps), bool(track), d_out, d_lyap, d_stats, d_ts, d_samples,
+            )  # fmt: skip
+            out[lo:hi] = d_out.copy_to_host()
+            lyap[lo:hi] = d_lyap.copy_to_host()
+            stats[lo:hi] = d_stats.copy_to_host()
+            if on_rows is not None:
+                on_rows(hi - lo)

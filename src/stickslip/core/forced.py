@@ -547,19 +547,99 @@ def _qr2(m, q):  # type: ignore[no-untyped-def]
     return r11, r22
 
 
-@njit(cache=True, nogil=True)
-def strobe_rows(law, lp, fp, t0, x0, n_transient, n_record, rtol, atol, max_steps, track, out, lyap, stats):  # type: ignore[no-untyped-def]
-    """Stroboscopic samples of each row: ``n_record`` sections after ``n_transient`` periods.
+@njit(cache=True)
+def strobe_one(  # type: ignore[no-untyped-def]
+    law, lp, fp, t0, s0, w0, n_transient, n_record, rtol, atol, max_steps, track, out, lyap, stats,
+    work, st, phi, qm, m, ts, samples,
+):  # fmt: skip
+    """Stroboscopic samples of one row: ``n_record`` sections after ``n_transient`` periods.
 
-    Row ``i`` has law parameters ``lp[i]``, forcing ``fp[i]`` and start ``x0[i]``
-    (``s, w``); ``out[i, k]`` is ``(s, w)`` at section ``k``; ``stats[i]`` the
-    events over the recorded periods and the status. With ``track``, ``lyap[i]``
+    ``out`` (``n_record`` x 2) receives ``(s, w)`` at each section, ``stats`` the
+    events over the recorded periods and the status. With ``track``, ``lyap``
     receives the Lyapunov exponents over the recorded periods (per unit
     dimensionless time): the Jacobian of each period (with its saltation matrices)
     is applied to an orthonormal frame, re-orthonormalised by QR (Benettin,
     Galgani, Giorgilli and Strelcyn 1980); the second is ``-inf`` once a stick
     phase has collapsed the frame (stick forgets the velocity: the Jacobian has
-    rank one).
+    rank one). The rest are work arrays (the CPU's rows and a GPU thread pass their
+    own): ``work`` of :func:`new_work`, ``st`` (``NSTATE``), ``phi``, ``qm``, ``m`` (4),
+    and an empty ``ts`` and ``samples``.
+    """
+    period = 2.0 * math.pi / fp[2]
+    start_state(fp, t0, s0, w0, st)
+    reset_stats(stats)
+    status = F_OK
+    for k in range(n_transient):
+        status = advance(
+            law,
+            lp,
+            fp,
+            st,
+            phi,
+            t0 + (k + 1) * period,
+            rtol,
+            atol,
+            False,
+            ts,
+            samples,
+            stats,
+            max_steps,
+            work,
+        )
+        if status != F_OK:
+            break
+    reset_stats(stats)
+    qm[0] = 1.0
+    qm[1] = 0.0
+    qm[2] = 0.0
+    qm[3] = 1.0
+    sum1 = 0.0
+    sum2 = 0.0
+    for k in range(n_record):
+        stops_before = stats[ST_STOPS]
+        if status == F_OK:
+            if track:
+                phi[0] = 1.0
+                phi[1] = 0.0
+                phi[2] = 0.0
+                phi[3] = 0.0 if st[S_MODE] == 0.0 else 1.0
+            status = advance(
+                law, lp, fp, st, phi, t0 + (n_transient + k + 1) * period, rtol, atol, track, ts, samples,
+                stats, max_steps, work,
+            )  # fmt: skip
+        if status == F_OK:
+            out[k, 0] = st[S_S]
+            out[k, 1] = st[S_W]
+            if track:
+                m[0] = phi[0] * qm[0] + phi[1] * qm[2]
+                m[1] = phi[0] * qm[1] + phi[1] * qm[3]
+                m[2] = phi[2] * qm[0] + phi[3] * qm[2]
+                m[3] = phi[2] * qm[1] + phi[3] * qm[3]
+                r11, r22 = _qr2(m, qm)
+                sum1 += math.log(r11) if r11 > 0.0 else -math.inf
+                # a stick phase zeroes the velocity's row: the Jacobian has rank one exactly,
+                # and its second diagonal entry is rounding (about 1e-16), not a rate
+                stuck = stats[ST_STOPS] > stops_before or st[S_MODE] == 0.0
+                sum2 += math.log(r22) if r22 > 0.0 and not stuck else -math.inf
+        else:
+            out[k, 0] = math.nan
+            out[k, 1] = math.nan
+    total = n_record * period
+    if track and status == F_OK and n_record > 0:
+        lyap[0] = sum1 / total
+        lyap[1] = sum2 / total
+    else:
+        lyap[0] = math.nan
+        lyap[1] = math.nan
+    stats[ST_STATUS] = status
+
+
+@njit(cache=True, nogil=True)
+def strobe_rows(law, lp, fp, t0, x0, n_transient, n_record, rtol, atol, max_steps, track, out, lyap, stats):  # type: ignore[no-untyped-def]
+    """Run :func:`strobe_one` for every row (``lp[i]``, ``fp[i]``, start ``x0[i]``; results ``out[i]``, ...).
+
+    It releases the GIL: :func:`stickslip.core.forced_api.forced_strobe` runs blocks
+    of rows in a pool of threads.
     """
     work = new_work()
     st = np.empty(NSTATE)
@@ -569,84 +649,7 @@ def strobe_rows(law, lp, fp, t0, x0, n_transient, n_record, rtol, atol, max_step
     ts = np.empty(0)
     samples = np.empty((0, 3))
     for i in range(fp.shape[0]):
-        f = fp[i]
-        lpi = lp[i]
-        period = 2.0 * math.pi / f[2]
-        start_state(f, t0, x0[i, 0], x0[i, 1], st)
-        reset_stats(stats[i])
-        status = F_OK
-        for k in range(n_transient):
-            status = advance(
-                law,
-                lpi,
-                f,
-                st,
-                phi,
-                t0 + (k + 1) * period,
-                rtol,
-                atol,
-                False,
-                ts,
-                samples,
-                stats[i],
-                max_steps,
-                work,
-            )
-            if status != F_OK:
-                break
-        reset_stats(stats[i])
-        qm[0] = 1.0
-        qm[1] = 0.0
-        qm[2] = 0.0
-        qm[3] = 1.0
-        sum1 = 0.0
-        sum2 = 0.0
-        for k in range(n_record):
-            stops_before = stats[i, ST_STOPS]
-            if status == F_OK:
-                if track:
-                    phi[0] = 1.0
-                    phi[1] = 0.0
-                    phi[2] = 0.0
-                    phi[3] = 0.0 if st[S_MODE] == 0.0 else 1.0
-                status = advance(
-                    law,
-                    lpi,
-                    f,
-                    st,
-                    phi,
-                    t0 + (n_transient + k + 1) * period,
-                    rtol,
-                    atol,
-                    track,
-                    ts,
-                    samples,
-                    stats[i],
-                    max_steps,
-                    work,
-                )
-            if status == F_OK:
-                out[i, k, 0] = st[S_S]
-                out[i, k, 1] = st[S_W]
-                if track:
-                    m[0] = phi[0] * qm[0] + phi[1] * qm[2]
-                    m[1] = phi[0] * qm[1] + phi[1] * qm[3]
-                    m[2] = phi[2] * qm[0] + phi[3] * qm[2]
-                    m[3] = phi[2] * qm[1] + phi[3] * qm[3]
-                    r11, r22 = _qr2(m, qm)
-                    sum1 += math.log(r11) if r11 > 0.0 else -math.inf
-                    # a stick phase zeroes the velocity's row: the Jacobian has rank one exactly,
-                    # and its second diagonal entry is rounding (about 1e-16), not a rate
-                    stuck = stats[i, ST_STOPS] > stops_before or st[S_MODE] == 0.0
-                    sum2 += math.log(r22) if r22 > 0.0 and not stuck else -math.inf
-            else:
-                out[i, k, 0] = math.nan
-                out[i, k, 1] = math.nan
-        total = n_record * period
-        if track and status == F_OK and n_record > 0:
-            lyap[i, 0] = sum1 / total
-            lyap[i, 1] = sum2 / total
-        else:
-            lyap[i, 0] = math.nan
-            lyap[i, 1] = math.nan
-        stats[i, ST_STATUS] = status
+        strobe_one(
+            law, lp[i], fp[i], t0, x0[i, 0], x0[i, 1], n_transient, n_record, rtol, atol, max_steps, track,
+            out[i], lyap[i], stats[i], work, st, phi, qm, m, ts, samples,
+        )  # fmt: skip

@@ -197,6 +197,7 @@ def forced_strobe(
     rtol: float = 1e-8,
     atol: float = 1e-10,
     done: Callable[[int], None] | None = None,
+    backend: str = "cpu",
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Return every row's stroboscopic samples, Lyapunov exponents and statistics.
 
@@ -205,15 +206,25 @@ def forced_strobe(
     the exponents ``(rows, 2)`` over the recorded periods (per unit dimensionless
     time; NaN without ``lyapunov``, ``lambda_2 = -inf`` where stick collapsed the
     tangent frame); the statistics (rows x ``len(STAT_FIELDS)``) cover the recorded
-    periods.
+    periods. ``backend`` ``"cuda"`` runs a GPU thread a row (:mod:`stickslip.core.cuda`),
+    ``"auto"`` where a GPU is usable, ``"cpu"`` the threads of :func:`in_blocks`.
     """
+    from .cuda import resolve_backend, run_forced_strobe_cuda
+
     lpa, f, xa = _row_arrays(lp, fp, x0)
     n = f.shape[0]
     out = np.full((n, int(n_record), 2), np.nan)
     lyap = np.full((n, 2), np.nan)
     stats = np.zeros((n, _forced.NST))
-    fn = kernel.forced_engine.strobe_rows
     budget = _budget(1)
+    if resolve_backend(backend) == "cuda":
+        with pole_is_an_error():
+            run_forced_strobe_cuda(
+                kernel.forced_engine.strobe_one, kernel.law_id, lpa, f, xa, float(t0), int(n_transient),
+                int(n_record), rtol, atol, budget, bool(lyapunov), out, lyap, stats, done,
+            )  # fmt: skip
+        return out, lyap, stats
+    fn = kernel.forced_engine.strobe_rows
 
     def call(lo: int, hi: int) -> None:
         fn(

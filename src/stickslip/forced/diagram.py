@@ -45,6 +45,7 @@ class BifurcationJob:
     start: tuple[float, float]
     lyapunov: bool
     rtol: float
+    backend: str = "cpu"
 
     def rows(self, sl: slice) -> tuple[np.ndarray, np.ndarray]:
         """Return the law and forcing vectors of the rows ``sl``."""
@@ -165,6 +166,7 @@ class _Rows:
             lyapunov=job.lyapunov,
             rtol=job.rtol,
             atol=job.rtol * 1e-2,
+            backend=job.backend,
         )
         period = 2.0 * math.pi / fps[:, 2]
         return {
@@ -187,6 +189,7 @@ def bifurcation_diagram(
     start: Any = (0.0, 0.0),
     lyapunov: bool = False,
     rtol: float = RTOL,
+    backend: str = "cpu",
     progress: ProgressLike = None,
     store: Any = None,
     scheduler: Any = None,
@@ -211,6 +214,8 @@ def bifurcation_diagram(
         times the cost of the samples alone).
     rtol : float
         The engine's relative tolerance (absolute: ``rtol / 100``).
+    backend : str
+        ``"cpu"`` (numba's threads), ``"cuda"`` (a GPU thread per value) or ``"auto"``.
     progress, store, scheduler, workers : optional
         As for :func:`stickslip.regime_map`: a progress bar, a Zarr store to resume, a
         Dask cluster or ``workers`` local processes.
@@ -243,7 +248,9 @@ def bifurcation_diagram(
     nr = int(check_number(record, "record", upper=1e6, what="a number of sections (1 to 1e6)"))
     s0, w0 = check_start(start)
     rt = check_number(rtol, "rtol", upper=1e-3, what="a relative tolerance in (0, 1e-3]")
-    job = BifurcationJob(dp, parameter, vals, nt, nr, (s0, w0), bool(lyapunov), rt)
+    from ..core.cuda import resolve_backend
+
+    job = BifurcationJob(dp, parameter, vals, nt, nr, (s0, w0), bool(lyapunov), rt, resolve_backend(backend))
     from ..scale import run_job
 
     show: ProgressLike = progress
