@@ -212,6 +212,11 @@ def test_physical_system_scales_as_documented() -> None:
 
 
 def test_bad_input_is_one_clear_error() -> None:
+    """Wrong values name their argument; runs too long or too large are refused before they start."""
+    with pytest.raises(ValueError, match="samples"):
+        trajectory(CHAOTIC, 1e6)  # 2e8 samples
+    with pytest.raises(ValueError, match="units of sqrt"):
+        bifurcation_diagram(CHAOTIC, [1e-9, 1.0], progress=False)  # 500 periods of 6e9
     with pytest.raises(ValueError, match="omega"):
         ForcedSystem(COULOMB, omega=-1.0)
     with pytest.raises(ValueError, match="q="):

@@ -18,12 +18,13 @@ from typing import Any
 import numpy as np
 
 from ..core.forced_api import STAT_FIELDS, forced_strobe
+from ..core.memory import check_memory
 from ..errors import ArgumentTypeError
 from ..models.scales import unit_attrs
 from ..scale import Block, Layout, ProgressLike, Variable
 from ..scale.progress import show_progress
 from ..units import check_number
-from .motion import RTOL, check_start
+from .motion import RTOL, check_duration, check_start
 from .response import CURVE_PARAMETERS
 from .system import ForcedSystem, as_forced
 
@@ -245,11 +246,20 @@ def bifurcation_diagram(
     if parameter == "omega" and np.any(vals <= 0):
         raise ValueError(f"values: omega must be positive, got {vals.min():g}")
     nt = int(check_number(transient, "transient", allow_zero=True, upper=1e7, what="a number of periods"))
-    nr = int(check_number(record, "record", upper=1e6, what="a number of sections (1 to 1e6)"))
+    nr = int(
+        check_number(
+            record, "record", upper=1e6, upper_inclusive=True, what="a number of sections (1 to 1e6)"
+        )
+    )
     s0, w0 = check_start(start)
     rt = check_number(rtol, "rtol", upper=1e-3, what="a relative tolerance in (0, 1e-3]")
     from ..core.cuda import resolve_backend
 
+    for w in (float(np.min(vals)), float(np.max(vals))) if parameter == "omega" else (dp.omega,):
+        check_duration(dp.with_(omega=w), nt + nr, f"transient={nt}, record={nr} at omega={w:g}")
+    check_memory(
+        vals.size * nr * 2 * 8 * 2, f"{vals.size} values x {nr} sections", "ask fewer, or give store="
+    )
     job = BifurcationJob(dp, parameter, vals, nt, nr, (s0, w0), bool(lyapunov), rt, resolve_backend(backend))
     from ..scale import run_job
 

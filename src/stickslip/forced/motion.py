@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from ..core.forced_api import ForcedStats, forced_poincare, forced_strobe, forced_trajectory
+from ..core.memory import check_memory
 from ..errors import ArgumentTypeError
 from ..models import Scales
 from ..units import check_number
@@ -36,6 +37,24 @@ RTOL = 1e-10
 ATOL = 1e-12
 #: the largest number of periods one call runs
 MAX_PERIODS = 10_000_000
+#: the longest motion one row simulates, in units of sqrt(m/k): 1.6e6 natural periods, some
+#: 1e8 slip steps (minutes on one core); a slower forcing or more periods is refused up front
+MAX_DURATION = 1e7
+#: bytes of one trajectory sample (time, s, w, mode and the arrays made from them)
+SAMPLE_BYTES = 64
+#: the most samples one trajectory holds (640 MB, a plot's worth many times over)
+MAX_SAMPLES = 10_000_000
+
+
+def check_duration(system: ForcedSystem, periods: float, what: str) -> None:
+    """Refuse, in one line, a run of ``periods`` forcing periods longer than :data:`MAX_DURATION`."""
+    span = periods * system.period
+    if span > MAX_DURATION:
+        raise ValueError(
+            f"{what}: {periods:g} periods of 2 pi/omega = {system.period:.4g} (omega = {system.omega:g}) "
+            f"are {span:.3g} units of sqrt(m/k), more than {MAX_DURATION:g} (about "
+            f"{MAX_DURATION / 2 / math.pi:.2g} natural periods); ask fewer periods or a faster forcing"
+        )
 
 
 def check_start(start: Any) -> tuple[float, float]:
@@ -58,6 +77,30 @@ def _periods(value: Any, name: str, *, zero: bool = False) -> int:
     if v != int(v):
         raise ValueError(f"{name}={value!r}: expected a whole number of forcing periods")
     return int(v)
+
+
+#: forcing periods per call into the engine while a transient runs: Ctrl-C is seen between calls
+CHUNK_PERIODS = 1000
+
+
+def run_periods(system: ForcedSystem, x: Any, periods: int, t0: float = 0.0) -> tuple[np.ndarray, float]:
+    """Return the state after ``periods`` forcing periods from ``x`` at ``t0``, and the time then.
+
+    The periods run in calls of at most :data:`CHUNK_PERIODS`, so that Ctrl-C stops a long
+    transient between two of them.
+    """
+    kernel, lp, fp = system.arrays()
+    state = np.asarray(x, dtype=float)
+    done = 0
+    while done < periods:
+        k = min(CHUNK_PERIODS, periods - done)
+        state, _, _, stats = forced_poincare(
+            kernel, lp, fp, t0 + done * system.period, state, k, rtol=RTOL, atol=ATOL
+        )
+        if stats.status != "ok":
+            raise RuntimeError(f"the motion of {system.describe()}: the engine {stats.status}")
+        done += k
+    return state, t0 + periods * system.period
 
 
 def _si(scales: Scales | None, kind: str, x: Any) -> Any:
@@ -154,11 +197,19 @@ def trajectory(
         )
     )
     transient = _periods(transient, "transient", zero=True)
+    check_duration(dp, transient + periods, f"transient={transient}, periods={periods:g}")
+    n_samples = max(2, round(periods * n) + 1)
+    if n_samples > MAX_SAMPLES:
+        raise ValueError(
+            f"periods={periods:g}, samples_per_period={n}: {n_samples:.3g} samples, more than "
+            f"{MAX_SAMPLES:.0e}; ask fewer periods or fewer samples per period (a section or a diagram "
+            "samples once a period)"
+        )
+    check_memory(n_samples * SAMPLE_BYTES, f"{n_samples} samples ({periods:g} periods x {n})", "ask fewer")
     kernel, lp, fp = dp.arrays()
     if transient:
-        (s0, w0), _, _, _ = forced_poincare(kernel, lp, fp, t0, (s0, w0), transient, rtol=RTOL, atol=ATOL)
-        t0 = t0 + transient * dp.period
-    ts = t0 + np.linspace(0.0, periods * dp.period, max(2, round(periods * n) + 1))
+        (s0, w0), t0 = run_periods(dp, (s0, w0), transient, t0)
+    ts = t0 + np.linspace(0.0, periods * dp.period, n_samples)
     samples, stats = forced_trajectory(kernel, lp, fp, (t0, s0, w0), ts, rtol=RTOL, atol=ATOL)
     if stats.status != "ok":
         raise RuntimeError(f"forced trajectory of {dp.describe()}: the engine {stats.status}")
@@ -205,6 +256,8 @@ def poincare_section(
     s0, w0 = check_start(start)
     n = _periods(periods, "periods")
     nt = _periods(transient, "transient", zero=True)
+    check_duration(dp, nt + n, f"transient={nt}, periods={n}")
+    check_memory(n * 2 * 8 * 2, f"{n} sections", "ask fewer periods")
     kernel, lp, fp = dp.arrays()
     out, _, stats = forced_strobe(kernel, lp, fp, (s0, w0), nt, n, t0=t0, rtol=RTOL, atol=ATOL)
     st = ForcedStats.from_array(stats[0])
@@ -268,6 +321,7 @@ def lyapunov(
     s0, w0 = check_start(start)
     n = _periods(periods, "periods")
     nt = _periods(transient, "transient", zero=True)
+    check_duration(dp, nt + n, f"transient={nt}, periods={n}")
     kernel, lp, fp = dp.arrays()
     # the run in pieces of 1/8, 1/8, 1/4 and 1/2 of the periods, each from where the last ended
     parts = [max(1, n // 8), max(1, n // 8), max(1, n // 4)]
@@ -326,12 +380,12 @@ def lyapunov_two_trajectories(
     n = _periods(periods, "periods")
     nt = _periods(transient, "transient", zero=True)
     d0 = check_number(separation, "separation", upper=1e-2, what="a small separation (at most 1e-2)")
+    check_duration(dp, nt + n, f"transient={nt}, periods={n}")
     kernel, lp, fp = dp.arrays()
     x = np.array([s0, w0])
     t = t0
     if nt:
-        x, _, _, _ = forced_poincare(kernel, lp, fp, t, x, nt, rtol=RTOL, atol=ATOL)
-        t += nt * dp.period
+        x, t = run_periods(dp, x, nt, t)
     y = x + np.array([d0, 0.0])
     total = 0.0
     for _ in range(n):

@@ -36,7 +36,7 @@ from ..bifurcation.arclength import trace
 from ..core.forced_api import ForcedStats, forced_poincare
 from ..errors import ArgumentTypeError
 from ..units import check_number
-from .motion import ATOL, RTOL, check_start
+from .motion import ATOL, RTOL, check_start, run_periods
 from .system import ForcedSystem, as_forced
 
 __all__ = ["ForcedOrbit", "ResponseBifurcation", "ResponseCurve", "periodic_response", "response_curve"]
@@ -200,7 +200,7 @@ def periodic_response(
     x = np.array(check_start((0.0, 0.0) if start is None else start))
     nt = int(check_number(transient, "transient", allow_zero=True, upper=1e7, what="a number of periods"))
     if nt:
-        x, _, _ = _evaluate(dp, x, nt, t0)
+        x, _ = run_periods(dp, x, nt, t0)
     x, res, ok = _newton(dp, x, n, t0, tol)
     return _orbit(dp, x, n, t0, res, ok)
 
