@@ -192,6 +192,19 @@ def test_response_curve_passes_its_folds_and_finds_the_stick_changes() -> None:
     assert (~rc.stable[between]).any()
 
 
+def test_the_response_curve_meets_den_hartogs_boundary_where_his_closed_form_does() -> None:
+    """Continued down in omega at q = 2.5 (r = 0.4), Den Hartog's response gains its two stops
+    per period where his closed-form conditions fail, found by bisection: to 1e-8 in omega."""
+    lo, hi = 0.5, 0.6
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if den_hartog(mid, 2.5).valid else (mid, hi)
+    rc = response_curve(ForcedSystem(COULOMB, omega=0.7, q=2.5), "omega", (0.45, 0.9))
+    changes = [b for b in rc.bifurcations if b.kind == "stick-change"]
+    assert len(changes) == 1 and "stops 2 -> 0" in changes[0].detail
+    assert changes[0].value == pytest.approx(0.5 * (lo + hi), abs=1e-8)
+
+
 def test_physical_system_scales_as_documented() -> None:
     """Omega sqrt(m/k), F0/(mu_s W), beta V0, beta Omega Y, c/sqrt(k m) by hand."""
     law = PhysicalWeakeningLaw(mu_s=0.5, a="2 s/m")

@@ -447,11 +447,22 @@ def reset_stats(stats):  # type: ignore[no-untyped-def]
     stats[ST_W_MAX] = -math.inf
 
 
+#: a start this close to zero velocity where static friction holds the block is at rest: a
+#: section that falls on a stop gives Newton's iterates velocities of 1e-11, whose instants of
+#: slip would count as stops of their own
+W_REST = 1e-9
+
+
 @njit(cache=True)
 def start_state(fp, t0, s0, w0, st):  # type: ignore[no-untyped-def]
-    """Set ``st`` to ``(t0, s0, w0)``: stuck where ``w0 = 0`` (breaking away at once if ``|g| > 1``)."""
+    """Set ``st`` to ``(t0, s0, w0)``: stuck where ``w0 = 0`` (breaking away at once if ``|g| > 1``).
+
+    A velocity within :data:`W_REST` of zero where ``|g| <= 1`` is a block at rest.
+    """
     st[S_TAU] = t0
     st[S_S] = s0
+    if abs(w0) <= W_REST and abs(s0 + external(fp, t0)) <= 1.0:
+        w0 = 0.0
     st[S_W] = w0
     if w0 > 0.0:
         st[S_MODE] = 1.0

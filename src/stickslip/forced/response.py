@@ -454,10 +454,20 @@ def response_curve(
         turns = before * after < 0.0
         kind = "fold" if turns else "branch"
         bif.append(ResponseBifurcation(kind, val, e.x[:2].copy(), o.multipliers, "a multiplier passes +1"))
+    keys = [(r.stops, r.reversals) for r in rows]
+    last_change = -1
     for i in range(len(rows) - 1):
         a, b = rows[i], rows[i + 1]
-        if (a.stops, a.reversals) != (b.stops, b.reversals):
-            bif.append(_stick_change(dp, parameter, values[i], values[i + 1], a, b, n, t0))
+        if keys[i] != keys[i + 1]:
+            if last_change >= 0 and i > 0 and keys[i - 1] != keys[i] and keys[i + 1] == keys[i - 1]:
+                # one point whose orbit counts an event more (or fewer) than its neighbours on both
+                # sides: a stop that falls on the section itself, counted in both periods or in
+                # neither; the orbit is the same on both sides, and nothing bifurcates there
+                del bif[last_change]
+                last_change = -1
+            else:
+                bif.append(_stick_change(dp, parameter, values[i], values[i + 1], a, b, n, t0))
+                last_change = len(bif) - 1
         ca = abs(a.multipliers[0].imag) > 0.0 and abs(a.multipliers[0]) < 1.0
         cb = abs(b.multipliers[0].imag) > 0.0 and abs(b.multipliers[0]) < 1.0
         if a.multipliers[0].imag != 0.0 and b.multipliers[0].imag != 0.0 and ca != cb:
