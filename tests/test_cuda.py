@@ -148,7 +148,8 @@ if sys.argv[5] == "deferred":
     exec(DEFERRED)
 from stickslip.core import cuda
 from stickslip.core.api import run_attractors
-cuda.SIMULATOR_BATCH = 16  # three launches of four blocks for 40 rows: every index path
+# three launches of four blocks for 40 rows: every index path (one launch with ``one-launch``)
+cuda.SIMULATOR_BATCH = 64 if "one-launch" in sys.argv[7:] else 16
 cuda.THREADS_PER_BLOCK = 4
 # the threads take rows from a queue: two blocks of four (the simulator's one multiprocessor)
 cuda.PERSISTENT = "persistent" in sys.argv[7:]
@@ -157,6 +158,8 @@ cuda.SORT_ROWS = "unsorted" not in sys.argv[7:]
 sorted_launches = []
 key = cuda.balance_key
 cuda.balance_key = lambda *a: sorted_launches.append(1) or key(*a)
+on_device = cuda.sort_on_device  # the launch's rows sorted on the GPU (DEVICE_SORT)
+cuda.sort_on_device = lambda *a: sorted_launches.append(1) or on_device(*a)
 from stickslip.laws import WeakeningLaw
 rng = np.random.default_rng(7)
 n = 40
@@ -758,3 +761,56 @@ def test_a_forced_diagram_without_a_gpu_says_why_in_one_line(tmp_path: Path) -> 
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("Error: backend='cuda': "), run.stderr
     assert not (tmp_path / "d").exists()
+
+
+_DEVICE_SORT = """
+import json
+import numpy as np
+from stickslip.core import cuda
+cuda.SORT_ROWS = True
+rng = np.random.default_rng(11)
+n = 700  # three segments of the sort, the last one short
+lp = np.column_stack([rng.choice([0.5, 2.0, 30.0], n), rng.uniform(0.0, 1.0, n), np.zeros(n)])
+nu = 10 ** rng.uniform(-4, 1, n)
+nu[::7] = nu[0]  # equal keys: their order must stay the callers'
+bins = cuda.balance_bins(lp, nu)
+print(json.dumps({"device": cuda.device_balance_order(lp, nu, bins).tolist(),
+                  "host": cuda.balance_order(lp, nu, bins).tolist()}))
+"""
+
+
+@needs_numba_cuda
+def test_the_device_sort_gives_the_hosts_order() -> None:
+    """The GPU's counting sort of the balance keys (keys computed on the GPU, two stable passes of
+    8 bits) orders 700 rows (three columns binned, equal keys among them) as the host's stable
+    argsort does, in the simulator; on a real GPU where there is one."""
+    ok, _ = core_cuda.cuda_status()
+    for env in [SIM] + ([NO_SIM] if ok else []):
+        run = subprocess.run(
+            [sys.executable, "-c", _DEVICE_SORT], env=env, capture_output=True, text=True, timeout=600
+        )
+        assert run.returncode == 0, run.stderr
+        got = json.loads(run.stdout)
+        assert got["device"] == got["host"]
+        assert sorted(got["host"]) == list(range(700)) and got["host"] != list(range(700))
+
+
+@needs_numba_cuda
+@pytest.mark.parametrize("order", ["sorted", "unsorted"])
+def test_a_map_in_several_launches_equals_it_in_one_bit_for_bit(order: str) -> None:
+    """40 rows in three launches of 16 (each sorted on the device, or not) give the results of one
+    launch of all 40, bit for bit: the rows of a launch do not depend on which launch they are in."""
+    runs = []
+    args = ["1e4", "2000000", "cuda", "breakaway", "at-once", "all", order]
+    for extra in ([], ["one-launch"]):
+        run = subprocess.run(
+            [sys.executable, "-c", _ROWS, *args, *extra],
+            env=SIM, capture_output=True, text=True, timeout=600,
+        )  # fmt: skip
+        assert run.returncode == 0, run.stderr
+        runs.append(json.loads(run.stdout))
+    many, one = runs
+    assert many["sorted"] == (3 if order == "sorted" else 0) and one["sorted"] == (
+        1 if order == "sorted" else 0
+    )
+    assert np.array_equal(np.array(many["raw"]), np.array(one["raw"]), equal_nan=True)

@@ -71,6 +71,21 @@ def main() -> None:
         f"{'gather (the kept columns)':34s} PTX for sm_{cc[0]}{cc[1]}: {len(ptx.splitlines()):6d} lines, "
         f"compiled in {time.perf_counter() - t0:.1f} s; {_link(ptx, cc)}"
     )
+    # the rows' order on the device: keys, histograms, offsets, scatter
+    i2 = types.int64[:, ::1]
+    sorts = {
+        "_balance_keys": (f2, f1, i1, i1, f1, f1, i, i1),
+        "_digit_histograms": (i1, i1, i, i2),
+        "_digit_offsets": (i2, i1),
+        "_digit_scatter": (i1, i1, i, i2, i1),
+    }
+    for fname, fsig in sorts.items():
+        t0 = time.perf_counter()
+        sptx, _ = compile_ptx(getattr(_cuda_kernel, fname), fsig, cc=cc)
+        print(
+            f"{'sort: ' + fname:34s} PTX for sm_{cc[0]}{cc[1]}: {len(sptx.splitlines()):6d} lines, "
+            f"compiled in {time.perf_counter() - t0:.1f} s; {_link(sptx, cc)}"
+        )
     for name, kernel in kernels.items():
         kern = _cuda_kernel.make(kernel.engine.attractor_ws)
         t0 = time.perf_counter()

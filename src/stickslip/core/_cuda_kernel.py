@@ -6,6 +6,7 @@ swaps the name ``cuda`` in the kernel's module for its own while the kernel runs
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from numba import cuda, float64, int64
@@ -137,3 +138,91 @@ def gather() -> Any:
     if not _GATHER:
         _GATHER.append(cuda.jit(_gather))
     return _GATHER[0]
+
+
+# ---------------------------------------------------------------- the rows' order, on the device
+# A stable sort of the rows by their 16-bit balance keys (``stickslip.core.cuda.balance_key``)
+# on the GPU: the keys from the rows' own parameters, then two passes of a counting sort of
+# 8 bits each (least significant first), each pass a histogram per segment of rows, a scan of
+# the histograms in digit-major order, and a scatter that walks each segment in order, so
+# that rows of equal keys keep their order: numpy's ``argsort(kind="stable")``.
+
+#: rows a thread counts and scatters in one pass of the sort
+SORT_SEGMENT = 256
+#: values of one digit (8 bits)
+RADIX = 256
+
+
+def _balance_keys(lp, nu, cols, logs, los, scales, bits, key):  # type: ignore[no-untyped-def]
+    """Set ``key[i]`` to row ``i``'s balance key (the host's ``balance_key``, operation for operation)."""
+    i = cuda.grid(1)
+    if i < nu.shape[0]:
+        k = 0
+        for b in range(cols.shape[0]):
+            j = cols[b]
+            x = nu[i] if j < 0 else lp[i, j]
+            if logs[b]:
+                x = math.log(x)
+            k = ((k << bits) | int((x - los[b]) * scales[b])) & 0xFFFF
+        key[i] = k
+
+
+def _digit_histograms(key, order_in, shift, hist):  # type: ignore[no-untyped-def]
+    """Count the digits ``(key >> shift) & 255`` of segment ``g``'s rows into ``hist[:, g]``."""
+    g = cuda.grid(1)
+    if g < hist.shape[1]:
+        for d in range(RADIX):
+            hist[d, g] = 0
+        lo = g * SORT_SEGMENT
+        hi = min(lo + SORT_SEGMENT, key.shape[0])
+        for p in range(lo, hi):
+            r = order_in[p] if order_in.shape[0] > 0 else p
+            d = (key[r] >> shift) & (RADIX - 1)
+            hist[d, g] += 1
+
+
+def _digit_offsets(hist, totals):  # type: ignore[no-untyped-def]
+    """Turn the counts into the first position of each (digit, segment): one block of ``RADIX`` threads."""
+    d = cuda.threadIdx.x
+    n = hist.shape[1]
+    acc = 0
+    for g in range(n):
+        acc += hist[d, g]
+    totals[d] = acc
+    cuda.syncthreads()
+    if d == 0:
+        run = 0
+        for e in range(RADIX):
+            v = totals[e]
+            totals[e] = run
+            run += v
+    cuda.syncthreads()
+    run = totals[d]
+    for g in range(n):
+        v = hist[d, g]
+        hist[d, g] = run
+        run += v
+
+
+def _digit_scatter(key, order_in, shift, hist, order_out):  # type: ignore[no-untyped-def]
+    """Write segment ``g``'s rows, in their order, to the positions of their digits."""
+    g = cuda.grid(1)
+    if g < hist.shape[1]:
+        lo = g * SORT_SEGMENT
+        hi = min(lo + SORT_SEGMENT, key.shape[0])
+        for p in range(lo, hi):
+            r = order_in[p] if order_in.shape[0] > 0 else p
+            d = (key[r] >> shift) & (RADIX - 1)
+            pos = hist[d, g]
+            hist[d, g] = pos + 1
+            order_out[pos] = r
+
+
+_SORT: list[Any] = []
+
+
+def sort_kernels() -> tuple[Any, Any, Any, Any]:
+    """Return the four kernels of the device sort (compiled at their first launch)."""
+    if not _SORT:
+        _SORT.extend(cuda.jit(f) for f in (_balance_keys, _digit_histograms, _digit_offsets, _digit_scatter))
+    return _SORT[0], _SORT[1], _SORT[2], _SORT[3]
