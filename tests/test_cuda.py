@@ -724,7 +724,7 @@ print(json.dumps({"out": out.tolist(), "lyap": np.nan_to_num(lyap, neginf=-1e300
 
 
 @needs_numba_cuda
-@pytest.mark.parametrize("law", ["weakening", "coulomb"])
+@pytest.mark.parametrize("law", ["weakening", pytest.param("coulomb", marks=pytest.mark.slow)])
 def test_the_forced_diagrams_gpu_kernel_gives_the_cpu_rows(law: str) -> None:
     """The forced engine's per-row function compiled as the GPU kernel's (run in the simulator;
     on a real GPU where there is one): the sections, Lyapunov exponents and event counts of five
@@ -732,11 +732,16 @@ def test_the_forced_diagrams_gpu_kernel_gives_the_cpu_rows(law: str) -> None:
     simulator bit for bit (the same arithmetic), on a GPU to 1e-9 (its fused multiply-adds)."""
     ok, _ = core_cuda.cuda_status()
     targets = [("simulator", SIM)] + ([("gpu", NO_SIM)] if ok else [])
-    cpu_run = subprocess.run(
-        [sys.executable, "-c", _FORCED, law, "cpu"], env=NO_SIM, capture_output=True, text=True, timeout=600
-    )
-    assert cpu_run.returncode == 0, cpu_run.stderr
-    cpu = json.loads(cpu_run.stdout)
+    # the CPU's rows in this process (its engine compiled once for the suite), as the script prints them
+    printed: list[str] = []
+    namespace = {"print": printed.append, "__name__": "cpu"}
+    argv = sys.argv
+    try:
+        sys.argv = ["-c", law, "cpu"]
+        exec(compile(_FORCED, "<forced>", "exec"), namespace)
+    finally:
+        sys.argv = argv
+    cpu = json.loads(printed[0])
     for target, env in targets:
         run = subprocess.run(
             [sys.executable, "-c", _FORCED, law, "cuda"], env=env, capture_output=True, text=True, timeout=600
@@ -796,7 +801,7 @@ def test_the_device_sort_gives_the_hosts_order() -> None:
 
 
 @needs_numba_cuda
-@pytest.mark.parametrize("order", ["sorted", "unsorted"])
+@pytest.mark.parametrize("order", ["sorted", pytest.param("unsorted", marks=pytest.mark.slow)])
 def test_a_map_in_several_launches_equals_it_in_one_bit_for_bit(order: str) -> None:
     """40 rows in three launches of 16 (each sorted on the device, or not) give the results of one
     launch of all 40, bit for bit: the rows of a launch do not depend on which launch they are in."""
