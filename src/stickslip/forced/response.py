@@ -103,9 +103,7 @@ def _evaluate(
     return y, jac, stats
 
 
-def _orbit(
-    dp: ForcedSystem, x: np.ndarray, n: int, t0: float, residual: float, converged: bool
-) -> ForcedOrbit:
+def _orbit(dp: ForcedSystem, x: np.ndarray, n: int, t0: float, converged: bool) -> ForcedOrbit:
     y, jac, stats = _evaluate(dp, x, n, t0)
     mult = np.linalg.eigvals(jac)
     mult = mult[np.argsort(-np.abs(mult))]
@@ -120,7 +118,7 @@ def _orbit(
         stick_fraction=stats.stick_time / (n * dp.period),
         s_range=(stats.s_min, stats.s_max),
         w_range=(stats.w_min, stats.w_max),
-        residual=float(np.linalg.norm(y - x)) if residual is None else residual,
+        residual=float(np.linalg.norm(y - x)),
         converged=converged,
         system=dp,
     )
@@ -201,8 +199,8 @@ def periodic_response(
     nt = int(check_number(transient, "transient", allow_zero=True, upper=1e7, what="a number of periods"))
     if nt:
         x, _ = run_periods(dp, x, nt, t0)
-    x, res, ok = _newton(dp, x, n, t0, tol)
-    return _orbit(dp, x, n, t0, res, ok)
+    x, _, ok = _newton(dp, x, n, t0, tol)
+    return _orbit(dp, x, n, t0, ok)
 
 
 @dataclass(frozen=True)
@@ -431,13 +429,13 @@ def response_curve(
         tol=1e-10,
     )
     zs = traced.x
-    rows = [_orbit(at(z), z[:2], n, t0, float(np.linalg.norm(fun(z))), True) for z in zs]
+    rows = [_orbit(at(z), z[:2], n, t0, True) for z in zs]
     values = lo + zs[:, 2] * width
     bif: list[ResponseBifurcation] = []
     for e in traced.events:
         if e.name not in ("fold", "flip"):
             continue
-        o = _orbit(at(e.x), e.x[:2], n, t0, 0.0, True)
+        o = _orbit(at(e.x), e.x[:2], n, t0, True)
         val = lo + float(e.x[2]) * width
         if e.name == "flip":
             bif.append(
@@ -516,6 +514,6 @@ def _stick_change(
             lo, xa = mid, x
         else:
             hi, xb = mid, x
-    o = _orbit(dp.with_(**{parameter: 0.5 * (lo + hi)}), 0.5 * (xa + xb), n, t0, 0.0, True)
+    o = _orbit(dp.with_(**{parameter: 0.5 * (lo + hi)}), 0.5 * (xa + xb), n, t0, True)
     detail = f"stops {a.stops} -> {b.stops}, reversals {a.reversals} -> {b.reversals} per period"
     return ResponseBifurcation("stick-change", 0.5 * (lo + hi), o.x, o.multipliers, detail)
