@@ -139,6 +139,34 @@ def _sweep(law, nus, push):
     return np.array(out)
 
 
+#: ``f - 1`` odd in ``w - 1``: the model at ``nu`` is the model at ``2 - nu`` under
+#: ``(s, w) -> (2 - s, 2 - w)``, so its diagram is symmetric about ``nu = 1``. The coefficients
+#: put a triple root of the averaged amplitude equation (cubic in the squared amplitude) at
+#: amplitude 0.25 when ``nu = 1`` and ``g = 0.05``: near there two folds of cycles meet.
+CUSP_LAW = "1 - 0.003125*(w-1) + g*(w-1)**3 - 0.24*(w-1)**5 + (64*0.2/35)*(w-1)**7"
+
+
+def test_cusp_of_the_fold_curve_is_located_where_two_folds_meet():
+    law = ExpressionLaw(CUSP_LAW, g=0.05, static=1.0)
+    d = two_parameter_diagram(Plane.dimensionless(law, ("nu", (0.6, 1.4)), ("g", (0.02, 0.08))), label=False)
+    cusps = sorted(d.points_of("cusp"), key=lambda p: p.x)
+    assert len(cusps) == 2, [(p.x, p.y) for p in cusps]
+    left, right = cusps
+    assert abs(left.x + right.x - 2.0) < 1e-8 and abs(left.y - right.y) < 1e-9
+    assert all(abs(p.value) < 1e-6 for p in cusps)  # P''(A) there
+    # the one-parameter continuation, a code of its own: two folds of cycles just below the
+    # cusp's g, within 2.5e-3 of its nu, and none just above
+    from stickslip.bifurcation.regimes import regimes
+
+    def folds(g: float) -> list[float]:
+        r = regimes(law.replace(g=g), 0.83, 0.86, n_grid=11)
+        return sorted({round(p.nu, 9) for p in r.points if p.kind == "fold"})
+
+    below = folds(left.y - 1e-4)
+    assert len(below) == 2 and all(abs(nu - left.x) < 2.5e-3 for nu in below), below
+    assert folds(left.y + 1e-4) == []
+
+
 @pytest.mark.parametrize("g", [-1.045, -1.03, -1.015])
 def test_fold_curve_matches_the_hysteresis_loop_of_simulated_sweeps(bautin, g):
     """Down from the oscillation it holds until the fold; up from steady sliding, until the Hopf point."""

@@ -15,7 +15,12 @@ an unstable orbit is shot backward in time (as the one-parameter continuation do
     multiplier, ``-integral of f'(w)``: zero at a fold of cycles of a planar flow) and
     ``graze`` (the minimum velocity).
 ``fold``  ``G(A, tau, u) = 0`` and ``ln m = 0``: the fold-of-cycles curve. Test ``graze``:
-    where the fold orbit touches ``w = 0`` the curve ends (a fold-grazing point).
+    where the fold orbit touches ``w = 0`` the curve ends (a fold-grazing point). Test
+    ``cusp``: ``P''(A)``, the curvature of the first-return map ``P`` on ``w = nu`` at the
+    fold's fixed point (:meth:`OneBlockSystems.section_map`). On the fold curve
+    ``P(A) = A`` and ``P'(A) = 1``; its tangent ``(dA, du)`` obeys ``P_u du = 0`` and
+    ``P''(A) dA + P'_u du = 0``, so the curve stops moving in the plane (``du = 0``, a cusp
+    where three cycles meet) exactly where ``P''(A) = 0``.
 ``grazing``  from breakaway ``(s, w) = (1, 0)`` the slip returns to ``w = 0`` tangentially:
     ``s(T) = f(0+)`` and ``w(T) = 0`` in ``(tau, u)``. Where ``f(0+) = 1`` this is a
     periodic orbit through breakaway: a pure-slip orbit touching zero velocity, where the
@@ -153,10 +158,41 @@ class OneBlockSystems:
         return np.array([o["gs"], o["gw"], o["log_multiplier"]])
 
     def fold_tests(self) -> dict[str, Test]:
-        """``graze`` (minimum velocity of the fold orbit) and ``amplitude`` along a fold curve."""
+        """``graze`` (minimum velocity of the fold orbit) and ``cusp`` (``P''(A)``) along a fold curve."""
         return {
             "graze": lambda z: self._orbit(float(z[0]), float(z[1]), np.asarray(z[2:4]))["w_min"],
+            "cusp": lambda z: self.map_curvature(float(z[0]), float(z[1]), np.asarray(z[2:4])),
         }
+
+    def section_map(self, a: float, tau: float, u: np.ndarray) -> tuple[float, float]:
+        """Return ``P(A)`` and ``P'(A)``: the slip from ``(f(nu) + A, nu)`` back to ``w = nu``.
+
+        The section is ``w = nu`` crossed upward, ``A = s - f(nu)`` on it; the return is
+        looked for near ``T = 2 pi tau`` (Newton on ``w(T) = nu``, ``w' = s - f(w)``; ``s`` is
+        stationary there, ``s' = nu - w = 0``, so ``P`` is insensitive to the time's last
+        error). For a planar flow ``P'(A) = exp(integral of div) (F(x0).n)/(F(x1).n)``; the
+        divergence is ``-f'(w)`` and ``F.n = w' = A`` at the start, ``P(A)`` at the return.
+        """
+        p = self.point(u)
+        nu = p.nu
+        fn = p.f(nu)
+        lp = p.lp()
+        t = 2.0 * math.pi * tau
+        for _ in range(12):
+            if not (0 < t < 1e6):
+                raise RuntimeError(f"the return to w = nu left the domain (T={t!r})")
+            fl = run_flow(self.kernel, lp, nu, fn + a, nu, t, rtol=self.rtol, checked=False)
+            dt = -(fl.w - nu) / (fl.s - p.f(fl.w))
+            t += dt
+            if abs(dt) <= 1e-14 * t:
+                break
+        pa = fl.s - fn
+        return pa, math.exp(-fl.integral_dfdw) * a / pa
+
+    def map_curvature(self, a: float, tau: float, u: np.ndarray) -> float:
+        """Return ``P''(A)`` by central differences of :meth:`section_map`'s ``P'`` (step ``1e-4 A``)."""
+        h = 1e-4 * a
+        return (self.section_map(a + h, tau, u)[1] - self.section_map(a - h, tau, u)[1]) / (2.0 * h)
 
     # ----------------------------------------------------------------------------- grazing
 

@@ -9,7 +9,8 @@
    continued until they graze (``w_min = 0``) or leave the plane: their folds of cycles and
    grazings seed
 3. the fold-of-cycles curves (shooting plus ``ln m = 0``), which end where their orbit
-   touches ``w = 0`` (fold-grazing) or shrinks into a Bautin point, and
+   touches ``w = 0`` (fold-grazing) or shrinks into a Bautin point, watching the return
+   map's curvature ``P''(A)`` for cusps (two folds meet, three cycles merge), and
 4. the grazing curves (the slip from breakaway returns tangentially to ``w = 0``: the
    stick-slip orbit's birth or death), watching the grazing orbit's multiplier for the
    fold-grazing point, seeded also where the engine's slip from breakaway starts or stops
@@ -25,6 +26,13 @@ from rest and from two pushes off steady sliding (the probes of the one-paramete
 analysis) and the sign of ``f'``. A region whose cells disagree is named
 ``undetermined: ...`` with both sets, and a note says a boundary that is not continued
 (slip reversal) crosses it: the diagram does not guess.
+
+The Hopf curve of one block meets a grazing curve only in the limit ``nu -> 0``: the orbit
+born at a Hopf point has amplitude 0 about ``w = nu``, and a grazing orbit reaches from
+``w = 0`` through ``w = nu``, so its velocity spans at least ``nu``; no orbit is both at
+``nu > 0``. A Hopf curve that runs to the plane's lowest ``nu`` ends there on the edge. Two
+curves of different orbits may still cross in the plane (a stick-slip onset and a Hopf
+curve, four regions meeting); such a crossing is drawn, not located as a point.
 """
 
 from __future__ import annotations
@@ -343,7 +351,6 @@ def two_parameter_diagram(
             "f(0+) differs from the static threshold: no pure-slip orbit grazes into stick-slip; the "
             "grazing curves are the onset of stick-slip (the slip from breakaway touches w = 0)"
         )
-    _cusps(plane, curves, points)
 
     rx = np.linspace(0.5 / raster, 1 - 0.5 / raster, raster)
     region, names, regimes = _regions(sysm, curves, rx, label, notes)
@@ -541,6 +548,20 @@ def _fold_curve(
                     "the fold curve ends on the grazing curve",
                 )
             )
+        elif e.name == "cusp":
+            x, y = plane.values(e.x[2:4])
+            points.append(
+                SpecialPoint2(
+                    "cusp",
+                    float(x),
+                    float(y),
+                    sysm.point(e.x[2:4]).nu,
+                    "P''(A), the return map's curvature at the fold",
+                    e.values["cusp"],
+                    "cusp of the fold-of-cycles curve: two folds meet and three pure-slip orbits "
+                    f"merge into one (amplitude {e.x[0]:.6g})",
+                )
+            )
     for shrink, q in zip(shrinks, (tc.x[0], tc.x[-1]), strict=True):
         if shrink:
             x, y = plane.values(q[2:4])
@@ -706,30 +727,6 @@ def _grazing_curve(
                     e.values["fold-grazing"],
                     "the grazing orbit changes stability: on one side a stable pure-slip orbit turns into "
                     "stick-slip, on the other an unstable one collides with the stick-slip orbit",
-                )
-            )
-
-
-def _cusps(plane: Plane, curves: list[Curve], points: list[SpecialPoint2]) -> None:
-    """Cusps of fold curves: the curve's direction in the plane reverses (to the step's resolution)."""
-    for c in curves:
-        if c.kind != "fold" or len(c.u) < 3:
-            continue
-        d = np.diff(c.u, axis=0)
-        turn = np.einsum("ij,ij->i", d[:-1], d[1:])
-        for i in np.flatnonzero(turn < 0):
-            q = c.u[i + 1]
-            x, y = plane.values(q)
-            points.append(
-                SpecialPoint2(
-                    "cusp",
-                    float(x),
-                    float(y),
-                    float(c.data["nu"][i + 1]),
-                    "located to the step",
-                    0.0,
-                    "cusp of the fold-of-cycles curve: three cycles meet "
-                    "(located to the continuation's step)",
                 )
             )
 
