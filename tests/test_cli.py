@@ -306,6 +306,7 @@ def test_bad_input_gives_a_clear_error(args: list[str], message: str, tmp_path: 
     res = run(*args)
     assert res.exit_code == 2, res.output
     assert message in res.output
+    assert res.output.count("\n") == 1 and res.output.startswith("Error: "), res.output  # one line
     assert "Traceback" not in res.output
     assert res.exception is None or isinstance(res.exception, SystemExit)
 

@@ -167,6 +167,33 @@ def test_cusp_of_the_fold_curve_is_located_where_two_folds_meet():
     assert folds(left.y + 1e-4) == []
 
 
+def test_hopf_and_grazing_meet_only_as_nu_goes_to_zero_and_no_fold_grazing_is_made_of_noise():
+    """The weakening law with c near p: the grazing orbit's ln m is about 0.6 nu^2 > 0 (SciPy
+    reference: 5.9e-8 at nu = 3.2e-4), below the noise of ln m at the continuation's tolerance."""
+    law = WeakeningLaw(c=1, p=0.5)
+    d = two_parameter_diagram(Plane.dimensionless(law, ("nu", (1e-5, 1.0)), ("c", (0.3, 3.0))), label=False)
+    assert d.points_of("fold-grazing") == []
+    (end,) = d.points_of("end")
+    assert "run into each other" in end.detail and end.x == pytest.approx(1e-5, rel=1e-9)
+    c = 0.5
+    for _ in range(50):  # nu_H(c) = (sqrt(c/p) - 1)/c = 1e-5, by fixed point
+        c = 0.5 * (1 + c * 1e-5) ** 2
+    assert abs(end.y - c) < 1e-9
+
+
+def test_a_seed_that_converges_onto_a_traced_grazing_curve_adds_no_second_copy():
+    """f = 1 + w + g w^3 + b w^5 + e w^7 (three cycles merge near nu = 1): the engine's onset
+    scan seeds the grazing curve again far from where the Hopf-born branch met it."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # f < 0 at large w
+        law = ExpressionLaw("1 + w + g*w**3 + 0.049123031687776944*w**5 - 0.0023275542140619256*w**7", g=-0.4)
+        plane = Plane.dimensionless(law, ("nu", (0.7, 1.3)), ("g", (-0.43, -0.39)))
+        d = two_parameter_diagram(plane, label=False)
+    assert len(d.curves_of("grazing")) == 1
+    # the fold-grazing point is found on the fold curve and on the grazing curve
+    assert len(d.points_of("cusp")) == 1 and len(d.points_of("fold-grazing")) == 2
+
+
 @pytest.mark.parametrize("g", [-1.045, -1.03, -1.015])
 def test_fold_curve_matches_the_hysteresis_loop_of_simulated_sweeps(bautin, g):
     """Down from the oscillation it holds until the fold; up from steady sliding, until the Hopf point."""
@@ -289,8 +316,22 @@ def test_command_writes_the_diagram_and_refuses_a_bad_axis(tmp_path):
         check=False,
     )
     assert bad.returncode == 2
-    assert "--x='nu=2': expected NAME=A..B" in bad.stderr
-    assert "Traceback" not in bad.stderr
+    assert bad.stderr == "Error: --x='nu=2': expected NAME=A..B, e.g. 'nu=0.05..2' or 'v0=10..1e4'\n"
+    from click.testing import CliRunner
+
+    from stickslip.cli import main
+
+    for args, message in (
+        (["--y", "zeta=2..20"], "--y='zeta=2..20': 'zeta' is no parameter of the set-up"),
+        (["--x", "nu=2..0.1", "--y", "c=2..20"], "--x='nu=2..0.1': expected A < B"),
+    ):
+        res = CliRunner().invoke(main, ["diagram", "--p", "0.5", *args])
+        assert res.exit_code == 2 and res.output.startswith("Error: " + message), res.output
+        assert res.output.count("\n") == 1
+    # an expression's name on an axis takes its value from the axis (no --param g needed)
+    law = ["--law", "expr", "--f", "1 + w + g*w**3 + 0.25*w**5"]
+    res = CliRunner().invoke(main, ["diagram", *law, "--y", "g=-1.3..-0.7", "--raster", "20"])
+    assert res.exit_code == 0 and "bautin" in res.output, res.output
 
 
 @pytest.mark.skipif(not COLAS.is_dir(), reason="the Colas et al. 2019 records are not beside the repository")

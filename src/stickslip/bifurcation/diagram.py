@@ -250,6 +250,54 @@ def _scan(fun: Callable[[float], float], n: int) -> list[float]:
     return roots
 
 
+#: a located zero of a test is kept where the test, re-read at the curve's points on either side
+#: of it converged this much tighter than the continuation's tolerance, still changes sign
+CONFIRM_TIGHTER = 1e-3
+
+
+def _confirmed(
+    fun: Callable[[np.ndarray], np.ndarray],
+    test: Callable[[np.ndarray], float],
+    tc: TracedCurve,
+    index: int,
+    tol: float,
+) -> bool:
+    """Whether ``test`` changes sign across the event at ``tc.x[index]`` once its neighbours are pinned.
+
+    The continuation's points solve the defining system to ``tol``; where the test is
+    ill-conditioned in them (the grazing orbit's ``ln m`` near ``nu = 0`` is ``0.6 nu^2`` and
+    moves by ``1e-6`` for a ``1e-10`` residual) a sign change can be noise. Each neighbour is
+    solved again to ``CONFIRM_TIGHTER tol``, the coordinate that changes most between them held.
+    """
+    lo, hi = index - 1, index + 1
+    if lo < 0 or hi >= len(tc.x):
+        return True
+    xa, xb = tc.x[lo], tc.x[hi]
+    k = int(np.argmax(np.abs(xb - xa)))
+    signs = []
+    for x in (xa, xb):
+        free = [i for i in range(x.size) if i != k]
+
+        def square(q: np.ndarray, x: np.ndarray = x, free: list[int] = free) -> np.ndarray:
+            full = x.copy()
+            full[free] = q
+            return fun(full)
+
+        res = newton(square, x[free].copy(), tol=tol * CONFIRM_TIGHTER)
+        if res is None:
+            return True  # no tighter point: the event as the continuation located it
+        full = x.copy()
+        full[free] = res[0]
+        try:
+            v = float(test(full))
+        except (ValueError, RuntimeError, ZeroDivisionError, OverflowError):
+            v = math.nan
+        if not math.isfinite(v):
+            return True
+        signs.append(v > 0.0)
+    return signs[0] != signs[1]
+
+
 def _safe(fun: Callable[[float], float], x: float) -> float:
     try:
         return float(fun(x))
@@ -329,7 +377,7 @@ def two_parameter_diagram(
                     _fold_curve(sysm, z, curves, points, step, tol)
             for z in graze_seeds:
                 if not _near(curves, "grazing", z[1:3]):
-                    _grazing_curve(sysm, z, curves, points, step, tol)
+                    _grazing_curve(sysm, z, curves, points, step, tol, notes)
         for p in points[n_points:]:
             if p.kind in ("bautin", "fold-grazing"):
                 v = float(plane.y.from_value(p.y))
@@ -341,7 +389,7 @@ def two_parameter_diagram(
         onsets, reversals = _line_changes(sysm, float(u2))
         for z in onsets:
             if not _near(curves, "grazing", z[1:3], tol=0.02):
-                _grazing_curve(sysm, z, curves, points, step, tol, periodic=f0_one)
+                _grazing_curve(sysm, z, curves, points, step, tol, notes, periodic=f0_one)
         for u1 in reversals:
             rz = _reversal_seed(sysm, u1, float(u2), curves)
             if rz is not None:
@@ -351,6 +399,8 @@ def two_parameter_diagram(
             "f(0+) differs from the static threshold: no pure-slip orbit grazes into stick-slip; the "
             "grazing curves are the onset of stick-slip (the slip from breakaway touches w = 0)"
         )
+
+    _hopf_meets_grazing(sysm, curves, points)
 
     rx = np.linspace(0.5 / raster, 1 - 0.5 / raster, raster)
     region, names, regimes = _regions(sysm, curves, rx, label, notes)
@@ -682,6 +732,7 @@ def _grazing_curve(
     points: list[SpecialPoint2],
     step: float,
     tol: float,
+    notes: list[str],
     *,
     periodic: bool = True,
 ) -> None:
@@ -693,6 +744,8 @@ def _grazing_curve(
     if res is None:
         return
     z0 = np.array([res[0][0], res[0][1], u2])
+    if _near(curves, "grazing", z0[1:3]):  # a seed off the curve may converge onto one traced
+        return
     sysm.reverse = sysm._touch(z0[0], z0[1:3])["log_multiplier"] > 1.0
 
     def inside(q: np.ndarray) -> float:
@@ -715,7 +768,12 @@ def _grazing_curve(
         )
     )
     for e in tc.events:
-        if e.name == "fold-grazing":
+        if e.name == "fold-grazing" and not _confirmed(g, tests["fold-grazing"], tc, e.index, tol):
+            notes.append(
+                f"the grazing orbit's multiplier is within its noise of 1 near {_where(plane, e.x[1:3])}: "
+                "no fold-grazing point is claimed there"
+            )
+        elif e.name == "fold-grazing":
             x, y = plane.values(e.x[1:3])
             points.append(
                 SpecialPoint2(
@@ -729,6 +787,36 @@ def _grazing_curve(
                     "stick-slip, on the other an unstable one collides with the stick-slip orbit",
                 )
             )
+
+
+#: ends of a Hopf and a grazing curve this close (unit square) are one point
+MEET = 1e-5
+
+
+def _hopf_meets_grazing(sysm: OneBlockSystems, curves: list[Curve], points: list[SpecialPoint2]) -> None:
+    """Add an end where a Hopf and a grazing curve run into each other (``nu -> 0``, module docstring)."""
+    for h in curves:
+        if h.kind != "hopf":
+            continue
+        for hu in (h.u[0], h.u[-1]):
+            for c in curves:
+                if c.kind != "grazing" or min(np.linalg.norm(c.u[[0, -1]] - hu, axis=1)) >= MEET:
+                    continue
+                x, y = sysm.plane.values(hu)
+                nu = sysm.point(hu).nu
+                points.append(
+                    SpecialPoint2(
+                        "end",
+                        float(x),
+                        float(y),
+                        nu,
+                        "nu",
+                        nu,
+                        "the Hopf and grazing curves run into each other: as nu -> 0 the orbit born at "
+                        "the Hopf point and the grazing orbit shrink together to w = 0",
+                    )
+                )
+                break
 
 
 def _regions(

@@ -35,6 +35,18 @@ SECTIONS = (
 class SectionedGroup(click.Group):
     """A group whose help lists its commands by :data:`SECTIONS`, each description whole."""
 
+    def invoke(self, ctx: click.Context) -> Any:
+        """Run the command; a usage error is reported in one line, ``Error: ...``.
+
+        click prints the usage and a ``--help`` hint above the message; without the context
+        it prints the message alone, and ``COMMAND --help`` still shows the usage.
+        """
+        try:
+            return super().invoke(ctx)
+        except click.UsageError as exc:
+            exc.ctx = None
+            raise
+
     def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
         names = self.list_commands(ctx)
         placed = {n for _, group in SECTIONS for n in group}

@@ -10,7 +10,15 @@ import click
 from ..io.jsonable import dumps as dumps_json
 from ..models.parameters import PhysicalParameters
 from .errors import handle_errors
-from .options import OutPath, build_parameters, law_command, overwrite_option, scale_options, warn_unwritten
+from .options import (
+    OutPath,
+    build_parameters,
+    law_command,
+    overwrite_option,
+    params_of,
+    scale_options,
+    warn_unwritten,
+)
 
 __all__ = ["diagram", "register"]
 
@@ -33,6 +41,8 @@ def _axis(text: str | None, option: str) -> tuple[str, tuple[float, float]] | No
         lo, hi = float(lo_t), float(hi_t)
     except ValueError:
         raise click.UsageError(f"{option}={text!r}: A and B must be numbers (a unit may follow B)") from None
+    if not lo < hi:  # nan fails this too
+        raise click.UsageError(f"{option}={text!r}: expected A < B, a range from low to high")
     if unit:
         from ..bifurcation.planes import SHOWN
         from ..units import Q_
@@ -126,7 +136,8 @@ def _axis(text: str | None, option: str) -> tuple[str, tuple[float, float]] | No
     "out_dir",
     type=OutPath(file_okay=False),
     default=None,
-    help="Write diagram.nc, diagram.json and diagram.png/.svg (and check.json with --check).",
+    help="Write diagram.nc, diagram.json and diagram.png/.svg (with --check, the check is in "
+    "diagram.json under 'check').",
 )
 @scale_options
 @overwrite_option
@@ -188,9 +199,23 @@ def diagram(
         y = _axis(y_axis, "--y")
         if y is None:
             raise click.UsageError("--y: give the vertical axis, e.g. --y c=2..20 (a law parameter)")
-        for name, (lo, _) in (x, y):  # a parameter on an axis need not be given as well
+        from ..bifurcation.planes import SHOWN
+
+        user_law = opts.get("f") is not None or opts.get("mu") is not None
+        for axis, option in ((x, "--x"), (y, "--y")):  # a parameter on an axis need not be given as well
+            name, (lo, _) = axis
             if name in opts and opts.get(name) is None:
                 opts[name] = repr(lo)
+            elif user_law and name not in opts and name not in SHOWN and name != "nu":
+                given = params_of(opts)
+                if name not in given:  # an expression's name: the axis gives its value
+                    opts["param"] = (*(opts.get("param") or ()), f"{name}={lo!r}")
+            elif name not in opts and name not in SHOWN and name != "nu":
+                raise click.UsageError(
+                    f"{option}={x_axis if option == '--x' else y_axis!r}: {name!r} is no parameter of the "
+                    f"set-up (nu, {', '.join(sorted(SHOWN))}, or a parameter of the law such as "
+                    f"{_law_names(opts)})"
+                )
         physical = any(opts.get(k) is not None for k in ("mass", "beta", "stiffness", "load", "preset", "mu"))
         if physical or opts.get("v0") is not None:
             opts["v0"] = opts.get("v0") or "1 um/s"  # the axes replace it where they name it
@@ -234,6 +259,17 @@ def diagram(
     _print(d, chk, measured)
     if out_dir is not None:
         click.echo(f"wrote {out_dir}/diagram.nc, diagram.json and diagram.png/.svg")
+
+
+def _law_names(opts: dict[str, Any]) -> str:
+    """Return the parameters of the law that ``opts`` names, for a message."""
+    from ..laws import registry
+
+    try:
+        names = [p.name for p in registry.get(str(opts.get("law") or "")).spec.parameters]
+    except ValueError:
+        names = []
+    return "/".join(names) or "its parameters"
 
 
 def _ratestate_diagram(spec: str, x_axis: str | None, y_axis: str | None, options: dict[str, Any]) -> Any:
