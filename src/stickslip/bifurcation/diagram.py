@@ -547,10 +547,11 @@ def _fold_curve(
     def inside(q: np.ndarray) -> float:
         return float(min(_box(q[2:4]), q[0] - FOLD_MIN_AMPLITUDE, 50.0 - q[1]))
 
+    fold_tests = sysm.fold_tests()
     tc = trace(
         sysm.fold,
         z,
-        tests=sysm.fold_tests(),
+        tests=fold_tests,
         stops=("graze",),
         inside=inside,
         h0=step / 4,
@@ -598,7 +599,7 @@ def _fold_curve(
                     "the fold curve ends on the grazing curve",
                 )
             )
-        elif e.name == "cusp":
+        elif e.name == "cusp" and _confirmed(sysm.fold, fold_tests["cusp"], tc, e.index, tol):
             x, y = plane.values(e.x[2:4])
             points.append(
                 SpecialPoint2(
