@@ -77,8 +77,13 @@ def test_identical_blocks_move_as_one(boundary: str) -> None:
 
 @pytest.mark.parametrize(
     ("law", "backslip"),
-    [(WeakeningLaw(c=3.8, p=0.2), True), (CarlsonLangerLaw(alpha=2.5, sigma=0.05), None)],
-    ids=["weakening", "carlson-langer"],
+    [
+        pytest.param(WeakeningLaw(c=3.8, p=0.2), True, id="weakening"),
+        # 35 s of CI's two cores: in the slow set
+        pytest.param(
+            CarlsonLangerLaw(alpha=2.5, sigma=0.05), None, id="carlson-langer", marks=pytest.mark.slow
+        ),
+    ],
 )
 def test_energy_balance_per_event(law: ss.DimensionlessLaw, backslip: bool | None) -> None:
     p = ChainParameters(6, law, 0.05, ell=1.4, backslip=backslip)
@@ -252,6 +257,7 @@ def test_block_length_of_known_series() -> None:
     assert block_length(np.ones(100)) == 1 and block_length([1.0, 2.0]) == 1
 
 
+@pytest.mark.slow
 def test_block_bootstrap_error_meets_the_spread_of_correlated_catalogues() -> None:
     """Events that come in runs (each magnitude five times, as if an event set up the next four):
     over 60 such catalogues the b-values spread about sqrt(5) times what the event-by-event
@@ -390,6 +396,7 @@ def test_slope_change_holds_its_level_and_sees_a_knee() -> None:
     assert empty_top.verdict.endswith("b = 1 below M = 2.00, none (no events) above (p = 0.001)")
 
 
+@pytest.mark.slow
 def test_catalogue_streams_to_netcdf_and_resumes(tmp_path: Path) -> None:
     p = ChainParameters(20, CarlsonLangerLaw(alpha=2.5, sigma=0.01), 0.01, 3.0)
     whole = chain(p, 120, out=tmp_path / "whole.nc", progress=False)
@@ -1223,6 +1230,7 @@ def test_the_progress_bar_shows_the_simulated_time(capsys: pytest.CaptureFixture
     assert "event" in err
 
 
+@pytest.mark.slow
 def test_sigterm_leaves_a_resumable_chain_and_no_staging_folder(tmp_path: Path) -> None:
     import os
     import signal
@@ -1558,6 +1566,7 @@ def test_a_block_that_starts_beyond_its_backward_threshold_slips_back_at_once() 
     np.testing.assert_allclose(cat["moment"].values[1:], 7.0408491785836e-05, rtol=1e-9)
 
 
+@pytest.mark.slow
 def test_a_tables_chain_that_fails_where_its_friction_reaches_zero_says_why() -> None:
     """A table whose extrapolation falls to zero friction (at 0.5 m/s, along the tangent at its
     last row) ends not-finite after a few events, and the chain names the cause, as `cycle`

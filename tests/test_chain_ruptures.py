@@ -41,6 +41,7 @@ def _gutenberg_richter(
     return lo - np.log1p(u * math.expm1(-beta * (hi - lo))) / beta
 
 
+@pytest.mark.slow
 def test_the_lower_cutoff_by_ks_and_b_of_a_gutenberg_richter_catalogue() -> None:
     """b = 1 complete above M = 1, and below it only a share M**3 of the events detected (the
     catalogue's incomplete small events), 2000 complete events. The least KS distance starts the

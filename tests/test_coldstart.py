@@ -27,8 +27,8 @@ from stickslip.laws.compiler import builtin_module_source
 CASES = [  # (law id, parameters, driving velocities): stick-slip, pure slip and steady sliding
     (0, [3.8, 0.0], [1e-3, 0.05, 0.4]),  # F1
     (0, [5.0, 0.05], [1e-3, 0.2, 2.0]),  # F2 (p > 0: the branch that adds p w)
-    (1, [0.5, 0.2], [0.05, 0.3, 0.8]),  # cubic
-    (2, [0.6], [1e-3, 0.1]),  # Coulomb
+    pytest.param(1, [0.5, 0.2], [0.05, 0.3, 0.8], marks=pytest.mark.slow),  # cubic (a compile of its own)
+    pytest.param(2, [0.6], [1e-3, 0.1], marks=pytest.mark.slow),  # Coulomb (a compile of its own)
     (3, [2.5, 0.01], [0.01, 0.1]),  # Carlson-Langer
 ]
 
@@ -86,6 +86,7 @@ def _ir(memo: str, cache: Path) -> dict:
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
+@pytest.mark.slow
 def test_typing_memo_leaves_the_code_unchanged(tmp_path: Path) -> None:
     with_memo, without = _ir("1", tmp_path / "a"), _ir("0", tmp_path / "b")
     assert with_memo["memo"] and not without["memo"]

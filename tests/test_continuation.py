@@ -207,6 +207,7 @@ def test_a_fold_of_cycles_is_located_to_1e_9() -> None:
     assert d.regime_at(fold.nu + 1e-6).regime == "stick-slip"
 
 
+@pytest.mark.slow
 def test_continuation_does_not_jump_to_another_part_of_its_branch() -> None:
     """On this law's branch from its subcritical Hopf point, near grazing (minimum velocity
     0.025), a corrector step must not land on the unstable part of the same branch (9.6 away in
@@ -463,6 +464,7 @@ def test_cubic_law_warns_where_friction_turns_negative() -> None:
         CubicLaw(alpha=0.5, gamma=1 / 6)
 
 
+@pytest.mark.slow
 def test_a_hopf_point_on_a_table_row_starts_its_branch() -> None:
     """A subcritical Hopf point on a pchip row (f'' jumps by J there) starts its pure-slip
     branch: near a kink the small cycle grows linearly, f'(nu) = -2 J a / (3 pi) (the cubic

@@ -476,6 +476,7 @@ def test_the_page_in_process_switches_laws_and_shows_errors():
             Explorer(Document(), Setup(nu=nu))
 
 
+@pytest.mark.slow
 def test_the_page_keeps_its_view_whole_says_its_warnings_and_that_it_computes():
     """The page stays whole: a formula's parameter 'nan' is named on the page (not a traceback
     on the server with the page stuck on 'Compiling'), and one the formula lacks leaves sliders
@@ -609,6 +610,7 @@ def test_crafted_messages_get_their_error_on_the_page():
     assert "expected one of c, p" in ex.status.text and ex.command.text == shown
 
 
+@pytest.mark.slow
 @pytest.mark.xdist_group("explore_server")
 def test_a_formula_compiles_in_a_worker_while_the_server_serves_others(server, browser):
     """A formula's first view compiles its engine (15 to 30 s cold): in a worker process, so

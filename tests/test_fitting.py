@@ -138,6 +138,7 @@ def independent_record(
     return Record(f"independent-{seed}", t, f, None, None, S.Q_(100, "um/s"), S.Q_(196, "mN"), {})
 
 
+@pytest.mark.slow
 def test_fit_recovers_the_truth_on_independent_records() -> None:
     """On these records the feature fit has reduced chi2 4.5-17, a trough biased by 5 of its
     errors and `a` low every time; the waveform fit, over 8 records (32 estimates), has

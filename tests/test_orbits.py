@@ -166,6 +166,7 @@ def test_a_sweeps_polish_is_the_same_with_its_return_maps_compiled_or_in_python(
     assert np.isfinite(m_python).all()
 
 
+@pytest.mark.slow
 def test_return_maps_refuse_what_the_python_secant_refuses() -> None:
     """The flow's tolerances (tol / 100) and an iterate beyond the states: the same on both paths."""
     from stickslip.core.api import run_return_maps

@@ -89,6 +89,7 @@ def test_stiffness_fitted(tmp_path) -> None:
     _check(fit.values, fit.errors, _truth_values(ONE, k=ONE["k_per_um"]))
 
 
+@pytest.mark.slow
 def test_two_close_state_variables_are_not_identifiable(tmp_path) -> None:
     truth = {"a": 0.012, "b": [0.0185, 0.0088], "dc_um": [5.0, 7.0]}
     path = _record(tmp_path, "aging", truth, STEPS_TWO, 8e-3, seed=4)
@@ -338,6 +339,7 @@ def test_a_record_of_a_law_the_fit_lacks_says_so(tmp_path) -> None:
     assert res.exit_code == 0, res.output
 
 
+@pytest.mark.slow
 def test_a_noisy_velocity_column_or_a_displacement_column_fits_the_truth(tmp_path) -> None:
     """Steps are changes of velocity beyond the noise: with a logged velocity of 1e-4 relative
     noise, np.diff(v) != 0 makes every row a 'step', the starting values absurd (Dc = 1e-9 m),

@@ -262,6 +262,7 @@ def test_claims_judge_every_law_and_the_fig3_order(quick_run: Path) -> None:
     assert [c.number for c in by_text] == list(range(1, len(by_text) + 1))
 
 
+@pytest.mark.slow
 def test_serial_run_gives_the_same_data(quick_run: Path, tmp_path: Path) -> None:
     """The CLI shares the work out to a second process (the cubic law's trial, two of the
     appendix's parts, half the figures); in one process the data are the same, bit for bit."""

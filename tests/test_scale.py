@@ -459,6 +459,7 @@ def _sweep_cmd(store: Path, n_v0: int, n_k: int, block_points: int = 40) -> list
     ]  # fmt: skip
 
 
+@pytest.mark.slow
 def test_sigkill_of_the_client_then_the_same_command_completes(base: Any, tmp_path: Path) -> None:
     n_v0, n_k = 120, 60  # 7200 points in 120 blocks of one v0 row
     store = tmp_path / "s.zarr"
@@ -646,6 +647,7 @@ def _cli(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
     )
 
 
+@pytest.mark.slow
 def test_cli_regime_map_and_chain_ensemble_resume_from_their_stores(tmp_path: Path) -> None:
     law = ["--law", "weakening", "--c", "3.8", "--p", "0.3"]
     rm = [*law, "--nu-min", "0.05", "--nu-max", "2", "--n", "31", "--map", "p=0.1..0.6", "--map-n", "3"]

@@ -58,6 +58,7 @@ def _same_numbers(a: dict, b: dict, rel: float) -> None:
 # --------------------------------------------------------------------------- formulas: the issue's commands
 
 
+@pytest.mark.slow
 def test_expression_equals_the_builtin_law_on_the_command_line() -> None:
     expr = run("cycle", "--law", "expr", "--f", "1/(1 + 3.8*w) + 0.5*w", "--nu", "0.3", "--json")
     builtin = run("cycle", "--law", "weakening", "--c", "3.8", "--p", "0.5", "--nu", "0.3", "--json")
@@ -373,6 +374,7 @@ def test_poles_of_a_slope_of_a_physical_law_and_of_one_sweep_point() -> None:
     assert p[869] < 0 <= p[868]
 
 
+@pytest.mark.slow
 def test_a_formula_that_runs_into_the_compile_check_pole_still_compiles() -> None:
     """The compile check calls the law at w = 0.5 with every parameter 0.5: 1e-3/(c - w) divides
     by zero there and was 'numba cannot compile its formula (division by zero)'. A pole beyond
@@ -400,6 +402,7 @@ def _f2_table(rows: int) -> ss.laws.DimensionlessLaw:
     return TabulatedLaw(ss.Q_(w, "m/s"), mu).nondimensionalize("1 s/m")
 
 
+@pytest.mark.slow
 def test_a_hopf_point_on_a_pchip_row_gets_the_type_of_its_kink() -> None:
     """pchip puts the minimum of a tabulated F2 on a row, where mu'' jumps: the Hopf point's type
     comes from the kink, not the one-sided mu''' (which depends on which side Brent lands, and
@@ -454,6 +457,7 @@ def test_a_hopf_point_on_a_pchip_row_gets_the_type_of_its_kink() -> None:
     assert ref.multiplier < 1.0
 
 
+@pytest.mark.slow
 def test_two_hopf_points_3e_4_apart_are_found() -> None:
     """A weakening band 3.1e-4 wide at w = 1 (f'(1) = -2.5) falls between two points of a
     4000-point grid over the range: the grid that brackets the Hopf points has 20000 points per
@@ -470,6 +474,7 @@ def test_two_hopf_points_3e_4_apart_are_found() -> None:
     assert d.regime_at(0.995).regime == d.regime_at(1.005).regime == "steady-sliding"
 
 
+@pytest.mark.slow
 def test_a_dip_of_f_prime_narrower_than_the_grid_gives_its_two_hopf_points() -> None:
     """A band ten times narrower than the grid's spacing (1.15e-4 at w = 1) has no grid point
     where f' < 0, but f'' changes sign across it: the minimum of f' is located and the two
@@ -559,6 +564,7 @@ def test_user_law_input_is_refused_or_warned_in_words() -> None:
     assert "neutrally stable" in d.notes[0]
 
 
+@pytest.mark.slow
 def test_a_flat_stretch_of_a_table_is_named(tmp_path: Path) -> None:
     """Equal rows make pchip flat (f' = 0 on a whole interval), where steady sliding's stability
     changes: regimes names the stretch, its ends bisected to the rows (0.6 and 1.5 mm/s here),
@@ -600,6 +606,7 @@ def test_a_smoothing_table_passes_through_its_first_row() -> None:
     assert str(res.regime) == "stick-slip" and res.backward_slips == 0 and res.min_velocity >= 0.0
 
 
+@pytest.mark.slow
 def test_a_continuation_that_sympy_cannot_take_stops_where_it_can() -> None:
     """A term that switches on at w = 50 as a power 1.5 has a second derivative 0/0 at w = 0 for
     sympy: its limit stayed unevaluated (a Limit) and the code printer failed with a traceback.

@@ -219,6 +219,7 @@ def test_the_bifurcation_legend_names_each_kind_once() -> None:
     assert len(top) == 1 and top[0].get_xlabel() == "driving velocity $v_0$ [mm/s]"
 
 
+@pytest.mark.slow
 def test_a_stable_orbit_that_a_tables_noise_keeps_from_1e10_is_still_an_attractor() -> None:
     """The weakening law sampled as a 41-row pchip table: its small stable pure-slip orbits
     (multiplier 0.97 to 0.998) cannot be shot to 1e-10 (the flow is good to 1e-10 to 1e-8
