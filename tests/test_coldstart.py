@@ -27,8 +27,8 @@ from stickslip.laws.compiler import builtin_module_source
 CASES = [  # (law id, parameters, driving velocities): stick-slip, pure slip and steady sliding
     (0, [3.8, 0.0], [1e-3, 0.05, 0.4]),  # F1
     (0, [5.0, 0.05], [1e-3, 0.2, 2.0]),  # F2 (p > 0: the branch that adds p w)
-    pytest.param(1, [0.5, 0.2], [0.05, 0.3, 0.8], marks=pytest.mark.slow),  # cubic (a compile of its own)
-    pytest.param(2, [0.6], [1e-3, 0.1], marks=pytest.mark.slow),  # Coulomb (a compile of its own)
+    (1, [0.5, 0.2], [0.05, 0.3, 0.8]),  # cubic
+    (2, [0.6], [1e-3, 0.1]),  # Coulomb
     (3, [2.5, 0.01], [0.01, 0.1]),  # Carlson-Langer
 ]
 
@@ -38,7 +38,11 @@ def _rows(kernel: Kernel | int, lp: list[float], nu: list[float]) -> np.ndarray:
     return run_attractors(kernel, lp, nu, from_breakaway=True, diag=True, **opts).raw
 
 
-@pytest.mark.parametrize(("law_id", "lp", "nu"), CASES)
+@pytest.mark.parametrize(
+    ("law_id", "lp", "nu"),
+    # the cubic and Coulomb laws' own packages (a compile each, 21-27 s of CI's two cores): slow
+    [pytest.param(*case, marks=pytest.mark.slow) if case[0] in (1, 2) else case for case in CASES],
+)
 def test_a_law_alone_gives_the_builtin_engine_bit_for_bit(
     law_id: int, lp: list[float], nu: list[float]
 ) -> None:

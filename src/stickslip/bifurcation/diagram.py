@@ -251,8 +251,10 @@ def _scan(fun: Callable[[float], float], n: int) -> list[float]:
 
 
 #: a located zero of a test is kept where the test, re-read at the curve's points on either side
-#: of it converged this much tighter than the continuation's tolerance, still changes sign
+#: of it converged this much tighter than the continuation's tolerance, still changes sign, and
+#: exceeds there NOISE_MARGIN times the change that the tighter solve made in it
 CONFIRM_TIGHTER = 1e-3
+NOISE_MARGIN = 10.0
 
 
 def _confirmed(
@@ -262,19 +264,21 @@ def _confirmed(
     index: int,
     tol: float,
 ) -> bool:
-    """Whether ``test`` changes sign across the event at ``tc.x[index]`` once its neighbours are pinned.
+    """Whether ``test`` changes sign across the event at ``tc.x[index]``, beyond its noise.
 
     The continuation's points solve the defining system to ``tol``; where the test is
     ill-conditioned in them (the grazing orbit's ``ln m`` near ``nu = 0`` is ``0.6 nu^2`` and
     moves by ``1e-6`` for a ``1e-10`` residual) a sign change can be noise. Each neighbour is
-    solved again to ``CONFIRM_TIGHTER tol``, the coordinate that changes most between them held.
+    solved again to ``CONFIRM_TIGHTER tol``, the coordinate that changes most between them
+    held; the change that made in the test is its noise. The zero is kept where the test's
+    signs still differ and both values exceed ``NOISE_MARGIN`` times the larger noise.
     """
     lo, hi = index - 1, index + 1
     if lo < 0 or hi >= len(tc.x):
         return True
     xa, xb = tc.x[lo], tc.x[hi]
     k = int(np.argmax(np.abs(xb - xa)))
-    signs = []
+    values, noise = [], 0.0
     for x in (xa, xb):
         free = [i for i in range(x.size) if i != k]
 
@@ -289,13 +293,14 @@ def _confirmed(
         full = x.copy()
         full[free] = res[0]
         try:
-            v = float(test(full))
+            v, v0 = float(test(full)), float(test(x))
         except (ValueError, RuntimeError, ZeroDivisionError, OverflowError):
-            v = math.nan
-        if not math.isfinite(v):
             return True
-        signs.append(v > 0.0)
-    return signs[0] != signs[1]
+        if not (math.isfinite(v) and math.isfinite(v0)):
+            return True
+        values.append(v)
+        noise = max(noise, abs(v - v0))
+    return values[0] * values[1] < 0 and min(abs(v) for v in values) > NOISE_MARGIN * noise
 
 
 def _safe(fun: Callable[[float], float], x: float) -> float:

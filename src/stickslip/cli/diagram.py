@@ -167,8 +167,9 @@ def diagram(
     their attractors (stick-slip, pure slip, steady sliding, bistable); Bautin points
     (super- to subcritical Hopf), fold-grazing points, cusps of folds (the return map's
     P''(A) = 0) and the ends of curves are located and classified. A Hopf and a grazing
-    curve meet only as nu goes to 0 (an end point where they run into each other). --check runs the exact engine on a grid and says where it
-    disagrees; --records draws the model's (V, k) plane around a folder of lab records.
+    curve meet only as nu goes to 0 (an end point where they run into each other).
+    --check runs the exact engine on a grid and says where it disagrees; --records draws
+    the model's (V, k) plane around a folder of lab records.
     """
     from ..bifurcation.diagram import two_parameter_diagram
     from ..bifurcation.planes import Plane
