@@ -440,6 +440,7 @@ def test_catalogue_streams_to_netcdf_and_resumes(tmp_path: Path) -> None:
         assert ds.getncattr("complete") == 0
 
 
+@pytest.mark.slow
 def test_a_run_stopped_before_its_first_save_begins_again(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -502,7 +503,7 @@ def test_a_run_stopped_before_its_first_save_begins_again(
     again.catalog.close()
 
 
-@pytest.mark.parametrize("events", [60, 40])
+@pytest.mark.parametrize("events", [pytest.param(60, marks=pytest.mark.slow), 40])
 def test_rows_written_without_the_state_after_them_are_computed_again(tmp_path: Path, events: int) -> None:
     """HDF5 may write appended rows before the state after them (a kill or a full disk during a
     flush): a catalogue of 45 rows with the state after 30. The state names the rows it

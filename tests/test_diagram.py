@@ -181,6 +181,7 @@ def test_hopf_and_grazing_meet_only_as_nu_goes_to_zero_and_no_fold_grazing_is_ma
     assert abs(end.y - c) < 1e-9
 
 
+@pytest.mark.slow
 def test_a_seed_that_converges_onto_a_traced_grazing_curve_adds_no_second_copy():
     """f = 1 + w + g w^3 + b w^5 + e w^7 (three cycles merge near nu = 1): the engine's onset
     scan seeds the grazing curve again far from where the Hopf-born branch met it."""

@@ -242,6 +242,7 @@ def test_a_served_page_computes_in_a_worker_and_says_so(monkeypatch):
     assert pn.key is None and pn.regions.data["left"] == [] and "changed while" in pn.status.text
 
 
+@pytest.mark.slow
 def test_a_worker_process_computes_the_view():
     """The served page's path: the view computed in a spawned process equals the one computed here."""
     ctx = multiprocessing.get_context("spawn")

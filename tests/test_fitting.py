@@ -161,7 +161,9 @@ def test_fit_recovers_the_truth_on_independent_records() -> None:
     assert abs(z.mean()) < 0.5 and 0.5 < z.std() < 1.5, pulls
 
 
-@pytest.mark.parametrize(("rate", "noise"), [(100.0, 1e-3), (50.0, 1e-3), (100.0, 1e-4)])
+@pytest.mark.parametrize(
+    ("rate", "noise"), [pytest.param(100.0, 1e-3, marks=pytest.mark.slow), (50.0, 1e-3), (100.0, 1e-4)]
+)
 def test_fit_at_a_low_sampling_rate_reaches_the_minimum(rate: float, noise: float) -> None:
     """At 20-100 Hz the search reaches the minimum: its central differences step one standard
     error in each log-parameter. A step of 1e-6 in every log-parameter is ten standard errors

@@ -62,7 +62,7 @@ def test_one_state_api(tmp_path, law: str) -> None:
     assert not fit.warnings
 
 
-@pytest.mark.parametrize(("law", "k"), [("aging", 3e-3), ("slip", 8e-3)])
+@pytest.mark.parametrize(("law", "k"), [pytest.param("aging", 3e-3, marks=pytest.mark.slow), ("slip", 8e-3)])
 def test_two_states_cli(tmp_path, law: str, k: float) -> None:
     path = _record(tmp_path, law, TWO, STEPS_TWO, k, seed=2)
     res = CliRunner().invoke(

@@ -529,6 +529,7 @@ def test_cluster_equals_in_process_and_compiles_once_per_worker(
     assert set(client.run(_signatures).values()) == {1}
 
 
+@pytest.mark.slow
 def test_sigkill_of_a_worker_mid_sweep(base: Any, reference: xr.Dataset, client: Any, tmp_path: Path) -> None:
     pids = client.run(os.getpid)
     victim = sorted(pids.values())[0]
@@ -551,6 +552,7 @@ def test_sigkill_of_a_worker_mid_sweep(base: Any, reference: xr.Dataset, client:
     assert killed
 
 
+@pytest.mark.slow
 def test_workers_option_starts_a_local_cluster(base: Any, tmp_path: Path) -> None:
     out = tmp_path / "s.nc"
     res = subprocess.run(

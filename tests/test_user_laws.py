@@ -69,6 +69,7 @@ def test_expression_equals_the_builtin_law_on_the_command_line() -> None:
     assert a["parameters"]["law"] == "expr"
 
 
+@pytest.mark.slow
 def test_expression_gives_the_same_regimes() -> None:
     args = ("--nu-min", "0.05", "--nu-max", "2", "--n", "41", "--json")
     expr = run("regimes", "--law", "expr", "--f", "1/(1 + 3.8*w) + 0.5*w", *args)

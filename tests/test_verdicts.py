@@ -258,6 +258,7 @@ def test_a_stable_orbit_that_a_tables_noise_keeps_from_1e10_is_still_an_attracto
     assert all(c.agree for c in confirm(d))
 
 
+@pytest.mark.slow
 def test_an_orbit_kept_at_a_tables_noise_floor_says_how_well_it_is_known() -> None:
     """An orbit shot again at the noise floor (the test above) is known to a few 1e-8..1e-5 only,
     not to every digit: `cycle` warns, with the estimate, and the SciPy reference's amplitude
