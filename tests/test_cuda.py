@@ -189,9 +189,9 @@ def _cycle_columns() -> list[int]:
 @pytest.mark.parametrize(
     ("max_slip_time", "max_steps", "start", "streams"),
     [
-        (1e4, 2_000_000, "breakaway", "at-once"),
+        pytest.param(1e4, 2_000_000, "breakaway", "at-once", marks=pytest.mark.slow),
         (100.0, 40, "breakaway", "at-once"),
-        (1e4, 2_000_000, "start", "at-once"),
+        pytest.param(1e4, 2_000_000, "start", "at-once", marks=pytest.mark.slow),
         (1e4, 2_000_000, "start", "deferred"),
     ],
 )
@@ -260,7 +260,7 @@ def _cpu_rows_from_breakaway() -> Any:
 
 
 @needs_numba_cuda
-@pytest.mark.parametrize("streams", ["at-once", "deferred"])
+@pytest.mark.parametrize("streams", ["at-once", pytest.param("deferred", marks=pytest.mark.slow)])
 def test_only_the_fields_kept_cross_back_from_the_gpu(streams: str) -> None:
     """``fields=``: a kernel on the GPU gathers the kept columns side by side, on the launch's
     stream, before they are copied back; they equal the CPU engine's columns (three launches).
@@ -283,7 +283,9 @@ def test_only_the_fields_kept_cross_back_from_the_gpu(streams: str) -> None:
 
 
 @needs_numba_cuda
-@pytest.mark.parametrize(("variant", "sorted_launches"), [("persistent", 3), ("unsorted", 0)])
+@pytest.mark.parametrize(
+    ("variant", "sorted_launches"), [pytest.param("persistent", 3, marks=pytest.mark.slow), ("unsorted", 0)]
+)
 def test_in_the_simulator_the_kernels_variants_give_the_cpu_engines_rows(
     variant: str, sorted_launches: int
 ) -> None:

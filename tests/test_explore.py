@@ -76,6 +76,7 @@ def test_physical_units_and_their_command():
     assert out["amplitude"] == pytest.approx(v.amplitude, rel=1e-12)
 
 
+@pytest.mark.slow
 def test_a_formula_law_and_its_command():
     setup = Setup(law="expr", expression="1/(1 + c*w) + q*w", params={"c": 3.8, "q": 0.5}, nu=0.3)
     v = compute(setup)

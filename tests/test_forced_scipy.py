@@ -87,7 +87,12 @@ def check(r: dict) -> None:
     assert abs(r["stick_time"][0] - r["stick_time"][1]) <= TOL_STICK_TIME, r
 
 
-@pytest.mark.parametrize("name", list(CASES))
+@pytest.mark.parametrize(
+    "name",
+    [
+        pytest.param(n, marks=pytest.mark.slow) if n == "coulomb" else n for n in CASES
+    ],  # coulomb: on the attractor too
+)
 def test_sections_and_events_from_rest(name: str) -> None:
     system, fplus = CASES[name]
     r = compare(system, fplus, (0.0, 0.0))

@@ -154,7 +154,9 @@ def test_code_printed_by_parts_evaluates_as_the_formula():
 @pytest.mark.parametrize(
     ("formula", "expect"),
     [
-        (SHORT, "stick-slip from rest"),
+        pytest.param(
+            SHORT, "stick-slip from rest", marks=pytest.mark.slow
+        ),  # a compile of its own; 40 levels stays
         (_nested(40), "stick-slip from rest"),
         (_nested(150), "Error: invalid value: f: the formula nests 153 levels deep"),
     ],

@@ -63,7 +63,14 @@ def test_kill_during_a_write_leaves_the_previous_file(tmp_path: Path) -> None:
     assert sorted(p.name for p in tmp_path.iterdir()) == ["data.csv"]
 
 
-@pytest.mark.parametrize("delay", [0.2, 1.0, 2.5])
+@pytest.mark.parametrize(
+    "delay",
+    [
+        pytest.param(0.2, marks=pytest.mark.slow),
+        1.0,
+        pytest.param(2.5, marks=pytest.mark.slow),
+    ],  # each a run: 1.0 in the default
+)
 def test_sigkill_of_a_sweep_never_leaves_a_partial_file(tmp_path: Path, delay: float) -> None:
     """Killed (SIGKILL) at any moment while `sweep` writes, sweep.nc is the previous complete
     sweep or the new one, never a 0-byte file where a good one stood."""

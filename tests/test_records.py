@@ -251,7 +251,7 @@ def test_analyze_stick_slip_folder(tmp_path: Path) -> None:
     assert "from 5 records at load 196 mN; 1 of them with a warning above" in res.output, res.output
 
 
-@pytest.mark.parametrize("index", [True, False])
+@pytest.mark.parametrize("index", [True, pytest.param(False, marks=pytest.mark.slow)])
 def test_a_record_that_cannot_be_read_does_not_stop_the_folder(tmp_path: Path, index: bool) -> None:
     """Three NaN samples in one file of a folder do not stop the folder: with on_error="warn"
     (what `analyze` uses) the file is a row of the table saying why, naming the column as the

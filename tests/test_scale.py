@@ -579,6 +579,7 @@ def test_workers_option_starts_a_local_cluster(base: Any, tmp_path: Path) -> Non
 # ------------------------------------------------------------------- regime maps and chain ensembles
 
 
+@pytest.mark.slow
 def test_regime_map_through_the_store_and_the_cluster(client: Any, tmp_path: Path) -> None:
     law = WeakeningLaw(c=3.8, p=0.3)
     args = (law, "p", [0.1, 0.3, 0.6], 0.05, 2.0)
@@ -752,6 +753,7 @@ def test_stores_of_other_jobs_copies_and_lost_chunks_are_said(
     assert "load=<Quantity(" in str(err.value) and "200" in str(err.value), str(err.value)
 
 
+@pytest.mark.slow
 def test_an_ensemble_member_is_taken_by_one_run_at_a_time(tmp_path: Path) -> None:
     """Two runs of one ensemble share its store: a member's lock makes the second wait, so that
     it never takes the first's open catalogue (HDF5-locked: unreadable) for a broken one."""

@@ -87,6 +87,7 @@ def test_expression_gives_the_same_regimes() -> None:
         assert x["nu_max"] == pytest.approx(y["nu_max"], rel=1e-9)
 
 
+@pytest.mark.slow
 def test_physical_expression_reproduces_the_zv_setup() -> None:
     expr = run("cycle", "--law", "expr", "--mu", "0.46/(1 + 160*v)", "--preset", "zv", "--json")
     builtin = run(
@@ -96,6 +97,7 @@ def test_physical_expression_reproduces_the_zv_setup() -> None:
     _same_numbers(json.loads(expr.output), json.loads(builtin.output), 1e-9)
 
 
+@pytest.mark.slow
 def test_dense_table_of_f1_reproduces_the_zv_setup(tmp_path: Path) -> None:
     v = np.linspace(0.0, 50.0, 600)  # mm/s: beyond the peak velocity of the zv cycle (14 mm/s)
     path = tmp_path / "mu_v.csv"
@@ -129,6 +131,7 @@ def test_expression_with_parameters_equals_the_builtin_law() -> None:
     np.testing.assert_allclose(ds.amplitude.values, ref.amplitude.values, rtol=1e-9)
 
 
+@pytest.mark.slow
 def test_constant_expression_with_a_static_level_is_coulomb_friction() -> None:
     """``f = 0.5`` with ``static=1``: a drop at the onset, the closed-form Coulomb cycle."""
     law = ExpressionLaw("0.5", static=1)
@@ -504,6 +507,7 @@ def test_a_dip_of_f_prime_narrower_than_the_grid_gives_its_two_hopf_points() -> 
     assert [h.stable_side for h in hs] == ["above", "below"]  # steady sliding stable inside the bump
 
 
+@pytest.mark.slow
 def test_a_table_that_ends_falling_names_its_zero_crossing(tmp_path: Path) -> None:
     """A table ending while friction still falls extrapolates to zero friction (here at v =
     2.231 mm/s): `cycle` and `regimes` name the table's end and where its tangent reaches zero
@@ -581,6 +585,7 @@ def test_a_flat_stretch_of_a_table_is_named(tmp_path: Path) -> None:
     assert d.regime_at(1.0).regime == "stick-slip" and d.regime_at(1.8).regime == "bistable"
 
 
+@pytest.mark.slow
 def test_a_smoothing_table_passes_through_its_first_row() -> None:
     """A smoothing spline need not pass through the v = 0 row: on a noisy table it puts friction
     just after breakaway 0.02 % (0.22 % on a noisier one) above the static level, where the

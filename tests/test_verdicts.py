@@ -186,6 +186,7 @@ def test_three_attractors_are_multistable_not_bistable() -> None:
     assert len(set(REGIME_CODES.values())) == len(REGIME_CODES)
 
 
+@pytest.mark.slow
 def test_the_bifurcation_legend_names_each_kind_once() -> None:
     """A law with two Hopf points has two pure-slip branches: the legend names 'pure-slip' once,
     not once a branch."""
