@@ -569,6 +569,7 @@ def test_an_ensemble_member_with_a_broken_catalogue_starts_again(tmp_path: Path)
         np.testing.assert_array_equal(again[name].values, ref[name].values)
 
 
+@pytest.mark.slow
 def test_events_do_not_depend_on_where_a_call_pauses() -> None:
     """A call that pauses after every step gives the events of one call, bit for bit.
 

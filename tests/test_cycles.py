@@ -183,6 +183,7 @@ def test_v_event_and_stops_are_said_in_words(tmp_path) -> None:
     assert "status" not in str(info.value)
 
 
+@pytest.mark.slow
 def test_a_run_longer_than_one_clock_holds(run) -> None:
     """The integration restarts its clock every CHUNK seconds: on one clock an event's
     millisecond steps fall below the precision of t after about 26627 years. 30000 years give

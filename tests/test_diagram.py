@@ -329,7 +329,14 @@ def test_command_writes_the_diagram_and_refuses_a_bad_axis(tmp_path):
         res = CliRunner().invoke(main, ["diagram", "--p", "0.5", *args])
         assert res.exit_code == 2 and res.output.startswith("Error: " + message), res.output
         assert res.output.count("\n") == 1
-    # an expression's name on an axis takes its value from the axis (no --param g needed)
+
+
+@pytest.mark.slow
+def test_an_expressions_name_on_an_axis_needs_no_param():
+    from click.testing import CliRunner
+
+    from stickslip.cli import main
+
     law = ["--law", "expr", "--f", "1 + w + g*w**3 + 0.25*w**5"]
     res = CliRunner().invoke(main, ["diagram", *law, "--y", "g=-1.3..-0.7", "--raster", "20"])
     assert res.exit_code == 0 and "bautin" in res.output, res.output

@@ -118,6 +118,7 @@ def test_csv_and_bad_input():
         compute(Setup(params={"c": 3.8, "p": 0.0, "bogus": 1.0}))
 
 
+@pytest.mark.slow
 def test_a_slider_holds_the_value_given_and_a_negative_parameter_its_diagram():
     """A slider holds the value given, even within one step of an excluded bound (sigma 0.999,
     not 0.9975; c = 0.001, not 0.0025) and reaches an included one (kinetic 1: equal static and

@@ -49,7 +49,7 @@ def _run(code: str, timeout: float) -> tuple[subprocess.CompletedProcess[str], f
 @pytest.mark.parametrize(
     "text",
     [
-        SHORT,
+        pytest.param(SHORT, marks=pytest.mark.slow),  # 10 s of sympy; its own test below stays
         "1/(1 + c*w) + p*w",
         "exp(-a*w)*cos(w) + atan(w) + asinh(2*w) + erf(w)/3 + tanh(w) + tan(w)",
         "sqrt(1 + w) + (1 + c*w)**q + abs(w - 2) + log(2 + w) + w**3 + 2**w + pi*w",

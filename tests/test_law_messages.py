@@ -79,6 +79,7 @@ POLE = "1/(1+0.05*w) - 0.001/(w - P)**2 + 0.001/P**2"
 PROMISED = "the friction law divides by zero at a velocity the motion reached"
 
 
+@pytest.mark.slow
 def test_a_pole_the_motion_reaches_is_named_by_cycle_simulate_and_the_command_line() -> None:
     """The step collapses 1.4e-6 short of the pole (step-size-too-small, or too-many-steps): the law
     there is -5e8 against -0.04 at 0.1 % to either side, a pole, said in the documented words."""

@@ -79,6 +79,7 @@ def test_import_stickslip_cli_is_lazy_and_its_names_load() -> None:
     ]
 
 
+@pytest.mark.slow
 def test_importing_chooses_no_matplotlib_backend() -> None:
     code = (
         "import sys, stickslip, stickslip.plots.figures, stickslip.plots.regimes, stickslip.paper.figures\n"

@@ -253,6 +253,7 @@ def test_a_damped_run_is_written_as_a_load_cell_would_measure_it(tmp_path) -> No
     assert "radiation_damping" not in (tmp_path / "plain" / "ratestate.csv").read_text()
 
 
+@pytest.mark.slow
 def test_records_that_cannot_be_fitted_are_refused_at_once(tmp_path) -> None:
     """A record of two rows, or of one velocity throughout, is refused (not a 'result' with NaN
     errors and exit status 0); a reversed window is named as such (not '0 samples'); a record in

@@ -132,6 +132,7 @@ def test_store_equals_in_process_bit_for_bit(base: Any, reference: xr.Dataset, t
     assert run_of(again)["computed"] == 0 and run_of(again)["reused"] == 6
 
 
+@pytest.mark.slow
 def test_default_run_imports_no_distributed() -> None:
     code = (
         "import sys, numpy as np, stickslip as ss\n"
@@ -162,6 +163,7 @@ def test_a_store_without_a_polish_key_is_another_job(
     sweep(base, _grid(), progress=False, store=same)
 
 
+@pytest.mark.slow
 def test_another_grid_is_a_one_line_error_and_the_store_is_untouched(base: Any, tmp_path: Path) -> None:
     store = tmp_path / "s.zarr"
     sweep(base, _grid(), progress=False, store=store, block_points=80)

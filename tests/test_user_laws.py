@@ -286,6 +286,7 @@ def test_table_conventions(tmp_path: Path) -> None:
         TabulatedLaw(ss.Q_([0, 1, 2, 3, 4], "um/s"), [0.5, 0.4, 0.4, 0.4, 0.4], interpolation="linear")
 
 
+@pytest.mark.slow
 def test_percent_tables_erf_and_complex_formulas(tmp_path: Path) -> None:
     """A table in '[%]' is read as hundredths (as plain numbers, friction would be 100 times too
     high); erf, a documented function, evaluates on arrays (math.erf takes scalars only); a
